@@ -1,0 +1,1 @@
+"""rqt panels and their standalone hosts (python_qt_binding only)."""

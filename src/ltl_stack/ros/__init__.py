@@ -1,0 +1,1 @@
+"""ROS adapters: executor node, proposition nodes, graph snapshots, transports."""

@@ -1,0 +1,1 @@
+"""ROS-free execution: stepping strategies, assumption monitoring, characterization, negotiation."""

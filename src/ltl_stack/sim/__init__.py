@@ -1,0 +1,1 @@
+"""Small simulated robots and action servers so every example runs without a robot."""

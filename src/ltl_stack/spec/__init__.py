@@ -1,0 +1,1 @@
+"""GR(1) specification model, .slugsin and structured readers/writers, Structured English."""

@@ -1,0 +1,1 @@
+"""GR(1) synthesis on BDDs (dd): realizability, strategies, explanations, export."""

@@ -1,0 +1,1 @@
+"""Automatic ROS code transfer between robots (thesis chapter 2); ROS-free core."""

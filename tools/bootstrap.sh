@@ -1,0 +1,88 @@
+#!/usr/bin/env bash
+# Install what ltl_stack needs on a Debian bookworm machine, idempotently:
+#   1. Debian's ROS 1 packages (only the missing ones; apt runs only when something is missing),
+#   2. a venv made by /usr/bin/python3 -m venv --system-site-packages with requirements.txt,
+#   3. a catkin workspace whose src/ltl_stack links to this repository, built with catkin_make.
+# Each step is skipped when a stamp says its inputs have not changed, so a re-run takes a second.
+set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/paths.sh"
+
+say() { echo "[bootstrap] $*" >&2; }
+
+APT_PACKAGES=(
+  ros-core rosbash catkin
+  python3-rospy python3-rosgraph python3-rostopic python3-rosnode python3-rosservice
+  python3-rosmsg python3-roslaunch python3-actionlib python3-catkin-pkg python3-genpy python3-genmsg
+  ros-message-generation ros-message-runtime
+  ros-std-msgs ros-actionlib-msgs ros-geometry-msgs ros-sensor-msgs ros-trajectory-msgs
+  ros-nav-msgs ros-diagnostic-msgs ros-std-srvs
+  python3-std-msgs python3-actionlib-msgs python3-geometry-msgs python3-sensor-msgs
+  python3-trajectory-msgs python3-nav-msgs python3-diagnostic-msgs python3-std-srvs
+  libstd-msgs-dev libactionlib-msgs-dev libgeometry-msgs-dev libsensor-msgs-dev libtrajectory-msgs-dev
+  libnav-msgs-dev libdiagnostic-msgs-dev libstd-srvs-dev
+  python3-python-qt-binding python3-pyqt5
+  python3-venv python3-dev cmake make g++ graphviz
+)
+
+install_debian_packages() {
+  local installed missing=()
+  installed=$(dpkg-query -W -f='${db:Status-Abbrev} ${Package}\n' "${APT_PACKAGES[@]}" 2>/dev/null \
+              | awk '$1 == "ii" {print $2}' || true)
+  for p in "${APT_PACKAGES[@]}"; do
+    grep -qx "$p" <<<"$installed" || missing+=("$p")
+  done
+  [ ${#missing[@]} -eq 0 ] && return 0
+  say "installing Debian packages: ${missing[*]}"
+  local sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2
+}
+
+stamp_matches() {  # stamp_matches FILE VALUE
+  [ -f "$1" ] && [ "$(cat "$1")" = "$2" ]
+}
+
+make_venv() {
+  local want
+  want=$(cat "$LTL_STACK_ROOT/requirements.txt" /usr/bin/python3 2>/dev/null | sha1sum | cut -c1-40)
+  if [ -x "$LTL_STACK_VENV/bin/python" ] && stamp_matches "$LTL_STACK_VENV/.ltl_stack_stamp" "$want"; then
+    return 0
+  fi
+  say "making the virtual environment $LTL_STACK_VENV"
+  mkdir -p "$LTL_STACK_HOME"
+  [ -x "$LTL_STACK_VENV/bin/python" ] || /usr/bin/python3 -m venv --system-site-packages "$LTL_STACK_VENV"
+  "$LTL_STACK_VENV/bin/python" -m pip install -q --disable-pip-version-check \
+      -r "$LTL_STACK_ROOT/requirements.txt" > "$LTL_STACK_HOME/pip.log" 2>&1 || {
+        tail -n 40 "$LTL_STACK_HOME/pip.log" >&2
+        say "pip install failed; the whole log is in $LTL_STACK_HOME/pip.log"
+        exit 1
+      }
+  echo "$want" > "$LTL_STACK_VENV/.ltl_stack_stamp"
+}
+
+build_workspace() {
+  local want
+  # What catkin_make's output depends on: the build files, the interface files, the script names.
+  want=$( (cd "$LTL_STACK_ROOT" && cat package.xml CMakeLists.txt setup.py msg/* action/* \
+          && ls scripts && echo "$LTL_STACK_VENV") | sha1sum | cut -c1-40)
+  if [ -f "$LTL_STACK_WS/devel/setup.bash" ] && stamp_matches "$LTL_STACK_WS/.ltl_stack_stamp" "$want"; then
+    return 0
+  fi
+  say "building the catkin workspace $LTL_STACK_WS"
+  mkdir -p "$LTL_STACK_WS/src"
+  ln -sfn "$LTL_STACK_ROOT" "$LTL_STACK_WS/src/ltl_stack"
+  rm -f "$LTL_STACK_WS/.ltl_stack_stamp"
+  (cd "$LTL_STACK_WS" && PATH="$LTL_STACK_VENV/bin:$PATH" \
+     catkin_make -DPYTHON_EXECUTABLE="$LTL_STACK_VENV/bin/python" -DCATKIN_ENABLE_TESTING=OFF \
+     > "$LTL_STACK_WS/catkin_make.log" 2>&1) || {
+       tail -n 40 "$LTL_STACK_WS/catkin_make.log" >&2
+       say "catkin_make failed; the whole log is in $LTL_STACK_WS/catkin_make.log"
+       exit 1
+     }
+  echo "$want" > "$LTL_STACK_WS/.ltl_stack_stamp"
+}
+
+install_debian_packages
+make_venv
+build_workspace
