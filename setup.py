@@ -1,6 +1,6 @@
 """Python package setup for catkin (catkin_python_setup reads this)."""
-from setuptools import setup
 from catkin_pkg.python_setup import generate_distutils_setup
+from setuptools import setup
 
 setup(**generate_distutils_setup(
     packages=[

@@ -1,0 +1,87 @@
+"""Run ROS processes against a private rosmaster: what the demo and scenario runners need.
+
+A ``RosSession`` starts ``rosmaster`` on a free loopback port (never the default 11311, which a
+user may be using), gives every child process an environment pointing at it and stops them all,
+master last, on exit — also on Ctrl-C or an exception.
+"""
+from __future__ import annotations
+
+import os
+import signal
+import socket
+import subprocess
+import tempfile
+import time
+import xmlrpc.client
+from collections.abc import Sequence
+from pathlib import Path
+
+
+def free_port() -> int:
+    """A loopback TCP port nothing listens on now, other than 11311."""
+    while True:
+        with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
+            s.bind(("127.0.0.1", 0))
+            port = s.getsockname()[1]
+        if port != 11311:
+            return port
+
+
+class RosSession:
+    """A private master and the processes started against it (use as a context manager)."""
+
+    def __init__(self, workdir: Path | None = None, port: int | None = None):
+        self._tmp = None if workdir else tempfile.TemporaryDirectory(prefix="ltl_stack-")
+        self.workdir = Path(workdir or self._tmp.name)
+        self.port = port or free_port()
+        self.uri = f"http://127.0.0.1:{self.port}/"
+        self.env = dict(os.environ, ROS_MASTER_URI=self.uri, ROS_IP="127.0.0.1", PYTHONUNBUFFERED="1",
+                        ROS_LOG_DIR=str(self.workdir / "log"), ROS_HOME=str(self.workdir / "ros_home"))
+        self.env.pop("ROS_HOSTNAME", None)
+        self.processes: list[subprocess.Popen] = []
+
+    def __enter__(self) -> RosSession:
+        master = self.start(["rosmaster", "--core", "-p", str(self.port), "-w", "4"],
+                            stdout=open(self.workdir / "rosmaster.log", "wb"))  # noqa: SIM115
+        deadline = time.monotonic() + 20
+        proxy = xmlrpc.client.ServerProxy(self.uri)
+        while True:
+            if master.poll() is not None:
+                raise RuntimeError(f"rosmaster exited; see {self.workdir / 'rosmaster.log'}")
+            try:
+                proxy.getSystemState("/ltl_stack")
+                break
+            except OSError:
+                if time.monotonic() > deadline:
+                    raise RuntimeError(f"rosmaster did not answer on {self.uri}") from None
+                time.sleep(0.05)
+        proxy.setParam("/ltl_stack", "/run_id", f"ltl_stack-{self.port}")
+        return self
+
+    def start(self, args: Sequence[str], stdout=None) -> subprocess.Popen:
+        """Start a child process against this session's master."""
+        proc = subprocess.Popen(list(args), env=self.env, stdout=stdout if stdout is not None else subprocess.PIPE,
+                                stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL, start_new_session=True)
+        self.processes.append(proc)
+        return proc
+
+    def __exit__(self, *exc) -> None:
+        for proc in reversed(self.processes):
+            stop_process(proc)
+        if self._tmp is not None:
+            self._tmp.cleanup()
+
+
+def stop_process(proc: subprocess.Popen, timeout: float = 5.0) -> None:
+    """SIGINT the process group (as Ctrl-C would), escalating to SIGKILL."""
+    for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGKILL):
+        if proc.poll() is not None:
+            return
+        try:
+            os.killpg(proc.pid, sig)
+        except ProcessLookupError:
+            return
+        try:
+            proc.wait(timeout)
+        except subprocess.TimeoutExpired:
+            continue

@@ -1,0 +1,166 @@
+"""Helpers for tests that run real ROS processes: free ports, waiting, starting nodes, shared data."""
+from __future__ import annotations
+
+import os
+import signal
+import socket
+import subprocess
+import time
+from collections.abc import Callable, Mapping, Sequence
+from pathlib import Path
+
+import pytest
+
+REPO_ROOT = Path(__file__).resolve().parent.parent
+
+
+def shared_dir() -> Path | None:
+    """The project's ``../shared`` folder (specs, robots, thesis), or None when it is absent."""
+    candidate = REPO_ROOT.parent / "shared"
+    return candidate if candidate.is_dir() else None
+
+
+def require_shared(*parts: str) -> Path:
+    """Path inside ``../shared``; skips the calling test, saying why, when it is not there."""
+    base = shared_dir()
+    if base is None:
+        pytest.skip(f"../shared is absent (looked for {REPO_ROOT.parent / 'shared'})")
+    path = base.joinpath(*parts)
+    if not path.exists():
+        pytest.skip(f"shared file {path} is absent")
+    return path
+
+
+def free_port() -> int:
+    """A TCP port on loopback that nothing listens on right now (never 11311)."""
+    while True:
+        with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
+            s.bind(("127.0.0.1", 0))
+            port = s.getsockname()[1]
+        if port != 11311:
+            return port
+
+
+def wait_for(predicate: Callable[[], object], timeout: float = 10.0, what: str = "a condition",
+             interval: float = 0.02) -> object:
+    """Poll ``predicate`` until it returns something truthy; fail the test after ``timeout`` s."""
+    deadline = time.monotonic() + timeout
+    while True:
+        value = predicate()
+        if value:
+            return value
+        if time.monotonic() > deadline:
+            raise AssertionError(f"timed out after {timeout:.1f} s waiting for {what}")
+        time.sleep(interval)
+
+
+class RosProcess:
+    """A child process (a node, roslaunch, rosrun) whose output goes to a log file."""
+
+    def __init__(self, args: Sequence[str], env: Mapping[str, str], log_path: Path,
+                 cwd: Path | None = None):
+        self.args = list(args)
+        self.log_path = log_path
+        self._log = open(log_path, "wb")  # noqa: SIM115 - closed in stop()
+        self.popen = subprocess.Popen(self.args, env=dict(env), stdout=self._log, stderr=subprocess.STDOUT,
+                                      stdin=subprocess.DEVNULL, cwd=cwd, start_new_session=True)
+
+    def output(self) -> str:
+        """Everything the process printed so far."""
+        return self.log_path.read_text(errors="replace")
+
+    def wait_output(self, text: str, timeout: float = 10.0) -> str:
+        """Wait until ``text`` appears in the output; fails with the output shown."""
+        try:
+            wait_for(lambda: text in self.output(), timeout, f"{text!r} in the output of {self.args}")
+        except AssertionError as err:
+            raise AssertionError(f"{err}\n--- output ---\n{self.output()[-4000:]}") from None
+        return self.output()
+
+    def running(self) -> bool:
+        return self.popen.poll() is None
+
+    def stop(self, timeout: float = 5.0) -> int | None:
+        """SIGINT the process group (as Ctrl-C would), then SIGKILL if it lingers."""
+        if self.popen.poll() is None:
+            for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGKILL):
+                try:
+                    os.killpg(self.popen.pid, sig)
+                except ProcessLookupError:
+                    break
+                try:
+                    self.popen.wait(timeout)
+                    break
+                except subprocess.TimeoutExpired:
+                    continue
+        self._log.close()
+        return self.popen.returncode
+
+
+class RosMaster:
+    """A real rosmaster on a free loopback port, and the processes started against it."""
+
+    def __init__(self, workdir: Path):
+        self.port = free_port()
+        self.uri = f"http://127.0.0.1:{self.port}/"
+        self.workdir = workdir
+        self.env = dict(os.environ)
+        self.env.update(ROS_MASTER_URI=self.uri, ROS_IP="127.0.0.1", ROS_LOG_DIR=str(workdir / "log"),
+                        ROS_HOME=str(workdir / "ros_home"), PYTHONUNBUFFERED="1")
+        self.env.pop("ROS_HOSTNAME", None)
+        self.processes: list[RosProcess] = []
+        self._master = RosProcess(["rosmaster", "--core", "-p", str(self.port), "-w", "4"], self.env,
+                                  workdir / "rosmaster.log")
+        wait_for(self._online, timeout=20, what=f"rosmaster on port {self.port}")
+        # roscore sets /run_id; roslaunch expects it when it joins an existing master.
+        self.proxy().setParam("/pytest", "/run_id", f"pytest-{self.port}")
+
+    def proxy(self):
+        import xmlrpc.client
+
+        return xmlrpc.client.ServerProxy(self.uri)
+
+    def _online(self) -> bool:
+        if not self._master.running():
+            raise AssertionError(f"rosmaster exited:\n{self._master.output()}")
+        try:
+            code, _, _ = self.proxy().getSystemState("/pytest")
+        except OSError:
+            return False
+        return code == 1
+
+    def system_state(self) -> tuple[list, list, list]:
+        """(publishers, subscribers, services) as the master reports them."""
+        code, msg, state = self.proxy().getSystemState("/pytest")
+        assert code == 1, msg
+        return state
+
+    def publishers(self, topic: str) -> list[str]:
+        return next((nodes for name, nodes in self.system_state()[0] if name == topic), [])
+
+    def subscribers(self, topic: str) -> list[str]:
+        return next((nodes for name, nodes in self.system_state()[1] if name == topic), [])
+
+    def wait_for_publisher(self, topic: str, timeout: float = 15.0) -> list[str]:
+        return wait_for(lambda: self.publishers(topic), timeout, f"a publisher on {topic}")
+
+    def wait_for_subscriber(self, topic: str, timeout: float = 15.0) -> list[str]:
+        return wait_for(lambda: self.subscribers(topic), timeout, f"a subscriber on {topic}")
+
+    def run(self, args: Sequence[str], name: str | None = None, cwd: Path | None = None) -> RosProcess:
+        """Start a process (e.g. ``['rosrun', 'ltl_stack', 'proposition_monitor', ...]``) on this master."""
+        label = name or Path(args[2] if args[0] in ("rosrun", "roslaunch") and len(args) > 2 else args[0]).name
+        log = self.workdir / f"{len(self.processes):02d}-{label}.log"
+        proc = RosProcess(args, self.env, log, cwd=cwd)
+        self.processes.append(proc)
+        return proc
+
+    def shutdown(self) -> None:
+        for proc in reversed(self.processes):
+            proc.stop()
+        self._master.stop()
+
+
+def start_node(master: RosMaster, args: Sequence[str], name: str | None = None) -> RosProcess:
+    """Start a node against ``master``; it is stopped when the master fixture ends."""
+    return master.run(args, name=name)
