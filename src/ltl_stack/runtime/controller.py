@@ -1,0 +1,200 @@
+"""A running synthesized controller, free of ROS: the logic of the controller node (thesis §3.5.1).
+
+The ``Controller`` owns a strategy (anything with ``inputs``, ``outputs``, ``initial_state(inputs=,
+outputs=)`` and ``step(state, inputs)``, such as ``ltl_stack.synthesis.SymbolicStrategy`` or
+``ltl_stack.runtime.explicit.AutomatonStrategy``), the current state, the latest input readings,
+and the run/pause switch. It is event driven: a reading that changes the input valuation steps the
+strategy at once; a repeated reading does nothing.
+
+* Ready handshake: nothing is stepped before every input has reported once (``missing_inputs``).
+* Pause: while paused every output is false and nothing is stepped; on resume the strategy steps
+  from its last state with the current readings.
+* Environment-assumption violation: the strategy raises ``AssumptionViolation``; the controller keeps
+  its last state, remembers the violation, and — by ``on_violation`` — holds the last outputs or drives
+  all outputs false. Each later change of the readings is tried again from the last state, so the
+  controller resumes on its own once the inputs are admissible again. A ``recovery`` callable (the hook
+  for resynthesis/recovery transitions) may return a state to continue from instead.
+
+Every method takes ``lock`` (re-entrant), and callers that publish the result should hold it too, so
+that the order of published outputs is the order of the steps.
+"""
+from __future__ import annotations
+
+import threading
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import Any, Protocol
+
+from ltl_stack.synthesis.errors import AssumptionViolation, NoInitialState
+
+HOLD = "hold"
+ALL_FALSE = "all-false"
+VIOLATION_POLICIES = (HOLD, ALL_FALSE)
+
+
+class StateLike(Protocol):
+    id: int
+    goal: int
+    inputs: dict[str, bool]
+    outputs: dict[str, bool]
+
+
+class StrategyLike(Protocol):
+    inputs: list[str]
+    outputs: list[str]
+
+    def initial_state(self, inputs: Mapping[str, bool] | None = None,
+                      outputs: Mapping[str, bool] | None = None) -> Any: ...
+
+    def step(self, state: Any, inputs: Mapping[str, bool]) -> Any: ...
+
+
+Recovery = Callable[["Controller", AssumptionViolation], Any]
+
+
+@dataclass(frozen=True)
+class Update:
+    """The outcome of one call, for the adapter to publish and log.
+
+    ``outputs`` is the valuation the output topics must carry now. ``stepped`` says a new state was
+    taken (``started`` when it is the initial one); ``violation`` is set when the readings broke an
+    environment assumption on this call; ``error`` holds a message when no initial state matched.
+    """
+
+    outputs: dict[str, bool]
+    state: Any = None
+    stepped: bool = False
+    started: bool = False
+    violation: AssumptionViolation | None = None
+    error: str | None = None
+    changed_outputs: dict[str, bool] = field(default_factory=dict)
+
+
+class Controller:
+    """Steps a strategy on input changes, with the ready handshake, pause and violation policy."""
+
+    def __init__(self, strategy: StrategyLike, *, on_violation: str = HOLD,
+                 init_props: Mapping[str, bool] | None = None, running: bool = True,
+                 recovery: Recovery | None = None) -> None:
+        if on_violation not in VIOLATION_POLICIES:
+            raise ValueError(f"on_violation must be one of {', '.join(VIOLATION_POLICIES)}, got {on_violation!r}")
+        self.strategy = strategy
+        self.inputs = list(strategy.inputs)
+        self.outputs = list(strategy.outputs)
+        init_props = dict(init_props or {})
+        unknown = [p for p in init_props if p not in self.inputs and p not in self.outputs]
+        if unknown:
+            raise ValueError(f"--init-props names unknown proposition(s) {', '.join(unknown)} "
+                             f"(inputs: {', '.join(self.inputs) or 'none'}; outputs: {', '.join(self.outputs) or 'none'})")
+        self.on_violation = on_violation
+        self.recovery = recovery
+        self.lock = threading.RLock()
+        self.state: Any = None
+        self.running = running
+        self.violation: AssumptionViolation | None = None
+        self.init_error: str | None = None
+        self.init_outputs = {p: v for p, v in init_props.items() if p in self.outputs}
+        # Inputs given in init_props count as readings until their topic says otherwise.
+        self._readings: dict[str, bool] = {p: v for p, v in init_props.items() if p in self.inputs}
+        self._published: dict[str, bool] | None = None
+
+    # --- what the adapter reads -------------------------------------------------------------
+    @property
+    def readings(self) -> dict[str, bool]:
+        """The latest reading of every input that has reported, in spec order."""
+        with self.lock:
+            return {p: self._readings[p] for p in self.inputs if p in self._readings}
+
+    def missing_inputs(self) -> list[str]:
+        """Inputs that have not reported yet (the ready handshake waits for them)."""
+        with self.lock:
+            return [p for p in self.inputs if p not in self._readings]
+
+    @property
+    def ready(self) -> bool:
+        return not self.missing_inputs()
+
+    @property
+    def started(self) -> bool:
+        return self.state is not None
+
+    def current_outputs(self) -> dict[str, bool]:
+        """The output valuation to publish: all false while paused, before the start, or on a
+        violation with the ``all-false`` policy; otherwise the current state's outputs."""
+        with self.lock:
+            if not self.running or self.state is None or (self.violation is not None and self.on_violation == ALL_FALSE):
+                return dict.fromkeys(self.outputs, False)
+            return {p: bool(self.state.outputs[p]) for p in self.outputs}
+
+    # --- what the adapter calls -------------------------------------------------------------
+    def report(self, prop: str, value: bool) -> Update:
+        """Record one input reading; step when it changes the input valuation."""
+        return self.report_many({prop: value})
+
+    def report_many(self, values: Mapping[str, bool]) -> Update:
+        """Record several input readings at once (one step at most)."""
+        with self.lock:
+            changed = False
+            for prop, value in values.items():
+                if prop not in self.inputs:
+                    raise ValueError(f"{prop!r} is not an input of the strategy (inputs: {', '.join(self.inputs)})")
+                if self._readings.get(prop) is not bool(value):
+                    self._readings[prop] = bool(value)
+                    changed = True
+            return self._advance(force=False) if changed else self._result()
+
+    def tick(self) -> Update:
+        """Step even though no reading changed (the optional fixed-rate stepping)."""
+        with self.lock:
+            return self._advance(force=True)
+
+    def set_running(self, running: bool) -> Update:
+        """Run or pause. Pausing drives every output false; running resumes from the last state."""
+        with self.lock:
+            was = self.running
+            self.running = bool(running)
+            if self.running and not was:
+                return self._advance(force=False)
+            return self._result()
+
+    def outputs_published(self) -> dict[str, bool] | None:
+        """The valuation the last ``Update`` told the adapter to publish (None before the first)."""
+        return self._published
+
+    # --- internals ---------------------------------------------------------------------------
+    def _advance(self, force: bool) -> Update:
+        if not self.running or not self.ready:
+            return self._result()
+        readings = self.readings
+        if self.state is None:
+            try:
+                self.state = self.strategy.initial_state(inputs=readings, outputs=self.init_outputs or None)
+            except NoInitialState as err:
+                self.init_error = str(err)
+                return self._result(error=self.init_error)
+            self.init_error = None
+            return self._result(stepped=True, started=True)
+        if not force and self.violation is None and readings == _valuation(self.state.inputs, self.inputs):
+            return self._result()
+        try:
+            new_state = self.strategy.step(self.state, readings)
+        except AssumptionViolation as violation:
+            self.violation = violation
+            recovered = self.recovery(self, violation) if self.recovery is not None else None
+            if recovered is None:
+                return self._result(violation=violation)
+            new_state = recovered
+        self.violation = None
+        self.state = new_state
+        return self._result(stepped=True)
+
+    def _result(self, **kwargs: Any) -> Update:
+        outputs = self.current_outputs()
+        before = self._published or {}
+        changed = {p: v for p, v in outputs.items() if self._published is None or before.get(p) != v}
+        self._published = outputs
+        return Update(outputs=outputs, state=self.state, changed_outputs=changed, **kwargs)
+
+
+def _valuation(values: Mapping[str, bool], names: list[str]) -> dict[str, bool]:
+    return {p: bool(values[p]) for p in names if p in values}
