@@ -1,0 +1,179 @@
+"""The explicit strategy automaton (thesis Def. 4.3.2) and its file formats.
+
+- our JSON (schema in ``docs/strategy_json.md``): ``to_json`` / ``from_json``;
+- slugs' ``--explicitStrategy --jsonOutput`` layout (``version``, ``slugs``, ``variables``, ``nodes``
+  keyed by state number with ``rank``, ``state`` bit list and ``trans``): ``to_slugs_json`` /
+  ``from_slugs_json``;
+- Graphviz DOT (``to_dot``) and PNG through the ``dot`` program (``write_png``).
+
+``Automaton.load(path)`` reads either JSON layout. Files are written atomically (``write_atomic``).
+"""
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
+FORMAT = "ltl_stack-strategy"
+VERSION = 1
+
+
+@dataclass
+class AutomatonState:
+    id: int
+    inputs: dict[str, bool]
+    outputs: dict[str, bool]
+    goal: int
+    successors: list[int] = field(default_factory=list)
+
+
+@dataclass
+class Automaton:
+    """States (ids ``0..n-1``), the initial ones, and what they were synthesized from."""
+
+    inputs: list[str]
+    outputs: list[str]
+    states: list[AutomatonState]
+    initial: list[int]
+    goals: int = 1
+    metadata: dict = field(default_factory=dict)
+
+    def __len__(self) -> int:
+        return len(self.states)
+
+    def find(self, inputs: dict[str, bool], outputs: dict[str, bool], goal: int) -> AutomatonState | None:
+        """The state with this valuation and goal, if any."""
+        index = self.__dict__.get("_index")
+        if index is None:
+            index = {self._key(s.inputs, s.outputs, s.goal): s for s in self.states}
+            self.__dict__["_index"] = index
+        return index.get(self._key(inputs, outputs, goal))
+
+    def _key(self, inputs, outputs, goal):
+        return (tuple(bool(inputs[n]) for n in self.inputs),
+                tuple(bool(outputs[n]) for n in self.outputs), goal)
+
+    # --- our JSON ------------------------------------------------------------------------
+    def to_json(self) -> dict:
+        return {
+            "format": FORMAT,
+            "version": VERSION,
+            "inputs": list(self.inputs),
+            "outputs": list(self.outputs),
+            "goals": self.goals,
+            "initial": list(self.initial),
+            "metadata": dict(self.metadata),
+            "states": [
+                {"id": s.id, "goal": s.goal,
+                 "inputs": {n: bool(s.inputs[n]) for n in self.inputs},
+                 "outputs": {n: bool(s.outputs[n]) for n in self.outputs},
+                 "successors": list(s.successors)}
+                for s in self.states
+            ],
+        }
+
+    @classmethod
+    def from_json(cls, data: dict) -> Automaton:
+        if data.get("format") != FORMAT:
+            raise ValueError(f"not an {FORMAT} document (format={data.get('format')!r})")
+        if data.get("version") != VERSION:
+            raise ValueError(f"unsupported {FORMAT} version {data.get('version')!r}; expected {VERSION}")
+        states = [AutomatonState(int(s["id"]), dict(s["inputs"]), dict(s["outputs"]), int(s["goal"]),
+                                 [int(t) for t in s["successors"]]) for s in data["states"]]
+        return cls(list(data["inputs"]), list(data["outputs"]), states, [int(i) for i in data["initial"]],
+                   int(data.get("goals", 1)), dict(data.get("metadata", {})))
+
+    # --- slugs' JSON ---------------------------------------------------------------------
+    def to_slugs_json(self) -> dict:
+        names = [*self.inputs, *self.outputs]
+        nodes = {}
+        for s in self.states:
+            bits = [int(bool(s.inputs[n])) for n in self.inputs] + \
+                [int(bool(s.outputs[n])) for n in self.outputs]
+            nodes[str(s.id)] = {"rank": s.goal, "state": bits, "trans": list(s.successors)}
+        return {"version": 0, "slugs": "0.0.1", "variables": names, "nodes": nodes}
+
+    @classmethod
+    def from_slugs_json(cls, data: dict, inputs: list[str] | None = None) -> Automaton:
+        """Read slugs' layout. It does not say which variables are inputs: pass ``inputs`` (default:
+        none). States whose id is below the first successor-only id are taken as initial (slugs
+        numbers its initial states first)."""
+        names = list(data["variables"])
+        inputs = [n for n in names if n in set(inputs or [])]
+        outputs = [n for n in names if n not in set(inputs)]
+        states = []
+        targets = set()
+        for key, node in sorted(data["nodes"].items(), key=lambda kv: int(kv[0])):
+            values = dict(zip(names, (bool(b) for b in node["state"]), strict=True))
+            succ = [int(t) for t in node["trans"]]
+            targets.update(succ)
+            states.append(AutomatonState(int(key), {n: values[n] for n in inputs},
+                                         {n: values[n] for n in outputs}, int(node["rank"]), succ))
+        initial = [s.id for s in states if s.id not in targets] or ([states[0].id] if states else [])
+        goals = max((s.goal for s in states), default=0) + 1
+        return cls(inputs, outputs, states, initial, goals, {"source_format": "slugs"})
+
+    @classmethod
+    def load(cls, path: str | Path, inputs: list[str] | None = None) -> Automaton:
+        data = json.loads(Path(path).read_text())
+        if isinstance(data, dict) and data.get("format") == FORMAT:
+            return cls.from_json(data)
+        if isinstance(data, dict) and "nodes" in data and "variables" in data:
+            return cls.from_slugs_json(data, inputs)
+        raise ValueError(f"{path}: neither an {FORMAT} nor a slugs strategy JSON file")
+
+    # --- Graphviz -------------------------------------------------------------------------
+    def to_dot(self, name: str = "strategy") -> str:
+        """States labelled with their id, goal and true outputs; edges with the true inputs that
+        lead there (the thesis' Fig. 3.1 convention)."""
+        lines = [f"digraph {_dot_id(name)} {{", "  rankdir=LR;", "  node [shape=box, fontname=Helvetica];",
+                 "  edge [fontname=Helvetica, fontsize=10];"]
+        initial = set(self.initial)
+        for s in self.states:
+            outs = ", ".join(n for n in self.outputs if s.outputs[n]) or "-"
+            style = ", peripheries=2" if s.id in initial else ""
+            lines.append(f'  s{s.id} [label="{s.id} (goal {s.goal})\\n{_esc(outs)}"{style}];')
+        by_id = {s.id: s for s in self.states}
+        for s in self.states:
+            for t in s.successors:
+                ins = ", ".join(n for n in self.inputs if by_id[t].inputs[n]) or "-"
+                lines.append(f'  s{s.id} -> s{t} [label="{_esc(ins)}"];')
+        lines.append("}")
+        return "\n".join(lines) + "\n"
+
+    def write_png(self, path: str | Path) -> None:
+        """Render with Graphviz ``dot`` (raises ``RuntimeError`` when it is not installed)."""
+        exe = shutil.which("dot")
+        if exe is None:
+            raise RuntimeError("Graphviz 'dot' is not installed; cannot write a PNG (write --dot instead)")
+        data = subprocess.run([exe, "-Tpng"], input=self.to_dot().encode(), capture_output=True, check=False)
+        if data.returncode != 0:
+            raise RuntimeError(f"dot failed: {data.stderr.decode(errors='replace').strip()}")
+        write_atomic(path, data.stdout)
+
+
+def _esc(text: str) -> str:
+    return text.replace("\\", "\\\\").replace('"', '\\"')
+
+
+def _dot_id(name: str) -> str:
+    return '"' + _esc(name) + '"'
+
+
+def write_atomic(path: str | Path, data: str | bytes) -> None:
+    """Write ``data`` to ``path`` through a temporary file in the same folder and ``os.replace``."""
+    path = Path(path)
+    raw = data.encode() if isinstance(data, str) else data
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=str(path.parent or Path(".")))
+    try:
+        with os.fdopen(fd, "wb") as f:
+            f.write(raw)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise

@@ -1,0 +1,32 @@
+"""Errors raised by synthesis and by executing a strategy."""
+from __future__ import annotations
+
+from ltl_stack.spec.model import Clause
+
+
+class SynthesisError(Exception):
+    """Base class of the errors of ``ltl_stack.synthesis``."""
+
+
+class UnrealizableError(SynthesisError):
+    """A strategy was asked for but the specification is unrealizable."""
+
+
+class NoInitialState(SynthesisError):
+    """No winning initial position matches the requested (partial) valuation."""
+
+
+class AssumptionViolation(SynthesisError):
+    """The new inputs break the environment safety assumptions.
+
+    ``clauses`` are the violated env-safety clauses; the message names their text and ``file:line``.
+    """
+
+    def __init__(self, clauses: list[Clause], inputs: dict[str, bool] | None = None) -> None:
+        self.clauses = list(clauses)
+        self.inputs = dict(inputs or {})
+        if self.clauses:
+            where = "; ".join(f"{c.location}: {c.text or '(no text)'}" for c in self.clauses)
+        else:
+            where = "no single clause is violated, but the inputs have no admissible successor"
+        super().__init__(f"environment safety assumption violated: {where}")

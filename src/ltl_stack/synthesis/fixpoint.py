@@ -1,0 +1,158 @@
+"""Winning positions of a GR(1) game: the three nested fixpoints of thesis Eq. 4.2.
+
+    W = nu Z. /\\_j mu Y. \\/_i nu X. cpre( (goal_j & Z') | Y' | (!asm_i & X') )
+
+computed on transitions as slugs does (goals and assumptions may mention next-state variables),
+with ``Game.cpre_sys`` as the controllable predecessor.
+
+Techniques (each can be switched off to measure it, see ``Options``):
+
+- *recycling* (slugs' ``--fixedPointRecycling``): Z only shrinks, so every inner X fixpoint of the
+  next Z iteration lies inside the one computed at the same (goal j, Y iteration c, assumption i)
+  in the previous Z iteration; we start the X iteration there instead of at ``true``.
+- *early exit* for realizability-only queries: Z only shrinks, so as soon as an upper bound of W
+  fails the initial condition the answer is "unrealizable".
+- *dynamic reordering* during the fixpoints (CUDD group sifting; it is switched off afterwards so
+  that strategy enumeration and stepping see a stable order).
+- conjunction fused with quantification inside ``cpre_sys`` (``and_exists``/``or_forall``).
+
+The X and Y iterates of the last Z iteration (computed with Z = W) are kept in ``Solution.layers``
+for strategy extraction (thesis Alg. 1 prefers the earliest Y iterate).
+"""
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+from ltl_stack.synthesis.game import BACKEND, Game
+
+Progress = Callable[[str], None]
+
+
+@dataclass
+class Options:
+    """Switches for the performance techniques (all on by default)."""
+
+    recycle: bool = True
+    reorder: bool = True
+    early_exit: bool = False
+
+
+@dataclass
+class GoalLayers:
+    """Iterates for one system goal j in the last Z iteration.
+
+    ``Y[c]`` is the c-th iterate of mu Y (``Y[0]`` is false); ``X[c][i]`` the nu X fixpoint computed
+    with ``Y[c]`` for assumption i, so ``Y[c+1] = Y[c] | X[c][0] | ... | X[c][p-1]``.
+    """
+
+    Y: list = field(default_factory=list)
+    X: list = field(default_factory=list)
+
+
+@dataclass
+class Solution:
+    realizable: bool
+    winning: object
+    layers: list[GoalLayers]
+    sys_trans: object
+    z_iterations: int
+    seconds: float
+    robotics_semantics: bool
+    complete: bool = True  # False when an early exit stopped before the fixpoint
+
+
+def init_ok(game: Game, winning, robotics_semantics: bool) -> bool:
+    """The initial condition of realizability for the winning set ``winning``.
+
+    Robotics semantics (slugs' ``--sysInitRoboticsSemantics``): every position satisfying
+    env_init & sys_init is winning. Default (slugs): for every input valuation allowed by env_init
+    some output valuation satisfies sys_init (and env_init, should it mention outputs) and is winning.
+    """
+    bdd = game.bdd
+    if robotics_semantics:
+        return (game.env_init & game.sys_init & ~winning) == bdd.false
+    allowed = bdd.exist(game.outputs, game.env_init)
+    good = bdd.exist(game.outputs, game.env_init & game.sys_init & winning)
+    return (allowed & ~good) == bdd.false
+
+
+def initial_positions(game: Game, winning):
+    """Winning positions satisfying both init conditions: the strategy's initial positions."""
+    return game.env_init & game.sys_init & winning
+
+
+def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = False,
+          cooperative: bool = False, options: Options | None = None,
+          progress: Progress | None = None) -> Solution:
+    """Compute W (Eq. 4.2) and the iterates needed for strategy extraction.
+
+    ``cooperative`` solves the game where the system may only use moves after which the
+    environment still has an admissible input (it never forces a violation of the assumptions).
+    """
+    opts = options or Options()
+    early_exit = early_exit or opts.early_exit
+    bdd = game.bdd
+    start = time.perf_counter()
+    reorder = opts.reorder and BACKEND == "cudd"
+    old_reordering = bdd.configure()["reordering"] if BACKEND == "cudd" else False
+    if BACKEND == "cudd":
+        bdd.configure(reordering=reorder)
+    sys_trans = game.deadlock_free_sys_trans() if cooperative else game.sys_trans
+    not_asm = [~a for a in game.env_goals]
+    try:
+        Z = bdd.true
+        recycled: list[list[list]] = [[] for _ in game.sys_goals]  # [j][c][i] from last Z iteration
+        iteration = 0
+        while True:
+            iteration += 1
+            layers: list[GoalLayers] = []
+            Z_next = bdd.true
+            for j, goal in enumerate(game.sys_goals):
+                reach_goal = goal & game.prime(Z)
+                gl = GoalLayers(Y=[bdd.false], X=[])
+                Y = bdd.false
+                c = 0
+                while True:
+                    live = reach_goal | game.prime(Y)
+                    Xs = []
+                    Y_new = Y
+                    for i, nasm in enumerate(not_asm):
+                        X = bdd.true
+                        old = recycled[j]
+                        if opts.recycle and old:
+                            X = old[min(c, len(old) - 1)][i]
+                        while True:
+                            X_new = game.cpre_sys(live | (game.prime(X) & nasm), sys_trans)
+                            if X_new == X:
+                                break
+                            X = X_new
+                        Xs.append(X)
+                        Y_new = Y_new | X
+                    gl.X.append(Xs)
+                    c += 1
+                    if Y_new == Y:
+                        break
+                    Y = Y_new
+                    gl.Y.append(Y)
+                layers.append(gl)
+                recycled[j] = gl.X
+                Z_next &= Y
+                if early_exit and not init_ok(game, Z_next, robotics_semantics):
+                    if progress:
+                        progress(f"Z iteration {iteration}: goal {j} already fails the initial condition")
+                    return Solution(False, Z_next, layers, sys_trans, iteration,
+                                    time.perf_counter() - start, robotics_semantics, complete=False)
+            if progress:
+                progress(f"Z iteration {iteration}: {', '.join(str(len(g.Y)) for g in layers)} "
+                         f"Y iterations per goal, {time.perf_counter() - start:.2f} s")
+            if Z_next == Z:
+                break
+            Z = Z_next
+        realizable = init_ok(game, Z, robotics_semantics)
+        return Solution(realizable, Z, layers, sys_trans, iteration,
+                        time.perf_counter() - start, robotics_semantics)
+    finally:
+        if BACKEND == "cudd":
+            bdd.configure(reordering=old_reordering)

@@ -1,0 +1,237 @@
+"""The BDD encoding of a GR(1) specification: the game structure of thesis Def. 4.3.5.
+
+A ``Game`` holds one BDD manager (``dd.cudd``; ``dd.autoref`` only when CUDD cannot be imported)
+with two variables per proposition ``p``: the current-state variable named ``p`` and the
+next-state variable named ``p'`` (``Game.prime_name``). They are declared interleaved
+(``x0 x0' x1 x1' ... y0 y0' ...``, inputs first, in the spec's order) and each pair is grouped, so
+dynamic reordering moves the two together and renaming between them stays cheap.
+
+Stable API (other modules, ``explain.py`` and the differential tests rely on it):
+
+- ``bdd``                         the manager; ``true`` / ``false`` its constants
+- ``inputs``, ``outputs``         proposition names (current-state variable names)
+- ``inputs_next``, ``outputs_next``   the matching next-state variable names
+- ``variables``, ``variables_next``   inputs then outputs, current / next
+- ``prime(u)``, ``unprime(u)``    rename current -> next / next -> current
+- ``env_init``, ``sys_init``      conjunctions of the init clauses (current variables only)
+- ``env_trans``, ``sys_trans``    conjunctions of the safety clauses (current and next variables)
+- ``env_goals``, ``sys_goals``    one BDD per liveness clause; ``[true]`` when the section is empty
+                                  (goals may mention next variables: they constrain transitions)
+- ``clauses(section)``            ``[(Clause, BDD)]`` per clause of any section of ``SECTIONS``
+- ``violated(section, current, nxt)``  the clauses of ``section`` that a valuation breaks
+- ``cpre_sys(target)``            positions from which the system can force the next transition
+                                  into ``target`` (Eq. 4.2's controllable predecessor)
+- ``cpre_env(target)``            positions from which the environment can force it (dual operator)
+- ``deadlock_free_sys_trans()``   ``sys_trans`` restricted to moves after which the environment
+                                  still has an admissible input (used by the cooperative strategy)
+- ``to_bdd(formula)``             any ``ltl_stack.spec.formula`` node to a BDD
+- ``is_realizable(robotics_semantics=False)``  realizability (see ``ltl_stack.synthesis.fixpoint``)
+
+Semantics follow slugs: the system moves after seeing the environment's next input, and wins if
+the environment breaks its safety assumptions first, so
+``cpre_sys(T) = forall inputs'. env_trans -> exists outputs'. sys_trans & T``.
+"""
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+
+from ltl_stack.spec.formula import And, Const, Formula, Iff, Implies, Not, Or, Var, Xor
+from ltl_stack.spec.model import SECTIONS, Clause, Spec
+
+try:  # pragma: no cover - which branch runs depends on the installation
+    from dd import cudd as _backend
+
+    BACKEND = "cudd"
+except ImportError:  # pragma: no cover
+    from dd import autoref as _backend
+
+    BACKEND = "autoref"
+
+
+def prime_name(name: str) -> str:
+    """The next-state variable name of proposition ``name``."""
+    return name + "'"
+
+
+class Game:
+    """The BDD game of a ``Spec``. Build one per spec; all BDDs share ``self.bdd``."""
+
+    def __init__(self, spec: Spec, *, bdd=None) -> None:
+        self.spec = spec
+        self.bdd = bdd if bdd is not None else _backend.BDD()
+        self.inputs: list[str] = list(spec.inputs)
+        self.outputs: list[str] = list(spec.outputs)
+        self.inputs_next = [prime_name(v) for v in self.inputs]
+        self.outputs_next = [prime_name(v) for v in self.outputs]
+        self.variables = self.inputs + self.outputs
+        self.variables_next = self.inputs_next + self.outputs_next
+        self._declare()
+        self._to_next = dict(zip(self.variables, self.variables_next, strict=True))
+        self._to_current = dict(zip(self.variables_next, self.variables, strict=True))
+        self.true = self.bdd.true
+        self.false = self.bdd.false
+
+        self._clauses: dict[str, list[tuple[Clause, object]]] = {
+            name: [(c, self.to_bdd(c.formula)) for c in spec.section(name)] for name in SECTIONS
+        }
+        self.env_init = self._conjoin("env_init")
+        self.sys_init = self._conjoin("sys_init")
+        self.env_trans = self._conjoin("env_safety")
+        self.sys_trans = self._conjoin("sys_safety")
+        self.env_goals = [u for _, u in self._clauses["env_liveness"]] or [self.true]
+        self.sys_goals = [u for _, u in self._clauses["sys_liveness"]] or [self.true]
+        env_support = self.bdd.support(self.env_trans)
+        # slugs forbids primed outputs in env safety; if a spec has them, use the general cpre.
+        self._env_sees_outputs_next = any(v in env_support for v in self.outputs_next)
+
+    # --- variables -------------------------------------------------------------------------
+    def _declare(self) -> None:
+        names = []
+        for v in self.variables:
+            names += [v, prime_name(v)]
+        existing = set(self.bdd.vars)
+        self.bdd.declare(*[n for n in names if n not in existing])
+        if BACKEND == "cudd" and not existing:
+            try:
+                self.bdd.group({v: 2 for v in self.variables})
+            except Exception:  # pragma: no cover - grouping is an optimisation only
+                pass
+
+    def prime(self, u):
+        """Rename current-state variables of ``u`` to next-state ones (``u`` must not mention next)."""
+        return self.bdd.let(self._to_next, u)
+
+    def unprime(self, u):
+        """Rename next-state variables of ``u`` to current-state ones (``u`` must not mention current)."""
+        return self.bdd.let(self._to_current, u)
+
+    # --- formulas ---------------------------------------------------------------------------
+    def to_bdd(self, formula: Formula):
+        """The BDD of a formula (iterative: slugsin formulas can nest thousands deep)."""
+        bdd = self.bdd
+        done: dict[int, object] = {}
+        stack: list[tuple[Formula, bool]] = [(formula, False)]
+        while stack:
+            node, expanded = stack.pop()
+            key = id(node)
+            if key in done:
+                continue
+            if isinstance(node, Var):
+                name = prime_name(node.name) if node.primed else node.name
+                if node.name not in self._to_next:
+                    raise KeyError(f"unknown proposition {node.name!r} (not an input or output)")
+                done[key] = bdd.var(name)
+                continue
+            if isinstance(node, Const):
+                done[key] = bdd.true if node.value else bdd.false
+                continue
+            kids = _children(node)
+            if not expanded:
+                stack.append((node, True))
+                stack.extend((k, False) for k in kids if id(k) not in done)
+                continue
+            vals = [done[id(k)] for k in kids]
+            if isinstance(node, Not):
+                done[key] = ~vals[0]
+            elif isinstance(node, And):
+                acc = bdd.true
+                for v in vals:
+                    acc &= v
+                done[key] = acc
+            elif isinstance(node, Or):
+                acc = bdd.false
+                for v in vals:
+                    acc |= v
+                done[key] = acc
+            elif isinstance(node, Xor):
+                done[key] = bdd.ite(vals[0], ~vals[1], vals[1])
+            elif isinstance(node, Implies):
+                done[key] = ~vals[0] | vals[1]
+            elif isinstance(node, Iff):
+                done[key] = bdd.ite(vals[0], vals[1], ~vals[1])
+            else:  # pragma: no cover
+                raise TypeError(f"not a formula node: {node!r}")
+        return done[id(formula)]
+
+    def _conjoin(self, section: str):
+        acc = self.bdd.true
+        for _, u in self._clauses[section]:
+            acc &= u
+        return acc
+
+    def clauses(self, section: str) -> list[tuple[Clause, object]]:
+        """``(Clause, BDD)`` for each clause of ``section`` (one of ``SECTIONS``)."""
+        if section not in self._clauses:
+            raise ValueError(f"unknown section {section!r}; expected one of {', '.join(SECTIONS)}")
+        return list(self._clauses[section])
+
+    def assignment(self, current: Mapping[str, bool], nxt: Mapping[str, bool] | None = None) -> dict:
+        """A ``let``-assignment of current (and next) variables from proposition valuations."""
+        values = {k: bool(v) for k, v in current.items()}
+        for k, v in (nxt or {}).items():
+            values[prime_name(k)] = bool(v)
+        return values
+
+    def cube(self, current: Mapping[str, bool], nxt: Mapping[str, bool] | None = None):
+        """The BDD of a (partial) valuation of current and next variables."""
+        return self.bdd.cube(self.assignment(current, nxt))
+
+    def violated(self, section: str, current: Mapping[str, bool],
+                 nxt: Mapping[str, bool] | None = None) -> list[Clause]:
+        """The clauses of ``section`` that are false for the given (complete) valuation."""
+        values = self.assignment(current, nxt)
+        bad = []
+        for clause, u in self._clauses[section]:
+            if self.bdd.let(values, u) == self.bdd.false:
+                bad.append(clause)
+        return bad
+
+    # --- predecessor operators ----------------------------------------------------------------
+    def cpre_sys(self, target, sys_trans=None):
+        """Positions where, for every admissible next input, some next output satisfies
+        ``sys_trans & target`` (``target`` over current and next variables).
+
+        ``sys_trans`` defaults to the spec's; the cooperative strategy passes a restricted one.
+        """
+        trans = self.sys_trans if sys_trans is None else sys_trans
+        bdd = self.bdd
+        if self._env_sees_outputs_next:
+            u = bdd.exist(self.outputs_next, ~self.env_trans | (trans & target))
+            return bdd.forall(self.inputs_next, u)
+        if BACKEND == "cudd":
+            moves = _backend.and_exists(trans, target, self.outputs_next)
+            return _backend.or_forall(~self.env_trans, moves, self.inputs_next)
+        moves = bdd.exist(self.outputs_next, trans & target)
+        return bdd.forall(self.inputs_next, ~self.env_trans | moves)
+
+    def cpre_env(self, target):
+        """Positions from which the environment can force ``target``: some admissible next input
+        such that every next output allowed by ``sys_trans`` satisfies ``target``."""
+        bdd = self.bdd
+        forced = bdd.forall(self.outputs_next, ~self.sys_trans | target)
+        return bdd.exist(self.inputs_next, self.env_trans & forced)
+
+    def deadlock_free_sys_trans(self):
+        """``sys_trans`` restricted to next positions that still have an admissible next input."""
+        alive = self.bdd.exist(self.variables_next, self.env_trans)
+        return self.sys_trans & self.prime(alive)
+
+    # --- realizability ------------------------------------------------------------------------
+    def is_realizable(self, robotics_semantics: bool = False) -> bool:
+        """Whether the system wins from the initial positions (early exit when it cannot)."""
+        from ltl_stack.synthesis.fixpoint import solve
+
+        return solve(self, robotics_semantics=robotics_semantics, early_exit=True).realizable
+
+    def count(self, u, *, next_too: bool = False) -> int:
+        """Number of valuations of ``u`` over the current (and optionally next) variables."""
+        nvars = len(self.variables) * (2 if next_too else 1)
+        return int(self.bdd.count(u, nvars=nvars))
+
+
+def _children(node: Formula) -> Iterable[Formula]:
+    if isinstance(node, Not):
+        return (node.arg,)
+    if isinstance(node, (And, Or)):
+        return node.args
+    return (node.left, node.right)

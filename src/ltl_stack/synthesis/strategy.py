@@ -1,0 +1,248 @@
+"""A symbolic GR(1) strategy: one BDD relation per system goal, executed step by step.
+
+Built from the X/Y iterates of the last Z iteration (``fixpoint.Solution.layers``), following
+thesis §4.6 and Alg. 1: for goal j and each (x, y, x') the strategy allows exactly the moves of the
+earliest (Y iterate c, assumption i) pair that covers (x, y, x'):
+
+    paths[j][c][i] = sys_trans & ((goal_j & W') | Y[c]' | (X[c][i]' & !asm_i))
+
+so every move reaches goal j (T.1), gets closer to it (T.2) or waits for an environment goal (T.3).
+The goal counter advances when a move satisfies ``goal_j & W'``.
+
+``step`` never builds the explicit automaton: it restricts the goal's relation to the current
+position and the new inputs and picks one output valuation deterministically (each output keeps its
+current value when it may, in the spec's output order). The cooperative variant (slugs'
+``--cooperativeGR1Strategy`` idea) solves the game without moves that leave the environment no
+admissible input and, among equally good moves, prefers those that let the environment reach the
+liveness assumption the strategy is waiting for soonest.
+
+Recovery (Alg. 1 lines 19-25) plugs in at ``SymbolicStrategy._move``: when the goal relation has no
+move for (x, y, x'), a recovery relation would be consulted there.
+"""
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+from ltl_stack.synthesis.errors import AssumptionViolation, NoInitialState, SynthesisError
+from ltl_stack.synthesis.fixpoint import Solution, initial_positions
+from ltl_stack.synthesis.game import Game
+
+
+@dataclass(frozen=True, eq=False)
+class State:
+    """A position of the game with the index of the system goal being pursued.
+
+    ``id`` is stable across runs: the valuation bits (inputs then outputs, spec order, first
+    proposition is the least significant bit) plus ``goal`` times 2^(number of propositions).
+    """
+
+    inputs: dict[str, bool]
+    outputs: dict[str, bool]
+    goal: int
+    id: int = field(default=-1)
+
+    def __post_init__(self) -> None:
+        if self.id < 0:
+            bits = 0
+            for k, v in enumerate([*self.inputs.values(), *self.outputs.values()]):
+                bits |= int(bool(v)) << k
+            n = len(self.inputs) + len(self.outputs)
+            object.__setattr__(self, "id", bits + (self.goal << n))
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, State) and other.id == self.id and \
+            other.inputs == self.inputs and other.outputs == self.outputs
+
+    def __hash__(self) -> int:
+        return hash(self.id)
+
+    @property
+    def valuation(self) -> dict[str, bool]:
+        return {**self.inputs, **self.outputs}
+
+
+class SymbolicStrategy:
+    """Execute the winning strategy of a realizable game without enumerating it."""
+
+    def __init__(self, game: Game, solution: Solution, *, cooperative: bool = False) -> None:
+        if not solution.realizable:
+            raise SynthesisError("cannot build a strategy: the specification is unrealizable")
+        self.game = game
+        self.solution = solution
+        self.cooperative = cooperative
+        self.inputs = list(game.inputs)
+        self.outputs = list(game.outputs)
+        self.winning = solution.winning
+        self.initial = initial_positions(game, solution.winning)
+        W_next = game.prime(solution.winning)
+        self.reached = [g & W_next for g in game.sys_goals]
+        self.relations = [self._goal_relation(j) for j in range(len(game.sys_goals))]
+
+    # --- construction ---------------------------------------------------------------------
+    def _goal_relation(self, j: int):
+        game = self.game
+        bdd = game.bdd
+        layers = self.solution.layers[j]
+        trans = self.solution.sys_trans
+        not_asm = [~a for a in game.env_goals]
+        covered = bdd.false
+        relation = bdd.false
+        for c, Yc in enumerate(layers.Y):
+            base = self.reached[j] | game.prime(Yc)
+            for i, X in enumerate(layers.X[c]):
+                paths = trans & (base | (game.prime(X) & not_asm[i]))
+                new = bdd.exist(game.outputs_next, paths) & ~covered
+                if new == bdd.false:
+                    continue
+                block = new & paths
+                if self.cooperative:
+                    block = self._prefer_helping(block, i)
+                relation |= block
+                covered |= new
+        return relation
+
+    def _prefer_helping(self, block, i: int):
+        """Keep, for each (x, y, x') of ``block``, only the moves that let the environment satisfy
+        liveness assumption i soonest (both players cooperating, within the winning positions)."""
+        game = self.game
+        bdd = game.bdd
+        asm = game.env_goals[i]
+        if asm == bdd.true:
+            return block
+        layers = self._help_layers(i)
+        result = bdd.false
+        remaining = block
+        for target in layers:
+            chosen = remaining & target
+            if chosen != bdd.false:
+                result |= chosen
+                remaining &= ~bdd.exist(game.outputs_next, chosen)
+                if remaining == bdd.false:
+                    break
+        return result | remaining
+
+    def _help_layers(self, i: int) -> list:
+        """Transition sets ordered by how soon the environment can then satisfy assumption i:
+        first the moves that satisfy it, then those entering positions one joint move away, ..."""
+        cache = self.__dict__.setdefault("_help_cache", {})
+        if i in cache:
+            return cache[i]
+        game = self.game
+        bdd = game.bdd
+        W = self.winning
+        joint = game.env_trans & self.solution.sys_trans & game.prime(W) & W
+        layers = [game.env_goals[i]]
+        near = bdd.exist(game.variables_next, joint & game.env_goals[i])
+        seen = near
+        while near != bdd.false:
+            layers.append(game.prime(near))
+            step_back = bdd.exist(game.variables_next, joint & game.prime(near))
+            near = step_back & ~seen
+            seen |= near
+        cache[i] = layers
+        return layers
+
+    # --- execution --------------------------------------------------------------------------
+    def _full(self, values: Mapping[str, bool] | None, names: list[str], what: str) -> dict[str, bool]:
+        values = dict(values or {})
+        unknown = set(values) - set(names)
+        if unknown:
+            raise ValueError(f"unknown {what} {', '.join(sorted(unknown))}; expected {', '.join(names)}")
+        missing = [n for n in names if n not in values]
+        if missing:
+            raise ValueError(f"missing {what} {', '.join(missing)}")
+        return {n: bool(values[n]) for n in names}
+
+    def _pick(self, u, names: list[str], prefer: Mapping[str, bool]) -> dict[str, bool]:
+        """One satisfying valuation of ``names`` in ``u``: each variable takes its preferred value
+        when possible, in order (deterministic, independent of the BDD variable order)."""
+        bdd = self.game.bdd
+        chosen = {}
+        for name in names:
+            want = bool(prefer.get(name, False))
+            v = bdd.let({name: want}, u)
+            if v == bdd.false:
+                want = not want
+                v = bdd.let({name: want}, u)
+            chosen[name] = want
+            u = v
+        return chosen
+
+    def initial_state(self, inputs: Mapping[str, bool] | None = None,
+                      outputs: Mapping[str, bool] | None = None) -> State:
+        """A winning initial state matching the partial valuations (unspecified values prefer False)."""
+        game = self.game
+        bdd = game.bdd
+        partial = {**dict(inputs or {}), **dict(outputs or {})}
+        unknown = set(partial) - set(game.variables)
+        if unknown:
+            raise NoInitialState(f"unknown propositions {', '.join(sorted(unknown))}")
+        u = bdd.let({k: bool(v) for k, v in partial.items()}, self.initial)
+        if u == bdd.false:
+            raise NoInitialState(self._why_no_initial(partial))
+        values = self._pick(u, game.variables, partial)
+        return State({n: values[n] for n in self.inputs}, {n: values[n] for n in self.outputs}, 0)
+
+    def _why_no_initial(self, partial: Mapping[str, bool]) -> str:
+        game = self.game
+        bdd = game.bdd
+        shown = ", ".join(f"{k}={int(bool(v))}" for k, v in sorted(partial.items())) or "(none)"
+        assign = {k: bool(v) for k, v in partial.items()}
+        for section in ("env_init", "sys_init"):
+            broken = [c for c, u in game.clauses(section) if bdd.let(assign, u) == bdd.false]
+            if broken:
+                where = "; ".join(f"{c.location}: {c.text}" for c in broken)
+                return f"no initial state with {shown}: it violates {section} ({where})"
+        return f"no winning initial state with {shown}"
+
+    def step(self, state: State, inputs: Mapping[str, bool]) -> State:
+        """The successor of ``state`` for the new ``inputs`` (raises ``AssumptionViolation``)."""
+        game = self.game
+        bdd = game.bdd
+        new_inputs = self._full(inputs, self.inputs, "inputs")
+        assign = game.assignment(state.valuation, new_inputs)
+        if bdd.let(assign, game.env_trans) == bdd.false:
+            raise AssumptionViolation(game.violated("env_safety", state.valuation, new_inputs), new_inputs)
+        outputs = self._move(state, new_inputs, assign)
+        if outputs is None:
+            raise SynthesisError(f"state {state.id} (goal {state.goal}) is outside the strategy: "
+                                 "no move keeps the specification")
+        return self._successor(state, new_inputs, outputs)
+
+    def _move(self, state: State, new_inputs: dict[str, bool], assign: dict) -> dict[str, bool] | None:
+        """The next outputs for goal ``state.goal``, or None when the strategy has no move."""
+        game = self.game
+        bdd = game.bdd
+        u = bdd.let(assign, self.relations[state.goal])
+        if u == bdd.false:
+            return None  # Alg. 1 lines 19-25 (recovery) would go here.
+        prefer = {game.outputs_next[k]: state.outputs[n] for k, n in enumerate(self.outputs)}
+        picked = self._pick(u, game.outputs_next, prefer)
+        return {n: picked[game.outputs_next[k]] for k, n in enumerate(self.outputs)}
+
+    def _successor(self, state: State, new_inputs: dict[str, bool], outputs: dict[str, bool]) -> State:
+        game = self.game
+        bdd = game.bdd
+        full = game.assignment(state.valuation, {**new_inputs, **outputs})
+        goal = state.goal
+        if bdd.let(full, self.reached[goal]) == bdd.true:
+            goal = (goal + 1) % len(self.relations)
+        return State(dict(new_inputs), dict(outputs), goal)
+
+    def admissible_inputs(self, state: State) -> list[dict[str, bool]]:
+        """Every next input valuation allowed by env safety from ``state`` (sorted by bits)."""
+        game = self.game
+        bdd = game.bdd
+        u = bdd.let(game.assignment(state.valuation), game.env_trans)
+        result = []
+        for a in bdd.pick_iter(u, care_vars=set(game.inputs_next)):
+            result.append({n: bool(a[game.inputs_next[k]]) for k, n in enumerate(self.inputs)})
+        result.sort(key=lambda d: sum(int(v) << k for k, v in enumerate(d.values())))
+        return result
+
+    def explicit(self, max_states: int | None = None, progress=None):
+        """The explicit automaton (thesis Alg. 1 lines 1-18); see ``ltl_stack.synthesis.explicit``."""
+        from ltl_stack.synthesis.explicit import extract
+
+        return extract(self, max_states=max_states, progress=progress)
