@@ -27,13 +27,13 @@ def _bits(values: dict[str, bool]) -> int:
 
 
 def initial_states(strategy: SymbolicStrategy) -> list[State]:
-    """Every winning initial position with goal 0, ordered by ``State.id``."""
+    """Every winning initial position (goal 0 unless already met there), ordered by ``State.id``."""
     game = strategy.game
     bdd = game.bdd
     result = []
     for a in bdd.pick_iter(strategy.initial, care_vars=set(game.variables)):
-        result.append(State({n: bool(a[n]) for n in game.inputs},
-                            {n: bool(a[n]) for n in game.outputs}, 0))
+        result.append(strategy.start_state({n: bool(a[n]) for n in game.inputs},
+                                           {n: bool(a[n]) for n in game.outputs}))
     result.sort(key=lambda s: s.id)
     return result
 

@@ -182,7 +182,11 @@ class SymbolicStrategy:
         if u == bdd.false:
             raise NoInitialState(self._why_no_initial(partial))
         values = self._pick(u, game.variables, partial)
-        return State({n: values[n] for n in self.inputs}, {n: values[n] for n in self.outputs}, 0)
+        return self.start_state({n: values[n] for n in self.inputs}, {n: values[n] for n in self.outputs})
+
+    def start_state(self, inputs: dict[str, bool], outputs: dict[str, bool]) -> State:
+        """The state for an initial position (goal 0, or later when goal 0 is already met there)."""
+        return State(dict(inputs), dict(outputs), self._skip_satisfied(inputs, outputs, 0))
 
     def _why_no_initial(self, partial: Mapping[str, bool]) -> str:
         game = self.game
@@ -228,7 +232,24 @@ class SymbolicStrategy:
         goal = state.goal
         if bdd.let(full, self.reached[goal]) == bdd.true:
             goal = (goal + 1) % len(self.relations)
-        return State(dict(new_inputs), dict(outputs), goal)
+        return State(dict(new_inputs), dict(outputs), self._skip_satisfied(new_inputs, outputs, goal))
+
+    def _skip_satisfied(self, inputs: dict[str, bool], outputs: dict[str, bool], goal: int) -> int:
+        """Advance past goals that the next move from this winning position satisfies whatever it is.
+
+        Goals are transition properties (slugs): a goal ``o`` is met by the move *leaving* a position
+        where o holds. Without this, the robot would first pick a move for a goal it already meets.
+        """
+        game = self.game
+        bdd = game.bdd
+        here = game.assignment({**inputs, **outputs})
+        if bdd.let(here, self.winning) != bdd.true:
+            return goal
+        for _ in range(len(self.relations) - 1):
+            if bdd.let(here, self.game.sys_goals[goal]) != bdd.true:
+                break
+            goal = (goal + 1) % len(self.relations)
+        return goal
 
     def admissible_inputs(self, state: State) -> list[dict[str, bool]]:
         """Every next input valuation allowed by env safety from ``state`` (sorted by bits)."""
