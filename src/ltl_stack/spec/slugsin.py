@@ -1,0 +1,257 @@
+"""The ``.slugsin`` format of the slugs GR(1) synthesis tool: reader and writer.
+
+Each clause is one line in prefix notation over ``! & | ^``, the constants ``0 1``, propositions
+and primed propositions ``x'``. ``$ n f0 … f(n-1)`` is a buffer of ``n`` formulas whose value is
+the last one; inside it, ``? i`` stands for the (earlier, complete) entry ``i`` of the innermost
+buffer. Lines of a section are conjoined (init and safety) or are separate goals (liveness);
+an empty section means true. See ``docs/spec_formats.md``.
+
+The parser is iterative (a stack of pending operators), so a chain of thousands of ``&`` costs
+no Python stack, and chains of ``&``/``|`` are flattened into one ``And``/``Or``.
+"""
+from __future__ import annotations
+
+import re
+
+from ltl_stack.spec.errors import SpecError
+from ltl_stack.spec.formula import FALSE, TRUE, And, Const, Formula, Iff, Implies, Not, Or, Var, Xor, children
+from ltl_stack.spec.model import SLUGSIN_SECTIONS, Spec
+from ltl_stack.spec.ops import conjunction, disjunction
+from ltl_stack.spec.sections import Line, Names, SpecBuilder
+
+OPERATORS = {"!": 1, "&": 2, "|": 2, "^": 2}
+_TOKEN = re.compile(r"\S+")
+_GLUED = re.compile(r"^([$?])(\d+)$")
+_NUMBER = re.compile(r"^\d+$")
+
+NAME_RULE = "a slugsin name is one word without a prime that is not an operator or a number"
+
+
+def valid_name(name: str) -> bool:
+    return bool(name) and name not in OPERATORS and name[0] not in "$?#[" and not _NUMBER.match(name) \
+        and not any(c.isspace() for c in name)
+
+
+def parse_slugsin(text: str, file: str = "<string>") -> Spec:
+    """Read a ``.slugsin`` spec; raises ``SpecError`` naming file, line and column."""
+    builder = SpecBuilder(file, valid_name, NAME_RULE)
+    builder.read_layout(text)
+    for section, line in builder.clause_lines:
+        builder.add_clause(section, parse_prefix(line, builder.names(section, line)), line)
+    return builder.finish()
+
+
+class _Frame:
+    """An operator (or ``$`` buffer) still waiting for operands."""
+
+    __slots__ = ("op", "column", "need", "args")
+
+    def __init__(self, op: str, column: int, need: int):
+        self.op = op
+        self.column = column
+        self.need = need
+        self.args: list[Formula] = []
+
+
+def tokens_of(line: Line) -> list[tuple[str, int]]:
+    """Whitespace-separated words of a line with their 1-based columns."""
+    return [(m.group(), m.start() + 1) for m in _TOKEN.finditer(line.text)]
+
+
+def parse_prefix(line: Line, names: Names) -> Formula:
+    """One prefix formula that must fill the whole line."""
+    tokens = tokens_of(line)
+    stack: list[_Frame] = []
+    i = 0
+    while True:
+        if i >= len(tokens):
+            raise _incomplete(stack, names, len(line.text) + 1)
+        word, column = tokens[i]
+        i += 1
+        glued = _GLUED.match(word)
+        if glued:
+            word, count_word, count_column = glued[1], glued[2], column + 1
+        elif word in ("$", "?"):
+            if i >= len(tokens):
+                raise names.error(len(line.text) + 1, f"expected a number after '{word}'")
+            count_word, count_column = tokens[i]
+            i += 1
+        if word in OPERATORS:
+            stack.append(_Frame(word, column, OPERATORS[word]))
+            continue
+        if word == "$":
+            if not _NUMBER.match(count_word) or int(count_word) < 1:
+                raise names.error(count_column, f"expected a positive number of entries after '$', got '{count_word}'")
+            stack.append(_Frame("$", column, int(count_word)))
+            continue
+        if word == "?":
+            value = _recall(stack, count_word, count_column, column, names)
+        elif word == "1":
+            value = TRUE
+        elif word == "0":
+            value = FALSE
+        else:
+            value = _variable(word, column, names)
+        # Reduce: hand the finished operand to the operators waiting for it.
+        while True:
+            if not stack:
+                if i < len(tokens):
+                    extra, extra_column = tokens[i]
+                    raise names.error(extra_column, f"unexpected '{extra}' after a complete formula "
+                                                    "(a slugsin clause is one prefix formula per line)")
+                return value
+            frame = stack[-1]
+            frame.args.append(value)
+            if len(frame.args) < frame.need:
+                break
+            stack.pop()
+            value = _build(frame)
+
+
+def _build(frame: _Frame) -> Formula:
+    op, args = frame.op, frame.args
+    if op == "!":
+        return Not(args[0])
+    if op == "&":
+        return conjunction(args)
+    if op == "|":
+        return disjunction(args)
+    if op == "^":
+        return Xor(args[0], args[1])
+    return args[-1]  # a $ buffer is worth its last entry
+
+
+def _recall(stack: list[_Frame], index_word: str, index_column: int, column: int, names: Names) -> Formula:
+    buffer = next((f for f in reversed(stack) if f.op == "$"), None)
+    if buffer is None:
+        raise names.error(column, "'?' outside a '$' buffer (? i refers to entry i of the enclosing $ n)")
+    if not _NUMBER.match(index_word):
+        raise names.error(index_column, f"expected an entry number after '?', got '{index_word}'")
+    index = int(index_word)
+    if index >= len(buffer.args):
+        done = len(buffer.args)
+        raise names.error(index_column, f"'? {index}' refers to an entry that is not complete yet: the buffer "
+                                        f"at column {buffer.column} has {done} complete "
+                                        f"entr{'y' if done == 1 else 'ies'} (0...{done - 1})"
+                          if done else f"'? {index}' used before the buffer at column {buffer.column} "
+                                       "has any complete entry")
+    return buffer.args[index]
+
+
+def _variable(word: str, column: int, names: Names) -> Var:
+    name, primed = word, False
+    if word.endswith("'"):
+        name, primed = word[:-1], True
+        if name.endswith("'"):
+            raise names.error(column, f"'{word}' has more than one prime; x' is the next state of x")
+    if not name:
+        raise names.error(column, "a prime must follow a proposition name, as in x'")
+    return names.boolean(name, primed, column)
+
+
+def _incomplete(stack: list[_Frame], names: Names, column: int) -> SpecError:
+    if not stack:
+        return names.error(column, "expected a formula")
+    frame = stack[-1]
+    if frame.op == "$":
+        missing = frame.need - len(frame.args)
+        return names.error(column, f"expected {missing} more entr{'y' if missing == 1 else 'ies'} "
+                                   f"of the '$ {frame.need}' buffer at column {frame.column}")
+    if not frame.args:
+        return names.error(column, f"expected an operand after '{frame.op}' at column {frame.column}")
+    return names.error(column, f"expected a second operand for '{frame.op}' at column {frame.column}")
+
+
+# -- writer -------------------------------------------------------------------------------------
+
+def write_slugsin(spec: Spec, *, comments: bool = False) -> str:
+    """``spec`` as ``.slugsin`` text that slugs reads and ``parse_slugsin`` reads back.
+
+    Integers are written as their bits (slugs' own format has only Boolean propositions); an
+    integer with a one-value range has no bits and so is not written. Subformulas that occur more
+    than once in a clause (shared objects, as ``? i`` references give) become ``$`` buffer
+    entries, so the text stays as small as the formula. With ``comments`` every clause is
+    preceded by ``# file:line: text`` of where it came from.
+    """
+    out = ["[INPUT]", *spec.inputs, "", "[OUTPUT]", *spec.outputs, ""]
+    for section, header in SLUGSIN_SECTIONS.items():
+        out.append(f"[{header}]")
+        for clause in spec.section(section):
+            if comments and clause.text:
+                text = " ".join(clause.text.split())
+                out.append(f"# {clause.file}:{clause.line}: {text}")
+            out.append(formula_to_slugsin(clause.formula))
+        out.append("")
+    return "\n".join(out)
+
+
+def formula_to_slugsin(f: Formula) -> str:
+    """``f`` in slugsin prefix notation on one line (``->`` and ``<->`` expressed with ``! | ^``)."""
+    shared = _shared_nodes(f)
+    if not shared:
+        return " ".join(_prefix_tokens(f, {}))
+    index: dict[int, int] = {}
+    parts = [f"$ {len(shared) + 1}"]
+    for k, node in enumerate(shared):
+        parts.extend(_prefix_tokens(node, index))
+        index[id(node)] = k
+    parts.extend(_prefix_tokens(f, index))
+    return " ".join(parts)
+
+
+def _shared_nodes(f: Formula) -> list[Formula]:
+    """Compound nodes reachable along more than one path, children before parents."""
+    count: dict[int, int] = {}
+    order: list[Formula] = []
+    stack: list[tuple[Formula, bool]] = [(f, False)]
+    while stack:
+        node, done = stack.pop()
+        if done:
+            order.append(node)
+            continue
+        key = id(node)
+        if key in count:
+            count[key] += 1
+            continue
+        count[key] = 1
+        stack.append((node, True))
+        stack.extend((k, False) for k in reversed(children(node)))
+    return [n for n in order if count[id(n)] > 1 and not isinstance(n, (Var, Const))
+            and not (isinstance(n, Not) and isinstance(n.arg, (Var, Const)))]
+
+
+def _prefix_tokens(f: Formula, index: dict[int, int]) -> list[str]:
+    out: list[str] = []
+    stack: list[Formula | str] = [f]
+    while stack:
+        item = stack.pop()
+        if isinstance(item, str):
+            out.append(item)
+            continue
+        if item is not f and id(item) in index:
+            out.append(f"? {index[id(item)]}")
+        elif isinstance(item, Var):
+            out.append(item.name + ("'" if item.primed else ""))
+        elif isinstance(item, Const):
+            out.append("1" if item.value else "0")
+        elif isinstance(item, Not):
+            out.append("!")
+            stack.append(item.arg)
+        elif isinstance(item, (And, Or)):
+            args = item.args
+            if not args:
+                out.append("1" if isinstance(item, And) else "0")
+                continue
+            op = "&" if isinstance(item, And) else "|"
+            sequence: list[Formula | str] = []
+            for a in args[:-1]:
+                sequence += [op, a]
+            sequence.append(args[-1])
+            stack.extend(reversed(sequence))
+        elif isinstance(item, Xor):
+            stack.extend([item.right, item.left, "^"])
+        elif isinstance(item, Implies):
+            stack.extend([item.right, item.left, "!", "|"])
+        elif isinstance(item, Iff):
+            stack.extend([item.right, item.left, "^", "!"])
+    return out
