@@ -1,0 +1,170 @@
+"""What the other scanners need from Python's ``ast``: byte spans, import aliases, literal bindings.
+
+Spans are byte offsets into the UTF-8 source (``ast`` columns are byte offsets), so that an edit
+changes exactly the characters of one node and leaves every other byte of the file as it was.
+"""
+from __future__ import annotations
+
+import ast
+from dataclasses import dataclass
+
+from .errors import TransferError
+
+
+@dataclass(frozen=True)
+class Span:
+    """Bytes ``start:end`` of the source, and the 1-based line where they begin."""
+
+    start: int
+    end: int
+    line: int
+
+
+class SourceFile:
+    """A parsed program: its bytes, its tree, import aliases and the literal values names are bound to."""
+
+    def __init__(self, text: str, filename: str = "<source>"):
+        self.text = text
+        self.filename = filename
+        self.data = text.encode("utf-8")
+        try:
+            self.tree = ast.parse(text, filename=filename)
+        except SyntaxError as err:
+            raise TransferError(f"not valid Python: {err.msg}", filename, f"line {err.lineno}") from None
+        self._line_starts = [0]
+        for i, byte in enumerate(self.data):
+            if byte == 0x0A:
+                self._line_starts.append(i + 1)
+        self.aliases = _import_aliases(self.tree)
+        self.parents: dict[ast.AST, ast.AST] = {}
+        for parent in ast.walk(self.tree):
+            for child in ast.iter_child_nodes(parent):
+                self.parents[child] = parent
+        self._bindings = _bindings(self.tree, self.parents)
+
+    def span(self, node: ast.AST) -> Span:
+        start = self._line_starts[node.lineno - 1] + node.col_offset
+        end = self._line_starts[node.end_lineno - 1] + node.end_col_offset
+        return Span(start, end, node.lineno)
+
+    def segment(self, node: ast.AST) -> str:
+        span = self.span(node)
+        return self.data[span.start:span.end].decode("utf-8")
+
+    def qualname(self, node: ast.AST) -> str | None:
+        """Dotted name of a Name/Attribute with import aliases resolved (``Twist`` -> ``geometry_msgs.msg.Twist``)."""
+        parts = []
+        while isinstance(node, ast.Attribute):
+            parts.append(node.attr)
+            node = node.value
+        if not isinstance(node, ast.Name):
+            return None
+        parts.append(self.aliases.get(node.id, node.id))
+        return ".".join(reversed(parts))
+
+    def scope_of(self, node: ast.AST) -> ast.AST:
+        while node in self.parents:
+            node = self.parents[node]
+            if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef | ast.Lambda | ast.ClassDef):
+                return node
+        return self.tree
+
+    def bindings(self, name: ast.Name) -> list[ast.expr]:
+        """Values assigned to ``name`` by plain ``name = value`` in its scope, else at module level."""
+        scope = self.scope_of(name)
+        while True:
+            found = self._bindings.get((scope, name.id))
+            if found or scope is self.tree:
+                return found or []
+            scope = self.scope_of(scope)
+
+
+def _import_aliases(tree: ast.Module) -> dict[str, str]:
+    aliases: dict[str, str] = {}
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            for alias in node.names:
+                if alias.asname:
+                    aliases[alias.asname] = alias.name
+        elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+            for alias in node.names:
+                if alias.name != "*":
+                    aliases[alias.asname or alias.name] = f"{node.module}.{alias.name}"
+    return aliases
+
+
+def _bindings(tree: ast.Module, parents: dict) -> dict[tuple[ast.AST, str], list[ast.expr]]:
+    found: dict[tuple[ast.AST, str], list[ast.expr]] = {}
+
+    def scope_of(node):
+        while node in parents:
+            node = parents[node]
+            if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef | ast.Lambda | ast.ClassDef):
+                return node
+        return tree
+
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Assign):
+            pairs = []
+            for target in node.targets:
+                if isinstance(target, ast.Name):
+                    pairs.append((target, node.value))
+                elif isinstance(target, ast.Tuple) and isinstance(node.value, ast.Tuple) \
+                        and len(target.elts) == len(node.value.elts):
+                    pairs += [(t, v) for t, v in zip(target.elts, node.value.elts, strict=True)
+                              if isinstance(t, ast.Name)]
+            for target, value in pairs:
+                found.setdefault((scope_of(node), target.id), []).append(value)
+        elif isinstance(node, ast.AnnAssign) and isinstance(node.target, ast.Name) and node.value is not None:
+            found.setdefault((scope_of(node), node.target.id), []).append(node.value)
+        elif isinstance(node, ast.AugAssign) and isinstance(node.target, ast.Name):
+            found.setdefault((scope_of(node), node.target.id), []).append(node)  # arithmetic: not a literal
+        elif isinstance(node, ast.For | ast.comprehension) and isinstance(node.target, ast.Name):
+            found.setdefault((scope_of(node), node.target.id), []).append(node.target)
+    return found
+
+
+def number_value(node: ast.AST) -> float | None:
+    """The value of a numeric literal, also ``-0.5`` and ``+1``; None for anything else."""
+    if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub | ast.UAdd):
+        inner = number_value(node.operand)
+        if inner is None:
+            return None
+        return -inner if isinstance(node.op, ast.USub) else inner
+    if isinstance(node, ast.Constant) and isinstance(node.value, int | float) \
+            and not isinstance(node.value, bool):
+        return float(node.value)
+    return None
+
+
+def string_value(node: ast.AST) -> str | None:
+    if isinstance(node, ast.Constant) and isinstance(node.value, str):
+        return node.value
+    return None
+
+
+def call_argument(call: ast.Call, position: int, keyword: str) -> ast.expr | None:
+    """The argument at ``position`` or given as ``keyword=``; None when absent or behind ``*args``."""
+    for kw in call.keywords:
+        if kw.arg == keyword:
+            return kw.value
+    if position < len(call.args) and not any(isinstance(a, ast.Starred) for a in call.args[:position + 1]):
+        return call.args[position]
+    return None
+
+
+def format_number(value: float, digits: int = 6) -> str:
+    """Short decimal text of a float that reads back as a float (``0.675``, ``-0.2``, ``1.0``)."""
+    text = repr(round(value, digits))
+    if text in ("-0.0",):
+        text = "0.0"
+    return text
+
+
+def format_string(value: str, like: str) -> str:
+    """A string literal for ``value`` in the quote style of the literal ``like``."""
+    like = like.lstrip("rRbBuU")
+    quote = like[:3] if like[:3] in ('"""', "'''") else (like[:1] or "'")
+    if quote in value or "\\" in value or "\n" in value:
+        return repr(value)
+    return quote + value + quote

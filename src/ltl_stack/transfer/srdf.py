@@ -1,0 +1,162 @@
+"""SRDF (MoveIt semantic description) reading: planning groups, chains, end effectors (thesis A.3).
+
+Groups may list joints, links, chains (``base_link``/``tip_link``) and subgroups. The pose frame of a
+group is the tip of its chain, or else the SRDF end effector attached to it, or else (with the URDF)
+the deepest link its joints reach.
+"""
+from __future__ import annotations
+
+import difflib
+from dataclasses import dataclass, field
+from pathlib import Path
+from xml.etree import ElementTree
+
+from .errors import TransferError
+
+
+@dataclass
+class PlanningGroup:
+    name: str
+    joints: list[str] = field(default_factory=list)
+    links: list[str] = field(default_factory=list)
+    chains: list[tuple[str, str]] = field(default_factory=list)  # (base_link, tip_link)
+    subgroups: list[str] = field(default_factory=list)
+
+
+@dataclass
+class EndEffector:
+    name: str
+    parent_link: str
+    group: str
+    parent_group: str | None = None
+
+
+@dataclass
+class Srdf:
+    robot: str
+    groups: dict[str, PlanningGroup]
+    end_effectors: list[EndEffector]
+    file: str = "<srdf>"
+
+    def group(self, name: str) -> PlanningGroup:
+        if name not in self.groups:
+            raise TransferError(f"no planning group {name!r} (groups: {', '.join(self.groups)})", self.file)
+        return self.groups[name]
+
+    def all_joints(self, name: str, _seen: frozenset = frozenset()) -> list[str]:
+        """Joints of a group including its subgroups (chains are expanded by the caller, with the URDF)."""
+        group = self.group(name)
+        joints = list(group.joints)
+        for sub in group.subgroups:
+            if sub not in _seen:
+                joints += [j for j in self.all_joints(sub, _seen | {name}) if j not in joints]
+        return joints
+
+    def tip_link(self, name: str, urdf=None) -> str | None:
+        """The pose frame of a group: its chain tip, its end effector's parent link, or its deepest link."""
+        group = self.group(name)
+        if len(group.chains) == 1:
+            return group.chains[0][1]
+        for eef in self.end_effectors:
+            if eef.parent_group == name:
+                return eef.parent_link
+        if urdf is not None:
+            joints = self.all_joints(name)
+            if joints:
+                try:
+                    return urdf.deepest_child(joints)
+                except TransferError:
+                    pass
+        links = set(group.links)
+        if urdf is not None:
+            links |= {urdf.joint(j).child for j in self.all_joints(name) if urdf.has_joint(j)}
+        for eef in self.end_effectors:
+            if eef.parent_link in links:
+                return eef.parent_link
+        return None
+
+
+def parse_srdf(text: str, file: str = "<srdf>") -> Srdf:
+    """Read an SRDF document; a clear error names the file and the offending element."""
+    try:
+        root = ElementTree.fromstring(text)
+    except ElementTree.ParseError as err:
+        raise TransferError(f"not valid XML: {err}", file) from None
+    if root.tag != "robot":
+        raise TransferError(f"root element is <{root.tag}>, expected <robot>", file)
+    groups: dict[str, PlanningGroup] = {}
+    for elem in root.findall("group"):
+        name = elem.get("name")
+        if not name:
+            raise TransferError("a <group> has no name", file, f"line {_line(text, elem)}")
+        group = PlanningGroup(name)
+        for child in elem:
+            where = f"group {name!r} <{child.tag}>"
+            if child.tag in ("joint", "link", "group"):
+                if not child.get("name"):
+                    raise TransferError("missing attribute 'name'", file, where)
+                {"joint": group.joints, "link": group.links, "group": group.subgroups}[child.tag].append(
+                    child.get("name"))
+            elif child.tag == "chain":
+                base, tip = child.get("base_link"), child.get("tip_link")
+                if not base or not tip:
+                    raise TransferError("a chain needs base_link and tip_link", file, where)
+                group.chains.append((base, tip))
+        groups[name] = group
+    for group in groups.values():
+        for sub in group.subgroups:
+            if sub not in groups:
+                raise TransferError(f"unknown subgroup {sub!r}", file, f"group {group.name!r}")
+    eefs = []
+    for elem in root.findall("end_effector"):
+        name, parent_link, group = elem.get("name"), elem.get("parent_link"), elem.get("group")
+        if not (name and parent_link and group):
+            raise TransferError("an end_effector needs name, parent_link and group", file,
+                                f"end_effector {name!r}")
+        if group not in groups:
+            raise TransferError(f"unknown group {group!r}", file, f"end_effector {name!r}")
+        eefs.append(EndEffector(name, parent_link, group, elem.get("parent_group")))
+    return Srdf(root.get("name", ""), groups, eefs, file)
+
+
+def _line(text: str, elem) -> str:
+    needle = f'name="{elem.get("name")}"'
+    index = text.find(needle)
+    return str(text.count("\n", 0, index) + 1) if index >= 0 else "?"
+
+
+def load_srdf(path: str | Path) -> Srdf:
+    path = Path(path)
+    try:
+        text = path.read_text()
+    except OSError as err:
+        raise TransferError(f"cannot read SRDF: {err.strerror}", str(path)) from None
+    return parse_srdf(text, str(path))
+
+
+def check_against_urdf(srdf: Srdf, urdf) -> None:
+    """Every joint and link the SRDF names must exist in the URDF (inconsistent files are an error)."""
+    for group in srdf.groups.values():
+        for joint in group.joints:
+            if not urdf.has_joint(joint):
+                raise TransferError(f"joint {joint!r} is not in the URDF {urdf.file}", srdf.file,
+                                    f"group {group.name!r}")
+        for link in group.links + [x for chain in group.chains for x in chain]:
+            if not urdf.has_link(link):
+                raise TransferError(f"link {link!r} is not in the URDF {urdf.file}", srdf.file,
+                                    f"group {group.name!r}")
+    for eef in srdf.end_effectors:
+        if not urdf.has_link(eef.parent_link):
+            raise TransferError(f"link {eef.parent_link!r} is not in the URDF {urdf.file}", srdf.file,
+                                f"end_effector {eef.name!r}")
+
+
+def similarity(a: str, b: str) -> float:
+    """Ratcliff-Obershelp (gestalt pattern matching) similarity, as difflib computes it."""
+    return difflib.SequenceMatcher(None, a, b).ratio()
+
+
+def rank_groups(source_group: str, srdf: Srdf) -> list[tuple[str, float]]:
+    """Target planning groups, most similar name to the source group first (A.3)."""
+    ranked = [(name, similarity(source_group, name)) for name in srdf.groups]
+    return sorted(ranked, key=lambda item: (-item[1], item[0]))

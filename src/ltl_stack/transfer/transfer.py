@@ -1,0 +1,256 @@
+"""Transfer a ROS Python program from a source robot to a target robot (thesis chapter 2, Problem 1).
+
+Communication (§2.5.1): every topic/action name is replaced by the target's (A.1 codebase statistics,
+A.2 live master, or both), MoveIt groups by the most similar SRDF group (A.3) and pose frames by that
+group's tip link. Parameters (§2.5.2): velocity literals are scaled by Eqs. 2.1/2.2 (B.2) and checked
+against the target's limits (B.1); joint trajectories are retargeted by optimisation (B.3). Only the
+spans that change are edited; the report says what changed, how, and what could not be resolved.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+from .channels import ChannelSite, find_channel_sites, name_spans
+from .choose import Asker, choose_channel, choose_group, short_type
+from .codebase import ChannelStats
+from .commands import find_joint_trajectories, find_velocity_commands
+from .errors import TransferError
+from .limits import scale_command
+from .profiles import RobotProfile
+from .report import ChannelChange, ParameterChange, TransferReport, Unresolved
+from .rewrite import Edit, apply_edits
+from .source_ast import SourceFile, format_number, format_string
+
+
+class TransferRefused(TransferError):
+    """The transfer cannot be done safely at all (e.g. differential <-> holonomic velocity commands)."""
+
+
+@dataclass
+class TransferOptions:
+    stats: ChannelStats | None = None              # A.1: the target robot's channel statistics
+    live: list[tuple[str, str]] | None = None      # A.2: (name, type) on the target's master
+    ask: Asker | None = None                       # None: non-interactive (rules, flagged)
+    progress: object = None                        # callable(str) for long work
+
+
+@dataclass
+class TransferResult:
+    text: str
+    report: TransferReport
+    edits: list[Edit] = field(default_factory=list)
+
+
+def transfer_program(text: str, source: RobotProfile, target: RobotProfile,
+                     options: TransferOptions | None = None, filename: str = "<source>") -> TransferResult:
+    """Write the target program for ``text`` and report on it; raises TransferRefused/TransferError."""
+    started = time.perf_counter()
+    options = options or TransferOptions()
+    src = SourceFile(text, filename)
+    report = TransferReport(filename, source.name, target.name)
+    report.lines_in_file = text.count("\n") + (0 if text.endswith("\n") or not text else 1)
+    report.target_examples = options.stats.scripts if options.stats else None
+    edits: list[Edit] = []
+    sites = find_channel_sites(src)
+    velocity, unresolved_velocity = find_velocity_commands(src)
+    _refuse_mixed_drives(sites, velocity, source, target, report)
+    _channels(src, sites, source, target, options, report, edits)
+    _velocities(velocity, unresolved_velocity, source, target, report, edits, src)
+    joints = find_joint_trajectories(src)
+    if joints.names or joints.points:
+        from .retarget import transfer_joint_commands
+
+        transfer_joint_commands(src, joints, source, target, report, edits, options.progress)
+    for u in joints.unresolved:
+        report.unresolved.append(Unresolved(u.field, u.line, f"'{u.text}': {u.reason}"))
+    new_text = apply_edits(src.data, edits).decode("utf-8")
+    report.seconds = time.perf_counter() - started
+    return TransferResult(new_text, report, edits)
+
+
+def _refuse_mixed_drives(sites: list[ChannelSite], velocity, source: RobotProfile, target: RobotProfile,
+                         report: TransferReport) -> None:
+    twist = velocity or any(short_type(s.use.msg_type) == "Twist" for s in sites)
+    drives = {source.drive, target.drive}
+    if twist and drives == {"differential", "holonomic"}:
+        reason = (f"{source.name} has a {source.drive} drive and {target.name} a {target.drive} drive. "
+                  "Velocity commands do not carry over between the two (thesis §2.8, challenge 2): a "
+                  "holonomic program may set linear.x and linear.y at different places, and whether they "
+                  "form one diagonal motion or two motions can only be told by running it. Transfer "
+                  "between robots with the same drive, or set 'drive:' in a robot profile if the "
+                  "inferred drive is wrong.")
+        report.refused = reason
+        raise TransferRefused(reason, report.source_file)
+
+
+def _channels(src: SourceFile, sites: list[ChannelSite], source: RobotProfile, target: RobotProfile,
+              options: TransferOptions, report: TransferReport, edits: list[Edit]) -> None:
+    decided: dict = {}
+    chosen_groups: list[tuple[int, str | None]] = []   # (line, target group) for pose frames
+    target_srdf = _load_srdf(target, report) if any(s.use.kind == "move_group" for s in sites) else None
+    for site in sites:
+        use = site.use
+        if use.name.value is None:
+            report.unresolved.append(Unresolved(f"{use.word} name", use.line, use.name.problem or "unknown"))
+            continue
+        if use.kind == "pose_frame":
+            continue  # after all groups are chosen
+        key = (use.word, use.name.value, use.msg_type)
+        if key not in decided:
+            if use.kind == "move_group":
+                decided[key] = _choose_group(use.name.value, target, target_srdf, options.ask)
+            else:
+                decided[key] = choose_channel(use.word, use.msg_type, use.name.value, options.stats,
+                                              options.live, options.ask)
+        decision = decided[key]
+        change = ChannelChange(use.word, use.msg_type, use.line, use.name.value, decision.replacement,
+                               decision.method, decision.user_input and _first_use(decided, key, site, sites),
+                               decision.flagged, decision.candidates)
+        if use.kind == "move_group":
+            chosen_groups.append((use.line, decision.replacement))
+        report.channels.append(change)
+        if decision.replacement is None:
+            report.unresolved.append(Unresolved(
+                f"{use.word} '{use.name.value}'", use.line,
+                f"no {use.word} of type {short_type(use.msg_type)} known for {target.name} "
+                "(no codebase statistics or live master listing has one); kept the original name"
+                if use.kind != "move_group" else f"{target.name} has no SRDF planning groups; kept it"))
+        elif change.changed:
+            _edit_name(src, site, decision.replacement, edits)
+    for site in sites:
+        if site.use.kind == "pose_frame" and site.use.name.value is not None:
+            _pose_frame(src, site, chosen_groups, target, target_srdf, report, edits)
+
+
+def _first_use(decided: dict, key, site: ChannelSite, sites: list[ChannelSite]) -> bool:
+    """Count a user's answer once, at the first site that asked."""
+    first = next(s for s in sites if (s.use.word, s.use.name.value, s.use.msg_type) == key)
+    return first is site
+
+
+def _edit_name(src: SourceFile, site: ChannelSite, new: str, edits: list[Edit]) -> None:
+    for span in name_spans(src, site.name_node):
+        old = src.data[span.start:span.end].decode("utf-8")
+        edits.append(Edit(span, format_string(new, old)))
+
+
+def _load_srdf(robot: RobotProfile, report: TransferReport):
+    if robot.srdf is None:
+        return None
+    from .srdf import check_against_urdf, load_srdf
+
+    srdf = load_srdf(robot.srdf)
+    if robot.urdf is not None:
+        from .urdf import load_urdf
+
+        check_against_urdf(srdf, load_urdf(robot.urdf))
+    return srdf
+
+
+def _choose_group(source_group: str, target: RobotProfile, srdf, ask: Asker | None):
+    from .choose import Decision
+    from .srdf import rank_groups
+
+    if srdf is None:
+        return Decision(None, "A.3 needs the target's SRDF")
+    urdf = _target_urdf(target)
+    return choose_group(source_group, rank_groups(source_group, srdf),
+                        lambda name: srdf.tip_link(name, urdf) is not None, ask)
+
+
+def _target_urdf(target: RobotProfile):
+    if target.urdf is None:
+        return None
+    from .urdf import load_urdf
+
+    return load_urdf(target.urdf)
+
+
+def _pose_frame(src: SourceFile, site: ChannelSite, chosen_groups, target: RobotProfile, srdf,
+                report: TransferReport, edits: list[Edit]) -> None:
+    use = site.use
+    before = [g for line, g in chosen_groups if line <= use.line] or [g for _, g in chosen_groups]
+    group = before[-1] if before else None
+    tip = srdf.tip_link(group, _target_urdf(target)) if (srdf is not None and group) else None
+    change = ChannelChange(use.word, None, use.line, use.name.value, tip,
+                           f"A.3 tip link of the target group '{group}'" if tip else "none")
+    report.channels.append(change)
+    if tip is None:
+        report.unresolved.append(Unresolved(f"pose frame '{use.name.value}'", use.line,
+                                            f"no single tip link for the target group {group!r}; kept it"))
+    elif change.changed:
+        _edit_name(src, site, tip, edits)
+
+
+def _velocities(commands, unresolved, source: RobotProfile, target: RobotProfile, report: TransferReport,
+                edits: list[Edit], src: SourceFile) -> None:
+    for u in unresolved:
+        report.unresolved.append(Unresolved(u.field, u.line, f"'{u.text}': {u.reason}; not checked against "
+                                                             f"{target.name}'s limits (§2.8 challenges 3-4)"))
+    if not commands:
+        return
+    if target.limits is None:
+        report.unresolved.append(Unresolved("velocity commands", commands[0].line,
+                                            f"no velocity limits for {target.name}; nothing checked (B.1)"))
+        return
+    by_span: dict = {}
+    zeros = 0
+    for cmd in commands:
+        if cmd.value == 0:
+            zeros += 1
+            continue
+        by_span.setdefault(cmd.span, []).append(cmd)
+    if zeros:
+        report.notes.append(f"{zeros} zero velocity literal(s) are valid on any robot and were left as they are")
+    for span, cmds in by_span.items():
+        original = src.data[span.start:span.end].decode("utf-8")
+        results = [_scale_one(cmd, source, target) for cmd in cmds]
+        values = {r[0] for r in results}
+        cmd, (new, method, note) = cmds[0], results[0]
+        what = " & ".join(sorted({c.field for c in cmds})) + (f" (variable {cmd.via})" if cmd.via else "")
+        if len(values) > 1:
+            report.unresolved.append(Unresolved(what, span.line, f"the literal {original} commands fields "
+                                                                  "with different limits; left unchanged"))
+            continue
+        if new is None:
+            report.unresolved.append(Unresolved(what, span.line, note))
+            continue
+        replacement = original if new == cmd.value else format_number(new)
+        within = all(target.limits[c.field].allows(new) for c in cmds)
+        report.parameters.append(ParameterChange(what, span.line, original, replacement, method, within, note))
+        if replacement != original:
+            edits.append(Edit(span, replacement))
+
+
+def _scale_one(cmd, source: RobotProfile, target: RobotProfile):
+    """(new value or None, method, note) for one velocity command."""
+    tgt = target.limits[cmd.field]
+    if not tgt.applicable():
+        if cmd.value == 0:
+            return cmd.value, "B.1 checked", None
+        return None, "", f"{target.name} has no {cmd.field} (None in its limits); the command {cmd.value:g} " \
+                         "cannot be carried over"
+    src_limit = source.limits[cmd.field] if source.limits else None
+    note = None
+    if cmd.value == 0:
+        return 0.0, "B.1 checked", None
+    if src_limit is not None and src_limit.applicable():
+        try:
+            new = scale_command(cmd.value, src_limit, tgt)
+            method = "B.2 scaled (Eq. 2.1)" if cmd.value > 0 else "B.2 scaled (Eq. 2.2)"
+            if cmd.value != 0 and new == 0:
+                note = f"inside {source.name}'s deadband {src_limit.deadband:g}: no motion, so zero"
+            if not src_limit.allows(cmd.value):
+                note = f"already outside {source.name}'s limits {src_limit.describe()}"
+        except ValueError as err:
+            new, method, note = cmd.value, "B.1 checked", f"not scaled: {err}"
+    else:
+        new, method = cmd.value, "B.1 checked"
+        note = f"{source.name} has no limits for {cmd.field}; checked only"
+    if not tgt.allows(new):
+        clamped = tgt.clamp(new)
+        note = (note + "; " if note else "") + f"{new:g} is outside {target.name}'s {cmd.field} " \
+                                               f"{tgt.describe()}, clamped to {clamped:g}"
+        new, method = clamped, "B.1 clamped"
+    return new, method, note
