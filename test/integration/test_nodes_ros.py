@@ -1,0 +1,153 @@
+"""Proposition nodes against a real master: set_velocity, set_color, the sensors."""
+from __future__ import annotations
+
+import time
+
+import pytest
+from helpers import require_shared, wait_for
+from test_nodes_probe import make_session
+
+pytestmark = [pytest.mark.ros, pytest.mark.timeout(60)]
+
+# Absence of messages cannot be waited for; we watch for this many seconds (many node periods).
+QUIET_WINDOW = 0.6
+
+
+@pytest.fixture
+def ros(request):
+    return make_session(request)
+
+
+def nonzero(t) -> bool:
+    return any((t.linear.x, t.linear.y, t.linear.z, t.angular.x, t.angular.y, t.angular.z))
+
+
+def test_set_velocity_publishes_while_true_and_one_zero_on_falling_edge(ros):
+    from geometry_msgs.msg import Twist
+
+    cmd = ros.record(ros.topic("cmd_vel"), Twist)
+    ros.run("set_velocity", f"_topic:={ros.topic('cmd_vel')}", "_vx:=0.5", "_az:=-0.25", "_rate:=20",
+            f"proposition:={ros.topic('outputs/move')}")
+    ros.set_bool(ros.topic("outputs/move"), False)
+    ros.master.wait_for_publisher(ros.topic("cmd_vel"))
+    time.sleep(QUIET_WINDOW)
+    assert cmd.snapshot() == [], "set_velocity published while the proposition was false"
+
+    ros.set_bool(ros.topic("outputs/move"), True)
+    cmd.wait(lambda ms: len(ms) >= 5, what="5 Twists while true")
+    first = cmd.snapshot()[0]
+    assert (first.linear.x, first.angular.z) == (0.5, -0.25), first
+
+    ros.set_bool(ros.topic("outputs/move"), False)
+    cmd.wait_last(lambda t: not nonzero(t), what="a zero Twist after the falling edge")
+    count = len(cmd.snapshot())
+    time.sleep(QUIET_WINDOW)
+    after = cmd.snapshot()[count:]
+    assert after == [], f"{len(after)} Twists after the falling edge"
+    zeros = [t for t in cmd.snapshot() if not nonzero(t)]
+    assert len(zeros) == 1, len(zeros)
+
+
+def test_set_velocity_reads_the_thesis_mapping_parameter_names_and_stops_on_shutdown(ros):
+    from geometry_msgs.msg import Twist
+
+    cmd = ros.record(ros.topic("turtle1/cmd_vel"), Twist)
+    node = ros.run("set_velocity", f"_publish_topic:={ros.topic('turtle1/cmd_vel')}", "_az:=1",
+                   f"_proposition_topic:={ros.topic('outputs/move')}")
+    ros.set_bool(ros.topic("outputs/move"), True)
+    cmd.wait(lambda ms: len(ms) >= 2, what="Twists while true")
+    assert cmd.snapshot()[0].angular.z == 1.0, cmd.snapshot()[0]
+    assert node.stop() == 0, node.output()
+    cmd.wait_last(lambda t: not nonzero(t), what="a zero Twist on shutdown")
+
+
+def test_set_velocity_bad_parameter_is_one_clear_error(ros):
+    node = ros.run("set_velocity", "_vx:=fast")
+    wait_for(lambda: not node.running(), 15, "set_velocity to exit")
+    out = node.output()
+    assert node.popen.returncode == 2, out
+    assert "~vx must be a number" in out, out
+    assert "Traceback" not in out, out
+
+
+def test_set_color_sets_the_colour_on_rising_edge_and_black_on_falling(ros):
+    from std_msgs.msg import ColorRGBA
+
+    colors = ros.record(ros.topic("sphero/set_color"), ColorRGBA)
+    ros.run("set_color", f"_publish_topic:={ros.topic('sphero/set_color')}", "_r:=255", "_g:=0", "_b:=0",
+            "_off_on_false:=true", f"proposition:={ros.topic('outputs/turn_red')}")
+    ros.set_bool(ros.topic("outputs/turn_red"), True)
+    red = colors.wait_last(lambda c: c.r == 255.0, what="red")
+    assert (red.g, red.b) == (0.0, 0.0), red
+    ros.set_bool(ros.topic("outputs/turn_red"), False)
+    colors.wait_last(lambda c: (c.r, c.g, c.b) == (0.0, 0.0, 0.0), what="black")
+    assert len(colors.snapshot()) == 2, colors.snapshot()
+
+
+def test_threshold_sensor_compares_a_field_with_hysteresis(ros):
+    from sensor_msgs.msg import Range
+    from std_msgs.msg import Bool
+
+    out = ros.record(ros.topic("inputs/obstacle"), Bool)
+    ros.run("topic_threshold_sensor", f"_topic:={ros.topic('range')}", "_type:=sensor_msgs/Range",
+            "_field:=range", "_comparison:=<", "_threshold:=0.5", "_hysteresis:=0.1",
+            f"_proposition_topic:={ros.topic('inputs/obstacle')}")
+    out.wait_last(lambda b: b.data is False, what="the initial False")
+    for value, expected in [(0.3, True), (0.55, True), (0.65, False), (0.45, False), (0.35, True)]:
+        ros.publish(ros.topic("range"), Range(range=value))
+        out.wait_last(lambda b, e=expected: b.data is e, what=f"{expected} after range {value}")
+
+
+def test_threshold_sensor_learns_the_type_from_the_master_and_forwards_a_bool(ros):
+    from std_msgs.msg import Bool
+
+    out = ros.record(ros.topic("inputs/pickup_ac"), Bool)
+    ros.publish(ros.topic("outputs/pickup_status"), Bool(data=False), subscribers=0)
+    ros.run("topic_threshold_sensor", f"_sensor_topic:={ros.topic('outputs/pickup_status')}",
+            "_comparison:===", "_threshold:=1", f"proposition:={ros.topic('inputs/pickup_ac')}")
+    ros.master.wait_for_subscriber(ros.topic("outputs/pickup_status"))
+    ros.publish(ros.topic("outputs/pickup_status"), Bool(data=True))
+    out.wait_last(lambda b: b.data is True, what="True forwarded")
+    ros.publish(ros.topic("outputs/pickup_status"), Bool(data=False))
+    out.wait_last(lambda b: b.data is False, what="False forwarded")
+
+
+def test_threshold_sensor_unknown_type_is_one_clear_error(ros):
+    node = ros.run("topic_threshold_sensor", "_topic:=/x", "_type:=nosuch_msgs/Thing")
+    wait_for(lambda: not node.running(), 15, "the sensor to exit")
+    assert node.popen.returncode == 2, node.output()
+    assert "unknown message type 'nosuch_msgs/Thing'" in node.output(), node.output()
+    assert "Traceback" not in node.output(), node.output()
+
+
+def test_region_sensor_with_a_real_regions_file(ros):
+    from geometry_msgs.msg import PoseStamped
+    from std_msgs.msg import Bool
+
+    from ltl_stack.ros.regions import RegionMap
+
+    path = require_shared("specs", "move_group_and_move_base", "lab_loop.regions")
+    regions = RegionMap.load(path, scale=0.005)
+    inside = regions.find("left_ground").interior_point()
+    elsewhere = regions.find("top_lane").interior_point()
+
+    out = ros.record(ros.topic("inputs/leftGround_rc"), Bool)
+    ros.run("region_sensor", f"_regions_file:={path}", "_region_in_consideration:=leftGround",
+            "_scale:=0.005", f"_pose_topic:={ros.topic('pose')}", "_pose_type:=geometry_msgs/PoseStamped",
+            f"proposition:={ros.topic('inputs/leftGround_rc')}")
+    out.wait_last(lambda b: b.data is False, what="the initial False")
+    for (x, y), expected in [(inside, True), (elsewhere, False), (inside, True)]:
+        pose = PoseStamped()
+        pose.pose.position.x, pose.pose.position.y = x, y
+        ros.publish(ros.topic("pose"), pose)
+        out.wait_last(lambda b, e=expected: b.data is e, what=f"{expected} at ({x:.2f}, {y:.2f})")
+
+
+def test_region_sensor_unknown_region_names_the_file_and_the_known_regions(ros):
+    path = require_shared("specs", "move_group_and_move_base", "lab_loop.regions")
+    node = ros.run("region_sensor", f"_regions_file:={path}", "_region:=kitchen")
+    wait_for(lambda: not node.running(), 15, "the sensor to exit")
+    out = node.output()
+    assert node.popen.returncode == 2, out
+    assert f"{path}: no region named 'kitchen'" in out and "left_ground" in out, out
+    assert "Traceback" not in out, out
