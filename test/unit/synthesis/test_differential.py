@@ -144,3 +144,33 @@ def test_omega_on_hand_checked_specs(name, sections, default, robotics):
     spec = make_spec(["i"], ["o"], **sections)
     got = (omega_is_realizable(spec), omega_is_realizable(spec, robotics_semantics=True))
     assert got == (default, robotics), got
+
+
+# The robot can only win by moving to o=0, where the environment has no admissible input left (it
+# would have to set i' and !i'): slugs calls this realizable (the environment breaks its assumptions
+# first). A cooperative strategy may prefer other moves, but the verdict must not change.
+FORCES_ENV_DEADLOCK = dict(sys_init=["o"], env_safety=["| o i'", "| o ! i'"], sys_liveness=["0"])
+
+
+@pytest.mark.parametrize("robotics", SEMANTICS)
+def test_synthesize_verdict_does_not_depend_on_cooperation_minimal_case(robotics):
+    from ltl_stack.synthesis import synthesize
+
+    spec = make_spec(["i"], ["o"], **FORCES_ENV_DEADLOCK)
+    assert reference_solver.is_realizable(spec, robotics_semantics=robotics)
+    got = {coop: synthesize(spec, robotics_semantics=robotics, cooperative=coop).realizable
+           for coop in (False, True)}
+    assert got == {False: True, True: True}, got
+
+
+def test_synthesize_verdict_equals_reference_on_random_specs(reference_verdicts):
+    from ltl_stack.synthesis import synthesize
+
+    disagreements = []
+    for seed, robotics in itertools.product(range(0, 300, 2), SEMANTICS):
+        spec = random_spec(seed)
+        for coop in (False, True):
+            got = synthesize(spec, robotics_semantics=robotics, cooperative=coop).realizable
+            if got != reference_verdicts[seed, robotics]:
+                disagreements.append((seed, robotics, coop, reference_verdicts[seed, robotics]))
+    assert disagreements == [], f"(seed, robotics_semantics, cooperative, reference verdict): {disagreements}"
