@@ -37,6 +37,7 @@ class Srdf:
     groups: dict[str, PlanningGroup]
     end_effectors: list[EndEffector]
     file: str = "<srdf>"
+    virtual_joints: list[str] = field(default_factory=list)
 
     def group(self, name: str) -> PlanningGroup:
         if name not in self.groups:
@@ -52,24 +53,35 @@ class Srdf:
                 joints += [j for j in self.all_joints(sub, _seen | {name}) if j not in joints]
         return joints
 
-    def tip_link(self, name: str, urdf=None) -> str | None:
-        """The pose frame of a group: its chain tip, its end effector's parent link, or its deepest link."""
+    def all_chains(self, name: str, _seen: frozenset = frozenset()) -> list[tuple[str, str]]:
         group = self.group(name)
-        if len(group.chains) == 1:
-            return group.chains[0][1]
+        chains = list(group.chains)
+        for sub in group.subgroups:
+            if sub not in _seen:
+                chains += self.all_chains(sub, _seen | {name})
+        return chains
+
+    def tip_link(self, name: str, urdf=None) -> str | None:
+        """The pose frame of a group: its chain tip, its end effector's parent link, or its deepest link.
+
+        None when the group has no single tip (several arms, or no joints that form one chain).
+        """
+        group = self.group(name)
+        tips = {tip for _, tip in self.all_chains(name)}
+        if len(tips) > 1:
+            return None
+        if tips:
+            return tips.pop()
         for eef in self.end_effectors:
             if eef.parent_group == name:
                 return eef.parent_link
-        if urdf is not None:
-            joints = self.all_joints(name)
-            if joints:
-                try:
-                    return urdf.deepest_child(joints)
-                except TransferError:
-                    pass
+        joints = [j for j in self.all_joints(name) if j not in self.virtual_joints]
+        if urdf is not None and joints:
+            try:
+                return urdf.deepest_child(joints)
+            except TransferError:
+                return None
         links = set(group.links)
-        if urdf is not None:
-            links |= {urdf.joint(j).child for j in self.all_joints(name) if urdf.has_joint(j)}
         for eef in self.end_effectors:
             if eef.parent_link in links:
                 return eef.parent_link
@@ -116,7 +128,8 @@ def parse_srdf(text: str, file: str = "<srdf>") -> Srdf:
         if group not in groups:
             raise TransferError(f"unknown group {group!r}", file, f"end_effector {name!r}")
         eefs.append(EndEffector(name, parent_link, group, elem.get("parent_group")))
-    return Srdf(root.get("name", ""), groups, eefs, file)
+    virtual = [e.get("name") for e in root.findall("virtual_joint") if e.get("name")]
+    return Srdf(root.get("name", ""), groups, eefs, file, virtual)
 
 
 def _line(text: str, elem) -> str:
@@ -138,7 +151,7 @@ def check_against_urdf(srdf: Srdf, urdf) -> None:
     """Every joint and link the SRDF names must exist in the URDF (inconsistent files are an error)."""
     for group in srdf.groups.values():
         for joint in group.joints:
-            if not urdf.has_joint(joint):
+            if not urdf.has_joint(joint) and joint not in srdf.virtual_joints:
                 raise TransferError(f"joint {joint!r} is not in the URDF {urdf.file}", srdf.file,
                                     f"group {group.name!r}")
         for link in group.links + [x for chain in group.chains for x in chain]:

@@ -142,9 +142,9 @@ def _load_srdf(robot: RobotProfile, report: TransferReport):
 
     srdf = load_srdf(robot.srdf)
     if robot.urdf is not None:
-        from .urdf import load_urdf
+        from .urdf import load_urdf_tree
 
-        check_against_urdf(srdf, load_urdf(robot.urdf))
+        check_against_urdf(srdf, load_urdf_tree(robot.urdf))
     return srdf
 
 
@@ -162,9 +162,9 @@ def _choose_group(source_group: str, target: RobotProfile, srdf, ask: Asker | No
 def _target_urdf(target: RobotProfile):
     if target.urdf is None:
         return None
-    from .urdf import load_urdf
+    from .urdf import load_urdf_tree
 
-    return load_urdf(target.urdf)
+    return load_urdf_tree(target.urdf)
 
 
 def _pose_frame(src: SourceFile, site: ChannelSite, chosen_groups, target: RobotProfile, srdf,

@@ -1,0 +1,234 @@
+"""URDF reading with yourdfpy (no meshes): joints, limits, kinematic chains and forward kinematics.
+
+The chain forward kinematics multiplies each joint's origin by its motion (rotation about the axis for
+revolute/continuous joints, translation along it for prismatic ones), as URDF defines; the unit tests
+check it against yourdfpy's own scene-graph forward kinematics.
+"""
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .errors import TransferError
+
+ACTUATED = ("revolute", "continuous", "prismatic")
+
+
+@dataclass(frozen=True)
+class ChainJoint:
+    name: str
+    type: str
+    origin: np.ndarray      # 4x4, parent link -> joint frame
+    axis: np.ndarray        # unit vector in the joint frame
+    lower: float
+    upper: float
+
+
+@dataclass(frozen=True)
+class JointInfo:
+    name: str
+    type: str
+    parent: str
+    child: str
+
+
+class UrdfTree:
+    """The link/joint tree of a URDF (names, types, parent and child), read quickly with ElementTree.
+
+    Enough for checking an SRDF and finding pose frames; kinematics needs :class:`UrdfModel`.
+    """
+
+    def __init__(self, joints: list[JointInfo], links: set[str], name: str, file: str):
+        self.file = file
+        self.name = name
+        self.joints = {j.name: j for j in joints}
+        self.links = links
+        self.parent_joint = {j.child: j for j in joints}
+        self.children: dict[str, list] = {}
+        for j in joints:
+            self.children.setdefault(j.parent, []).append(j)
+        for j in joints:
+            for link in (j.parent, j.child):
+                if link not in self.links:
+                    raise TransferError(f"link {link!r} is not defined", file, f"joint {j.name!r}")
+            if j.type not in ACTUATED + ("fixed", "floating", "planar"):
+                raise TransferError(f"unknown joint type {j.type!r}", file, f"joint {j.name!r}")
+
+    def has_joint(self, name: str) -> bool:
+        return name in self.joints
+
+    def has_link(self, name: str) -> bool:
+        return name in self.links
+
+    def joint(self, name: str):
+        if name not in self.joints:
+            raise TransferError(f"no joint {name!r}", self.file)
+        return self.joints[name]
+
+    def path_to(self, link: str) -> list:
+        """Joints from the root to ``link``."""
+        path = []
+        while link in self.parent_joint:
+            j = self.parent_joint[link]
+            path.append(j)
+            link = j.parent
+        return list(reversed(path))
+
+    def deepest_child(self, joint_names: list[str]) -> str:
+        """The child link of the joint that lies deepest on one serial path through all these joints."""
+        known = [n for n in joint_names if n in self.joints]
+        if not known:
+            raise TransferError(f"none of the joints {joint_names} is in the URDF", self.file)
+        deepest = max(known, key=lambda n: len(self.path_to(self.joints[n].child)))
+        on_path = {j.name for j in self.path_to(self.joints[deepest].child)}
+        if not set(known) <= on_path:
+            raise TransferError(f"joints {sorted(set(known) - on_path)} are not on one chain with "
+                                f"{deepest!r}", self.file)
+        return self.joints[deepest].child
+
+    def leaf_chains(self) -> list[list]:
+        """Root-to-leaf joint paths (for choosing a chain when nothing else says which)."""
+        leaves = [link for link in self.links if link not in self.children]
+        return [self.path_to(leaf) for leaf in sorted(leaves)]
+
+
+class UrdfModel(UrdfTree):
+    """A URDF parsed by yourdfpy: the tree plus joint origins, axes and limits for kinematics."""
+
+    def __init__(self, urdf, file: str):
+        joints = [JointInfo(j.name, j.type, j.parent, j.child) for j in urdf.robot.joints]
+        super().__init__(joints, {link.name for link in urdf.robot.links}, urdf.robot.name, file)
+        self.urdf = urdf
+        self._joint_elements = {j.name: j for j in urdf.robot.joints}
+
+    def limits(self, name: str) -> tuple[float, float]:
+        """Position limits of a joint; continuous joints without limits get one full turn each way."""
+        self.joint(name)
+        j = self._joint_elements[name]
+        lower = getattr(j.limit, "lower", None) if j.limit is not None else None
+        upper = getattr(j.limit, "upper", None) if j.limit is not None else None
+        if j.type == "continuous" and (lower is None or upper is None or lower >= upper):
+            return -np.pi, np.pi
+        if lower is None or upper is None:
+            raise TransferError("actuated joint without position limits", self.file, f"joint {name!r}")
+        if lower > upper:
+            raise TransferError(f"lower limit {lower} is above upper limit {upper}", self.file,
+                                f"joint {name!r}")
+        return float(lower), float(upper)
+
+    def chain(self, base: str, tip: str) -> list[ChainJoint]:
+        """The serial chain of joints (fixed ones included) from link ``base`` down to link ``tip``."""
+        if base not in self.links or tip not in self.links:
+            missing = base if base not in self.links else tip
+            raise TransferError(f"no link {missing!r}", self.file)
+        path = self.path_to(tip)
+        names = [j.parent for j in path]
+        if base != tip and base not in names:
+            raise TransferError(f"link {tip!r} is not below link {base!r}", self.file)
+        start = names.index(base) if base != tip else len(path)
+        result = []
+        for info in path[start:]:
+            j = self._joint_elements[info.name]
+            lower, upper = self.limits(j.name) if j.type in ACTUATED else (0.0, 0.0)
+            origin = np.array(j.origin, dtype=float) if j.origin is not None else np.eye(4)
+            axis = np.array(j.axis if j.axis is not None else (1.0, 0.0, 0.0), dtype=float)
+            norm = np.linalg.norm(axis)
+            if j.type in ACTUATED and norm == 0:
+                raise TransferError("joint axis is zero", self.file, f"joint {j.name!r}")
+            result.append(ChainJoint(j.name, j.type, origin, axis / (norm or 1.0), lower, upper))
+        return result
+
+
+def _rotation(axis: np.ndarray, angle: float) -> np.ndarray:
+    x, y, z = axis
+    c, s = np.cos(angle), np.sin(angle)
+    t = 1 - c
+    return np.array([[t * x * x + c, t * x * y - s * z, t * x * z + s * y],
+                     [t * x * y + s * z, t * y * y + c, t * y * z - s * x],
+                     [t * x * z - s * y, t * y * z + s * x, t * z * z + c]])
+
+
+def chain_frames(chain: list[ChainJoint], q) -> np.ndarray:
+    """Positions (n+1 x 3) of the chain base and of every joint's child frame, for actuated values ``q``."""
+    transform = np.eye(4)
+    points = [transform[:3, 3].copy()]
+    i = 0
+    for joint in chain:
+        transform = transform @ joint.origin
+        if joint.type in ("revolute", "continuous"):
+            motion = np.eye(4)
+            motion[:3, :3] = _rotation(joint.axis, q[i])
+            transform = transform @ motion
+            i += 1
+        elif joint.type == "prismatic":
+            motion = np.eye(4)
+            motion[:3, 3] = joint.axis * q[i]
+            transform = transform @ motion
+            i += 1
+        points.append(transform[:3, 3].copy())
+    return np.array(points)
+
+
+def actuated(chain: list[ChainJoint]) -> list[ChainJoint]:
+    return [j for j in chain if j.type in ACTUATED]
+
+
+@functools.lru_cache(maxsize=32)
+def _load_cached(path: str, mtime: float) -> UrdfModel:
+    import yourdfpy
+
+    try:
+        urdf = yourdfpy.URDF.load(path, build_scene_graph=False, load_meshes=False,
+                                  build_collision_scene_graph=False, load_collision_meshes=False)
+    except OSError as err:
+        raise TransferError(f"cannot read URDF: {err.strerror or err}", path) from None
+    except Exception as err:  # yourdfpy/lxml raise many kinds for malformed files
+        raise TransferError(f"not a valid URDF: {err}", path) from None
+    return UrdfModel(urdf, path)
+
+
+@functools.lru_cache(maxsize=32)
+def _tree_cached(path: str, mtime: float) -> UrdfTree:
+    from xml.etree import ElementTree
+
+    try:
+        root = ElementTree.parse(path).getroot()
+    except OSError as err:
+        raise TransferError(f"cannot read URDF: {err.strerror or err}", path) from None
+    except ElementTree.ParseError as err:
+        raise TransferError(f"not valid XML: {err}", path) from None
+    if root.tag != "robot":
+        raise TransferError(f"root element is <{root.tag}>, expected <robot>", path)
+    joints = []
+    for elem in root.findall("joint"):
+        name = elem.get("name")
+        parent, child = elem.find("parent"), elem.find("child")
+        if not name or parent is None or child is None or not parent.get("link") or not child.get("link"):
+            raise TransferError("a joint needs a name, <parent link=...> and <child link=...>", path,
+                                f"joint {name!r}")
+        joints.append(JointInfo(name, elem.get("type", ""), parent.get("link"), child.get("link")))
+    links = {e.get("name") for e in root.findall("link")}
+    return UrdfTree(joints, links, root.get("name", ""), path)
+
+
+def load_urdf_tree(path: str | Path) -> UrdfTree:
+    """Only the link/joint names of a URDF (fast; no yourdfpy import)."""
+    path = Path(path)
+    try:
+        mtime = path.stat().st_mtime
+    except OSError as err:
+        raise TransferError(f"cannot read URDF: {err.strerror}", str(path)) from None
+    return _tree_cached(str(path), mtime)
+
+
+def load_urdf(path: str | Path) -> UrdfModel:
+    """Parse a URDF (cached per file and modification time); clear errors name the file and element."""
+    path = Path(path)
+    try:
+        mtime = path.stat().st_mtime
+    except OSError as err:
+        raise TransferError(f"cannot read URDF: {err.strerror}", str(path)) from None
+    return _load_cached(str(path), mtime)
