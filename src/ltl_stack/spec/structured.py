@@ -1,9 +1,252 @@
-"""Placeholder until the structured reader lands."""
+"""The infix "structured slugs" format, for people who write specs by hand.
+
+Same sections and declarations as ``.slugsin`` (integers ``x:0...7`` included), but each clause
+is an infix formula::
+
+    !a | b'                       negation ! ~, and & && /\\, or | || \\/, xor ^
+    a -> (b <-> c)                implication -> -->, equivalence <-> <-->
+    x' = x + 1                    integer comparisons = != < <= > >= over sums with +
+    TRUE  FALSE  1  0             constants
+
+Precedence, tightest first: ``!``, comparisons, ``&``, ``|``, ``^``, ``->`` (right-associative),
+``<->`` — as slugs' structured-spec compiler documents it. Integer comparisons are bit-blasted
+like slugs does (``ltl_stack.spec.integers``). A clause line that starts with a prefix operator
+(``& | ^ $``), or that only parses as prefix, is read as a slugsin clause: slugs' compiler
+passes such lines through, and some of its example specs use them.
+
+The parser is an operator-precedence (shunting-yard) loop: no recursion, whatever the nesting.
+"""
 from __future__ import annotations
 
+import re
+
 from ltl_stack.spec.errors import SpecError
+from ltl_stack.spec.formula import FALSE, TRUE, Formula, Iff, Implies, Not, Xor
+from ltl_stack.spec.integers import IntExpr, compare, constant_expr, variable_expr
 from ltl_stack.spec.model import Spec
+from ltl_stack.spec.ops import conjunction, disjunction
+from ltl_stack.spec.sections import Line, Names, SpecBuilder
+from ltl_stack.spec.slugsin import parse_prefix
+
+NAME_RULE = "a name is a letter or '_' followed by letters, digits, '_', '@' or '.' (not TRUE or FALSE)"
+_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_@.]*$")
+
+_TOKEN = re.compile(r"""
+    (?P<space>\s+)
+  | (?P<op><-->|<->|-->|->|<=|>=|!=|==|&&|\|\||/\\|\\/|[!~&|^()=<>+\-*/])
+  | (?P<number>\d+)
+  | (?P<name>[A-Za-z_][A-Za-z0-9_@.]*'*)
+""", re.VERBOSE)
+
+_SPELLING = {"~": "!", "&&": "&", "/\\": "&", "||": "|", "\\/": "|", "-->": "->", "<-->": "<->", "==": "="}
+BINARY = {"&": (5, "left"), "|": (4, "left"), "^": (3, "left"), "->": (2, "right"), "<->": (1, "left")}
+COMPARISONS = ("=", "!=", "<", "<=", ">", ">=")
+PREFIX_STARTS = ("&", "|", "^", "$")
+
+
+def valid_name(name: str) -> bool:
+    return bool(_NAME.match(name)) and name not in ("TRUE", "FALSE")
 
 
 def parse_structured(text: str, file: str = "<string>") -> Spec:
-    raise SpecError(file, 1, 1, "the structured format is not supported yet")
+    """Read a structured (infix) spec; raises ``SpecError`` naming file, line and column."""
+    builder = SpecBuilder(file, valid_name, NAME_RULE)
+    builder.read_layout(text)
+    for section, line in builder.clause_lines:
+        builder.add_clause(section, parse_clause(line, builder.names(section, line)), line)
+    return builder.finish()
+
+
+def parse_clause(line: Line, names: Names) -> Formula:
+    """One clause line: infix, or a slugsin prefix line passed through."""
+    first = line.text.split()[0]
+    if first in PREFIX_STARTS or re.match(r"^\$\d+$", first):
+        return parse_prefix(line, names)
+    try:
+        return parse_infix(line, names)
+    except SpecError as infix_error:
+        try:
+            return parse_prefix(line, names)
+        except SpecError:
+            raise infix_error from None
+
+
+class _Token:
+    __slots__ = ("kind", "text", "column")
+
+    def __init__(self, kind: str, text: str, column: int):
+        self.kind = kind
+        self.text = text
+        self.column = column
+
+
+def tokenize(line: Line, names: Names) -> list[_Token]:
+    out: list[_Token] = []
+    text = line.text
+    position = 0
+    while position < len(text):
+        m = _TOKEN.match(text, position)
+        if not m:
+            char = text[position]
+            hint = " (a prime must follow a proposition name, as in x')" if char == "'" else ""
+            raise names.error(position + 1, f"unexpected character {char!r}{hint}")
+        if m.lastgroup != "space":
+            word = m.group()
+            out.append(_Token(m.lastgroup, _SPELLING.get(word, word), position + 1))
+        position = m.end()
+    return out
+
+
+def parse_infix(line: Line, names: Names) -> Formula:
+    tokens = tokenize(line, names)
+    values: list[Formula] = []
+    operators: list[_Token] = []  # '!', '(' and binary operators waiting for operands
+    expect_operand = True
+    previous: _Token | None = None
+    i = 0
+
+    def reduce() -> None:
+        op = operators.pop()
+        if op.text == "!":
+            values.append(Not(values.pop()))
+            return
+        right = values.pop()
+        left = values.pop()
+        if op.text == "&":
+            values.append(conjunction([left, right]))
+        elif op.text == "|":
+            values.append(disjunction([left, right]))
+        elif op.text == "^":
+            values.append(Xor(left, right))
+        elif op.text == "->":
+            values.append(Implies(left, right))
+        else:
+            values.append(Iff(left, right))
+
+    while i < len(tokens):
+        token = tokens[i]
+        if expect_operand:
+            if token.text in ("!", "("):
+                operators.append(token)
+                previous = token
+                i += 1
+            elif token.kind in ("name", "number"):
+                value, i = _atom(tokens, i, names)
+                values.append(value)
+                expect_operand = False
+            elif previous is None:
+                raise names.error(token.column, f"expected a formula, got '{token.text}'")
+            else:
+                raise names.error(token.column, f"expected an operand after '{previous.text}', got '{token.text}'")
+            continue
+        if token.text in BINARY:
+            precedence, associativity = BINARY[token.text]
+            while operators and operators[-1].text != "(":
+                top = operators[-1].text
+                if top == "!" or BINARY[top][0] > precedence or (
+                        BINARY[top][0] == precedence and associativity == "left"):
+                    reduce()
+                else:
+                    break
+            operators.append(token)
+            previous = token
+            expect_operand = True
+            i += 1
+        elif token.text == ")":
+            while operators and operators[-1].text != "(":
+                reduce()
+            if not operators:
+                raise names.error(token.column, "unexpected ')' without a matching '('")
+            operators.pop()
+            i += 1
+        elif token.text in COMPARISONS or token.text in ("+", "-", "*", "/"):
+            raise names.error(token.column, f"'{token.text}' needs integers on both sides "
+                                            "(declare them as name:lo...hi)")
+        else:
+            raise names.error(token.column, f"expected an operator such as '&', '|' or '->' before "
+                                            f"'{token.text}'")
+    end = len(line.text) + 1
+    if expect_operand:
+        if previous is None:
+            raise names.error(end, "expected a formula")
+        raise names.error(end, f"expected an operand after '{previous.text}' at column {previous.column}")
+    while operators:
+        if operators[-1].text == "(":
+            raise names.error(end, f"expected ')' to close the '(' at column {operators[-1].column}")
+        reduce()
+    return values[0]
+
+
+def _split_prime(token: _Token, names: Names) -> tuple[str, bool]:
+    name = token.text
+    if name.endswith("''"):
+        raise names.error(token.column, f"'{name}' has more than one prime; x' is the next state of x")
+    if name.endswith("'"):
+        return name[:-1], True
+    return name, False
+
+
+def _atom(tokens: list[_Token], i: int, names: Names) -> tuple[Formula, int]:
+    """A proposition, a constant or a comparison starting at ``tokens[i]``; returns the next index."""
+    token = tokens[i]
+    nxt = tokens[i + 1].text if i + 1 < len(tokens) else None
+    if token.kind == "name":
+        name, primed = _split_prime(token, names)
+        if name in ("TRUE", "FALSE") and not primed:
+            return (TRUE if name == "TRUE" else FALSE), i + 1
+        if not names.is_integer(name):
+            if nxt in COMPARISONS or nxt == "+":
+                if name in names.builder.inputs or name in names.builder.outputs:
+                    raise names.error(token.column, f"'{name}' is a Boolean proposition; only integer "
+                                                    f"variables (name:lo...hi) can be compared or added")
+            return names.boolean(name, primed, token.column), i + 1
+    elif nxt not in COMPARISONS and nxt != "+":
+        if token.text in ("0", "1"):
+            return (TRUE if token.text == "1" else FALSE), i + 1
+        raise names.error(token.column, f"the number {token.text} is not a formula; compare it with an "
+                                        "integer variable, as in x = 3")
+    start = i
+    left, i = _sum(tokens, i, names)
+    if i >= len(tokens) or tokens[i].text not in COMPARISONS:
+        if i == start + 1 and token.kind == "name":
+            raise names.error(token.column, f"integer variable '{token.text.rstrip(chr(39))}' needs a "
+                                            f"comparison, such as {token.text} = 0")
+        last = tokens[i - 1]
+        where = tokens[i].column if i < len(tokens) else last.column + len(last.text)
+        raise names.error(where, "expected a comparison (= != < <= > >=) after the integer expression")
+    op = tokens[i].text
+    right, i = _sum(tokens, i + 1, names, after=op)
+    return compare(op, left, right), i
+
+
+def _sum(tokens: list[_Token], i: int, names: Names, after: str | None = None) -> tuple[IntExpr, int]:
+    """``term (+ term)*`` where a term is a number or an integer variable, possibly primed."""
+    total = IntExpr()
+    while True:
+        if i >= len(tokens):
+            last = tokens[-1]
+            raise names.error(last.column + len(last.text), f"expected a number or an integer variable "
+                                                            f"after '{after or last.text}'")
+        token = tokens[i]
+        if token.kind == "number":
+            total = total.plus(constant_expr(int(token.text)))
+        elif token.kind == "name":
+            name, primed = _split_prime(token, names)
+            if not names.is_integer(name):
+                if name in names.builder.inputs or name in names.builder.outputs:
+                    raise names.error(token.column, f"'{name}' is a Boolean proposition, not an integer")
+                raise names.error(token.column, f"undeclared integer variable '{name}' "
+                                                "(declare it as name:lo...hi in [INPUT] or [OUTPUT])")
+            names.check_prime(name, primed, token.column)
+            total = total.plus(variable_expr(names.integer(name), primed))
+        else:
+            raise names.error(token.column, f"expected a number or an integer variable, got '{token.text}'")
+        i += 1
+        if i < len(tokens) and tokens[i].text in ("-", "*", "/"):
+            raise names.error(tokens[i].column, f"operator '{tokens[i].text}' is not supported in integer "
+                                                "expressions; only '+' is")
+        if i < len(tokens) and tokens[i].text == "+":
+            after = "+"
+            i += 1
+            continue
+        return total, i
