@@ -1,0 +1,124 @@
+"""Formulas for people: Structured English sentences, infix text and slugsin prefix text.
+
+Structured English follows the thesis' phrasing (Spec. 1 and 2, Figs. 3.7-3.8): ``not``, ``and``,
+``or``, ``if … then …``, ``… if and only if …``, ``next x`` for a primed proposition, and a
+section word in front: ``always`` (safety), ``infinitely often`` (liveness), ``initially`` (init)::
+
+    always, if person then next stop_camera
+    always ((not pickup and drop) or (pickup and not drop))
+    infinitely often rightLane
+
+Proposition names are written exactly as declared, so ``not_ready`` stays one word; a name that is
+itself one of the sentence words (``and``, ``next``, …) is quoted. All renderers work bottom-up
+with ``ops.fold`` (no recursion), so deep formulas are fine.
+"""
+from __future__ import annotations
+
+from ltl_stack.spec.formula import And, Const, Formula, Iff, Implies, Not, Or, Var, Xor
+from ltl_stack.spec.model import Clause
+from ltl_stack.spec.ops import fold
+from ltl_stack.spec.slugsin import formula_to_slugsin
+
+__all__ = ["clause_to_english", "formula_to_english", "formula_to_infix", "formula_to_slugsin"]
+
+# A rendered subformula and how it binds: "atom" needs no parentheses anywhere.
+_Piece = tuple[str, str]
+
+_WORDS = {"not", "and", "or", "if", "then", "next", "always", "true", "false", "infinitely", "often",
+          "initially", "exactly", "one", "of", "only"}
+
+SECTION_WORDS = {
+    "env_init": "initially", "sys_init": "initially",
+    "env_safety": "always", "sys_safety": "always",
+    "env_liveness": "infinitely often", "sys_liveness": "infinitely often",
+}
+
+
+def formula_to_infix(f: Formula) -> str:
+    """``f`` in the structured format's infix syntax; ``parse_structured`` reads it back."""
+    def combine(node: Formula, kids: tuple[_Piece, ...]) -> _Piece:
+        if isinstance(node, Var):
+            return node.name + ("'" if node.primed else ""), "atom"
+        if isinstance(node, Const):
+            return ("TRUE" if node.value else "FALSE"), "atom"
+        if isinstance(node, Not):
+            text, kind = kids[0]
+            return "!" + (text if kind in ("atom", "not") else f"({text})"), "not"
+        if isinstance(node, (And, Or)):
+            kind = "and" if isinstance(node, And) else "or"
+            if not kids:
+                return ("TRUE" if kind == "and" else "FALSE"), "atom"
+            if len(kids) == 1:
+                return kids[0]
+            parts = [t if k in ("atom", "not", kind) else f"({t})" for t, k in kids]
+            return f" {'&' if kind == 'and' else '|'} ".join(parts), kind
+        op, kind = {Xor: ("^", "xor"), Implies: ("->", "implies"), Iff: ("<->", "iff")}[type(node)]
+        parts = [t if k in ("atom", "not") else f"({t})" for t, k in kids]
+        return f"{parts[0]} {op} {parts[1]}", kind
+    return fold(f, combine)[0]
+
+
+def _name(var: Var) -> str:
+    name = f"'{var.name}'" if var.name.lower() in _WORDS else var.name
+    return f"next {name}" if var.primed else name
+
+
+def formula_to_english(f: Formula) -> str:
+    """``f`` as a Structured English phrase (no section word in front)."""
+    def wrap(piece: tuple, allowed: tuple[str, ...] = ("atom", "not")) -> str:
+        text, kind = piece[0], piece[1]
+        return text if kind in allowed else f"({text})"
+
+    def condition(cause: tuple, effect: tuple) -> tuple:
+        allowed = ("atom", "not", "and", "or")
+        return f"if {wrap(cause, allowed)} then {wrap(effect, allowed)}", "if", None
+
+    # Each piece is (text, kind, piece of the negated formula for "not" pieces).
+    def combine(node: Formula, kids: tuple) -> tuple:
+        if isinstance(node, Var):
+            return _name(node), "atom", None
+        if isinstance(node, Const):
+            return ("true" if node.value else "false"), "atom", None
+        if isinstance(node, Not):
+            return "not " + wrap(kids[0]), "not", kids[0]
+        if isinstance(node, Or) and len(kids) >= 2 and kids[0][1] == "not":
+            # slugs writes "a -> b" as "| ! a b": read it back as a condition
+            rest = kids[1] if len(kids) == 2 else (" or ".join(wrap(k, ("atom", "not", "or")) for k in kids[1:]), "or")
+            return condition(kids[0][2], rest)
+        if isinstance(node, (And, Or)):
+            kind = "and" if isinstance(node, And) else "or"
+            if not kids:
+                return ("true" if kind == "and" else "false"), "atom", None
+            if len(kids) == 1:
+                return kids[0]
+            return f" {kind} ".join(wrap(k, ("atom", "not", kind)) for k in kids), kind, None
+        left, right = kids
+        if isinstance(node, Implies):
+            return condition(left, right)
+        if isinstance(node, Iff):
+            return f"{wrap(left)} if and only if {wrap(right)}", "iff", None
+        return f"exactly one of {wrap(left)} and {wrap(right)}", "xor", None
+    return fold(f, combine)[0]
+
+
+def clause_to_english(clause_or_formula: Clause | Formula, section: str | None = None) -> str:
+    """A Structured English sentence for a clause (or formula) of ``section`` (one of ``SECTIONS``).
+
+    Without a section only the formula is rendered, with no ``always``/``infinitely often``.
+    """
+    f = clause_or_formula.formula if isinstance(clause_or_formula, Clause) else clause_or_formula
+    body = formula_to_english(f)
+    if section is None:
+        return body
+    if section not in SECTION_WORDS:
+        raise ValueError(f"unknown section {section!r}; expected one of {', '.join(SECTION_WORDS)}")
+    word = SECTION_WORDS[section]
+    if body.startswith("if "):
+        return f"{word}, {body}"
+    if word != "infinitely often" and isinstance(f, (And, Or, Xor, Iff)) and len(_top_args(f)) > 1:
+        return f"{word} ({body})"
+    return f"{word} {body}"
+
+
+def _top_args(f: Formula) -> tuple:
+    return f.args if isinstance(f, (And, Or)) else (f.left, f.right)
