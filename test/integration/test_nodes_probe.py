@@ -30,8 +30,10 @@ def shared_master() -> RosMaster:
         os.environ.update({k: _MASTER.env[k] for k in saved})
         try:
             rospy.init_node("pytest_probe", anonymous=True, disable_signals=True)
-            # rospy reads ROS_MASTER_URI lazily once, on the first inbound connection; read it now.
+            # rospy reads ROS_MASTER_URI lazily, once: for the parameter server and on the first
+            # inbound connection. Make it read it now, while it points at this master.
             from rospy.impl import tcpros_base
+            rospy.get_param_names()
             tcpros_base._is_use_tcp_keepalive()
         finally:
             # The probe keeps talking to this master; other tests must not see it in the environment.
@@ -91,6 +93,7 @@ class Session:
         self.ns = ns
         self._pubs: dict = {}
         self._recorders: list[Recorder] = []
+        self._clients: list = []
 
     def topic(self, name: str) -> str:
         return f"{self.ns}/{name}"
@@ -122,7 +125,21 @@ class Session:
 
         self.publish(topic, Bool(data=value), subscribers=subscribers)
 
+    def action_client(self, name: str, action_type: type, timeout: float = 15.0):
+        """A real actionlib SimpleActionClient, connected to its server."""
+        import actionlib
+        import rospy
+
+        client = actionlib.SimpleActionClient(name, action_type)
+        self._clients.append(client)
+        assert client.wait_for_server(rospy.Duration(timeout)), f"no action server {name}"
+        return client
+
     def close(self, processes_before: int) -> None:
+        for client in self._clients:
+            ac = client.action_client
+            for endpoint in (ac.pub_goal, ac.pub_cancel, ac.status_sub, ac.result_sub, ac.feedback_sub):
+                endpoint.unregister()
         for proc in self.master.processes[processes_before:]:
             proc.stop()
         del self.master.processes[processes_before:]

@@ -1,0 +1,151 @@
+"""``sim_navigation_server``: a move_base-like action server for the simulated robot.
+
+It serves ``ltl_stack/Navigate`` on ``~action`` (default ``navigate``): the goal names a region of
+``~regions_file`` (the robot drives to a point well inside it) or a world point. It reads the robot's
+``odom``, publishes ``cmd_vel`` with a proportional go-to-point controller, sends the remaining distance
+as feedback, stops the robot and succeeds within ``~goal_tolerance``, and stops and reports
+preempted when the goal is cancelled. A goal naming an unknown region is aborted with the reason.
+"""
+from __future__ import annotations
+
+import math
+import threading
+import time
+from typing import Any
+
+from ltl_stack.ros.proposition_node import NodeConfigError, NodeSpec, Param, run_node
+from ltl_stack.ros.regions import RegionsError
+from ltl_stack.sim.kinematics import MODES, Pose2D, go_to_point
+from ltl_stack.sim.robot import REGION_PARAMS, load_regions
+
+NAVIGATION_SERVER = NodeSpec(
+    name="sim_navigation_server",
+    kind="sim",
+    description="Simulated navigation action server (ltl_stack/Navigate): drives the robot on "
+                "cmd_vel to a region or point using odom; cancellable.",
+    params=[
+        Param("action", "navigate", "action name"),
+        Param("mode", "diff", f"drive of the robot: {' or '.join(MODES)}"),
+        Param("rate", 20.0, "control rate (Hz)"),
+        Param("max_linear", 0.5, "speed limit (m/s)"),
+        Param("max_angular", 1.5, "turn-rate limit (rad/s)"),
+        Param("goal_tolerance", 0.05, "success radius around the target (m)"),
+        Param("odom_timeout", 5.0, "abort a goal when no odometry came for this long (s)"),
+        *REGION_PARAMS,
+    ],
+)
+
+
+def odom_pose(msg: Any) -> Pose2D:
+    """Planar pose of a nav_msgs/Odometry (heading from the quaternion's yaw)."""
+    p = msg.pose.pose.position
+    q = msg.pose.pose.orientation
+    yaw = math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+    return Pose2D(p.x, p.y, yaw)
+
+
+class NavigationServer:
+    def __init__(self, config: dict[str, Any]) -> None:
+        import actionlib
+        import rospy
+        from geometry_msgs.msg import Twist
+        from nav_msgs.msg import Odometry
+
+        from ltl_stack.msg import NavigateAction
+
+        if config["mode"] not in MODES:
+            raise NodeConfigError(f"{rospy.get_name()}: ~mode must be one of {', '.join(MODES)}, "
+                                  f"got {config['mode']!r}")
+        self.config = config
+        self.regions = load_regions(config)
+        self._lock = threading.Lock()
+        self.pose: Pose2D | None = None
+        self.pose_time = 0.0
+        self._twist = Twist
+        self.cmd_pub = rospy.Publisher("cmd_vel", Twist, queue_size=10)
+        rospy.Subscriber("odom", Odometry, self._on_odom, queue_size=10)
+        self.server = actionlib.SimpleActionServer(config["action"], NavigateAction,
+                                                   execute_cb=self.execute, auto_start=False)
+        self.server.start()
+        rospy.loginfo("%s: action %s ready", rospy.get_name(), rospy.resolve_name(config["action"]))
+
+    def _on_odom(self, msg: Any) -> None:
+        with self._lock:
+            self.pose = odom_pose(msg)
+            self.pose_time = time.monotonic()
+
+    def current_pose(self) -> Pose2D | None:
+        with self._lock:
+            if self.pose is None or time.monotonic() - self.pose_time > self.config["odom_timeout"]:
+                return None
+            return self.pose
+
+    def region_of(self, pose: Pose2D) -> str:
+        return (self.regions.region_at(pose.x, pose.y) or "") if self.regions is not None else ""
+
+    def target_of(self, goal: Any) -> tuple[float, float]:
+        """World point of a goal; RegionsError for an unknown region or no regions file."""
+        if not goal.region:
+            return (goal.x, goal.y)
+        if self.regions is None:
+            raise RegionsError(f"goal names region {goal.region!r} but the server has no ~regions_file")
+        return self.regions.find(goal.region).interior_point()
+
+    def stop(self) -> None:
+        self.cmd_pub.publish(self._twist())
+
+    def execute(self, goal: Any) -> None:
+        import rospy
+
+        from ltl_stack.msg import NavigateFeedback, NavigateResult
+
+        try:
+            target = self.target_of(goal)
+        except RegionsError as error:
+            self.server.set_aborted(NavigateResult(reached=False), str(error))
+            return
+        c = self.config
+        rate = rospy.Rate(c["rate"])
+        wait_until = time.monotonic() + c["odom_timeout"]
+        while not rospy.is_shutdown():
+            pose = self.current_pose()
+            if self.server.is_preempt_requested():
+                self.stop()
+                region = self.region_of(pose) if pose else ""
+                self.server.set_preempted(NavigateResult(reached=False, region=region), "cancelled")
+                return
+            if pose is None:
+                if time.monotonic() > wait_until:
+                    self.stop()
+                    self.server.set_aborted(NavigateResult(reached=False), "no odometry on "
+                                            + rospy.resolve_name("odom"))
+                    return
+            else:
+                wait_until = time.monotonic() + c["odom_timeout"]
+                dist = math.hypot(target[0] - pose.x, target[1] - pose.y)
+                self.server.publish_feedback(NavigateFeedback(distance=dist, x=pose.x, y=pose.y))
+                if dist <= c["goal_tolerance"]:
+                    self.stop()
+                    self.server.set_succeeded(NavigateResult(reached=True, region=self.region_of(pose)),
+                                              "reached")
+                    return
+                vx, vy, wz = go_to_point(pose, target, c["mode"], c["max_linear"], c["max_angular"])
+                cmd = self._twist()
+                cmd.linear.x, cmd.linear.y, cmd.angular.z = vx, vy, wz
+                self.cmd_pub.publish(cmd)
+            try:
+                rate.sleep()
+            except rospy.ROSInterruptException:
+                break
+        if self.server.is_active():
+            self.stop()
+            self.server.set_aborted(NavigateResult(reached=False), "shutting down")
+
+    def spin(self) -> None:
+        import rospy
+
+        rospy.spin()
+
+
+def navigation_server_main() -> None:
+    run_node(NAVIGATION_SERVER, NavigationServer)
