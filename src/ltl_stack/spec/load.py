@@ -19,7 +19,7 @@ def load_spec(path: str | Path) -> Spec:
     path = Path(path)
     file = str(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = path.read_text(encoding="utf-8-sig")  # tolerate a byte-order mark
     except FileNotFoundError:
         raise SpecError(file, 0, 0, "no such file") from None
     except IsADirectoryError:

@@ -226,3 +226,15 @@ def test_writer_comments_name_the_source_and_empty_sections_mean_true():
     assert "# s.ltl:3: a -> false\n| ! a 0\n" in text, text
     again = parse_slugsin(text)
     assert again.env_init == [] and again.sys_liveness == [], again
+
+
+def test_byte_order_mark_and_windows_line_ends(tmp_path):
+    path = tmp_path / "w.slugsin"
+    path.write_bytes("\ufeff[INPUT]\r\na\r\n[OUTPUT]\r\nb\r\n[SYS_TRANS]\r\n| ! a b'\r\n".encode())
+    spec = load_spec(path)
+    assert spec.inputs == ["a"] and spec.sys_safety[0].formula == Or((Not(p("a")), p("b", True))), spec
+    binary = tmp_path / "b.slugsin"
+    binary.write_bytes(b"[INPUT]\n\xff\xfe\n")
+    with pytest.raises(SpecError) as info:
+        load_spec(binary)
+    assert str(info.value) == f"{binary}: not a text file (not UTF-8 at byte 8)", str(info.value)
