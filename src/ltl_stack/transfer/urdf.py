@@ -172,6 +172,37 @@ def chain_frames(chain: list[ChainJoint], q) -> np.ndarray:
     return np.array(points)
 
 
+def chain_frames_jacobian(chain: list[ChainJoint], q) -> tuple[np.ndarray, np.ndarray]:
+    """Frame positions as :func:`chain_frames`, and their derivatives (n+1 x 3 x len(q)) by each value."""
+    transform = np.eye(4)
+    points = [transform[:3, 3].copy()]
+    axes, origins, kinds, starts = [], [], [], []
+    i = 0
+    for joint in chain:
+        transform = transform @ joint.origin
+        if joint.type in ACTUATED:
+            axes.append(transform[:3, :3] @ joint.axis)
+            origins.append(transform[:3, 3].copy())
+            kinds.append(joint.type)
+            starts.append(len(points))
+            motion = np.eye(4)
+            if joint.type == "prismatic":
+                motion[:3, 3] = joint.axis * q[i]
+            else:
+                motion[:3, :3] = _rotation(joint.axis, q[i])
+            transform = transform @ motion
+            i += 1
+        points.append(transform[:3, 3].copy())
+    points = np.array(points)
+    jac = np.zeros((len(points), 3, len(axes)))
+    for m, (axis, origin, kind, start) in enumerate(zip(axes, origins, kinds, starts, strict=True)):
+        if kind == "prismatic":
+            jac[start:, :, m] = axis
+        else:
+            jac[start:, :, m] = np.cross(axis, points[start:] - origin)
+    return points, jac
+
+
 def actuated(chain: list[ChainJoint]) -> list[ChainJoint]:
     return [j for j in chain if j.type in ACTUATED]
 

@@ -1,0 +1,124 @@
+"""B.3 joint retargeting: kinematics against yourdfpy, the gradient, thesis Example 3 (UR5 -> Jaco)."""
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from helpers import require_shared
+
+from ltl_stack.transfer.profiles import load_profile
+from ltl_stack.transfer.retarget import WEIGHTS, source_chain, target_chain
+from ltl_stack.transfer.srdf import load_srdf
+from ltl_stack.transfer.transfer import TransferOptions, transfer_program
+from ltl_stack.transfer.urdf import chain_frames, load_urdf
+
+DATA = Path(__file__).resolve().parents[2] / "data" / "transfer"
+UR5_JOINTS = ["shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint", "wrist_1_joint", "wrist_2_joint",
+              "wrist_3_joint"]
+FJT = "control_msgs/FollowJointTrajectoryAction"
+
+
+@pytest.mark.parametrize("robot, base, tip", [("ur5", "base_link", "ee_link"),
+                                              ("j2s7s300", "root", "j2s7s300_end_effector")])
+def test_chain_kinematics_match_yourdfpy(robot, base, tip):
+    import yourdfpy
+
+    path = require_shared("robots", "urdf", f"{robot}.urdf")
+    model = load_urdf(path)
+    chain = model.chain(base, tip)
+    moving = [j.name for j in chain if j.type != "fixed"]
+    reference = yourdfpy.URDF.load(str(path), build_scene_graph=True, load_meshes=False,
+                                   build_collision_scene_graph=False, load_collision_meshes=False)
+    rng = np.random.default_rng(3)
+    for _ in range(3):
+        q = np.array([rng.uniform(*model.limits(n)) for n in moving])
+        cfg = dict(zip(moving, q, strict=True))
+        reference.update_cfg({n: cfg.get(n, 0.0) for n in reference.actuated_joint_names})
+        expected = reference.get_transform(frame_to=tip, frame_from=base)[:3, 3]
+        got = chain_frames(chain, q)[-1]
+        assert np.allclose(got, expected, atol=1e-9), (got, expected)
+
+
+def chains(target):
+    robots = require_shared("robots")
+    source = source_chain(load_urdf(robots / "urdf" / "ur5.urdf"), UR5_JOINTS)
+    srdf = load_srdf(robots / "srdf" / f"{target}.srdf") if (robots / "srdf" / f"{target}.srdf").exists() else None
+    return source, *target_chain(load_urdf(robots / "urdf" / f"{target}.urdf"), srdf, UR5_JOINTS)
+
+
+def test_sampling_gradient_matches_finite_differences():
+    _, chain, _ = chains("j2s7s300")
+    q = np.random.default_rng(0).uniform(0.6, 2.0, len(chain.names))
+    samples, ee, d_samples, d_ee = chain.sample_jacobian(q)
+    for i in range(len(q)):
+        dq = np.zeros_like(q)
+        dq[i] = 1e-6
+        samples2, ee2 = chain.sample(q + dq)
+        assert np.allclose((samples2 - samples) / 1e-6, d_samples[:, :, i], atol=1e-4), i
+        assert np.allclose((ee2 - ee) / 1e-6, d_ee[:, i], atol=1e-4), i
+
+
+def test_target_chain_rules():
+    source, jaco, rule = chains("j2n6s300")
+    assert source.tip == "ee_link" and source.names == UR5_JOINTS, source.names
+    assert jaco.names == [f"j2n6s300_joint_{i}" for i in range(1, 7)] and jaco.tip == "j2n6s300_end_effector"
+    assert rule.startswith("SRDF group 'arm' (6 joints, ends at an SRDF end effector)"), rule
+    _, pr2, rule = chains("pr2")
+    assert pr2.tip == "l_wrist_roll_link" and len(pr2.names) == 8, (pr2.tip, pr2.names)
+    assert rule.startswith("SRDF group 'left_arm_and_torso'"), rule
+    _, sawyer, rule = chains("sawyer")   # no SRDF: the longest chain of the URDF
+    assert rule == "the longest chain of the target URDF (no SRDF)" and len(sawyer.names) >= 7, sawyer.names
+
+
+def example_3(target, ask=None, live=None):
+    robots = require_shared("robots")
+    text = (DATA / "follow_trajectory_ur5.py").read_text()
+    started = time.perf_counter()
+    result = transfer_program(text, load_profile(robots, "ur5"), load_profile(robots, target),
+                              TransferOptions(ask=ask, live=live))
+    return result, time.perf_counter() - started
+
+
+@pytest.mark.parametrize("target, dof", [("j2n6s300", 6), ("j2s7s300", 7)])
+def test_example_3_ur5_to_jaco(target, dof):
+    load_urdf(require_shared("robots", "urdf", "ur5.urdf"))  # yourdfpy import is not the optimisation's time
+    live = [("/effort_joint_traj_controller/follow_joint_traj", FJT),
+            ("/effort_finger_traj_controller/follow_joint_traj", FJT), ("/joint_states", "sensor_msgs/JointState")]
+    asked = []
+
+    def ask(word, msg_type, original, options):
+        asked.append((word, original, list(options)))
+        return options.index("/effort_joint_traj_controller/follow_joint_traj")
+
+    result, seconds = example_3(target, ask, live)
+    assert seconds < 3.0, seconds
+    assert asked == [("action", "/arm_controller/follow_joint_trajectory",
+                      ["/effort_finger_traj_controller/follow_joint_traj",
+                       "/effort_joint_traj_controller/follow_joint_traj"])], asked
+    assert "SimpleActionClient('/effort_joint_traj_controller/follow_joint_traj'" in result.text
+    names = [f"{target}_joint_{i}" for i in range(1, dof + 1)]
+    assert "JOINT_NAMES = [" + ", ".join(f"'{n}'" for n in names) + "]" in result.text, result.text
+    model = load_urdf(require_shared("robots", "urdf", f"{target}.urdf"))
+    points = result.report.retargeting["points"]
+    assert len(points) == 3
+    for point in points:
+        assert len(point["target"]) == dof
+        for name, value in zip(names, point["target"], strict=True):
+            lower, upper = model.limits(name)
+            assert lower <= value <= upper, (name, value)
+        assert point["ee_error_m"] < 0.005, point    # stated in docs: about 1 mm
+        assert point["weight"] in WEIGHTS and point["weight"] > 0, point
+    assert all(p.within_target_limits for p in result.report.parameters)
+    assert result.report.user_inputs == 1 and not result.report.unresolved, result.report.unresolved
+    if dof == 7:
+        assert result.text.count("velocities=[0] * 7") == 3
+
+
+def test_same_robot_reproduces_the_source_configuration():
+    robots = require_shared("robots")
+    text = (DATA / "follow_trajectory_ur5.py").read_text()
+    result = transfer_program(text, load_profile(robots, "ur5"), load_profile(robots, "ur5"))
+    for point in result.report.retargeting["points"]:
+        assert point["ee_error_m"] < 1e-4 and point["shape_distance"] < 1e-6, point
+        assert np.allclose(point["target"][:5], point["source"][:5], atol=2e-3), point
+    assert result.report.retargeting["target_rule"] == "the target has the program's joints"
