@@ -172,3 +172,31 @@ def is_realizable(spec, *, robotics_semantics: bool = False) -> bool:
     """Reference realizability verdict of ``spec`` (small specs only)."""
     game = build_game(spec)
     return realizable_from(game, winning_positions(game), robotics_semantics)
+
+
+def cooperative_winning(game: Game) -> np.ndarray:
+    """Positions with a run that env and system play together: both safety formulas hold forever and
+    every liveness clause (env and system) holds on infinitely many transitions."""
+    both = game.env_trans[:, :, :, None] & game.sys_trans
+    shape = game.env_init.shape
+    z = np.ones(shape, dtype=bool)
+    while True:
+        new_z = np.ones(shape, dtype=bool)
+        for goal in game.sys_goals + game.env_goals:
+            reach_goal = goal & primed(z)
+            y = np.zeros(shape, dtype=bool)
+            while True:
+                new_y = (both & (reach_goal | primed(y))).any(axis=(2, 3))
+                if (new_y == y).all():
+                    break
+                y = new_y
+            new_z &= y
+        if (new_z == z).all():
+            return z
+        z = new_z
+
+
+def cooperative_possible(spec) -> bool:
+    """Some position satisfying env_init and sys_init starts a cooperative run."""
+    game = build_game(spec)
+    return bool((game.env_init & game.sys_init & cooperative_winning(game)).any())
