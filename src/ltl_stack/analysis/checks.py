@@ -1,0 +1,334 @@
+"""Where proposition nodes can fight each other: checks E1, E2, E3, C1, C2 of thesis section 3.5.2.
+
+- E1 (3.5.2.2): an output proposition's nodes publish-reach an input proposition node.
+- E2 (3.5.2.3): two or more output propositions publish-reach the same topic or action.
+- E3 (3.5.2.4): one output proposition's nodes publish-reach the same topic through several nodes.
+- C1 (3.5.2.5): for one output, a robot topic ``/<robot>/<suffix>`` is reached for some robots of
+  the user's list but not for all.
+- C2 (3.5.2.6): a robot of the list whose topics no output reaches at all.
+
+Every finding carries one witness chain per proposition (or node) in the thesis' notation.
+"""
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass, field
+from fnmatch import fnmatchcase
+
+from ltl_stack.analysis.graph import ACTION, ComputationGraph
+from ltl_stack.analysis.reach import PUBLISH, SUBSCRIBE, Reach, reach
+from ltl_stack.runtime.mapping import INPUT, OUTPUT, Mapping, resolve_name, resolve_topics
+
+
+@dataclass(frozen=True)
+class Witness:
+    """One way a proposition's node reaches something: the chain of vertices, first to last."""
+
+    proposition: str
+    node: str
+    path: tuple[tuple[str, str], ...]  # (kind, name), kind in node / topic / action
+
+    @property
+    def text(self) -> str:
+        return " -> ".join(f"[{name}]" if kind == "topic" else f"({name})" for kind, name in self.path)
+
+    def to_dict(self) -> dict:
+        return {"proposition": self.proposition, "node": self.node, "chain": self.text,
+                "path": [{"kind": k, "name": n} for k, n in self.path]}
+
+
+@dataclass(frozen=True)
+class E1Finding:
+    output: str
+    input: str
+    input_node: str
+    witness: Witness
+
+    def to_dict(self) -> dict:
+        return {"output": self.output, "input": self.input, "input_node": self.input_node,
+                "output_node": self.witness.node, "chain": self.witness.text}
+
+
+@dataclass(frozen=True)
+class E2Group:
+    """Output propositions that reach one channel (topic or action): one witness per output."""
+
+    channel: str
+    kind: str  # "topic" or "action"
+    witnesses: tuple[Witness, ...]
+
+    @property
+    def outputs(self) -> tuple[str, ...]:
+        return tuple(w.proposition for w in self.witnesses)
+
+    def to_dict(self) -> dict:
+        return {"topic": self.channel, "kind": self.kind, "outputs": list(self.outputs),
+                "chains": [w.to_dict() for w in self.witnesses]}
+
+
+@dataclass(frozen=True)
+class E3Finding:
+    """Several nodes of one output proposition reach one channel: one witness per node."""
+
+    output: str
+    channel: str
+    kind: str
+    witnesses: tuple[Witness, ...]
+
+    def to_dict(self) -> dict:
+        return {"output": self.output, "topic": self.channel, "kind": self.kind,
+                "nodes": [w.node for w in self.witnesses], "chains": [w.to_dict() for w in self.witnesses]}
+
+
+@dataclass(frozen=True)
+class C1Finding:
+    """For ``output``, the robot topic ``/<robot><suffix>`` is reached for ``present`` robots only."""
+
+    output: str
+    suffix: str
+    present: tuple[tuple[str, Witness], ...]
+    missing: tuple[str, ...]
+
+    def to_dict(self) -> dict:
+        return {"output": self.output, "suffix": self.suffix, "missing": list(self.missing),
+                "present": [{"robot": r, **w.to_dict()} for r, w in self.present]}
+
+
+@dataclass(frozen=True)
+class C2Finding:
+    """``robot`` has no topic reached by any output; ``suffixes`` are what the other robots get."""
+
+    robot: str
+    suffixes: tuple[str, ...]
+
+    def to_dict(self) -> dict:
+        return {"robot": self.robot, "suffixes_of_other_robots": list(self.suffixes)}
+
+
+@dataclass(frozen=True)
+class MissingNode:
+    """A mapped node that is not in the graph (not launched, or a typo in the mapping)."""
+
+    proposition: str
+    kind: str
+    node: str
+    line: int
+
+
+@dataclass
+class Analysis:
+    """Everything one run of the checks found; ``pub``/``sub`` keep the reachability per (prop, node)."""
+
+    graph: ComputationGraph
+    inputs: list[str]
+    outputs: list[str]
+    nodes: dict[str, list[str]]  # proposition -> its nodes present in the graph
+    missing: list[MissingNode]
+    unmapped: list[str]
+    boundary: list[str]  # proposition topics the traversal does not cross
+    pub: dict[tuple[str, str], Reach]
+    sub: dict[tuple[str, str], Reach]
+    robots: list[str] = field(default_factory=list)
+    robot_topics_ignored: list[str] = field(default_factory=list)
+    e1: list[E1Finding] = field(default_factory=list)
+    e2: list[E2Group] = field(default_factory=list)
+    e3: list[E3Finding] = field(default_factory=list)
+    c1: list[C1Finding] = field(default_factory=list)
+    c2: list[C2Finding] = field(default_factory=list)
+
+    @property
+    def finding_count(self) -> int:
+        return len(self.e1) + len(self.e2) + len(self.e3) + len(self.c1) + len(self.c2)
+
+    def witness(self, prop: str, node: str, target: int, direction: str = PUBLISH) -> Witness:
+        r = (self.pub if direction == PUBLISH else self.sub)[(prop, node)]
+        return make_witness(self.graph, prop, node, r.chain(target))
+
+
+def make_witness(graph: ComputationGraph, prop: str, node: str, chain: Iterable[int]) -> Witness:
+    path = []
+    for v in chain:
+        if graph.is_node(v):
+            path.append(("node", graph.nodes[v]))
+        else:
+            ch = graph.channel_of_vertex(v)
+            path.append(("action" if ch.kind == ACTION else "topic", ch.name))
+    return Witness(prop, node, tuple(path))
+
+
+def analyze(graph: ComputationGraph, mapping: Mapping, inputs: Sequence[str], outputs: Sequence[str], *,
+            robots: Sequence[str] = (), robot_topics_to_ignore: Sequence[str] = (),
+            progress: Callable[[str], None] | None = None) -> Analysis:
+    """Run reachability for every mapped proposition node, then E1, E2, E3 and (with robots) C1, C2.
+
+    ``inputs``/``outputs`` are the spec's propositions in spec order (findings follow that order);
+    mapping entries for other names are left out (``runtime.mapping.check_mapping`` reports them).
+    """
+    namespace = mapping.scenario_namespace() or ""
+    in_topics, out_topics = resolve_topics(mapping, inputs, outputs, namespace)
+    boundary = sorted({*in_topics.values(), *(t for ts in out_topics.values() for t in ts)})
+    blocked = {v for v in (graph.channel_vertex(t) for t in boundary) if v is not None}
+    result = Analysis(graph, list(inputs), list(outputs), {}, [], [], boundary, {}, {},
+                      robots=list(robots), robot_topics_ignored=list(robot_topics_to_ignore))
+    for kind, props, section in ((INPUT, inputs, mapping.inputs), (OUTPUT, outputs, mapping.outputs)):
+        for prop in props:
+            named = [e for e in section.get(prop) or [] if e.node is not None]
+            if not named:
+                result.unmapped.append(prop)
+                continue
+            present = []
+            for entry in named:
+                node = resolve_name(entry.node, namespace, kind)
+                if node in graph.node_index:
+                    if node not in present:
+                        present.append(node)
+                else:
+                    result.missing.append(MissingNode(prop, kind, node, entry.line))
+            result.nodes[prop] = present
+    todo = [(p, n) for p in (*inputs, *outputs) for n in result.nodes.get(p, [])]
+    for i, (prop, node) in enumerate(todo):
+        if progress and i % 50 == 0:
+            progress(f"reachability {i}/{len(todo)} proposition nodes")
+        start = graph.node_index[node]
+        result.pub[(prop, node)] = reach(graph, start, PUBLISH, blocked)
+        result.sub[(prop, node)] = reach(graph, start, SUBSCRIBE, blocked)
+    result.e1 = check_e1(result)
+    result.e2 = check_e2(result)
+    result.e3 = check_e3(result)
+    if robots:
+        result.c2 = check_c2(result)
+        result.c1 = check_c1(result, skip={f.robot for f in result.c2})
+    return result
+
+
+def check_e1(a: Analysis) -> list[E1Finding]:
+    """Output propositions whose nodes publish-reach an input proposition node (thesis Fig. 3.6)."""
+    input_nodes = [(x, n, a.graph.node_index[n]) for x in a.inputs for n in a.nodes.get(x, [])]
+    found = []
+    for y in a.outputs:
+        for x, x_node, v in input_nodes:
+            for y_node in a.nodes.get(y, []):
+                r = a.pub[(y, y_node)]
+                if v in r:
+                    found.append(E1Finding(y, x, x_node, make_witness(a.graph, y, y_node, r.chain(v))))
+                    break
+    return found
+
+
+def _channels_by_output(a: Analysis) -> dict[int, dict[str, str]]:
+    """Channel vertex -> {output: the first of its nodes that reaches it}, outputs in spec order."""
+    by_channel: dict[int, dict[str, str]] = {}
+    for y in a.outputs:
+        for node in a.nodes.get(y, []):
+            for v in a.pub[(y, node)].channels:
+                by_channel.setdefault(v, {}).setdefault(y, node)
+    return by_channel
+
+
+def check_e2(a: Analysis) -> list[E2Group]:
+    """Channels reached by two or more output propositions, most outputs first (Figs. 3.7, 3.8)."""
+    groups = []
+    for v, who in _channels_by_output(a).items():
+        if len(who) < 2:
+            continue
+        ch = a.graph.channel_of_vertex(v)
+        witnesses = tuple(a.witness(y, node, v) for y, node in who.items())
+        groups.append(E2Group(ch.name, ch.kind, witnesses))
+    groups.sort(key=lambda g: (-len(g.witnesses), g.channel))
+    return groups
+
+
+def check_e3(a: Analysis) -> list[E3Finding]:
+    """Channels that two or more nodes of the same output proposition reach (Fig. 3.9)."""
+    found = []
+    for y in a.outputs:
+        nodes = a.nodes.get(y, [])
+        if len(nodes) < 2:
+            continue
+        reached_by: dict[int, list[str]] = {}
+        for node in nodes:
+            for v in a.pub[(y, node)].channels:
+                reached_by.setdefault(v, []).append(node)
+        for v, who in sorted(reached_by.items(), key=lambda item: a.graph.vertex_name(item[0])):
+            if len(who) < 2:
+                continue
+            ch = a.graph.channel_of_vertex(v)
+            found.append(E3Finding(y, ch.name, ch.kind, tuple(a.witness(y, n, v) for n in who)))
+    return found
+
+
+def split_robot_topic(name: str, robots: Iterable[str]) -> tuple[str, str] | None:
+    """``/sphero_wpw/cmd_vel`` -> (``sphero_wpw``, ``/cmd_vel``) when the first segment is a listed robot."""
+    parts = name.strip("/").split("/", 1)
+    if len(parts) == 2 and parts[0] in robots:
+        return parts[0], "/" + parts[1]
+    return None
+
+
+def suffix_ignored(suffix: str, patterns: Iterable[str]) -> bool:
+    """A robot-topic suffix is ignored if a pattern equals it, is a parent of it, or glob-matches it."""
+    for p in patterns:
+        p = "/" + p.strip().strip("/")
+        if suffix == p or suffix.startswith(p + "/") or fnmatchcase(suffix, p):
+            return True
+    return False
+
+
+def _robot_topics(a: Analysis, y: str) -> dict[str, dict[str, tuple[str, int]]]:
+    """For output y: suffix -> robot -> (node, channel vertex) of the first witness."""
+    robots = set(a.robots)
+    out: dict[str, dict[str, tuple[str, int]]] = {}
+    for node in a.nodes.get(y, []):
+        for v in a.pub[(y, node)].channels:
+            split = split_robot_topic(a.graph.vertex_name(v), robots)
+            if split is None or suffix_ignored(split[1], a.robot_topics_ignored):
+                continue
+            robot, suffix = split
+            out.setdefault(suffix, {}).setdefault(robot, (node, v))
+    return out
+
+
+def check_c1(a: Analysis, skip: Iterable[str] = ()) -> list[C1Finding]:
+    """Per output: robot topics reached for some robots of the list but not all (Fig. 3.14).
+
+    Robots in ``skip`` (those C2 already reports as not controlled at all) are not repeated here.
+    """
+    considered = [r for r in a.robots if r not in set(skip)]
+    found = []
+    for y in a.outputs:
+        for suffix, by_robot in sorted(_robot_topics(a, y).items()):
+            missing = tuple(r for r in considered if r not in by_robot)
+            if not missing:
+                continue
+            present = tuple((r, a.witness(y, node, v)) for r in a.robots if r in by_robot
+                            for node, v in [by_robot[r]])
+            found.append(C1Finding(y, suffix, present, missing))
+    return found
+
+
+def check_c2(a: Analysis) -> list[C2Finding]:
+    """Robots of the list that no output proposition reaches through any robot topic (Fig. 3.15)."""
+    reached: dict[str, set[str]] = {r: set() for r in a.robots}
+    for y in a.outputs:
+        for suffix, by_robot in _robot_topics(a, y).items():
+            for r in by_robot:
+                reached[r].add(suffix)
+    others = sorted(set().union(*reached.values())) if reached else []
+    return [C2Finding(r, tuple(others)) for r in a.robots if not reached[r]]
+
+
+def reach_listing(a: Analysis, prop: str, direction: str = PUBLISH) -> list[dict]:
+    """T^a and N^a of each node of ``prop`` with one witness chain each (for ``--reach`` reports)."""
+    rows = []
+    table = a.pub if direction == PUBLISH else a.sub
+    for node in a.nodes.get(prop, []):
+        r = table[(prop, node)]
+        rows.append({
+            "node": node,
+            "topics": {a.graph.vertex_name(v): r.chain_text(v) for v in r.channels},
+            "nodes": {a.graph.vertex_name(v): r.chain_text(v) for v in r.nodes},
+        })
+    return rows
+
+
+__all__ = ["PUBLISH", "SUBSCRIBE", "Analysis", "analyze"]

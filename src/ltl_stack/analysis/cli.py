@@ -1,0 +1,234 @@
+"""``analyze_graph``: conflicts between proposition nodes in a ROS graph, and the spec edits that avoid them.
+
+    rosrun ltl_stack analyze_graph --spec SPEC --mapping MAPPING (--snapshot FILE | --live)
+        [--save-snapshot FILE] [--robots r1,r2] [--ignore-topics /odom,/imu] [--apply OUT] [--json|--markdown]
+
+Exit codes:
+    0  analysis done (findings or not, unless --fail-on-findings)
+    1  --fail-on-findings and there are findings
+    2  bad input: spec, mapping, snapshot, unreachable master, bad option (one message on stderr)
+    3  --apply: the spec with the suggestions added is unrealizable (the explanation is in the report)
+
+The live snapshot comes from the ``take_live`` callable given to ``main`` (``scripts/analyze_graph``
+passes ``ltl_stack.ros.graph_snapshot.take_snapshot``), so this module stays free of ROS.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from collections.abc import Callable, Sequence
+from pathlib import Path
+
+from ltl_stack.analysis import report
+from ltl_stack.analysis.checks import Analysis, analyze
+from ltl_stack.analysis.graph import DEFAULT_IGNORED_TOPICS, ComputationGraph
+from ltl_stack.analysis.snapshot import Snapshot, SnapshotError, write_atomically
+from ltl_stack.analysis.suggest import MutualExclusion, add_to_spec, input_exclusion_for, mutual_exclusions
+from ltl_stack.runtime.mapping import MappingError, check_mapping, errors, load_mapping
+from ltl_stack.spec import SpecError, load_spec, write_slugsin
+from ltl_stack.spec.model import Spec
+
+EXIT_OK, EXIT_FINDINGS, EXIT_INPUT, EXIT_UNREALIZABLE = 0, 1, 2, 3
+
+
+class UsageError(Exception):
+    """Bad input; ``main`` prints it as one line and exits with ``EXIT_INPUT``."""
+
+
+def _names(text: str) -> list[str]:
+    return [t.strip() for t in text.split(",") if t.strip()]
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="analyze_graph",
+        description="Analyse the ROS computation graph of launched proposition nodes (thesis 3.5.2): "
+                    "E1 outputs reaching input nodes, E2 outputs reaching the same topic/action, E3 one "
+                    "output's nodes reaching the same topic, C1/C2 robots left behind; suggest "
+                    "mutual-exclusion clauses for the spec.",
+        epilog="Exit codes: 0 done, 1 findings with --fail-on-findings, 2 bad input, "
+               "3 --apply gave an unrealizable spec.")
+    p.add_argument("--spec", required=True, help="the spec (.slugsin or structured)")
+    p.add_argument("--mapping", required=True, help="the proposition mapping YAML")
+    src = p.add_mutually_exclusive_group(required=True)
+    src.add_argument("--snapshot", metavar="FILE", help="analyse a saved graph snapshot (YAML or JSON)")
+    src.add_argument("--live", action="store_true", help="take a snapshot of the running ROS master")
+    p.add_argument("--master-uri", help="master for --live (default: $ROS_MASTER_URI)")
+    p.add_argument("--save-snapshot", metavar="FILE", help="also save the snapshot (.json: JSON, else YAML)")
+    p.add_argument("--robots", type=_names, default=[], metavar="R1,R2,...",
+                   help="homogeneous robots (topic namespaces) for checks C1 and C2")
+    p.add_argument("--ignore-topics", type=_names, default=[], metavar="T1,T2,...",
+                   help="robot topics to ignore in C1/C2, as suffixes (e.g. /odom,/imu; globs allowed)")
+    p.add_argument("--generic-topics", type=_names, default=None, metavar="P1,P2,...",
+                   help="replace the generic topics left out of the graph (globs; default: "
+                        f"{','.join(DEFAULT_IGNORED_TOPICS)}); give '' for none")
+    p.add_argument("--add-generic-topics", type=_names, default=[], metavar="P1,P2,...",
+                   help="more generic topics to leave out (e.g. /odom,/joint_states to cut feedback loops)")
+    p.add_argument("--reach", action="store_true",
+                   help="also list every proposition node's publish/subscribe-reachable topics and nodes")
+    p.add_argument("--apply", metavar="OUT",
+                   help="write the spec with the suggestions added to OUT (.slugsin), synthesize it and report")
+    p.add_argument("--suggestions", type=_names, default=None, metavar="N1,N2,...",
+                   help="with --apply: the numbers of the suggestions to add (default: all)")
+    fmt = p.add_mutually_exclusive_group()
+    fmt.add_argument("--json", action="store_true", help="JSON report on stdout")
+    fmt.add_argument("--markdown", action="store_true", help="Markdown report (tables like the thesis figures)")
+    p.add_argument("--fail-on-findings", action="store_true", help="exit 1 when there are findings")
+    return p
+
+
+def main(argv: Sequence[str] | None = None, take_live: Callable[..., Snapshot] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        return run(args, take_live)
+    except UsageError as e:
+        print(f"analyze_graph: {e}", file=sys.stderr)
+        return EXIT_INPUT
+
+
+def progress(message: str) -> None:
+    print(f"[analyze_graph] {message}", file=sys.stderr, flush=True)
+
+
+def run(args: argparse.Namespace, take_live: Callable[..., Snapshot] | None) -> int:
+    spec = _load_spec(args.spec)
+    try:
+        mapping = load_mapping(args.mapping)
+    except MappingError as e:
+        raise UsageError(str(e)) from None
+    issues = check_mapping(mapping, spec.inputs, spec.outputs)
+    bad = errors(issues)
+    if bad:
+        more = f" (and {len(bad) - 1} more errors)" if len(bad) > 1 else ""
+        raise UsageError(f"{bad[0]}{more}")
+    snapshot = _snapshot(args, take_live)
+    if args.save_snapshot:
+        try:
+            snapshot.save(args.save_snapshot)
+        except OSError as e:
+            raise UsageError(f"{args.save_snapshot}: cannot write snapshot: {e.strerror or e}") from None
+        progress(f"snapshot saved to {args.save_snapshot}")
+    ignored = list(DEFAULT_IGNORED_TOPICS if args.generic_topics is None else args.generic_topics)
+    graph = ComputationGraph(snapshot, [*ignored, *args.add_generic_topics])
+    progress(f"graph: {len(graph.nodes)} nodes, {len(graph.channels)} topics/actions, {graph.edge_count} edges")
+    analysis = analyze(graph, mapping, spec.inputs, spec.outputs, robots=args.robots,
+                       robot_topics_to_ignore=args.ignore_topics, progress=progress)
+    suggestions = mutual_exclusions([(g.channel, g.outputs) for g in analysis.e2], spec.outputs)
+    applied = None
+    if args.apply:
+        applied = apply_suggestions(spec, suggestions, args.apply, args.suggestions)
+    warnings = [str(i) for i in issues]
+    _print_report(args, analysis, suggestions, warnings, applied)
+    if applied is not None and not applied["realizable"]:
+        return EXIT_UNREALIZABLE
+    if args.fail_on_findings and analysis.finding_count:
+        return EXIT_FINDINGS
+    return EXIT_OK
+
+
+def _load_spec(path: str) -> Spec:
+    try:
+        return load_spec(path)
+    except SpecError as e:
+        raise UsageError(str(e)) from None
+
+
+def _snapshot(args: argparse.Namespace, take_live: Callable[..., Snapshot] | None) -> Snapshot:
+    try:
+        if args.snapshot:
+            return Snapshot.load(args.snapshot)
+        if take_live is None:
+            raise UsageError("--live needs ROS (ltl_stack.ros.graph_snapshot); run it through rosrun ltl_stack "
+                             "analyze_graph")
+        progress("taking a snapshot of the ROS master")
+        return take_live(args.master_uri)
+    except SnapshotError as e:
+        raise UsageError(str(e)) from None
+
+
+def apply_suggestions(spec: Spec, suggestions: list[MutualExclusion], out: str,
+                      chosen: list[str] | None) -> dict:
+    """Write ``spec`` plus the chosen suggestions to ``out``; synthesize; explain when unrealizable.
+
+    When the result is unrealizable, also try the assumption that the inputs driving the
+    excluded outputs are mutually exclusive (thesis Example 9) and say whether it helps.
+    """
+    picked = _pick(suggestions, chosen)
+    new_spec = add_to_spec(spec, [suggestions[i - 1] for i in picked], file=out)
+    new_spec.source = out
+    text = write_slugsin(new_spec)
+    try:
+        write_atomically(Path(out), text + ("" if text.endswith("\n") else "\n"))
+    except OSError as e:
+        raise UsageError(f"{out}: cannot write the spec: {e.strerror or e}") from None
+    from ltl_stack.synthesis import is_realizable
+    from ltl_stack.synthesis.explain import explain
+
+    progress(f"wrote {out} with suggestion(s) {', '.join(map(str, picked)) or 'none'}; synthesizing")
+    result: dict = {"output": out, "added": picked, "robotics_semantics": True,
+                    "realizable_before": is_realizable(spec, robotics_semantics=True)}
+    result["realizable"] = is_realizable(new_spec, robotics_semantics=True)
+    if result["realizable"]:
+        return result
+    progress("unrealizable: explaining")
+    explanation = explain(new_spec, robotics_semantics=True)
+    result["explanation"] = explanation.to_dict()
+    result["explanation_text"] = explanation.to_text()
+    outputs = [p for i in picked for p in suggestions[i - 1].propositions]
+    assumption = input_exclusion_for(new_spec, outputs)
+    if assumption is not None:
+        fixed = add_to_spec(new_spec, [assumption], file=out)
+        result["input_assumption"] = {**assumption.to_dict(), **report.suggestion_forms(assumption),
+                                      "restores_realizability": is_realizable(fixed, robotics_semantics=True)}
+    return result
+
+
+def _pick(suggestions: list[MutualExclusion], chosen: list[str] | None) -> list[int]:
+    if chosen is None:
+        return list(range(1, len(suggestions) + 1))
+    picked = []
+    for token in chosen:
+        if not token.isdigit() or not 1 <= int(token) <= len(suggestions):
+            raise UsageError(f"--suggestions: {token!r} is not a suggestion number (there are {len(suggestions)})")
+        picked.append(int(token))
+    return picked
+
+
+def _print_report(args, analysis: Analysis, suggestions, warnings: list[str], applied: dict | None) -> None:
+    if args.json:
+        data = report.to_dict(analysis, suggestions, reach=args.reach,
+                              extra={"mapping_warnings": warnings, "apply": applied})
+        print(json.dumps(data, indent=1))
+        return
+    text = (report.to_markdown(analysis, suggestions) if args.markdown
+            else report.to_text(analysis, suggestions, reach=args.reach))
+    if warnings:
+        text = "Mapping warnings:\n" + "".join(f"  {w}\n" for w in warnings) + "\n" + text
+    if applied is not None:
+        text += "\n" + apply_text(applied)
+    sys.stdout.write(text)
+
+
+def apply_text(applied: dict) -> str:
+    out = [f"--apply: wrote {applied['output']} with suggestion(s) {', '.join(map(str, applied['added'])) or 'none'}."]
+    before = "realizable" if applied["realizable_before"] else "unrealizable"
+    if applied["realizable"]:
+        out.append(f"The new spec is realizable (robotics init semantics; the original was {before}).")
+        return "\n".join(out) + "\n"
+    out.append(f"The new spec is UNREALIZABLE (robotics init semantics; the original was {before}).")
+    out.append("Explanation from the synthesis engine:")
+    out += ["  " + line for line in applied["explanation_text"].rstrip("\n").split("\n")]
+    hint = applied.get("input_assumption")
+    if hint:
+        names = ", ".join(hint["propositions"])
+        if hint["restores_realizability"]:
+            out.append(f"The excluded outputs are driven by the inputs {names}. Assuming the environment never "
+                       "makes two of them true at once makes the spec realizable again (thesis Example 9):")
+        else:
+            out.append(f"The excluded outputs are driven by the inputs {names}; assuming they are mutually "
+                       "exclusive is NOT enough on its own to make the spec realizable:")
+        out.append(f"  Structured English: {hint['english_expanded']}")
+        for section, line in hint["slugsin"].items():
+            out.append(f"  .slugsin [{section}]: {line}")
+    return "\n".join(out) + "\n"

@@ -1,0 +1,187 @@
+"""Checks E1, E2, E3, C1, C2 on hand-built graphs and on the thesis examples' graphs."""
+from __future__ import annotations
+
+import pytest
+import yaml
+from analysis_data import DATA, analyze_simple, scenarios
+from helpers import require_shared
+
+from ltl_stack.analysis.checks import analyze, split_robot_topic, suffix_ignored
+from ltl_stack.analysis.graph import DEFAULT_IGNORED_TOPICS, ComputationGraph
+from ltl_stack.analysis.suggest import mutual_exclusions
+from ltl_stack.runtime.mapping import load_mapping, parse_mapping
+
+MGMB = "/move_group_and_move_base"
+REGIONS = ["rightLane", "leftLane", "topLane", "leftGround", "bottomLane", "rightGround"]
+
+
+# --- hand-built graphs --------------------------------------------------------------------------
+
+def test_e1_output_reaching_an_input_node_with_its_chain():
+    a = analyze_simple({"/cam_off": {"pub": ["/camera/enable"]}, "/camera": {"sub": ["/camera/enable"], "pub": ["/image"]},
+                        "/person": {"sub": ["/image"]}, "/move": {"pub": ["/cmd_vel"]}},
+                       inputs={"person": "/person"}, outputs={"disableCamera": "/cam_off", "move": "/move"})
+    assert [(f.output, f.input) for f in a.e1] == [("disableCamera", "person")]
+    assert a.e1[0].witness.text == "(/cam_off) -> [/camera/enable] -> (/camera) -> [/image] -> (/person)"
+
+
+def test_e2_groups_outputs_by_topic_with_one_chain_each():
+    a = analyze_simple({"/move": {"pub": ["/cmd_vel"]}, "/stop": {"pub": ["/cmd_vel"]}, "/wave": {"pub": ["/arm"]}},
+                       inputs={}, outputs={"move": "/move", "stop": "/stop", "wave": "/wave"})
+    assert [(g.channel, g.outputs) for g in a.e2] == [("/cmd_vel", ("move", "stop"))]
+    assert [w.text for w in a.e2[0].witnesses] == ["(/move) -> [/cmd_vel]", "(/stop) -> [/cmd_vel]"]
+
+
+def test_generic_topics_do_not_create_conflicts():
+    nodes = {n: {"pub": ["/rosout", "/tf", "/clock", f"{n}/parameter_updates"], "sub": ["/clock", "/tf"]}
+             for n in ("/a", "/b")}
+    a = analyze_simple(nodes, inputs={}, outputs={"a": "/a", "b": "/b"})
+    assert a.e2 == [] and a.e1 == [], (a.e1, a.e2)
+    a = analyze_simple(nodes, inputs={}, outputs={"a": "/a", "b": "/b"}, ignored=())
+    assert {g.channel for g in a.e2} >= {"/rosout", "/tf"}, "without the ignore list they would conflict"
+
+
+def test_proposition_topics_are_a_boundary_through_the_controller():
+    # output a's node feeds input x's node; the controller turns x into every output: must not leak.
+    nodes = {"/a": {"pub": ["/a_status"]}, "/x": {"sub": ["/a_status"], "pub": ["/t/inputs/x"]},
+             "/executor": {"sub": ["/t/inputs/x"], "pub": ["/t/outputs/a", "/t/outputs/b"]},
+             "/b": {"sub": ["/t/outputs/b"], "pub": ["/cmd_vel"]}, "/c": {"sub": ["/t/outputs/a"], "pub": ["/cmd_vel"]}}
+    a = analyze_simple(nodes, inputs={"x": "/x"}, outputs={"a": "/a", "b": "/b"})
+    assert [(f.output, f.input) for f in a.e1] == [("a", "x")]
+    assert a.e2 == [], a.e2
+
+
+def test_e2_through_a_shared_action_server():
+    nodes = {"/r1": {"clients": ["/move_base"]}, "/r2": {"clients": ["/move_base"]},
+             "/move_base": {"servers": ["/move_base"], "pub": ["/cmd_vel"]}}
+    a = analyze_simple(nodes, inputs={}, outputs={"r1": "/r1", "r2": "/r2"})
+    assert [(g.channel, g.kind, g.outputs) for g in a.e2] == [
+        ("/cmd_vel", "topic", ("r1", "r2")), ("move_base/action_topics", "action", ("r1", "r2"))]
+    assert a.e2[0].witnesses[0].text == "(/r1) -> (move_base/action_topics) -> (/move_base) -> [/cmd_vel]"
+
+
+def test_feedback_loop_through_odometry_and_how_the_ignore_list_removes_it():
+    nodes = {"/stop": {"pub": ["/cmd_vel"]}, "/base": {"sub": ["/cmd_vel"], "pub": ["/odom"]},
+             "/planner": {"sub": ["/odom"], "pub": ["/arm_cmd"]}, "/grab": {"pub": ["/arm_cmd"]}}
+    a = analyze_simple(nodes, inputs={}, outputs={"stop": "/stop", "grab": "/grab"})
+    assert [g.channel for g in a.e2] == ["/arm_cmd"], "structural reachability follows the odometry loop"
+    a = analyze_simple(nodes, inputs={}, outputs={"stop": "/stop", "grab": "/grab"},
+                       ignored=(*DEFAULT_IGNORED_TOPICS, "/odom"))
+    assert a.e2 == []
+
+
+def test_e3_one_output_two_nodes_same_topic_and_not_for_distinct_topics():
+    nodes = {"/pickup": {"pub": ["/gripper"]}, "/drop": {"pub": ["/gripper"]},
+             "/r1": {"pub": ["/r1/cmd_vel"]}, "/r2": {"pub": ["/r2/cmd_vel"]}}
+    a = analyze_simple(nodes, inputs={}, outputs={"pickup": ["/pickup", "/drop"], "move": ["/r1", "/r2"]})
+    assert [(f.output, f.channel, [w.node for w in f.witnesses]) for f in a.e3] == [
+        ("pickup", "/gripper", ["/pickup", "/drop"])]
+    assert a.e2 == [], "one output's own nodes are E3, not E2"
+
+
+def test_missing_and_unmapped_nodes_are_reported_not_fatal():
+    a = analyze_simple({"/a": {"pub": ["/t"]}}, inputs={}, outputs={"a": "/a", "ghost": "/not_running"})
+    assert [(m.proposition, m.node) for m in a.missing] == [("ghost", "/not_running")]
+    assert a.nodes == {"a": ["/a"], "ghost": []}
+
+
+SPHERO_NODES = {f"/{r}/{o}": {"pub": [f"/{r}/{t}"]} for r in ("r1", "r2", "r3") for o, t in
+                (("left", "cmd_vel"), ("yellow", "set_color"))}
+SPHERO_NODES.update({f"/{r}/drv": {"sub": [f"/{r}/cmd_vel", f"/{r}/set_color"], "pub": [f"/{r}/odom"]}
+                     for r in ("r1", "r2", "r3")})
+
+
+def test_c1_and_c2_with_namespaced_robots_and_ignored_robot_topics():
+    outputs = {"left": ["/r1/left", "/r2/left"], "yellow": ["/r1/yellow", "/r2/yellow", "/r3/yellow"]}
+    a = analyze_simple(SPHERO_NODES, inputs={}, outputs=outputs, robots=["r1", "r2", "r3", "r4"],
+                       robot_topics_to_ignore=["/odom"])
+    assert [(f.output, f.suffix, f.missing, [r for r, _ in f.present]) for f in a.c1] == [
+        ("left", "/cmd_vel", ("r3",), ["r1", "r2"])], a.c1
+    assert a.c1[0].present[0][1].text == "(/r1/left) -> [/r1/cmd_vel]"
+    assert [(f.robot, f.suffixes) for f in a.c2] == [("r4", ("/cmd_vel", "/set_color"))]
+    a = analyze_simple(SPHERO_NODES, inputs={}, outputs=outputs, robots=["r1", "r2", "r3"])
+    assert ("left", "/odom") in [(f.output, f.suffix) for f in a.c1], "odom counts unless ignored"
+
+
+def test_robot_topic_helpers():
+    assert split_robot_topic("/r1/cmd_vel", {"r1"}) == ("r1", "/cmd_vel")
+    assert split_robot_topic("r1/move/action_topics", {"r1"}) == ("r1", "/move/action_topics")
+    assert split_robot_topic("/r10/cmd_vel", {"r1"}) is None
+    assert split_robot_topic("/r1", {"r1"}) is None
+    assert suffix_ignored("/odom", ["/odom"]) and suffix_ignored("/imu/data", ["imu"])
+    assert suffix_ignored("/camera/depth", ["/camera/*"]) and not suffix_ignored("/odometry", ["/odom"])
+
+
+# --- the thesis examples -----------------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def clean_and_patrol():
+    path = require_shared("specs", "move_group_and_move_base", "move_group_and_move_base.yaml")
+    graph = ComputationGraph(scenarios.scenario_snapshot(DATA / "clean_and_patrol.yaml"))
+    return graph, path
+
+
+def run(graph, mapping):
+    return analyze(graph, mapping, list(mapping.inputs), list(mapping.outputs))
+
+
+def test_clean_and_patrol_reproduces_figs_3_6_to_3_8(clean_and_patrol):
+    graph, path = clean_and_patrol
+    a = run(graph, load_mapping(path))
+    assert [(f.output, f.input, f.witness.text) for f in a.e1] == [
+        ("pickup", "pickup_ac", f"(/pickup) -> [{MGMB}/outputs/pickup_status] -> (/pickup_ac)"),
+        ("drop", "drop_ac", f"(/drop) -> [{MGMB}/outputs/drop_status] -> (/drop_ac)")]  # Fig. 3.6
+    groups = {g.channel: g for g in a.e2}
+    assert set(groups["/cmd_vel"].outputs) == {"pickup", "stop", *REGIONS}  # Fig. 3.7
+    chains = {w.proposition: w.text for w in groups["/cmd_vel"].witnesses}
+    assert chains["topLane"] == f"({MGMB}/outputs/topLane) -> (move_base/action_topics) -> (/move_base) -> [/cmd_vel]"
+    assert chains["pickup"] == "(/pickup) -> [/cmd_vel]"
+    arm = groups["arm_1/arm_controller/follow_joint_trajectory/action_topics"]  # Fig. 3.8
+    assert arm.outputs == ("pickup", "drop")
+    assert arm.witnesses[1].text == ("(/drop) -> (move_group/action_topics) -> (/move_group) -> "
+                                     "(arm_1/arm_controller/follow_joint_trajectory/action_topics)")
+    assert a.e3 == []
+    suggestions = mutual_exclusions([(g.channel, g.outputs) for g in a.e2], list(load_mapping(path).outputs))
+    assert [set(s.propositions) for s in suggestions] == [{"pickup", "stop", *REGIONS}, {"pickup", "drop"}]
+
+
+def test_clean_and_patrol_drop_node_wrongly_mapped_to_pickup_is_e3(clean_and_patrol):
+    graph, path = clean_and_patrol
+    data = yaml.safe_load(path.read_text())
+    data["outputs"]["pickup"] = [data["outputs"]["pickup"], dict(data["outputs"]["drop"],
+                                 node_subscribe_topic=f"{MGMB}/outputs/pickup")]
+    a = run(graph, parse_mapping(yaml.safe_dump(data), "wrong.yaml"))
+    gripper = [f for f in a.e3 if f.channel == "/arm_1/gripper_controller/position_command"]  # Fig. 3.9
+    assert [(f.output, [w.node for w in f.witnesses], [w.text for w in f.witnesses]) for f in gripper] == [
+        ("pickup", ["/pickup", "/drop"], ["(/pickup) -> [/arm_1/gripper_controller/position_command]",
+                                          "(/drop) -> [/arm_1/gripper_controller/position_command]"])]
+
+
+@pytest.fixture(scope="module")
+def spheros():
+    graph = ComputationGraph(scenarios.scenario_snapshot(DATA / "spheros.yaml"))
+    return graph, load_mapping(DATA / "spheros_mapping.yaml")
+
+
+ROBOTS = ["sphero_wpw", "sphero_ggw", "sphero_rgw", "sphero_wpp"]
+SENSORS = ["/collision", "/diagnostics", "/imu", "/odom"]
+
+
+def test_spheros_fig_3_14_move_down_leaves_one_robot_behind(spheros):
+    graph, mapping = spheros
+    a = analyze(graph, mapping, [], list(mapping.outputs), robots=ROBOTS, robot_topics_to_ignore=SENSORS)
+    assert [(f.output, f.suffix, f.missing) for f in a.c1] == [("move_down", "/cmd_vel", ("sphero_wpw",))]
+    assert [r for r, _ in a.c1[0].present] == ["sphero_ggw", "sphero_rgw", "sphero_wpp"]
+    assert a.c1[0].present[0][1].text == "(/spheros/outputs/sphero_ggw/move_down) -> [/sphero_ggw/cmd_vel]"
+    assert a.c2 == []
+    assert [(g.channel, g.outputs) for g in a.e2 if g.channel == "/sphero_rgw/cmd_vel"] == [
+        ("/sphero_rgw/cmd_vel", ("move_left", "move_down"))]  # Fig. 3.13
+
+
+def test_spheros_fig_3_15_fifth_robot_not_controlled(spheros):
+    graph, mapping = spheros
+    a = analyze(graph, mapping, [], list(mapping.outputs), robots=[*ROBOTS, "sphero_wrb"],
+                robot_topics_to_ignore=SENSORS)
+    assert [(f.robot, f.suffixes) for f in a.c2] == [("sphero_wrb", ("/cmd_vel", "/set_color"))]
+    assert [(f.output, f.suffix, f.missing) for f in a.c1] == [("move_down", "/cmd_vel", ("sphero_wpw",))], \
+        "the uncontrolled robot is reported once, by C2"
