@@ -47,6 +47,8 @@ def main():
     pub = rospy.Publisher('cmd_vel', Twist, queue_size=1)
     keys = rospy.get_param("~keys", "")  # scripted key presses (for tests); empty reads the terminal
     rate = rospy.Rate(10)
+    while keys and pub.get_num_connections() == 0 and not rospy.is_shutdown():
+        rate.sleep()  # scripted keys: wait for the robot to listen, so that no key press is lost
     index = 0
     while not rospy.is_shutdown():
         if keys:

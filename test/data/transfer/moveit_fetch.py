@@ -2,7 +2,7 @@
 """Move a Fetch gripper between two obstacles and away again with MoveIt
 (written for ltl_stack's tests after thesis Example 5)."""
 import rospy
-from geometry_msgs.msg import Pose, PoseStamped, Point, Quaternion
+from geometry_msgs.msg import Point, Pose, PoseStamped, Quaternion
 from moveit_msgs.msg import MoveItErrorCodes
 from moveit_python import MoveGroupInterface, PlanningSceneInterface
 
