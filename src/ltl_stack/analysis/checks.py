@@ -1,8 +1,10 @@
 """Where proposition nodes can fight each other: checks E1, E2, E3, C1, C2 of thesis section 3.5.2.
 
 - E1 (3.5.2.2): an output proposition's nodes publish-reach an input proposition node.
-- E2 (3.5.2.3): two or more output propositions publish-reach the same topic or action.
-- E3 (3.5.2.4): one output proposition's nodes publish-reach the same topic through several nodes.
+- E2 (3.5.2.3): two or more output propositions publish-reach the same topic or action
+  (refined in ``conflicts``: they must compete there, not merely both reach a driver's outputs).
+- E3 (3.5.2.4): one output proposition's nodes publish-reach the same topic through several nodes
+  (same refinement).
 - C1 (3.5.2.5): for one output, a robot topic ``/<robot>/<suffix>`` is reached for some robots of
   the user's list but not for all.
 - C2 (3.5.2.6): a robot of the list whose topics no output reaches at all.
@@ -11,10 +13,11 @@ Every finding carries one witness chain per proposition (or node) in the thesis'
 """
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Collection, Iterable, Sequence
 from dataclasses import dataclass, field
 from fnmatch import fnmatchcase
 
+from ltl_stack.analysis.conflicts import conflict_pairs
 from ltl_stack.analysis.graph import ACTION, ComputationGraph
 from ltl_stack.analysis.reach import PUBLISH, SUBSCRIBE, Reach, reach
 from ltl_stack.runtime.mapping import INPUT, OUTPUT, Mapping, resolve_name, resolve_topics
@@ -51,19 +54,26 @@ class E1Finding:
 
 @dataclass(frozen=True)
 class E2Group:
-    """Output propositions that reach one channel (topic or action): one witness per output."""
+    """Output propositions that compete on one channel (topic or action): one witness per output."""
 
     channel: str
     kind: str  # "topic" or "action"
     witnesses: tuple[Witness, ...]
+    pairs: tuple[tuple[str, str], ...] = ()  # the competing pairs (all pairs unless a mux merges some)
 
     @property
     def outputs(self) -> tuple[str, ...]:
         return tuple(w.proposition for w in self.witnesses)
 
+    @property
+    def complete(self) -> bool:
+        """True when every two of the outputs compete on the channel."""
+        k = len(self.witnesses)
+        return len(self.pairs) == k * (k - 1) // 2
+
     def to_dict(self) -> dict:
         return {"topic": self.channel, "kind": self.kind, "outputs": list(self.outputs),
-                "chains": [w.to_dict() for w in self.witnesses]}
+                "pairs": [list(p) for p in self.pairs], "chains": [w.to_dict() for w in self.witnesses]}
 
 
 @dataclass(frozen=True)
@@ -193,8 +203,7 @@ def analyze(graph: ComputationGraph, mapping: Mapping, inputs: Sequence[str], ou
         result.pub[(prop, node)] = reach(graph, start, PUBLISH, blocked)
         result.sub[(prop, node)] = reach(graph, start, SUBSCRIBE, blocked)
     result.e1 = check_e1(result)
-    result.e2 = check_e2(result)
-    result.e3 = check_e3(result)
+    result.e2, result.e3 = check_conflicts(result, blocked)
     if robots:
         result.c2 = check_c2(result)
         result.c1 = check_c1(result, skip={f.robot for f in result.c2})
@@ -215,46 +224,39 @@ def check_e1(a: Analysis) -> list[E1Finding]:
     return found
 
 
-def _channels_by_output(a: Analysis) -> dict[int, dict[str, str]]:
-    """Channel vertex -> {output: the first of its nodes that reaches it}, outputs in spec order."""
-    by_channel: dict[int, dict[str, str]] = {}
-    for y in a.outputs:
-        for node in a.nodes.get(y, []):
-            for v in a.pub[(y, node)].channels:
-                by_channel.setdefault(v, {}).setdefault(y, node)
-    return by_channel
-
-
-def check_e2(a: Analysis) -> list[E2Group]:
-    """Channels reached by two or more output propositions, most outputs first (Figs. 3.7, 3.8)."""
-    groups = []
-    for v, who in _channels_by_output(a).items():
-        if len(who) < 2:
-            continue
+def check_conflicts(a: Analysis, blocked: Collection[int] = ()) -> tuple[list[E2Group], list[E3Finding]]:
+    """E2 (Figs. 3.7, 3.8) and E3 (Fig. 3.9) from the competing pairs of ``conflicts.conflict_pairs``."""
+    reaches = {(y, node): a.pub[(y, node)] for y in a.outputs for node in a.nodes.get(y, [])}
+    rank = {y: i for i, y in enumerate(a.outputs)}
+    e2, e3 = [], []
+    for v, pairs in conflict_pairs(a.graph, reaches, blocked).items():
         ch = a.graph.channel_of_vertex(v)
-        witnesses = tuple(a.witness(y, node, v) for y, node in who.items())
-        groups.append(E2Group(ch.name, ch.kind, witnesses))
-    groups.sort(key=lambda g: (-len(g.witnesses), g.channel))
-    return groups
-
-
-def check_e3(a: Analysis) -> list[E3Finding]:
-    """Channels that two or more nodes of the same output proposition reach (Fig. 3.9)."""
-    found = []
-    for y in a.outputs:
-        nodes = a.nodes.get(y, [])
-        if len(nodes) < 2:
-            continue
-        reached_by: dict[int, list[str]] = {}
-        for node in nodes:
-            for v in a.pub[(y, node)].channels:
-                reached_by.setdefault(v, []).append(node)
-        for v, who in sorted(reached_by.items(), key=lambda item: a.graph.vertex_name(item[0])):
-            if len(who) < 2:
+        first: dict[str, str] = {}  # output -> its first node in a competing pair
+        prop_pairs = set()
+        same: dict[str, set[str]] = {}
+        for (y1, n1), (y2, n2) in pairs:
+            if y1 == y2:
+                same.setdefault(y1, set()).update((n1, n2))
                 continue
-            ch = a.graph.channel_of_vertex(v)
-            found.append(E3Finding(y, ch.name, ch.kind, tuple(a.witness(y, n, v) for n in who)))
-    return found
+            prop_pairs.add(tuple(sorted((y1, y2), key=rank.__getitem__)))
+            for y, node in ((y1, n1), (y2, n2)):
+                if y not in first or a.nodes[y].index(node) < a.nodes[y].index(first[y]):
+                    first[y] = node
+        if prop_pairs:
+            outputs = sorted(first, key=rank.__getitem__)
+            e2.append(E2Group(ch.name, ch.kind, tuple(a.witness(y, first[y], v) for y in outputs),
+                              tuple(sorted(prop_pairs, key=lambda p: (rank[p[0]], rank[p[1]])))))
+        for y, nodes in same.items():
+            ordered = [node for node in a.nodes[y] if node in nodes]
+            e3.append(E3Finding(y, ch.name, ch.kind, tuple(a.witness(y, node, v) for node in ordered)))
+    e2.sort(key=lambda g: (-len(g.witnesses), g.channel))
+    e3.sort(key=lambda f: (rank[f.output], f.channel))
+    return e2, e3
+
+
+def e2_groups(a: Analysis) -> list[tuple[str, tuple[tuple[str, str], ...]]]:
+    """(channel, competing output pairs) of every E2 group: the input of ``suggest.mutual_exclusions``."""
+    return [(g.channel, g.pairs) for g in a.e2]
 
 
 def split_robot_topic(name: str, robots: Iterable[str]) -> tuple[str, str] | None:

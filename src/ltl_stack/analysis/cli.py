@@ -21,7 +21,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from ltl_stack.analysis import report
-from ltl_stack.analysis.checks import Analysis, analyze
+from ltl_stack.analysis.checks import Analysis, analyze, e2_groups
 from ltl_stack.analysis.graph import DEFAULT_IGNORED_TOPICS, ComputationGraph
 from ltl_stack.analysis.snapshot import Snapshot, SnapshotError, write_atomically
 from ltl_stack.analysis.suggest import MutualExclusion, add_to_spec, input_exclusion_for, mutual_exclusions
@@ -114,7 +114,7 @@ def run(args: argparse.Namespace, take_live: Callable[..., Snapshot] | None) -> 
     progress(f"graph: {len(graph.nodes)} nodes, {len(graph.channels)} topics/actions, {graph.edge_count} edges")
     analysis = analyze(graph, mapping, spec.inputs, spec.outputs, robots=args.robots,
                        robot_topics_to_ignore=args.ignore_topics, progress=progress)
-    suggestions = mutual_exclusions([(g.channel, g.outputs) for g in analysis.e2], spec.outputs)
+    suggestions = mutual_exclusions(e2_groups(analysis), spec.outputs)
     applied = None
     if args.apply:
         applied = apply_suggestions(spec, suggestions, args.apply, args.suggestions)

@@ -124,7 +124,7 @@ def to_text(a: Analysis, suggestions: list[MutualExclusion], *, reach: bool = Fa
 
 
 def suggestion_lines(i: int, s: MutualExclusion) -> list[str]:
-    why = f"   (shared: {', '.join(s.topics)})" if s.topics else ""
+    why = f"   (shared: {_short_list(list(s.topics), 4)})" if s.topics else ""
     lines = [f"{i}. {s.sentence()}{why}"]
     forms = _forms_or_error(s)
     if "render_error" in forms:

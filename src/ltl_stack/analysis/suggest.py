@@ -20,6 +20,7 @@ from __future__ import annotations
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
+from ltl_stack.analysis.conflicts import maximal_cliques
 from ltl_stack.spec.english import formula_to_english
 from ltl_stack.spec.formula import And, Formula, Not, Or, Var, variables
 from ltl_stack.spec.model import Clause, Spec
@@ -65,17 +66,24 @@ class MutualExclusion:
         return {"propositions": list(self.propositions), "topics": list(self.topics), "side": self.side}
 
 
-def mutual_exclusions(groups: Iterable[tuple[str, Sequence[str]]], order: Sequence[str] = ()) -> list[MutualExclusion]:
-    """One suggestion per distinct set of conflicting propositions, from (channel, propositions) groups.
+def mutual_exclusions(groups: Iterable[tuple[str, Sequence[str] | Iterable[tuple[str, str]]]],
+                      order: Sequence[str] = ()) -> list[MutualExclusion]:
+    """One suggestion per distinct set of conflicting propositions, from per-channel groups.
 
-    Groups with the same set are merged (their channels listed together); a set contained in a
-    larger suggested set is dropped, since the larger exclusion already implies it.
+    A group is (channel, propositions that all compete there) or (channel, competing pairs); pairs
+    are turned into the maximal sets in which every two compete, so that two propositions merged
+    by a mux are never made exclusive. Groups with the same set are merged (their channels listed
+    together); a set contained in a larger suggested set is dropped, since the larger exclusion
+    already implies it.
     """
     rank = {p: i for i, p in enumerate(order)}
     by_set: dict[frozenset[str], list[str]] = {}
-    for channel, props in groups:
-        if len(set(props)) >= 2:
-            by_set.setdefault(frozenset(props), []).append(channel)
+    for channel, members in groups:
+        members = list(members)
+        sets = maximal_cliques(members) if members and isinstance(members[0], tuple) else [frozenset(members)]
+        for props in sets:
+            if len(props) >= 2:
+                by_set.setdefault(props, []).append(channel)
     kept = [s for s in by_set if not any(s < other for other in by_set)]
     result = []
     for s in kept:

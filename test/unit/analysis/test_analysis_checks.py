@@ -185,3 +185,41 @@ def test_spheros_fig_3_15_fifth_robot_not_controlled(spheros):
     assert [(f.robot, f.suffixes) for f in a.c2] == [("sphero_wrb", ("/cmd_vel", "/set_color"))]
     assert [(f.output, f.suffix, f.missing) for f in a.c1] == [("move_down", "/cmd_vel", ("sphero_wpw",))], \
         "the uncontrolled robot is reported once, by C2"
+
+
+# --- refinement: competing on a channel, not merely reaching it ------------------------------------
+
+def test_a_driver_merging_two_commands_is_not_a_conflict_on_its_outputs():
+    nodes = {"/left": {"pub": ["/r/cmd_vel"]}, "/yellow": {"pub": ["/r/set_color"]},
+             "/driver": {"sub": ["/r/cmd_vel", "/r/set_color"], "pub": ["/r/odom"]}}
+    a = analyze_simple(nodes, inputs={}, outputs={"left": "/left", "yellow": "/yellow"})
+    assert a.e2 == [], a.e2
+
+
+def test_a_conflict_flows_downstream_through_a_shared_relay():
+    nodes = {"/a": {"pub": ["/cmd"]}, "/b": {"pub": ["/cmd"]},
+             "/relay": {"sub": ["/cmd"], "pub": ["/hw"]}, "/c": {"pub": ["/other"]}}
+    a = analyze_simple(nodes, inputs={}, outputs={"a": "/a", "b": "/b", "c": "/c"})
+    assert [(g.channel, g.outputs) for g in a.e2] == [("/cmd", ("a", "b")), ("/hw", ("a", "b"))]
+
+
+def test_mux_merged_outputs_are_not_made_exclusive_with_each_other():
+    nodes = {"/nav": {"pub": ["/nav_vel"]}, "/teleop": {"pub": ["/teleop_vel"]},
+             "/mux": {"sub": ["/nav_vel", "/teleop_vel"], "pub": ["/cmd_vel"]}, "/stop": {"pub": ["/cmd_vel"]}}
+    a = analyze_simple(nodes, inputs={}, outputs={"nav": "/nav", "teleop": "/teleop", "stop": "/stop"})
+    [group] = a.e2
+    assert (group.channel, group.outputs, group.pairs, group.complete) == (
+        "/cmd_vel", ("nav", "teleop", "stop"), (("nav", "stop"), ("teleop", "stop")), False)
+    got = mutual_exclusions([(g.channel, g.pairs) for g in a.e2], ["nav", "teleop", "stop"])
+    assert sorted(s.propositions for s in got) == [("nav", "stop"), ("teleop", "stop")]
+
+
+def test_clients_of_one_relay_do_not_compete_on_the_relays_action_but_do_on_its_input():
+    nodes = {"/p": {"pub": ["/req"]}, "/q": {"pub": ["/req"]},
+             "/relay": {"sub": ["/req"], "clients": ["/arm"]}, "/arm": {"servers": ["/arm"]}}
+    a = analyze_simple(nodes, inputs={}, outputs={"p": "/p", "q": "/q"})
+    assert [g.channel for g in a.e2] == ["/req", "arm/action_topics"], "flows downstream from /req"
+    nodes["/q"] = {"pub": ["/req2"]}
+    nodes["/relay"]["sub"] = ["/req", "/req2"]
+    a = analyze_simple(nodes, inputs={}, outputs={"p": "/p", "q": "/q"})
+    assert a.e2 == [], "one client (the relay) sends every goal: nobody competes on the action"

@@ -98,3 +98,19 @@ def test_input_exclusion_names_the_inputs_that_drive_the_outputs():
 def test_size_is_quadratic(n):
     f = MutualExclusion(tuple(f"p{i}" for i in range(n))).formula(True)
     assert len(f.args) == n + 1 and all(len(t.args) == n for t in f.args)
+
+
+@settings(max_examples=80, deadline=None)
+@given(st.sets(st.tuples(st.sampled_from("abcdefg"), st.sampled_from("abcdefg")), max_size=15))
+def test_maximal_cliques_cover_every_pair_and_are_cliques_and_maximal(pairs):
+    from ltl_stack.analysis.conflicts import maximal_cliques
+
+    edges = {frozenset(p) for p in pairs if p[0] != p[1]}
+    cliques = maximal_cliques(pairs)
+    for c in cliques:
+        assert all(frozenset(e) in edges for e in itertools.combinations(c, 2)), c
+        others = {v for e in edges for v in e} - c
+        assert not any(all(frozenset((v, u)) in edges for u in c) for v in others), ("not maximal", c)
+    for e in edges:
+        assert any(e <= c for c in cliques), e
+    assert len(set(cliques)) == len(cliques)

@@ -1,0 +1,158 @@
+"""analyze_graph on saved snapshots: reports, exit codes, errors, --apply with real synthesis."""
+from __future__ import annotations
+
+import itertools
+import json
+
+import pytest
+from analysis_data import DATA, scenarios
+from helpers import require_shared
+
+from ltl_stack.analysis.cli import EXIT_FINDINGS, EXIT_INPUT, EXIT_OK, EXIT_UNREALIZABLE, main
+from ltl_stack.spec import load_spec
+from ltl_stack.spec.formula import evaluate
+
+ROBOTS = "sphero_wpw,sphero_ggw,sphero_rgw,sphero_wpp"
+
+
+@pytest.fixture(scope="module")
+def snapshots(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("snapshots")
+    scenarios.scenario_snapshot(DATA / "clean_and_patrol.yaml").save(folder / "clean_and_patrol.yaml")
+    scenarios.scenario_snapshot(DATA / "spheros.yaml").save(folder / "spheros.json")
+    return folder
+
+
+def clean_and_patrol_args(snapshots):
+    spec = require_shared("specs", "move_group_and_move_base", "move_group_and_move_base.slugsin")
+    mapping = spec.with_suffix(".yaml")
+    return ["--spec", str(spec), "--mapping", str(mapping), "--snapshot", str(snapshots / "clean_and_patrol.yaml")]
+
+
+def spheros_args(snapshots):
+    spec = require_shared("specs", "spheros", "spheros.slugsin")
+    return ["--spec", str(spec), "--mapping", str(DATA / "spheros_mapping.yaml"),
+            "--snapshot", str(snapshots / "spheros.json")]
+
+
+def test_text_report_shows_findings_chains_and_suggestions(snapshots, capsys):
+    assert main(clean_and_patrol_args(snapshots)) == EXIT_OK
+    out = capsys.readouterr().out
+    assert "pickup -> pickup_ac: (/pickup) -> [/move_group_and_move_base/outputs/pickup_status] -> (/pickup_ac)" in out
+    assert "E2  Output propositions publishing to the same topic or action (thesis 3.5.2.3): 7" in out
+    assert "2. pickup and drop are mutually exclusive" in out
+    assert ".slugsin [SYS_TRANS]: | & pickup' ! drop' | & ! pickup' drop' & ! pickup' ! drop'" in out
+    assert "Structured English: always ((pickup and not drop) or (not pickup and drop) or (not pickup and not drop))" in out
+
+
+def test_json_report_for_tools(snapshots, capsys):
+    assert main([*spheros_args(snapshots), "--robots", ROBOTS + ",sphero_wrb",
+                 "--ignore-topics", "/collision,/diagnostics,/imu,/odom", "--json"]) == EXIT_OK
+    data = json.loads(capsys.readouterr().out)
+    assert [(f["output"], f["suffix"], f["missing"]) for f in data["C1"]] == [("move_down", "/cmd_vel", ["sphero_wpw"])]
+    assert [f["robot"] for f in data["C2"]] == ["sphero_wrb"]
+    assert [(s["propositions"], s["slugsin"]["SYS_TRANS"]) for s in data["suggestions"]] == [
+        (["move_left", "move_down"], "| & move_left' ! move_down' | & ! move_left' move_down' & ! move_left' ! move_down'")]
+    assert data["apply"] is None and data["finding_count"] == len(data["E2"]) + 2
+
+
+def test_markdown_report_has_thesis_like_tables(snapshots, capsys):
+    assert main([*clean_and_patrol_args(snapshots), "--markdown"]) == EXIT_OK
+    out = capsys.readouterr().out
+    assert "| Output | Input | Output-to-input chain |" in out
+    assert "| /cmd_vel | pickup | `(/pickup) -> [/cmd_vel]` |" in out
+
+
+def test_reach_listing(snapshots, capsys):
+    assert main([*clean_and_patrol_args(snapshots), "--reach"]) == EXIT_OK
+    out = capsys.readouterr().out
+    assert "pickup /pickup publish-reachable:" in out
+    assert "    /move_group: (/pickup) -> (move_group/action_topics) -> (/move_group)" in out
+
+
+def test_fail_on_findings_and_generic_topic_options(snapshots, capsys):
+    assert main([*clean_and_patrol_args(snapshots), "--fail-on-findings"]) == EXIT_FINDINGS
+    capsys.readouterr()
+    assert main([*clean_and_patrol_args(snapshots), "--generic-topics", "", "--json"]) == EXIT_OK
+    data = json.loads(capsys.readouterr().out)
+    assert data["graph"]["ignored_topics"] == [] and "/tf" in {g["topic"] for g in data["E2"]}, \
+        "without the generic list /tf becomes a (false) conflict"
+    assert main([*clean_and_patrol_args(snapshots), "--add-generic-topics", "/cmd_vel", "--json"]) == EXIT_OK
+    data = json.loads(capsys.readouterr().out)
+    assert "/cmd_vel" in data["graph"]["ignored_topics"] and "/cmd_vel" not in {g["topic"] for g in data["E2"]}
+
+
+def test_save_snapshot(snapshots, tmp_path, capsys):
+    out = tmp_path / "copy.json"
+    assert main([*clean_and_patrol_args(snapshots), "--save-snapshot", str(out)]) == EXIT_OK
+    assert json.loads(out.read_text())["format"] == "ltl_stack/graph_snapshot/1"
+
+
+@pytest.mark.parametrize("case", ["spec", "mapping", "snapshot", "live", "suggestion"])
+def test_bad_input_is_one_line_and_exit_2(snapshots, tmp_path, capsys, case):
+    args = clean_and_patrol_args(snapshots)
+    if case == "spec":
+        bad = tmp_path / "bad.slugsin"
+        bad.write_text("[INPUT]\na\n[SYS_TRANS]\n& a\n")
+        args[1] = str(bad)
+        expect = str(bad)
+    elif case == "mapping":
+        bad = tmp_path / "bad.yaml"
+        bad.write_text("outputs:\n  nosuch:\n    node: /x\n")
+        args[3] = str(bad)
+        expect = f"{bad}:2: error: output 'nosuch' is not a proposition of the spec"
+    elif case == "snapshot":
+        bad = tmp_path / "bad_snap.yaml"
+        bad.write_text("topics: 3\n")
+        args[5] = str(bad)
+        expect = "'topics' must be a mapping"
+    elif case == "live":
+        args = [*args[:4], "--live"]
+        expect = "--live needs ROS"
+    else:
+        args += ["--apply", str(tmp_path / "o.slugsin"), "--suggestions", "7"]
+        expect = "--suggestions: '7' is not a suggestion number (there are 2)"
+    assert main(args) == EXIT_INPUT
+    captured = capsys.readouterr()
+    assert captured.out == ""
+    errors = [line for line in captured.err.splitlines() if not line.startswith("[analyze_graph]")]
+    assert len(errors) == 1 and expect in errors[0], captured.err
+    assert "Traceback" not in captured.err
+    assert not (tmp_path / "o.slugsin").exists()
+
+
+def test_apply_realizable_writes_the_spec_with_the_clauses(snapshots, tmp_path, capsys):
+    out = tmp_path / "patched.slugsin"
+    assert main([*clean_and_patrol_args(snapshots), "--apply", str(out), "--suggestions", "2"]) == EXIT_OK
+    text = capsys.readouterr().out
+    assert f"--apply: wrote {out} with suggestion(s) 2." in text
+    assert "The new spec is realizable" in text
+    spec = load_spec(out)
+    original = load_spec(clean_and_patrol_args(snapshots)[1])
+    assert len(spec.sys_safety) == len(original.sys_safety) + 1
+    assert len(spec.sys_init) == len(original.sys_init) + 1
+    for pickup, drop in itertools.product([False, True], repeat=2):
+        assert evaluate(spec.sys_safety[-1].formula, {}, {"pickup": pickup, "drop": drop}) == (not (pickup and drop))
+        assert evaluate(spec.sys_init[-1].formula, {"pickup": pickup, "drop": drop}) == (not (pickup and drop))
+
+
+def test_apply_unrealizable_explains_and_leads_to_input_exclusion(snapshots, tmp_path, capsys):
+    out = tmp_path / "spheros_patched.slugsin"
+    assert main([*spheros_args(snapshots), "--apply", str(out)]) == EXIT_UNREALIZABLE
+    text = capsys.readouterr().out
+    assert "The new spec is UNREALIZABLE" in text
+    assert "Explanation from the synthesis engine:" in text
+    assert "The excluded outputs are driven by the inputs left_arrow, down_arrow. Assuming the environment " \
+           "never makes two of them true at once makes the spec realizable again" in text
+    assert "[ENV_TRANS]: | & left_arrow' ! down_arrow' | & ! left_arrow' down_arrow' & ! left_arrow' ! down_arrow'" in text
+    assert out.exists(), "the spec is written even when unrealizable, for the user to edit"
+
+
+def test_apply_json(snapshots, tmp_path, capsys):
+    out = tmp_path / "o.slugsin"
+    assert main([*spheros_args(snapshots), "--apply", str(out), "--json"]) == EXIT_UNREALIZABLE
+    applied = json.loads(capsys.readouterr().out)["apply"]
+    assert (applied["realizable_before"], applied["realizable"]) == (True, False)
+    assert applied["explanation"]["kind"] == "deadlock"
+    assert applied["input_assumption"]["propositions"] == ["left_arrow", "down_arrow"]
+    assert applied["input_assumption"]["restores_realizability"] is True
