@@ -550,3 +550,9 @@ def _deadlock_example(game: Game) -> dict | None:
     values = game.assignment(position, x_next)
     clauses = [c for c, u in game.clauses("sys_safety") if bdd.let(values, u) != bdd.true]
     return {"position": position, "inputs_next": x_next, "clauses": clauses}
+
+
+def counterstrategy(spec: Spec, *, robotics_semantics: bool = True,
+                    max_states: int = 2000) -> Counterstrategy | None:
+    """The environment's counterstrategy for ``spec`` (None when the spec is realizable)."""
+    return build_counterstrategy(Game(spec), robotics_semantics, max_states)

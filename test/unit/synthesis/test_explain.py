@@ -308,3 +308,18 @@ def test_spheros_problem_is_realizable():
 
     spec = load_spec(require_shared("specs", "spheros_problem", "spheros_problem.slugsin"))
     assert explain(spec).realizable and explain(spec, robotics_semantics=False).realizable
+
+
+def test_synthesize_cli_explains_and_writes_the_counterstrategy(tmp_path, capsys):
+    from ltl_stack.spec import write_slugsin
+    from ltl_stack.synthesis.cli import main
+
+    path = tmp_path / "env_livelock.slugsin"
+    path.write_text(write_slugsin(hand_spec("env livelock")))
+    out = tmp_path / "counter.json"
+    code = main([str(path), "--robotics-semantics", "--explain", "--counterstrategy", str(out)])
+    text = capsys.readouterr().out
+    assert code == 10, (code, text)
+    assert "Livelock" in text and "[sys_liveness] & o i'" in text, text
+    data = json.loads(out.read_text())
+    assert data["states"] and data["initial"], data
