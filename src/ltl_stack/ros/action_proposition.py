@@ -25,6 +25,7 @@ from ltl_stack.ros.proposition_node import (
     OutputPropositionNode,
     Param,
     PropositionPublisher,
+    fill_message,
     message_class,
     run_node,
 )
@@ -80,14 +81,7 @@ def action_classes(type_name: str) -> tuple[type, type, type]:
 
 def build_goal(goal_cls: type, fields: dict[str, Any]) -> Any:
     """A goal message with ``fields`` set (nested dicts for nested messages)."""
-    import genpy
-
-    goal = goal_cls()
-    try:
-        genpy.message.fill_message_args(goal, [fields])
-    except (genpy.MessageException, ValueError, TypeError, KeyError, AttributeError) as error:
-        raise NodeConfigError(f"~goal {fields!r} does not fit {goal_cls._type}: {error}") from None
-    return goal
+    return fill_message(goal_cls, fields, "~goal")
 
 
 class ActionProposition(OutputPropositionNode):

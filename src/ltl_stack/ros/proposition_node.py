@@ -196,6 +196,18 @@ def message_class(type_name: str, what: str = "message") -> type:
     return cls
 
 
+def fill_message(cls: type, fields: dict[str, Any], what: str = "message") -> Any:
+    """A ``cls`` message with ``fields`` set (nested dicts for nested messages, as rostopic pub)."""
+    import genpy
+
+    msg = cls()
+    try:
+        genpy.message.fill_message_args(msg, [fields])
+    except (genpy.MessageException, ValueError, TypeError, KeyError, AttributeError) as error:
+        raise NodeConfigError(f"{what} {fields!r} does not fit {cls._type}: {error}") from None
+    return msg
+
+
 def wait_for_topic_class(topic: str, poll: float = 0.2) -> type | None:
     """Block until ``topic`` is advertised and return its message class (None on shutdown)."""
     import rospy

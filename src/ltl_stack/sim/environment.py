@@ -1,0 +1,107 @@
+"""``scripted_environment``: raise sensor events on a schedule read from YAML (see ``schedule.py``).
+
+Each event publishes one message, latched, on its topic: a person shows up, an object appears, a
+door closes. Sensor proposition nodes (or the controller's inputs directly) listen to these topics,
+so a scenario or a test sees the same environment every time. The name of each event is also
+published on ``~fired`` (std_msgs/String) when it fires.
+"""
+from __future__ import annotations
+
+import time
+from typing import Any
+
+from ltl_stack.ros.proposition_node import (
+    NodeConfigError,
+    NodeSpec,
+    Param,
+    fill_message,
+    message_class,
+    run_node,
+)
+from ltl_stack.sim.schedule import ScheduleError, Scheduler, load_schedule
+
+SCRIPTED_ENVIRONMENT = NodeSpec(
+    name="scripted_environment",
+    kind="sim",
+    description="Publish scripted sensor events (latched) at the times a YAML schedule gives.",
+    params=[
+        Param("schedule", "", "YAML schedule file (events: [{at, topic, value, type, name}])",
+              aliases=("file",), kind=str, required=True),
+        Param("time_scale", 1.0, "simulated seconds per wall-clock second"),
+        Param("wait_for_subscribers", 0.0, "wait up to this long (s) for every topic to have a "
+              "subscriber before the clock starts (0: start at once)"),
+        Param("rate", 50.0, "how often (Hz) to check for due events"),
+    ],
+)
+
+
+class ScriptedEnvironment:
+    def __init__(self, config: dict[str, Any]) -> None:
+        import rospy
+        from std_msgs.msg import String
+
+        name = rospy.get_name()
+        if config["time_scale"] <= 0 or config["rate"] <= 0:
+            raise NodeConfigError(f"{name}: ~time_scale and ~rate must be positive")
+        try:
+            self.schedule = load_schedule(config["schedule"])
+        except ScheduleError as error:
+            raise NodeConfigError(f"{name}: {error}") from None
+        self.config = config
+        self.publishers = {}
+        for topic, type_name in self.schedule.topics().items():
+            try:
+                cls = message_class(type_name)
+            except NodeConfigError as error:
+                raise NodeConfigError(f"{name}: {self.schedule.source}: topic {topic}: {error}") from None
+            self.publishers[topic] = (rospy.Publisher(topic, cls, queue_size=10, latch=True), cls)
+        self.messages = {}
+        for event in self.schedule.events:
+            cls = self.publishers[event.topic][1]
+            try:
+                self.messages[id(event)] = fill_message(cls, event.fields, "value")
+            except NodeConfigError as error:
+                raise NodeConfigError(f"{name}: {self.schedule.source}:{event.line}: {error}") from None
+        self.fired_pub = rospy.Publisher("~fired", String, queue_size=100, latch=True)
+        self._string = String
+        self.scheduler = Scheduler(self.schedule)
+
+    def _wait_for_subscribers(self) -> None:
+        import rospy
+
+        deadline = time.monotonic() + self.config["wait_for_subscribers"]
+        while not rospy.is_shutdown() and time.monotonic() < deadline:
+            if all(pub.get_num_connections() > 0 for pub, _ in self.publishers.values()):
+                return
+            rospy.sleep(0.05)
+        missing = [t for t, (pub, _) in self.publishers.items() if pub.get_num_connections() == 0]
+        if missing:
+            rospy.logwarn("%s: starting although nobody listens to %s", rospy.get_name(), ", ".join(missing))
+
+    def spin(self) -> None:
+        import rospy
+
+        if self.config["wait_for_subscribers"] > 0:
+            self._wait_for_subscribers()
+        start = time.monotonic()
+        rate = rospy.Rate(self.config["rate"])
+        rospy.loginfo("%s: playing %d events from %s", rospy.get_name(), len(self.schedule.events),
+                      self.schedule.source)
+        while not rospy.is_shutdown():
+            elapsed = (time.monotonic() - start) * self.config["time_scale"]
+            for event in self.scheduler.due(elapsed):
+                self.publishers[event.topic][0].publish(self.messages[id(event)])
+                self.fired_pub.publish(self._string(data=event.name))
+                rospy.loginfo("%s: t=%.2f %s", rospy.get_name(), elapsed, event.name)
+            if self.scheduler.finished():
+                rospy.loginfo("%s: schedule done; keeping the latched topics up", rospy.get_name())
+                rospy.spin()
+                return
+            try:
+                rate.sleep()
+            except rospy.ROSInterruptException:
+                return
+
+
+def scripted_environment_main() -> None:
+    run_node(SCRIPTED_ENVIRONMENT, ScriptedEnvironment)

@@ -1,0 +1,52 @@
+"""scripted_environment against a real master: events fire on schedule, in order."""
+from __future__ import annotations
+
+import pytest
+from helpers import wait_for
+from test_nodes_probe import make_session
+
+pytestmark = [pytest.mark.ros, pytest.mark.timeout(60)]
+
+
+@pytest.fixture
+def ros(request):
+    return make_session(request)
+
+
+def test_scripted_events_fire_on_schedule(ros, tmp_path):
+    from std_msgs.msg import Bool, Float64, String
+
+    schedule = tmp_path / "env.yaml"
+    schedule.write_text(f"""events:
+  - {{at: 0.0, topic: {ros.topic('env/person')}, value: false}}
+  - {{at: 0.6, topic: {ros.topic('env/person')}, value: true, name: a person shows up}}
+  - {{at: 0.9, topic: {ros.topic('env/object_distance')}, type: std_msgs/Float64, value: {{data: 0.25}}}}
+  - {{at: 1.5, topic: {ros.topic('env/person')}, value: false, name: the person leaves}}
+""")
+    person = ros.record(ros.topic("env/person"), Bool)
+    distance = ros.record(ros.topic("env/object_distance"), Float64)
+    node = ros.run("scripted_environment", f"_schedule:={schedule}", "_wait_for_subscribers:=10",
+                   name="env")
+    fired = ros.record(f"{ros.ns}_env/fired", String)
+    person.wait(lambda ms: [m.data for m in ms] == [False, True, False], what="person false, true, false")
+    distance.wait(lambda ms: len(ms) == 1, what="the object distance")
+    assert distance.last().data == 0.25
+    t0, t_person, t_leave = person.times
+    # Event times count from one start, so delays do not add up; allow for a loaded machine.
+    assert abs((t_person - t0) - 0.6) < 0.3, t_person - t0
+    assert abs((t_leave - t0) - 1.5) < 0.3, t_leave - t0
+    assert abs((distance.times[0] - t0) - 0.9) < 0.3, distance.times[0] - t0
+    fired.wait(lambda ms: len(ms) >= 1, what="the last fired event (latched)")
+    assert fired.last().data == "the person leaves", fired.last()
+    assert node.running()  # it keeps the latched topics up after the schedule
+
+
+def test_bad_schedule_is_one_clear_error(ros, tmp_path):
+    schedule = tmp_path / "bad.yaml"
+    schedule.write_text("events:\n  - {at: 1, topic: /a, type: std_msgs/Nope, value: 1}\n")
+    node = ros.run("scripted_environment", f"_schedule:={schedule}")
+    wait_for(lambda: not node.running(), 15, "the node to exit")
+    out = node.output()
+    assert node.popen.returncode == 2, out
+    assert f"{schedule}: topic /a: unknown message type 'std_msgs/Nope'" in out, out
+    assert "Traceback" not in out, out

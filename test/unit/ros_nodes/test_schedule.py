@@ -1,0 +1,91 @@
+"""Scripted environment schedules (ROS-free)."""
+from __future__ import annotations
+
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from ltl_stack.sim.schedule import Schedule, ScheduleError, Scheduler, load_schedule, parse_schedule
+
+TEXT = """
+events:
+  - at: 2.0
+    topic: /env/person
+    value: false
+  - at: 0.5
+    topic: /env/person
+    value: true
+    name: a person shows up
+  - at: 0.5
+    topic: /env/object_distance
+    type: std_msgs/Float64
+    value: {data: 0.3}
+"""
+
+
+def test_parse_sorts_by_time_keeping_file_order_for_ties():
+    schedule = parse_schedule(TEXT, "s.yaml")
+    got = [(e.at, e.topic, e.fields, e.name) for e in schedule.events]
+    assert got == [
+        (0.5, "/env/person", {"data": True}, "a person shows up"),
+        (0.5, "/env/object_distance", {"data": 0.3}, "/env/object_distance := {'data': 0.3}"),
+        (2.0, "/env/person", {"data": False}, "/env/person := False"),
+    ], got
+    assert schedule.topics() == {"/env/person": "std_msgs/Bool", "/env/object_distance": "std_msgs/Float64"}
+    assert (schedule.loop, schedule.period) == (False, 2.0)
+
+
+def test_scheduler_hands_out_due_events_once():
+    scheduler = Scheduler(parse_schedule(TEXT))
+    assert [e.at for e in scheduler.due(0.1)] == []
+    assert [e.at for e in scheduler.due(0.6)] == [0.5, 0.5]
+    assert [e.at for e in scheduler.due(0.7)] == []
+    assert not scheduler.finished()
+    assert [e.at for e in scheduler.due(5.0)] == [2.0]
+    assert scheduler.finished()
+
+
+def test_looping_schedule_replays_every_period():
+    scheduler = Scheduler(parse_schedule("loop: true\nperiod: 3\nevents:\n- {at: 1, topic: a, value: 1}\n"))
+    assert len(scheduler.due(0.5)) == 0
+    assert len(scheduler.due(7.5)) == 3  # t = 1, 4, 7
+    assert not scheduler.finished()
+
+
+@given(st.lists(st.floats(0, 100), min_size=1, max_size=20), st.lists(st.floats(0, 200), max_size=20))
+def test_every_event_fires_once_in_time_order_whatever_the_polling(times, polls):
+    events = "\n".join(f"- {{at: {t!r}, topic: /t{i}, value: true}}" for i, t in enumerate(times))
+    scheduler = Scheduler(parse_schedule("events:\n" + events))
+    for poll in sorted(polls):
+        for event in scheduler.due(poll):
+            assert event.at <= poll
+    scheduler.due(1000.0)
+    fired = [e.at for e in scheduler.fired]
+    assert fired == sorted(times), fired
+
+
+@pytest.mark.parametrize("text, message", [
+    ("events: [", "s.yaml:1: not valid YAML"),
+    ("[1, 2]", "s.yaml: expected a mapping with an 'events:' list"),
+    ("events: []\nrepeat: true\n", "unknown key(s) repeat"),
+    ("events:\n  - at: 1\n    topic: /a\n", "s.yaml:2: event #0: missing 'value'"),
+    ("events:\n  - {at: -1, topic: /a, value: 1}\n", "s.yaml:2: event #0: 'at' must be a number of seconds >= 0"),
+    ("events:\n  - {at: 1, topic: /a, value: 1, colour: red}\n", "event #0: unknown key(s) colour"),
+    ("events:\n  - {at: 1, topic: /a, value: 1}\n  - {at: 2, topic: /a, type: std_msgs/Int32, value: 1}\n",
+     "s.yaml:3: event #1: topic /a was given type std_msgs/Bool at line 2, now std_msgs/Int32"),
+    ("loop: true\nevents: []\n", "'loop: true' needs events and a positive period"),
+    ("period: 1\nevents:\n  - {at: 2, topic: /a, value: 1}\n", "period 1.0 is shorter than the last event time 2.0"),
+])
+def test_bad_schedules_give_one_clear_error(text, message):
+    with pytest.raises(ScheduleError) as err:
+        parse_schedule(text, "s.yaml")
+    assert message in str(err.value), str(err.value)
+
+
+def test_missing_file_names_it(tmp_path):
+    with pytest.raises(ScheduleError, match="nothere.yaml: cannot read schedule"):
+        load_schedule(tmp_path / "nothere.yaml")
+
+
+def test_empty_schedule_is_finished_at_once():
+    assert Scheduler(Schedule([])).finished()
