@@ -224,6 +224,11 @@ def transfer_joint_commands(src: SourceFile, use: JointTrajectoryUse, source: Ro
         report.unresolved.append(Unresolved("joint_names", use.names[1].line,
                                             "the program commands different joint lists; only the first is "
                                             "retargeted"))
+    if source.urdf is None and target.urdf is not None:
+        target_urdf = load_urdf(target.urdf)
+        if all(target_urdf.has_joint(n) for n in names):
+            _check_joint_limits(src, use, names, target_urdf, target, report, edits)
+            return
     if source.urdf is None or target.urdf is None:
         which = source.name if source.urdf is None else target.name
         report.unresolved.append(Unresolved("joint trajectory", use.names[0].line,
@@ -290,3 +295,28 @@ def transfer_joint_commands(src: SourceFile, use: JointTrajectoryUse, source: Ro
     if far:
         report.notes.append(f"trajectory point(s) {far}: the target's end effector cannot get within "
                             f"{10 * EE_TOLERANCE * 1000:.0f} mm of the source's (see the errors above)")
+
+
+def _check_joint_limits(src: SourceFile, use: JointTrajectoryUse, names: list[str], urdf: UrdfModel,
+                        target: RobotProfile, report: TransferReport, edits: list[Edit]) -> None:
+    """B.1 only (no source URDF, same joint names on the target): clamp positions into the limits."""
+    report.notes.append(f"no source URDF: joint positions only checked against {target.name}'s limits (B.1)")
+    for point in use.points:
+        if len(point.values) != len(names):
+            report.unresolved.append(Unresolved("positions", point.line,
+                                                f"{len(point.values)} positions for {len(names)} joints"))
+            continue
+        clamped, outside = [], []
+        for name, value in zip(names, point.values, strict=True):
+            lower, upper = urdf.limits(name)
+            clamped.append(min(max(value, lower), upper))
+            if clamped[-1] != value:
+                outside.append(f"{name} {value:g} outside [{lower:g}, {upper:g}]")
+        text = src.data[point.span.start:point.span.end].decode("utf-8")
+        if outside:
+            new = "[" + ", ".join(f"{v:.4f}" for v in clamped) + "]"
+            edits.append(Edit(point.span, new))
+            report.parameters.append(ParameterChange("positions", point.line, text, new, "B.1 clamped",
+                                                     True, "; ".join(outside)))
+        else:
+            report.parameters.append(ParameterChange("positions", point.line, text, text, "B.1 checked"))

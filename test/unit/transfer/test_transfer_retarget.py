@@ -122,3 +122,15 @@ def test_same_robot_reproduces_the_source_configuration():
         assert point["ee_error_m"] < 1e-4 and point["shape_distance"] < 1e-6, point
         assert np.allclose(point["target"][:5], point["source"][:5], atol=2e-3), point
     assert result.report.retargeting["target_rule"] == "the target has the program's joints"
+
+
+def test_without_a_source_urdf_positions_are_checked_and_clamped(tmp_path):
+    robots = require_shared("robots")
+    (tmp_path / "arm.yaml").write_text("drive: none\n")   # a profile with no files at all
+    (tmp_path / "ur5_limited.yaml").write_text(f"urdf: {robots / 'urdf' / 'ur5_limited.urdf'}\n")
+    text = (DATA / "follow_trajectory_ur5.py").read_text().replace("Q3 = [1.5, -0.2", "Q3 = [4.0, -0.2")
+    result = transfer_program(text, load_profile(tmp_path, "arm"), load_profile(tmp_path, "ur5_limited"))
+    assert "Q3 = [3.1416, -0.2000, -1.5700, 0.0000, 0.0000, 0.0000]" in result.text, result.text
+    assert "Q1 = [2.2, 0, -1.57, 0, 0, 0]" in result.text
+    clamped = [p for p in result.report.parameters if p.method == "B.1 clamped"]
+    assert len(clamped) == 1 and "shoulder_pan_joint 4 outside" in clamped[0].note, clamped
