@@ -205,3 +205,36 @@ def iff_(a: Formula, b: Formula) -> Formula:
     if isinstance(b, Const):
         return a if b.value else not_(a)
     return Iff(a, b)
+
+
+class Pending:
+    """An ``And``/``Or`` still being built by a parser from a chain of binary operators.
+
+    Flattening ``& & & a b c d`` by copying argument tuples at each step would cost quadratic time
+    on long chains; a parser instead links ``Pending`` parts and ``settle`` flattens the whole chain
+    once, in linear time.
+    """
+
+    __slots__ = ("kind", "parts")
+
+    def __init__(self, kind: type, left: object, right: object):
+        self.kind = kind
+        self.parts = [settle(p) if isinstance(p, Pending) and p.kind is not kind else p for p in (left, right)]
+
+
+def settle(x: Formula | Pending) -> Formula:
+    """The formula of a parser value: a ``Pending`` chain becomes one flat ``And``/``Or``."""
+    if not isinstance(x, Pending):
+        return x
+    kind = x.kind
+    out: list[Formula] = []
+    stack: list = [x]
+    while stack:
+        item = stack.pop()
+        if isinstance(item, Pending):
+            stack.extend(reversed(item.parts))
+        elif isinstance(item, kind):
+            out.extend(item.args)
+        else:
+            out.append(item)
+    return kind(tuple(out))

@@ -16,7 +16,7 @@ import re
 from ltl_stack.spec.errors import SpecError
 from ltl_stack.spec.formula import FALSE, TRUE, And, Const, Formula, Iff, Implies, Not, Or, Var, Xor, children
 from ltl_stack.spec.model import SLUGSIN_SECTIONS, Spec
-from ltl_stack.spec.ops import conjunction, disjunction
+from ltl_stack.spec.ops import Pending, settle
 from ltl_stack.spec.sections import Line, Names, SpecBuilder
 
 OPERATORS = {"!": 1, "&": 2, "|": 2, "^": 2}
@@ -99,8 +99,10 @@ def parse_prefix(line: Line, names: Names) -> Formula:
                     extra, extra_column = tokens[i]
                     raise names.error(extra_column, f"unexpected '{extra}' after a complete formula "
                                                     "(a slugsin clause is one prefix formula per line)")
-                return value
+                return settle(value)
             frame = stack[-1]
+            if frame.op == "$" or (isinstance(value, Pending) and frame.op not in ("&", "|")):
+                value = settle(value)
             frame.args.append(value)
             if len(frame.args) < frame.need:
                 break
@@ -113,9 +115,9 @@ def _build(frame: _Frame) -> Formula:
     if op == "!":
         return Not(args[0])
     if op == "&":
-        return conjunction(args)
+        return Pending(And, args[0], args[1])
     if op == "|":
-        return disjunction(args)
+        return Pending(Or, args[0], args[1])
     if op == "^":
         return Xor(args[0], args[1])
     return args[-1]  # a $ buffer is worth its last entry

@@ -21,10 +21,10 @@ from __future__ import annotations
 import re
 
 from ltl_stack.spec.errors import SpecError
-from ltl_stack.spec.formula import FALSE, TRUE, Formula, Iff, Implies, Not, Xor
+from ltl_stack.spec.formula import FALSE, TRUE, And, Formula, Iff, Implies, Not, Or, Xor
 from ltl_stack.spec.integers import IntExpr, compare, constant_expr, variable_expr
 from ltl_stack.spec.model import Spec
-from ltl_stack.spec.ops import conjunction, disjunction
+from ltl_stack.spec.ops import Pending, settle
 from ltl_stack.spec.sections import Line, Names, SpecBuilder
 from ltl_stack.spec.slugsin import parse_prefix
 
@@ -108,15 +108,18 @@ def parse_infix(line: Line, names: Names) -> Formula:
     def reduce() -> None:
         op = operators.pop()
         if op.text == "!":
-            values.append(Not(values.pop()))
+            values.append(Not(settle(values.pop())))
             return
         right = values.pop()
         left = values.pop()
         if op.text == "&":
-            values.append(conjunction([left, right]))
-        elif op.text == "|":
-            values.append(disjunction([left, right]))
-        elif op.text == "^":
+            values.append(Pending(And, left, right))
+            return
+        if op.text == "|":
+            values.append(Pending(Or, left, right))
+            return
+        left, right = settle(left), settle(right)
+        if op.text == "^":
             values.append(Xor(left, right))
         elif op.text == "->":
             values.append(Implies(left, right))
@@ -174,7 +177,7 @@ def parse_infix(line: Line, names: Names) -> Formula:
         if operators[-1].text == "(":
             raise names.error(end, f"expected ')' to close the '(' at column {operators[-1].column}")
         reduce()
-    return values[0]
+    return settle(values[0])
 
 
 def _split_prime(token: _Token, names: Names) -> tuple[str, bool]:
