@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given, settings
 from spec_testing import SPECS, formulas, random_samples, same_content, shared_specs, truth_bits
 
-from ltl_stack.spec import SpecError, load_spec, parse_slugsin, write_slugsin
+from ltl_stack.spec import SpecError, load_spec, parse_slugsin, parse_structured, write_slugsin
 from ltl_stack.spec.formula import FALSE, TRUE, And, Not, Or, Var, Xor
 from ltl_stack.spec.model import Clause, Spec
 from ltl_stack.spec.ops import depth, prefix_normal_form
@@ -238,3 +238,30 @@ def test_byte_order_mark_and_windows_line_ends(tmp_path):
     with pytest.raises(SpecError) as info:
         load_spec(binary)
     assert str(info.value) == f"{binary}: not a text file (not UTF-8 at byte 8)", str(info.value)
+
+
+def _chain_seconds(n: int, nesting: str) -> float:
+    names = [f"v{i}" for i in range(n + 1)]
+    if nesting == "left":
+        body = " ".join(["&"] * n + names)
+    elif nesting == "right":
+        body = " ".join(word for name in names[:-1] for word in ("|", name)) + " " + names[-1]
+    else:
+        body = None
+    header = "[INPUT]\n" + "\n".join(names) + "\n[OUTPUT]\n[ENV_INIT]\n"
+    start = time.perf_counter()
+    if body is None:
+        spec = parse_structured(header + " & ".join(names) + "\n")
+    else:
+        spec = parse_slugsin(header + body + "\n")
+    seconds = time.perf_counter() - start
+    assert len(spec.env_init[0].formula.args) == n + 1
+    return seconds
+
+
+@pytest.mark.parametrize("nesting", ["left", "right", "infix"])
+def test_long_chains_read_in_linear_time(nesting):
+    small = min(_chain_seconds(5000, nesting) for _ in range(2))
+    large = min(_chain_seconds(40000, nesting) for _ in range(2))
+    # 8x the input: about 8x the time when linear, about 64x when quadratic
+    assert large / small < 20, (small, large)
