@@ -151,3 +151,15 @@ def test_region_sensor_unknown_region_names_the_file_and_the_known_regions(ros):
     assert node.popen.returncode == 2, out
     assert f"{path}: no region named 'kitchen'" in out and "left_ground" in out, out
     assert "Traceback" not in out, out
+
+
+def test_region_sensor_reads_the_region_name_topic_of_the_thesis_mappings(ros):
+    from std_msgs.msg import Bool, String
+
+    out = ros.record(ros.topic("inputs/kitchen_rc"), Bool)
+    ros.run("region_sensor", f"_robot_location_topic:={ros.topic('robot_current_region')}",
+            "_region_in_consideration:=kitchen", f"proposition:={ros.topic('inputs/kitchen_rc')}")
+    out.wait_last(lambda b: b.data is False, what="the initial False")
+    for name, expected in [("kitchen", True), ("porch", False), ("Kitchen", True), ("", False)]:
+        ros.publish(ros.topic("robot_current_region"), String(data=name))
+        out.wait_last(lambda b, e=expected: b.data is e, what=f"{expected} for region {name!r}")

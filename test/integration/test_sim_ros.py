@@ -150,3 +150,27 @@ def test_manipulation_server_pick_sets_holding_and_drop_can_be_cancelled_or_fail
     wave.send_goal(PropositionGoal(activate=True))
     assert wave.wait_for_result(rospy.Duration(10))
     assert wave.get_state() == 4 and "wave failed" in wave.get_goal_status_text(), wave.get_goal_status_text()
+
+
+TWO_ROOMS = """Regions: # Stored as JSON string
+[
+  {"name": "left", "type": "rect", "position": [0, 0], "size": [100, 100]},
+  {"name": "right", "type": "rect", "position": [100, 0], "size": [100, 100]}
+]
+"""
+
+
+def test_set_velocity_drives_the_sim_robot_into_a_region_that_region_sensor_sees(ros, tmp_path):
+    from std_msgs.msg import Bool
+
+    regions = tmp_path / "two_rooms.regions"
+    regions.write_text(TWO_ROOMS)
+    in_right = ros.record(ros.topic("inputs/right_rc"), Bool)
+    ros.run("sim_robot", "_x:=0.8", "_y:=0.5", "_time_scale:=2", *remaps(ros))
+    ros.run("region_sensor", f"_regions_file:={regions}", "_region:=right", "_scale:=0.01",
+            f"_pose_topic:={ros.topic('odom')}", f"proposition:={ros.topic('inputs/right_rc')}")
+    ros.run("set_velocity", f"_topic:={ros.topic('cmd_vel')}", "_vx:=0.5",
+            f"proposition:={ros.topic('outputs/forward')}")
+    in_right.wait_last(lambda b: b.data is False, what="not in the right room at the start")
+    ros.set_bool(ros.topic("outputs/forward"), True)
+    in_right.wait_last(lambda b: b.data is True, what="the robot driven into the right room")

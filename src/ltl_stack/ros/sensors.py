@@ -25,7 +25,7 @@ from ltl_stack.ros.proposition_node import (
     run_node,
     wait_for_topic_class,
 )
-from ltl_stack.ros.regions import RegionMap, RegionsError
+from ltl_stack.ros.regions import RegionMap, RegionsError, normalize_name
 
 COMPARISONS: dict[str, Callable[[float, float], bool]] = {
     ">": operator.gt, ">=": operator.ge, "<": operator.lt, "<=": operator.le,
@@ -162,10 +162,11 @@ REGION_SENSOR = NodeSpec(
     name="region_sensor",
     kind="input",
     description="True while the robot's position (from ~pose_topic) lies inside ~region of "
-                "~regions_file (an LTLMoP .regions file).",
+                "~regions_file (an LTLMoP .regions file), or, with ~robot_location_topic, while the "
+                "region name published there is ~region.",
     params=[
         *INPUT_PARAMS,
-        Param("regions_file", "", "LTLMoP .regions file", kind=str, required=True),
+        Param("regions_file", "", "LTLMoP .regions file (needed unless ~robot_location_topic is set)"),
         Param("region", "", "region name (rightLane also matches right_lane)",
               aliases=("region_in_consideration",), kind=str, required=True),
         Param("pose_topic", "odom", "robot position: Odometry, PoseStamped, Pose, Pose2D, ..."),
@@ -174,6 +175,8 @@ REGION_SENSOR = NodeSpec(
         Param("x_trans", 0.0, "world x of the file's origin"),
         Param("y_trans", 0.0, "world y of the file's origin"),
         Param("flip_y", False, "negate the file's y (image coordinates point down)"),
+        Param("robot_location_topic", "", "instead of a pose: a std_msgs/String topic carrying the name "
+              "of the robot's current region (as sim_robot's current_region)"),
     ],
 )
 
@@ -182,6 +185,12 @@ class RegionSensor(InputPropositionNode):
     def __init__(self, config: dict[str, Any]) -> None:
         import rospy
 
+        self.region = None
+        if config["robot_location_topic"]:
+            super().__init__(config)
+            return
+        if not config["regions_file"]:
+            raise NodeConfigError(f"{rospy.get_name()}: set ~regions_file (or ~robot_location_topic)")
         try:
             regions = RegionMap.load(config["regions_file"], scale=config["scale"],
                                      x_trans=config["x_trans"], y_trans=config["y_trans"],
@@ -194,12 +203,20 @@ class RegionSensor(InputPropositionNode):
 
     def spin(self) -> None:
         import rospy
+        from std_msgs.msg import String
 
+        if self.region is None:
+            rospy.Subscriber(self.config["robot_location_topic"], String, self._on_region_name, queue_size=10)
+            super().spin()
+            return
         cls = self.cls or wait_for_topic_class(rospy.resolve_name(self.config["pose_topic"]))
         if cls is None:
             return
         rospy.Subscriber(self.config["pose_topic"], cls, self._on_pose, queue_size=10)
         super().spin()
+
+    def _on_region_name(self, msg: Any) -> None:
+        self.set_value(normalize_name(msg.data) == normalize_name(self.config["region"]))
 
     def _on_pose(self, msg: Any) -> None:
         x, y = pose_xy(msg)
