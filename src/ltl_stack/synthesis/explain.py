@@ -350,7 +350,9 @@ def _losing_starts(game: Game, losing, robotics_semantics: bool) -> list[dict[st
         return [] if pick is None else [{v: bool(pick[v]) for v in game.variables}]
     won = bdd.exist(game.outputs, game.env_init & game.sys_init & ~losing)
     bad_inputs = bdd.exist(game.outputs, game.env_init) & ~won
-    pick = bdd.pick(bad_inputs, care_vars=set(game.inputs))
+    answered = bad_inputs & bdd.exist(game.outputs, game.env_init & game.sys_init)
+    # prefer an input the robot can answer: there is a game to show; otherwise init alone fails
+    pick = bdd.pick(answered if answered != bdd.false else bad_inputs, care_vars=set(game.inputs))
     if pick is None:
         return []
     x = {v: bool(pick[v]) for v in game.inputs}

@@ -323,3 +323,13 @@ def test_synthesize_cli_explains_and_writes_the_counterstrategy(tmp_path, capsys
     assert "Livelock" in text and "[sys_liveness] & o i'" in text, text
     data = json.loads(out.read_text())
     assert data["states"] and data["initial"], data
+
+
+def test_counterstrategy_starts_where_the_robot_can_answer_the_initial_inputs():
+    # for i no output satisfies sys_init (init failure); for !i the robot starts but loses the goal i'
+    spec = make_spec(["i"], ["o"], file="two_ways.slugsin", sys_init=["| ! i & o ! o"], sys_liveness=["i'"])
+    e = explain(spec, robotics_semantics=False, counterstrategy=True)
+    assert (e.kind, e.losing_initial) == (INIT, {"i": True}), (e.kind, e.losing_initial)
+    cs = e.counterstrategy
+    assert [cs.states[k].inputs for k in cs.initial] == [{"i": False}, {"i": False}], cs.initial
+    check_counterstrategy(spec, cs, robotics=False)
