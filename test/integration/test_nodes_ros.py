@@ -163,3 +163,22 @@ def test_region_sensor_reads_the_region_name_topic_of_the_thesis_mappings(ros):
     for name, expected in [("kitchen", True), ("porch", False), ("Kitchen", True), ("", False)]:
         ros.publish(ros.topic("robot_current_region"), String(data=name))
         out.wait_last(lambda b, e=expected: b.data is e, what=f"{expected} for region {name!r}")
+
+
+def test_rosnode_kill_stops_an_active_output_node_promptly_and_drives_it_off(ros):
+    import subprocess
+
+    from geometry_msgs.msg import Twist
+
+    cmd = ros.record(ros.topic("cmd_vel"), Twist)
+    node = ros.run("set_velocity", f"_topic:={ros.topic('cmd_vel')}", "_vx:=0.3",
+                   f"proposition:={ros.topic('outputs/move')}", name="killme")
+    ros.set_bool(ros.topic("outputs/move"), True)
+    cmd.wait(lambda ms: len(ms) >= 2, what="Twists while true")
+    start = time.monotonic()
+    subprocess.run(["rosnode", "kill", f"{ros.ns.strip('/')}_killme"], env=ros.master.env, check=True,
+                   capture_output=True, timeout=15)
+    wait_for(lambda: not node.running(), 5, "set_velocity to exit after rosnode kill")
+    assert time.monotonic() - start < 5
+    assert node.popen.returncode == 0, node.output()
+    cmd.wait_last(lambda t: not nonzero(t), what="a zero Twist when killed")
