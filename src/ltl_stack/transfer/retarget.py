@@ -28,7 +28,7 @@ from .errors import TransferError
 from .profiles import RobotProfile
 from .report import ParameterChange, TransferReport, Unresolved
 from .rewrite import Edit
-from .source_ast import SourceFile, format_string
+from .source_ast import SourceFile, format_angle, format_list, format_string
 from .srdf import similarity
 from .urdf import ChainJoint, UrdfModel, actuated, chain_frames, chain_frames_jacobian, load_urdf
 
@@ -265,14 +265,14 @@ def transfer_joint_commands(src: SourceFile, use: JointTrajectoryUse, source: Ro
     for joint_list in use.names:
         text = src.data[joint_list.span.start:joint_list.span.end].decode("utf-8")
         quote = next((e for e in ("'", '"') if e in text), "'")
-        new = "[" + ", ".join(format_string(n, quote) for n in chain_t.names) + "]"
+        new = format_list([format_string(n, quote) for n in chain_t.names], text)
         edits.append(Edit(joint_list.span, new))
         report.parameters.append(ParameterChange(
             "joint_names" + (f" (variable {joint_list.via})" if joint_list.via else ""), joint_list.line,
             text, new, "B.3 retargeted chain"))
     for point, result in zip(good_points, results, strict=True):
         text = src.data[point.span.start:point.span.end].decode("utf-8")
-        new = "[" + ", ".join(f"{v:.4f}" for v in result.q) + "]"
+        new = format_list([format_angle(v) for v in result.q], text)
         within = all(lo - 1e-9 <= v <= hi + 1e-9 for v, (lo, hi) in zip(result.q, chain_t.bounds, strict=True))
         edits.append(Edit(point.span, new))
         report.parameters.append(ParameterChange(
@@ -314,7 +314,7 @@ def _check_joint_limits(src: SourceFile, use: JointTrajectoryUse, names: list[st
                 outside.append(f"{name} {value:g} outside [{lower:g}, {upper:g}]")
         text = src.data[point.span.start:point.span.end].decode("utf-8")
         if outside:
-            new = "[" + ", ".join(f"{v:.4f}" for v in clamped) + "]"
+            new = format_list([format_angle(v) for v in clamped], text)
             edits.append(Edit(point.span, new))
             report.parameters.append(ParameterChange("positions", point.line, text, new, "B.1 clamped",
                                                      True, "; ".join(outside)))

@@ -168,3 +168,28 @@ def format_string(value: str, like: str) -> str:
     if quote in value or "\\" in value or "\n" in value:
         return repr(value)
     return quote + value + quote
+
+
+def format_angle(value: float) -> str:
+    """Four decimals, without a negative zero."""
+    text = f"{value:.4f}"
+    return "0.0000" if text == "-0.0000" else text
+
+
+def format_list(items: list[str], like: str, width: int = 100) -> str:
+    """A list literal of already-formatted items, wrapped like ``like`` when that spanned several lines."""
+    if "\n" not in like:
+        return "[" + ", ".join(items) + "]"
+    second = like.split("\n")[1]
+    indent = second[: len(second) - len(second.lstrip())]
+    lines, current = [], "["
+    for item in items:
+        piece = item + ","
+        budget = width - (len(indent) if not lines else 0)  # the first line starts about where the indent is
+        if current.strip() not in ("[", "") and len(current) + 1 + len(piece) > budget:
+            lines.append(current)
+            current = indent + piece
+        else:
+            current = current + ("" if current.endswith("[") or not current.strip() else " ") + piece
+    lines.append(current[:-1] + "]")
+    return "\n".join(lines)

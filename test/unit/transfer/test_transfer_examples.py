@@ -106,3 +106,15 @@ def test_deadband_of_the_target_and_a_field_the_target_lacks():
     assert result.text == "msg.linear.x, msg.linear.y = 55.0, -55.0\nmsg.angular.z = 0.3\n", result.text
     assert [(u.what, u.line) for u in result.report.unresolved] == [("angular.z", 2)], result.report.unresolved
     assert "sphero has no angular.z" in result.report.unresolved[0].reason
+
+
+def test_list_formatting_keeps_a_wrapped_list_wrapped():
+    from ltl_stack.transfer.source_ast import format_angle, format_list
+
+    like = "['a', 'b',\n     'c']"
+    got = format_list([f"'name_{i}'" for i in range(12)], like, width=40)
+    lines = got.split("\n")
+    assert len(lines) > 1 and all(line.startswith("     ") for line in lines[1:]), got
+    assert eval(got) == [f"name_{i}" for i in range(12)], got
+    assert format_list(["1", "2"], "[0, 0]") == "[1, 2]"
+    assert format_angle(-0.00001) == "0.0000" and format_angle(-1.23456) == "-1.2346"
