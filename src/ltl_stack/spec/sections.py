@@ -87,6 +87,9 @@ class SpecBuilder:
             if header:
                 current = self._section(header["name"].strip(), line)
                 continue
+            if line.text.lstrip().startswith("["):
+                raise self.error(number, line.first_column(),
+                                 "a section header stands alone on its line, like [SYS_TRANS]")
             if current is None:
                 raise self.error(number, line.first_column(),
                                  "expected a section header such as [INPUT] before the first clause")

@@ -175,6 +175,9 @@ def write_slugsin(spec: Spec, *, comments: bool = False) -> str:
     entries, so the text stays as small as the formula. With ``comments`` every clause is
     preceded by ``# file:line: text`` of where it came from.
     """
+    for name in spec.propositions:
+        if not valid_name(name):
+            raise ValueError(f"proposition {name!r} cannot be written in slugsin: {NAME_RULE}")
     out = ["[INPUT]", *spec.inputs, "", "[OUTPUT]", *spec.outputs, ""]
     for section, header in SLUGSIN_SECTIONS.items():
         out.append(f"[{header}]")

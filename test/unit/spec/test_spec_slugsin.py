@@ -161,6 +161,7 @@ def error_of(text: str, file: str = "bad.slugsin") -> str:
      "bad.slugsin:5:1: unknown section [FOO]; expected one of [INPUT], [OUTPUT], [ENV_INIT], [SYS_INIT], "
      "[ENV_TRANS], [SYS_TRANS], [ENV_LIVENESS], [SYS_LIVENESS]"),
     ("a\n[INPUT]\n", "bad.slugsin:1:1: expected a section header such as [INPUT] before the first clause"),
+    ("[INPUT] a\n", "bad.slugsin:1:1: a section header stands alone on its line, like [SYS_TRANS]"),
     ("[INPUT]\na\n[OUTPUT]\na\n", "bad.slugsin:4:1: proposition 'a' is declared twice (first at line 2)"),
     ("[INPUT]\nx:0...3\n[OUTPUT]\nx@1\n",
      "bad.slugsin:4:1: proposition 'x@1' is declared twice (first at integer x at line 2)"),
@@ -265,3 +266,8 @@ def test_long_chains_read_in_linear_time(nesting):
     large = min(_chain_seconds(40000, nesting) for _ in range(2))
     # 8x the input: about 8x the time when linear, about 64x when quadratic
     assert large / small < 20, (small, large)
+
+
+def test_writer_refuses_names_slugsin_cannot_hold():
+    with pytest.raises(ValueError, match="proposition 'two words' cannot be written in slugsin"):
+        write_slugsin(Spec(inputs=["two words"]))
