@@ -30,11 +30,9 @@ KIND_WORDS = {"publisher": "topic", "subscriber": "topic", "action_client": "act
 
 @dataclass
 class NameRef:
-    """Where a channel's name comes from: a literal (maybe through a variable), or something unresolved."""
+    """A channel's name: a literal (maybe through a variable), or why it cannot be resolved."""
 
     value: str | None
-    span: Span | None = None          # the string literal to edit
-    quoted: str = ""                  # the literal's source text, for its quote style
     via: str | None = None            # variable name when bound through one
     problem: str | None = None        # why it cannot be resolved
 
@@ -59,14 +57,12 @@ def resolve_name(src: SourceFile, node: ast.expr | None) -> NameRef:
         return NameRef(None, problem="no name argument")
     text = string_value(node)
     if text is not None:
-        return NameRef(text, src.span(node), src.segment(node))
+        return NameRef(text)
     if isinstance(node, ast.Name):
         values = src.bindings(node)
         literals = {string_value(v) for v in values}
         if values and None not in literals and len(literals) == 1:
-            first = values[0]
-            # every binding gets the same edit; report the first one's place
-            return NameRef(literals.pop(), src.span(first), src.segment(first), via=node.id)
+            return NameRef(literals.pop(), via=node.id)  # every binding gets the same edit
         if not values:
             return NameRef(None, problem=f"variable {node.id!r} is not bound to a string literal here")
         return NameRef(None, problem=f"variable {node.id!r} is bound to a computed or varying value")

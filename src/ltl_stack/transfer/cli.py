@@ -1,15 +1,18 @@
-"""``ros_code_transfer``: the command-line front of the transfer (thin; the work is in ``transfer``)."""
+"""Command lines of the code transfer: ``ros_code_transfer`` and ``mine_channels`` (thin; the work is elsewhere)."""
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import sys
 import time
 from collections.abc import Sequence
 from pathlib import Path
 
+import yaml
+
 from .choose import prompt_text
-from .codebase import load_codebase
+from .codebase import load_codebase, mine_programs
 from .errors import TransferError
 from .profiles import load_profile
 from .rewrite import write_atomic
@@ -120,6 +123,29 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def mine_main(argv: list[str] | None = None) -> int:
-    from .codebase import mine_main as run
-
-    return run(argv)
+    """``mine_channels DIR --robot NAME``: print (or write) the channel statistics of a codebase."""
+    parser = argparse.ArgumentParser(
+        prog="mine_channels",
+        description="Count the channel names per message type in a folder of ROS Python programs "
+                    "(thesis §2.5.1 A.1). Exit codes: 0 done, 2 bad input.")
+    parser.add_argument("folder", help="folder of programs written for the robot (searched recursively)")
+    parser.add_argument("--robot", required=True, help="robot name the statistics are filed under")
+    parser.add_argument("-o", "--output", help="write the statistics YAML here (default: standard output)")
+    parser.add_argument("--json", action="store_true", help="print JSON instead of YAML")
+    parser.add_argument("-q", "--quiet", action="store_true", help="no progress on standard error")
+    args = parser.parse_args(argv)
+    progress = None if args.quiet else (lambda msg: print(msg, file=sys.stderr))
+    try:
+        stats = mine_programs(args.folder, args.robot, progress)
+        for problem in stats.skipped:
+            print(f"mine_channels: skipped {problem}", file=sys.stderr)
+        data = stats.to_yaml_data()
+        text = json.dumps(data, indent=2) + "\n" if args.json else yaml.safe_dump(data, sort_keys=False)
+        if args.output:
+            write_atomic(args.output, text)
+        else:
+            sys.stdout.write(text)
+    except TransferError as err:
+        print(f"mine_channels: error: {err}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    return EXIT_OK

@@ -5,7 +5,6 @@ many programs were mined). Channel names are counted without a leading ``/``.
 """
 from __future__ import annotations
 
-import sys
 from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -140,41 +139,3 @@ def load_codebase(path: str | Path, robot: str, progress=None) -> ChannelStats |
         found = found or ChannelStats(robot)
         found.merge(mine_programs(path / robot, robot, progress))
     return found
-
-
-def mine_main(argv: list[str] | None = None) -> int:
-    """``mine_channels DIR --robot NAME``: print (or write) the channel statistics of a codebase."""
-    import argparse
-    import json
-    import os
-    import tempfile
-
-    parser = argparse.ArgumentParser(
-        prog="mine_channels",
-        description="Count the channel names per message type in a folder of ROS Python programs "
-                    "(thesis §2.5.1 A.1). Exit codes: 0 done, 2 bad input.")
-    parser.add_argument("folder", help="folder of programs written for the robot (searched recursively)")
-    parser.add_argument("--robot", required=True, help="robot name the statistics are filed under")
-    parser.add_argument("-o", "--output", help="write the statistics YAML here (default: standard output)")
-    parser.add_argument("--json", action="store_true", help="print JSON instead of YAML")
-    parser.add_argument("-q", "--quiet", action="store_true", help="no progress on standard error")
-    args = parser.parse_args(argv)
-    progress = None if args.quiet else (lambda msg: print(msg, file=sys.stderr))
-    try:
-        stats = mine_programs(args.folder, args.robot, progress)
-    except TransferError as err:
-        print(f"mine_channels: error: {err}", file=sys.stderr)
-        return 2
-    for problem in stats.skipped:
-        print(f"mine_channels: skipped {problem}", file=sys.stderr)
-    data = stats.to_yaml_data()
-    text = json.dumps(data, indent=2) + "\n" if args.json else yaml.safe_dump(data, sort_keys=False)
-    if not args.output:
-        sys.stdout.write(text)
-        return 0
-    target = Path(args.output)
-    fd, tmp = tempfile.mkstemp(dir=target.parent or ".", prefix=f".{target.name}.")
-    with os.fdopen(fd, "w") as f:
-        f.write(text)
-    os.replace(tmp, target)
-    return 0

@@ -12,7 +12,7 @@ import time
 from dataclasses import dataclass, field
 
 from .channels import ChannelSite, find_channel_sites, name_spans
-from .choose import Asker, choose_channel, choose_group, short_type
+from .choose import Asker, Decision, choose_channel, choose_group, short_type
 from .codebase import ChannelStats
 from .commands import find_joint_trajectories, find_velocity_commands
 from .errors import TransferError
@@ -104,9 +104,9 @@ def _channels(src: SourceFile, sites: list[ChannelSite], source: RobotProfile, t
                 decided[key] = choose_channel(use.word, use.msg_type, use.name.value, options.stats,
                                               options.live, options.ask)
         decision = decided[key]
+        asked_here = decision.user_input and _first_site(key, sites) is site  # one answer counts once
         change = ChannelChange(use.word, use.msg_type, use.line, use.name.value, decision.replacement,
-                               decision.method, decision.user_input and _first_use(decided, key, site, sites),
-                               decision.flagged, decision.candidates)
+                               decision.method, asked_here, decision.flagged, decision.candidates)
         if use.kind == "move_group":
             chosen_groups.append((use.line, decision.replacement))
         report.channels.append(change)
@@ -123,10 +123,8 @@ def _channels(src: SourceFile, sites: list[ChannelSite], source: RobotProfile, t
             _pose_frame(src, site, chosen_groups, target, target_srdf, report, edits)
 
 
-def _first_use(decided: dict, key, site: ChannelSite, sites: list[ChannelSite]) -> bool:
-    """Count a user's answer once, at the first site that asked."""
-    first = next(s for s in sites if (s.use.word, s.use.name.value, s.use.msg_type) == key)
-    return first is site
+def _first_site(key, sites: list[ChannelSite]) -> ChannelSite:
+    return next(s for s in sites if (s.use.word, s.use.name.value, s.use.msg_type) == key)
 
 
 def _edit_name(src: SourceFile, site: ChannelSite, new: str, edits: list[Edit]) -> None:
@@ -149,7 +147,6 @@ def _load_srdf(robot: RobotProfile, report: TransferReport):
 
 
 def _choose_group(source_group: str, target: RobotProfile, srdf, ask: Asker | None):
-    from .choose import Decision
     from .srdf import rank_groups
 
     if srdf is None:
