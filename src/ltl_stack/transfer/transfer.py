@@ -87,8 +87,9 @@ def _refuse_mixed_drives(sites: list[ChannelSite], velocity, source: RobotProfil
 def _channels(src: SourceFile, sites: list[ChannelSite], source: RobotProfile, target: RobotProfile,
               options: TransferOptions, report: TransferReport, edits: list[Edit]) -> None:
     decided: dict = {}
+    answered: set = set()   # a user's answer counts once, at the first place it applies
     chosen_groups: list[tuple[int, str | None]] = []   # (line, target group) for pose frames
-    target_srdf = _load_srdf(target, report) if any(s.use.kind == "move_group" for s in sites) else None
+    target_srdf = _load_srdf(target) if any(s.use.kind == "move_group" for s in sites) else None
     for site in sites:
         use = site.use
         if use.name.value is None:
@@ -104,7 +105,8 @@ def _channels(src: SourceFile, sites: list[ChannelSite], source: RobotProfile, t
                 decided[key] = choose_channel(use.word, use.msg_type, use.name.value, options.stats,
                                               options.live, options.ask)
         decision = decided[key]
-        asked_here = decision.user_input and _first_site(key, sites) is site  # one answer counts once
+        asked_here = decision.user_input and key not in answered
+        answered.add(key)
         change = ChannelChange(use.word, use.msg_type, use.line, use.name.value, decision.replacement,
                                decision.method, asked_here, decision.flagged, decision.candidates)
         if use.kind == "move_group":
@@ -123,17 +125,13 @@ def _channels(src: SourceFile, sites: list[ChannelSite], source: RobotProfile, t
             _pose_frame(src, site, chosen_groups, target, target_srdf, report, edits)
 
 
-def _first_site(key, sites: list[ChannelSite]) -> ChannelSite:
-    return next(s for s in sites if (s.use.word, s.use.name.value, s.use.msg_type) == key)
-
-
 def _edit_name(src: SourceFile, site: ChannelSite, new: str, edits: list[Edit]) -> None:
     for span in name_spans(src, site.name_node):
         old = src.data[span.start:span.end].decode("utf-8")
         edits.append(Edit(span, format_string(new, old)))
 
 
-def _load_srdf(robot: RobotProfile, report: TransferReport):
+def _load_srdf(robot: RobotProfile):
     if robot.srdf is None:
         return None
     from .srdf import check_against_urdf, load_srdf

@@ -118,3 +118,22 @@ def test_list_formatting_keeps_a_wrapped_list_wrapped():
     assert eval(got) == [f"name_{i}" for i in range(12)], got
     assert format_list(["1", "2"], "[0, 0]") == "[1, 2]"
     assert format_angle(-0.00001) == "0.0000" and format_angle(-1.23456) == "-1.2346"
+
+
+def test_the_same_channel_twice_is_asked_once_and_edited_everywhere():
+    robots = require_shared("robots")
+    text = ("import rospy\nfrom geometry_msgs.msg import Twist\nTOPIC = 'cmd_vel'\n"
+            "a = rospy.Publisher(TOPIC, Twist)\nb = rospy.Publisher('cmd_vel', Twist)\n")
+    live = [("/cmd_vel_mux/input/navi", "geometry_msgs/Twist"), ("/cmd_vel_mux/input/teleop", "geometry_msgs/Twist"),
+            ("/odom", "nav_msgs/Odometry")]
+    asked = []
+
+    def ask(word, msg_type, original, options):
+        asked.append(options)
+        return 1
+
+    result = transfer_program(text, load_profile(robots, "jackal"), load_profile(robots, "turtlebot"),
+                              TransferOptions(live=live, ask=ask))
+    assert asked == [["/cmd_vel_mux/input/navi", "/cmd_vel_mux/input/teleop"]], asked
+    assert result.text.count("'/cmd_vel_mux/input/teleop'") == 2, result.text
+    assert result.report.user_inputs == 1 and result.report.channels_replaced == 2, result.report.summary()
