@@ -8,6 +8,7 @@ spans that change are edited; the report says what changed, how, and what could 
 """
 from __future__ import annotations
 
+import ast
 import time
 from dataclasses import dataclass, field
 
@@ -123,6 +124,27 @@ def _channels(src: SourceFile, sites: list[ChannelSite], source: RobotProfile, t
     for site in sites:
         if site.use.kind == "pose_frame" and site.use.name.value is not None:
             _pose_frame(src, site, chosen_groups, target, target_srdf, report, edits)
+    _check_planning_frames(src, sites, target, report)
+
+
+def _check_planning_frames(src: SourceFile, sites: list[ChannelSite], target: RobotProfile,
+                           report: TransferReport) -> None:
+    """The frame a MoveGroupInterface plans in (its second argument) must exist on the target."""
+    from .channels import resolve_name
+    from .source_ast import call_argument
+
+    urdf = _target_urdf(target)
+    if urdf is None:
+        return
+    for site in sites:
+        call = src.parents.get(site.name_node)
+        if site.use.kind != "move_group" or not isinstance(call, ast.Call):
+            continue
+        frame = resolve_name(src, call_argument(call, 1, "frame")).value
+        if frame and not urdf.has_link(frame):
+            report.unresolved.append(Unresolved(f"planning frame '{frame}'", site.use.line,
+                                                f"{target.name}'s URDF has no link {frame!r}; the goal poses "
+                                                "are given in it, so choose the target's equivalent frame"))
 
 
 def _edit_name(src: SourceFile, site: ChannelSite, new: str, edits: list[Edit]) -> None:

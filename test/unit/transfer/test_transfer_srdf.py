@@ -87,3 +87,12 @@ def test_bad_srdf(text, message):
     with pytest.raises(TransferError) as err:
         parse_srdf(text, "r.srdf")
     assert str(err.value).startswith("r.srdf: ") and message in str(err.value), str(err.value)
+
+
+def test_a_planning_frame_the_target_lacks_is_unresolved():
+    robots = require_shared("robots")
+    text = (DATA / "moveit_fetch.py").read_text().replace('"arm_with_torso", "base_link"',
+                                                          '"arm_with_torso", "torso_fixed_link"')
+    result = transfer_program(text, load_profile(robots, "fetch"), load_profile(robots, "pr2"))
+    assert [(u.what, u.line) for u in result.report.unresolved] == [("planning frame 'torso_fixed_link'", 12)], \
+        result.report.unresolved
