@@ -13,6 +13,8 @@ import itertools
 
 import pytest
 import reference_solver
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from random_specs import make_spec, random_spec
 from reference_omega import has_primed_liveness, omega_is_realizable
 from test_differential_reference import CASES
@@ -174,3 +176,11 @@ def test_synthesize_verdict_equals_reference_on_random_specs(reference_verdicts)
             if got != reference_verdicts[seed, robotics]:
                 disagreements.append((seed, robotics, coop, reference_verdicts[seed, robotics]))
     assert disagreements == [], f"(seed, robotics_semantics, cooperative, reference verdict): {disagreements}"
+
+
+@settings(max_examples=60, deadline=None)
+@given(seed=st.integers(min_value=300, max_value=10**6), robotics=st.booleans())
+def test_engine_agrees_with_reference_beyond_the_fixed_seeds(seed, robotics):
+    spec = random_spec(seed)
+    expected = reference_solver.is_realizable(spec, robotics_semantics=robotics)
+    assert engine_is_realizable(spec, robotics) == expected, (seed, robotics, expected)
