@@ -42,7 +42,9 @@ def types_match(a: str | None, b: str | None) -> bool:
 
 def prompt_text(word: str, msg_type: str, original: str, options: Sequence[str]) -> str:
     """The §2.5.1 prompt, with the original name shown."""
-    lines = [f"Please select {'an' if word[0] in 'aeiou' else 'a'} {word} for {short_type(msg_type)} from the list.",
+    article = "an" if word[0] in "aeiou" else "a"
+    subject = f" for {short_type(msg_type)}" if msg_type else ""
+    lines = [f"Please select {article} {word}{subject} from the list.",
              f"The original {word} was '{original}'. Input Example: 1"]
     lines += [f"{i}. {option}" for i, option in enumerate(options, 1)]
     return "\n".join(lines)
@@ -106,7 +108,7 @@ def choose_group(source_group: str, ranked: list[tuple[str, float]], usable: Cal
     if not options:
         return Decision(None, "none", candidates=table)
     if ask is not None:
-        index = ask("MoveIt group", "planning group", source_group, options)
+        index = ask("MoveIt group", "", source_group, options)  # options: most similar name first
         return Decision(options[index], "A.3 SRDF groups ranked by similarity, chosen by the user",
                         user_input=True, candidates=table)
     for name in options:

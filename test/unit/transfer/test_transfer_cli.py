@@ -79,3 +79,22 @@ def test_mine_channels_counts_names_per_type(tmp_path, capsys):
     code = main(args(tmp_path, "keyboard_jackal.py", "jackal", "turtlebot", "--codebase", str(tmp_path)))
     assert code == EXIT_OK, capsys.readouterr()
     assert mine_main([str(tmp_path / "nope"), "--robot", "x"]) == 2
+
+
+def test_asker_repeats_until_a_valid_number_and_fails_clearly_on_eof():
+    import io
+
+    import pytest
+
+    from ltl_stack.transfer.cli import make_asker
+    from ltl_stack.transfer.errors import TransferError
+
+    out = io.StringIO()
+    ask = make_asker(io.StringIO("x\n7\n2\n"), out)
+    assert ask("MoveIt group", "", "arm_with_torso", ["arms_and_torso", "left_arm_and_torso"]) == 1
+    assert out.getvalue().startswith("Please select a MoveIt group from the list.\n"
+                                     "The original MoveIt group was 'arm_with_torso'. Input Example: 1\n"
+                                     "1. arms_and_torso\n2. left_arm_and_torso\n"), out.getvalue()
+    assert out.getvalue().count("Please enter a number from 1 to 2.") == 2
+    with pytest.raises(TransferError, match="no answer to the question about the topic 'cmd_vel'"):
+        make_asker(io.StringIO(""), io.StringIO())("topic", "geometry_msgs/Twist", "cmd_vel", ["/a", "/b"])
