@@ -106,6 +106,11 @@ class _Variants:
         return solve(game, robotics_semantics=self.robotics, early_exit=True).realizable
 
 
+def _let(bdd, values: dict, u):
+    """``bdd.let`` that tolerates an empty assignment (a spec without inputs or outputs)."""
+    return bdd.let(values, u) if values else u
+
+
 def _conjoin(bdd, nodes):
     acc = bdd.true
     for u in nodes:
@@ -316,12 +321,12 @@ def build_counterstrategy(game: Game, robotics_semantics: bool, max_states: int 
         x_next = {v: bool(pick[game.inputs_next[n]]) for n, v in enumerate(game.inputs)}
         state.env_move = x_next
         answers = bdd.exist(game.variables, here & game.cube({}, x_next) & game.sys_trans)
-        answers = bdd.let({game.inputs_next[n]: x_next[v] for n, v in enumerate(game.inputs)}, answers)
+        answers = _let(bdd, {game.inputs_next[n]: x_next[v] for n, v in enumerate(game.inputs)}, answers)
         outputs = list(bdd.pick_iter(answers, care_vars=set(game.outputs_next)))
         if not outputs:
             state.robot_stuck = True
             continue
-        env_goal_met = bdd.let(game.assignment(valuation, x_next), game.env_goals[i]) == bdd.true
+        env_goal_met = _let(bdd, game.assignment(valuation, x_next), game.env_goals[i]) == bdd.true
         next_i = (i + 1) % len(game.env_goals) if env_goal_met else i
         z_lower = env.levels[k][0]
         for out in outputs:
@@ -356,7 +361,7 @@ def _losing_starts(game: Game, losing, robotics_semantics: bool) -> list[dict[st
     if pick is None:
         return []
     x = {v: bool(pick[v]) for v in game.inputs}
-    answers = bdd.let(x, game.sys_init & game.env_init)
+    answers = _let(bdd, x, game.sys_init & game.env_init)
     starts = []
     for out in bdd.pick_iter(answers, care_vars=set(game.outputs)):
         starts.append({**x, **{v: bool(out[v]) for v in game.outputs}})
@@ -550,7 +555,7 @@ def _deadlock_example(game: Game) -> dict | None:
     position = {v: bool(pick[v]) for v in game.variables}
     x_next = {v: bool(pick[game.inputs_next[n]]) for n, v in enumerate(game.inputs)}
     values = game.assignment(position, x_next)
-    clauses = [c for c, u in game.clauses("sys_safety") if bdd.let(values, u) != bdd.true]
+    clauses = [c for c, u in game.clauses("sys_safety") if _let(bdd, values, u) != bdd.true]
     return {"position": position, "inputs_next": x_next, "clauses": clauses}
 
 

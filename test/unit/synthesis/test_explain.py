@@ -333,3 +333,18 @@ def test_counterstrategy_starts_where_the_robot_can_answer_the_initial_inputs():
     cs = e.counterstrategy
     assert [cs.states[k].inputs for k in cs.initial] == [{"i": False}, {"i": False}], cs.initial
     check_counterstrategy(spec, cs, robotics=False)
+
+
+@pytest.mark.parametrize("inputs, outputs, sections, kind", [
+    ([], ["o"], dict(sys_safety=["! o'"], sys_liveness=["o"]), LIVELOCK),
+    (["i"], [], dict(sys_liveness=["i"]), LIVELOCK),
+    ([], ["o"], dict(sys_safety=["0"]), DEADLOCK),
+])
+def test_specs_without_inputs_or_outputs(inputs, outputs, sections, kind, capsys):
+    spec = make_spec(inputs, outputs, **sections)
+    for robotics in (True, False):
+        e = explain(spec, robotics_semantics=robotics, counterstrategy=True)
+        assert (e.realizable, e.kind) == (False, kind), (robotics, e.kind)
+        check_core(spec, e, robotics)
+        check_counterstrategy(spec, e.counterstrategy, robotics)
+    assert capsys.readouterr().out == ""  # no stray warnings from the BDD library
