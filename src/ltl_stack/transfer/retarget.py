@@ -161,32 +161,38 @@ class PointResult:
     weight: float
 
 
-def retarget_points(source: Chain, target: Chain, points: list[np.ndarray]) -> list[PointResult]:
+def _terms(source: Chain, target: Chain, q_s: np.ndarray):
+    """(ee, shape, d_ee, d_shape) of the objective at q, for the source configuration ``q_s``."""
+    samples_s, ee_s = source.sample(q_s)
+    shape_s = samples_s / source.length
+
+    def terms(q):
+        samples_t, ee_t, d_samples, d_ee_t = target.sample_jacobian(q)
+        ee_diff = (ee_t - ee_s) / source.length
+        shape_diff = samples_t / target.length - shape_s
+        ee = float(ee_diff @ ee_diff)
+        shape = float(np.mean(np.sum(shape_diff ** 2, axis=1)))
+        d_ee = 2 * ee_diff @ d_ee_t / source.length
+        d_shape = 2 / len(shape_diff) * np.einsum("kc,kcn->n", shape_diff, d_samples) / target.length
+        return ee, shape, d_ee, d_shape
+
+    return terms
+
+
+def retarget_points(source: Chain, target: Chain, points: list[np.ndarray], progress=None) -> list[PointResult]:
     """Target joint values for each source configuration, warm-starting each from the previous one."""
     lo = np.array([b[0] for b in target.bounds])
     hi = np.array([b[1] for b in target.bounds])
     results: list[PointResult] = []
     previous = None
-    for q_s in points:
-        samples_s, ee_s = source.sample(q_s)
-        shape_s = samples_s / source.length
+    for number, q_s in enumerate(points, 1):
+        terms = _terms(source, target, q_s)
 
-        def terms(q, samples_s=samples_s, ee_s=ee_s, shape_s=shape_s):
-            samples_t, ee_t = target.sample(q)
-            ee = float(np.sum((ee_t - ee_s) ** 2)) / source.length ** 2
-            shape = float(np.mean(np.sum((samples_t / target.length - shape_s) ** 2, axis=1)))
-            return ee, shape
+        def objective(q, w, terms=terms):
+            ee, shape, d_ee, d_shape = terms(q)
+            return ee + w * shape, d_ee + w * d_shape
 
-        def objective(q, w, samples_s=samples_s, ee_s=ee_s, shape_s=shape_s):
-            samples_t, ee_t, d_samples, d_ee = target.sample_jacobian(q)
-            ee_diff = (ee_t - ee_s) / source.length ** 2
-            shape_diff = samples_t / target.length - shape_s
-            value = float(np.sum((ee_t - ee_s) * ee_diff)) + w * float(np.mean(np.sum(shape_diff ** 2, axis=1)))
-            grad = 2 * ee_diff @ d_ee + w * 2 / len(shape_diff) * np.einsum("kc,kcn->n", shape_diff, d_samples) \
-                / target.length
-            return value, grad
-
-        def solve(start, w):
+        def solve(start, w, objective=objective):
             res = minimize(objective, start, args=(w,), jac=True, method="SLSQP", bounds=target.bounds,
                            options={"maxiter": 500, "ftol": 1e-14})
             return np.clip(res.x, lo, hi)
@@ -196,16 +202,17 @@ def retarget_points(source: Chain, target: Chain, points: list[np.ndarray]) -> l
             if len(q_s) == len(lo):
                 starts.insert(0, np.clip(q_s, lo, hi))
             candidates = [solve(s, WEIGHTS[0]) for s in starts]
-            current = min(candidates, key=lambda q: sum(terms(q)))
+            current = min(candidates, key=lambda q: objective(q, WEIGHTS[0])[0])
         else:
             current = previous
-        best = None
         for w in WEIGHTS:
             current = solve(current, w)
-            ee, shape = terms(current)
+            ee, shape, _, _ = terms(current)
             best = PointResult(current, float(np.sqrt(ee)) * source.length, shape, w)
             if best.ee_error <= EE_TOLERANCE:
                 break
+        if progress:
+            progress(f"point {number}/{len(points)}: end-effector error {best.ee_error * 1000:.1f} mm")
         results.append(best)
         previous = best.q
     return results
@@ -261,7 +268,7 @@ def transfer_joint_commands(src: SourceFile, use: JointTrajectoryUse, source: Ro
     if progress:
         progress(f"retargeting {len(q_source)} trajectory point(s): {len(chain_s.names)} -> "
                  f"{len(chain_t.names)} joints")
-    results = retarget_points(chain_s, chain_t, q_source)
+    results = retarget_points(chain_s, chain_t, q_source, progress)
     for joint_list in use.names:
         text = src.data[joint_list.span.start:joint_list.span.end].decode("utf-8")
         quote = next((e for e in ("'", '"') if e in text), "'")
