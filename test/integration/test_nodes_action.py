@@ -105,3 +105,17 @@ def test_bad_goal_for_the_action_type_is_one_clear_error(ros):
     assert node.popen.returncode == 2, out
     assert "~goal {'room': 'kitchen'} does not fit ltl_stack/NavigateGoal" in out, out
     assert "Traceback" not in out, out
+
+
+def test_shutdown_while_active_cancels_the_goal(ros):
+    from actionlib_msgs.msg import GoalStatusArray
+
+    status = ros.record(ros.topic("pick/status"), GoalStatusArray)
+    ros.run("sim_manipulation_server", "_duration:=10", f"__ns:={ros.ns}")
+    node = ros.run("action_proposition", f"_action:={ros.topic('pick')}",
+                   f"proposition:={ros.topic('outputs/pickup')}", f"completion:={ros.topic('pickup_ac')}")
+    ros.master.wait_for_subscriber(ros.topic("pick/result"))
+    ros.set_bool(ros.topic("outputs/pickup"), True)
+    status.wait_last(lambda m: statuses(m) == [ACTIVE], what="the pick goal running")
+    assert node.stop() == 0, node.output()
+    status.wait_last(lambda m: statuses(m) == [PREEMPTED], what="the pick goal cancelled on shutdown")

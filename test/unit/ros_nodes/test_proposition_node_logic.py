@@ -63,3 +63,39 @@ def test_describe_params_is_what_json_prints():
     got = describe_params("output", "d", [Param("vx", 0.0, "linear x", aliases=("v",))])
     assert got == {"kind": "output", "description": "d", "params": [
         {"name": "vx", "default": 0.0, "required": False, "aliases": ["v"], "doc": "linear x"}]}, got
+
+
+def test_node_cli_json_prints_the_parameters_and_exits(capsys):
+    import json
+
+    from ltl_stack.ros.actuators import SET_VELOCITY
+    from ltl_stack.ros.proposition_node import parse_node_cli
+
+    with pytest.raises(SystemExit) as done:
+        parse_node_cli("set_velocity", SET_VELOCITY.kind, SET_VELOCITY.description, SET_VELOCITY.params,
+                       ["--json"])
+    assert done.value.code == 0
+    got = json.loads(capsys.readouterr().out)
+    names = [p["name"] for p in got["params"]]
+    assert got["kind"] == "output" and names[:3] == ["proposition_topic", "rate", "topic"], names
+    assert {"vx", "vy", "vz", "ax", "ay", "az"} <= set(names)
+
+
+def test_node_cli_without_options_returns_so_the_node_runs():
+    from ltl_stack.ros.proposition_node import parse_node_cli
+
+    assert parse_node_cli("n", "input", "d", [Param("x", 1.0)], []) is None
+
+
+def test_node_modules_import_without_ros():
+    import subprocess
+    import sys
+
+    code = ("import sys\n"
+            "for m in ('rospy', 'actionlib', 'genpy', 'roslib', 'rostopic'): sys.modules[m] = None\n"
+            "import ltl_stack.ros.proposition_node, ltl_stack.ros.sensors, ltl_stack.ros.regions\n"
+            "import ltl_stack.ros.actuators, ltl_stack.ros.action_proposition, ltl_stack.sim.kinematics\n"
+            "import ltl_stack.sim.schedule, ltl_stack.sim.robot, ltl_stack.sim.navigation\n"
+            "import ltl_stack.sim.manipulation, ltl_stack.sim.environment\n")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0, done.stderr
