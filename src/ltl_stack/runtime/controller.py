@@ -143,6 +143,11 @@ class Controller:
                     changed = True
             return self._advance(force=False) if changed else self._result()
 
+    def advance(self) -> Update:
+        """Start or step if the readings call for it (e.g. when ``init_props`` already made it ready)."""
+        with self.lock:
+            return self._advance(force=False)
+
     def tick(self) -> Update:
         """Step even though no reading changed (the optional fixed-rate stepping)."""
         with self.lock:

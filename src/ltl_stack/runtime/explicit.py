@@ -53,8 +53,8 @@ class AutomatonStrategy:
         self._initial = [int(initial)] if isinstance(initial, int) else [int(i) for i in _iterable(initial)]
         self.spec = spec
         first = next(iter(self._states.values()), None)
-        self.inputs = list(spec.inputs) if spec else list(first.inputs if first else [])
-        self.outputs = list(spec.outputs) if spec else list(first.outputs if first else [])
+        self.inputs = list(spec.inputs if spec else getattr(automaton, "inputs", None) or (first.inputs if first else []))
+        self.outputs = list(spec.outputs if spec else getattr(automaton, "outputs", None) or (first.outputs if first else []))
 
     def initial_state(self, inputs: Mapping[str, bool] | None = None,
                       outputs: Mapping[str, bool] | None = None) -> ExplicitState:

@@ -1,0 +1,342 @@
+"""The controller executor node against a real master, with the real synthesizer.
+
+A *probe* (a small rospy process started by the test, fed JSON commands on stdin) plays the input
+proposition nodes and listens to the output topics, ``~state`` and ``/diagnostics``; everything it
+receives comes back as JSON lines.
+"""
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import threading
+from pathlib import Path
+
+import pytest
+from helpers import wait_for
+
+pytestmark = pytest.mark.ros
+
+# out follows a, busy follows lock; the environment promises that lock, once set, stays set.
+LOCK_SPEC = textwrap.dedent("""\
+    [INPUT]
+    a
+    lock
+
+    [OUTPUT]
+    out
+    busy
+
+    [ENV_TRANS]
+    | ! lock lock'
+
+    [SYS_TRANS]
+    | & out' a' & ! out' ! a'
+    | & busy' lock' & ! busy' ! lock'
+
+    [SYS_INIT]
+    | & out a & ! out ! a
+    | & busy lock & ! busy ! lock
+    """)
+LOCK_CLAUSE_LINE = 10
+
+PROBE = textwrap.dedent('''\
+    import json, sys, threading, time
+    import rospy
+    from std_msgs.msg import Bool
+    from std_srvs.srv import SetBool
+    from diagnostic_msgs.msg import DiagnosticArray
+    from ltl_stack.msg import ControllerState
+
+    rospy.init_node("probe", anonymous=True, disable_signals=True)
+    out_lock = threading.Lock()
+
+    def emit(**kw):
+        kw["t"] = time.monotonic()
+        with out_lock:
+            sys.stdout.write(json.dumps(kw) + "\\n")
+            sys.stdout.flush()
+
+    def valuation(v):
+        return dict(zip(v.keys, [bool(x) for x in v.values]))
+
+    def on_bool(msg, topic):
+        emit(kind="bool", topic=topic, value=msg.data)
+
+    def on_state(msg, topic):
+        emit(kind="state", state=msg.state_id, goal=msg.goal_index, running=msg.running,
+             inputs=valuation(msg.inputs), outputs=valuation(msg.outputs))
+
+    def on_diag(msg, topic):
+        for s in msg.status:
+            emit(kind="diag", level=s.level, name=s.name, message=s.message,
+                 values=[[kv.key, kv.value] for kv in s.values])
+
+    handlers = {"bool": (Bool, on_bool), "state": (ControllerState, on_state), "diag": (DiagnosticArray, on_diag)}
+    subs = []
+    for arg in sys.argv[1:]:
+        kind, topic = arg.split(":", 1)
+        cls, cb = handlers[kind]
+        subs.append(rospy.Subscriber(topic, cls, cb, callback_args=topic, queue_size=100))
+    pubs = {}
+    emit(kind="up")
+    for line in sys.stdin:
+        cmd = json.loads(line)
+        if cmd["op"] == "pub":
+            pub = pubs.get(cmd["topic"])
+            if pub is None:
+                pub = pubs[cmd["topic"]] = rospy.Publisher(cmd["topic"], Bool, queue_size=10, latch=True)
+            deadline = time.monotonic() + 10
+            while pub.get_num_connections() < 1 and time.monotonic() < deadline:
+                time.sleep(0.01)
+            pub.publish(Bool(cmd["value"]))
+            emit(kind="published", topic=cmd["topic"], value=cmd["value"])
+        elif cmd["op"] == "call":
+            rospy.wait_for_service(cmd["service"], 10)
+            resp = rospy.ServiceProxy(cmd["service"], SetBool)(cmd["value"])
+            emit(kind="called", success=resp.success, message=resp.message)
+    ''')
+
+
+class Probe:
+    """A rospy process that publishes inputs on request and reports what it receives."""
+
+    def __init__(self, master, workdir: Path, listen: list[str], name: str = "probe"):
+        script = workdir / "probe.py"
+        script.write_text(PROBE)
+        env = dict(master.env)
+        self.popen = subprocess.Popen([sys.executable, str(script), *listen], env=env, stdin=subprocess.PIPE,
+                                      stdout=subprocess.PIPE, stderr=open(workdir / f"{name}.err", "wb"),  # noqa: SIM115
+                                      text=True, start_new_session=True)
+        self.events: list[dict] = []
+        self._reader = threading.Thread(target=self._read, daemon=True)
+        self._reader.start()
+        wait_for(lambda: self.of("up"), 20, "the probe to start")
+
+    def _read(self) -> None:
+        for line in self.popen.stdout:
+            if line.startswith("{"):
+                self.events.append(json.loads(line))
+
+    def of(self, kind: str, **match) -> list[dict]:
+        return [e for e in list(self.events) if e["kind"] == kind and all(e.get(k) == v for k, v in match.items())]
+
+    def send(self, **command) -> None:
+        self.popen.stdin.write(json.dumps(command) + "\n")
+        self.popen.stdin.flush()
+
+    def publish(self, topic: str, value: bool) -> None:
+        count = len(self.of("published", topic=topic))
+        self.send(op="pub", topic=topic, value=value)
+        wait_for(lambda: len(self.of("published", topic=topic)) > count, 15, f"publishing {topic}={value}")
+
+    def call(self, service: str, value: bool) -> dict:
+        count = len(self.of("called"))
+        self.send(op="call", service=service, value=value)
+        return wait_for(lambda: self.of("called")[count:], 15, f"calling {service}")[0]
+
+    def last(self, topic: str) -> bool | None:
+        values = self.of("bool", topic=topic)
+        return values[-1]["value"] if values else None
+
+    def wait_value(self, topic: str, value: bool, timeout: float = 10) -> None:
+        wait_for(lambda: self.last(topic) is value, timeout, f"{topic} == {value} (seen {self.of('bool', topic=topic)})")
+
+    def stop(self) -> None:
+        if self.popen.poll() is None:
+            os.killpg(self.popen.pid, signal.SIGKILL)
+            self.popen.wait(10)
+
+
+@pytest.fixture
+def probes(ros_master, tmp_path):
+    started: list[Probe] = []
+
+    def start(listen: list[str], name: str = "probe") -> Probe:
+        probe = Probe(ros_master, tmp_path, listen, name=f"{name}{len(started)}")
+        started.append(probe)
+        return probe
+
+    yield start
+    for probe in started:
+        probe.stop()
+
+
+@pytest.fixture
+def lock_spec(tmp_path) -> Path:
+    path = tmp_path / "lock.slugsin"
+    path.write_text(LOCK_SPEC)
+    return path
+
+
+STATE = "/controller_executor/state"
+A, LOCK = "/lock/inputs/a", "/lock/inputs/lock"
+OUT, BUSY = "/lock/outputs/out", "/lock/outputs/busy"
+LISTEN = [f"bool:{OUT}", f"bool:{BUSY}", f"state:{STATE}", "diag:/diagnostics"]
+
+
+def start_executor(ros_master, spec: Path, *extra: str):
+    node = ros_master.run(["rosrun", "ltl_stack", "controller_executor", str(spec), *extra], name="executor")
+    ros_master.wait_for_subscriber(A)
+    ros_master.wait_for_subscriber(LOCK)
+    return node
+
+
+def test_ready_handshake_names_silent_inputs_then_steps_on_changes(ros_master, probes, lock_spec):
+    executor = start_executor(ros_master, lock_spec, "--ready-timeout", "1")
+    probe = probes(LISTEN)
+    probe.wait_value(OUT, False)  # every output starts false (latched)
+    probe.publish(A, True)
+    log = executor.wait_output("from input(s) lock (/lock/inputs/lock)", timeout=15)
+    assert "no message after" in log, log
+    assert [s["state"] for s in probe.of("state")] == [-1] * len(probe.of("state")), probe.of("state")
+    assert probe.last(OUT) is False, probe.of("bool")
+
+    probe.publish(LOCK, False)
+    probe.wait_value(OUT, True)
+    first = wait_for(lambda: [s for s in probe.of("state") if s["state"] >= 0], 10, "the initial state")[0]
+    assert first["inputs"] == {"a": True, "lock": False} and first["outputs"] == {"out": True, "busy": False}, first
+    executor.wait_output("initial state")
+
+    # Repeated readings do not step; a change steps at once.
+    steps = len([s for s in probe.of("state") if s["state"] >= 0])
+    for _ in range(3):
+        probe.publish(A, True)
+    probe.publish(A, False)
+    probe.wait_value(OUT, False)
+    wait_for(lambda: len([s for s in probe.of("state") if s["state"] >= 0]) == steps + 1, 5, "one more state")
+    probe.publish(LOCK, True)
+    probe.wait_value(BUSY, True)
+    states = [s for s in probe.of("state") if s["state"] >= 0]
+    assert [s["inputs"] for s in states] == [{"a": True, "lock": False}, {"a": False, "lock": False},
+                                             {"a": False, "lock": True}], states
+    assert all(s["running"] for s in states), states
+
+
+def test_pause_by_service_and_topic_drives_every_output_false(ros_master, probes, lock_spec):
+    start_executor(ros_master, lock_spec)
+    probe = probes(LISTEN)
+    probe.publish(A, True)
+    probe.publish(LOCK, True)
+    probe.wait_value(OUT, True)
+    probe.wait_value(BUSY, True)
+
+    reply = probe.call("/controller_executor/set_running", False)
+    assert reply == {**reply, "success": True, "message": "paused"}, reply
+    probe.wait_value(OUT, False)
+    probe.wait_value(BUSY, False)
+    wait_for(lambda: probe.of("state") and probe.of("state")[-1]["running"] is False, 5, "running false in ~state")
+    # While paused, input changes do not move the outputs.
+    probe.publish(A, False)
+    probe.publish(A, True)
+    assert probe.last(OUT) is False, probe.of("bool", topic=OUT)
+
+    probe.publish("/controller_executor/running", True)
+    probe.wait_value(OUT, True)
+    probe.wait_value(BUSY, True)
+    probe.publish("/controller_executor/running", False)
+    probe.wait_value(OUT, False)
+    assert probe.call("/controller_executor/set_running", True)["message"] == "running"
+    probe.wait_value(OUT, True)
+
+
+@pytest.mark.parametrize("policy", ["hold", "all-false"])
+def test_assumption_violation_is_diagnosed_and_outputs_follow_the_policy(ros_master, probes, lock_spec, policy):
+    executor = start_executor(ros_master, lock_spec, "--on-violation", policy)
+    probe = probes(LISTEN)
+    probe.publish(A, True)
+    probe.publish(LOCK, True)
+    probe.wait_value(BUSY, True)
+
+    probe.publish(LOCK, False)  # breaks lock -> lock'
+    diag = wait_for(lambda: [d for d in probe.of("diag") if d["level"] == 2], 10, "an ERROR diagnostic")[0]
+    assert f"{lock_spec}:{LOCK_CLAUSE_LINE}" in diag["message"], diag
+    assert ["clause", f"{lock_spec}:{LOCK_CLAUSE_LINE}: | ! lock lock'"] in diag["values"], diag
+    log = executor.wait_output("environment assumption violated")
+    assert "Traceback" not in log, log
+    if policy == "hold":
+        assert probe.last(BUSY) is True and probe.last(OUT) is True, probe.of("bool")
+    else:
+        probe.wait_value(BUSY, False)
+        probe.wait_value(OUT, False)
+    # The node is alive and answers; once the inputs are admissible again it continues.
+    probe.publish(A, False)
+    probe.publish(LOCK, True)
+    probe.wait_value(BUSY, True)
+    probe.wait_value(OUT, False)
+    executor.wait_output("inputs admissible again")
+    assert executor.running(), executor.output()
+
+
+def test_init_props_with_true_and_false_values_start_without_waiting(ros_master, probes, lock_spec):
+    start_executor(ros_master, lock_spec, "--init-props", "a=1,lock=0")
+    probe = probes(LISTEN)
+    probe.wait_value(OUT, True)
+    probe.wait_value(BUSY, False)
+    first = wait_for(lambda: [s for s in probe.of("state") if s["state"] >= 0], 10, "the initial state")[0]
+    assert first["inputs"] == {"a": True, "lock": False}, first
+    # A live reading replaces the assumed one.
+    probe.publish(A, False)
+    probe.wait_value(OUT, False)
+
+
+def test_second_publisher_on_an_input_topic_is_warned_about(ros_master, probes, lock_spec):
+    executor = start_executor(ros_master, lock_spec, "--publisher-check-period", "0.3")
+    first, second = probes([], "one"), probes([], "two")
+    first.publish(A, True)
+    second.publish(A, True)
+    log = executor.wait_output("has 2 publishers", timeout=15)
+    line = next(x for x in log.splitlines() if "has 2 publishers" in x)
+    assert "input 'a': topic /lock/inputs/a" in line and line.count("/probe_") == 2, line
+
+
+def test_mapping_topics_and_namespace_are_used(ros_master, probes, lock_spec, tmp_path):
+    mapping = tmp_path / "lock.yaml"
+    mapping.write_text(textwrap.dedent("""\
+        inputs:
+          a:
+            node: '/scen/inputs/a'
+            node_publish_topic: '/scen/inputs/a'
+          lock:
+            node: '/scen/inputs/lock'
+            node_publish_topic: '/scen/inputs/lock_sensor'
+        outputs:
+          out:
+            - node: '/scen/outputs/r1/out'
+              node_subscribe_topic: '/scen/outputs/out'
+            - node: '/scen/outputs/r2/out'
+              node_subscribe_topic: '/scen/outputs/out'
+        """))
+    ros_master.run(["rosrun", "ltl_stack", "controller_executor", str(lock_spec), str(mapping)], name="executor")
+    ros_master.wait_for_subscriber("/scen/inputs/lock_sensor")
+    probe = probes(["bool:/scen/outputs/out", "bool:/scen/outputs/busy"])
+    probe.publish("/scen/inputs/a", True)
+    probe.publish("/scen/inputs/lock_sensor", True)
+    probe.wait_value("/scen/outputs/out", True)
+    probe.wait_value("/scen/outputs/busy", True)
+
+
+@pytest.mark.parametrize("extra, fragment", [
+    (["--init-props", "a=1,nope=0"], "unknown proposition 'nope'"),
+    (["--on-violation", "explode"], "invalid choice: 'explode'"),
+])
+def test_bad_arguments_end_in_one_error_without_traceback(ros_master, lock_spec, extra, fragment):
+    node = ros_master.run(["rosrun", "ltl_stack", "controller_executor", str(lock_spec), *extra], name="executor")
+    assert node.popen.wait(30) == 2, node.output()
+    assert fragment in node.output() and "Traceback" not in node.output(), node.output()
+
+
+def test_bad_spec_and_mapping_exit_2_naming_file_and_line(tmp_path, lock_spec):
+    bad_spec = tmp_path / "bad.slugsin"
+    bad_spec.write_text("[INPUT]\na\n\n[SYS_TRANS]\n& a\n")
+    bad_map = tmp_path / "bad.yaml"
+    bad_map.write_text("inputs:\n  a:\n    node: x\n  ghost:\n    node: y\n")
+    for args, fragment in (([str(bad_spec)], f"{bad_spec}:5"),
+                           ([str(lock_spec), str(bad_map)], f"{bad_map}:4: error: input 'ghost' is not a proposition")):
+        proc = subprocess.run(["rosrun", "ltl_stack", "controller_executor", *args, "--check"], capture_output=True,
+                              text=True, timeout=60)
+        assert proc.returncode == 2, proc
+        assert fragment in proc.stderr and "Traceback" not in proc.stderr, proc.stderr
