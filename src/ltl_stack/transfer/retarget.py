@@ -8,8 +8,9 @@ for every trajectory point the target joint angles minimise
 (end-effector distance, plus the shape distance of the length-normalised chains), within the target's
 joint limits (``scipy.optimize.minimize``, L-BFGS-B). The weight w is chosen automatically by
 continuation: it starts at 1 (shape matters as much as the end effector) and is divided by ten,
-warm-starting each time, until the end effector is within ``EE_TOLERANCE`` — but never below
-``W_MIN``, so the shape term cannot vanish. Successive trajectory points warm-start from the previous
+warm-starting each time, until the end effector is within ``EE_TOLERANCE``, or until a lower weight
+no longer brings the end effector ``MIN_GAIN`` closer (a smaller target cannot reach, so the shape is
+kept) — and never below ``W_MIN``, so the shape term cannot vanish. Successive trajectory points warm-start from the previous
 solution, so the motion stays continuous.
 
 Target chain rule: the source's own joints when the target has them all; otherwise the SRDF's
@@ -36,6 +37,7 @@ SAMPLES = 12
 EE_TOLERANCE = 0.002   # metres
 WEIGHTS = (1.0, 0.1, 0.01)
 W_MIN = WEIGHTS[-1]
+MIN_GAIN = 0.1         # a lower weight must bring the end effector at least 10 % closer
 TOOL_NAMES = ("ee_link", "tool0", "end_effector", "tool")
 
 
@@ -205,10 +207,14 @@ def retarget_points(source: Chain, target: Chain, points: list[np.ndarray], prog
             current = min(candidates, key=lambda q: objective(q, WEIGHTS[0])[0])
         else:
             current = previous
+        best = None
         for w in WEIGHTS:
-            current = solve(current, w)
-            ee, shape, _, _ = terms(current)
-            best = PointResult(current, float(np.sqrt(ee)) * source.length, shape, w)
+            q = solve(best.q if best else current, w)
+            ee, shape, _, _ = terms(q)
+            result = PointResult(q, float(np.sqrt(ee)) * source.length, shape, w)
+            if best is not None and result.ee_error > (1 - MIN_GAIN) * best.ee_error:
+                break  # giving up shape no longer brings the end effector closer: keep the better shape
+            best = result
             if best.ee_error <= EE_TOLERANCE:
                 break
         if progress:

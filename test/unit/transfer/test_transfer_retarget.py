@@ -144,3 +144,15 @@ def test_without_a_source_urdf_positions_are_checked_and_clamped(tmp_path):
     assert "Q1 = [2.2, 0, -1.57, 0, 0, 0]" in result.text
     clamped = [p for p in result.report.parameters if p.method == "B.1 clamped"]
     assert len(clamped) == 1 and "shoulder_pan_joint 4 outside" in clamped[0].note, clamped
+
+
+def test_a_smaller_target_keeps_the_shape_when_the_end_effector_cannot_follow():
+    robots = require_shared("robots")
+    text = ("traj.joint_names = ['RShoulderPitch', 'RShoulderRoll', 'RElbowYaw', 'RElbowRoll', 'RWristYaw']\n"
+            "traj.points = [JointTrajectoryPoint(positions=[-1.0, -0.3, 1.2, 1.0, 0.0])]\n")
+    result = transfer_program(text, load_profile(robots, "pepper"), load_profile(robots, "nao"))
+    (point,) = result.report.retargeting["points"]
+    assert result.report.retargeting["target_rule"] == "the target has the program's joints"
+    # Nao's arm is about half of Pepper's: the end effector cannot follow, so the weight stays at 1
+    assert point["ee_error_m"] > 0.1 and point["weight"] == 1.0, point
+    assert any("cannot get within" in note for note in result.report.notes), result.report.notes
