@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 FORMAT = "ltl_stack-strategy"
+DOT_LAYOUT_LIMIT = 100
 VERSION = 1
 
 
@@ -145,14 +146,24 @@ class Automaton:
         lines.append("}")
         return "\n".join(lines) + "\n"
 
-    def write_png(self, path: str | Path) -> None:
-        """Render with Graphviz ``dot`` (raises ``RuntimeError`` when it is not installed)."""
-        exe = shutil.which("dot")
+    def write_png(self, path: str | Path, timeout: float = 120.0) -> None:
+        """Render with Graphviz (raises ``RuntimeError`` when it is missing, fails or times out).
+
+        ``dot`` lays out small automata; beyond ``DOT_LAYOUT_LIMIT`` states it takes minutes, so
+        ``sfdp`` (force-directed) is used instead.
+        """
+        program = "dot" if len(self.states) <= DOT_LAYOUT_LIMIT else "sfdp"
+        exe = shutil.which(program)
         if exe is None:
-            raise RuntimeError("Graphviz 'dot' is not installed; cannot write a PNG (write --dot instead)")
-        data = subprocess.run([exe, "-Tpng"], input=self.to_dot().encode(), capture_output=True, check=False)
+            raise RuntimeError(f"Graphviz '{program}' is not installed; cannot write a PNG (write --dot instead)")
+        try:
+            data = subprocess.run([exe, "-Tpng", "-Goverlap=prism"], input=self.to_dot().encode(),
+                                  capture_output=True, check=False, timeout=timeout)
+        except subprocess.TimeoutExpired:
+            raise RuntimeError(f"{program} did not finish in {timeout:.0f} s ({len(self.states)} states); "
+                               "write --dot and render a part of it") from None
         if data.returncode != 0:
-            raise RuntimeError(f"dot failed: {data.stderr.decode(errors='replace').strip()}")
+            raise RuntimeError(f"{program} failed: {data.stderr.decode(errors='replace').strip()}")
         write_atomic(path, data.stdout)
 
 
@@ -172,6 +183,9 @@ def write_atomic(path: str | Path, data: str | bytes) -> None:
     try:
         with os.fdopen(fd, "wb") as f:
             f.write(raw)
+        mask = os.umask(0)
+        os.umask(mask)
+        os.chmod(tmp, 0o666 & ~mask)
         os.replace(tmp, path)
     except BaseException:
         if os.path.exists(tmp):

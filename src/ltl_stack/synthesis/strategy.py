@@ -178,7 +178,7 @@ class SymbolicStrategy:
         unknown = set(partial) - set(game.variables)
         if unknown:
             raise NoInitialState(f"unknown propositions {', '.join(sorted(unknown))}")
-        u = bdd.let({k: bool(v) for k, v in partial.items()}, self.initial)
+        u = bdd.let({k: bool(v) for k, v in partial.items()}, self.initial) if partial else self.initial
         if u == bdd.false:
             raise NoInitialState(self._why_no_initial(partial))
         values = self._pick(u, game.variables, partial)
