@@ -78,3 +78,14 @@ def go_to_point(pose: Pose2D, target: tuple[float, float], mode: str, max_linear
     error = wrap_angle(math.atan2(dy, dx) - pose.theta)
     forward = speed * max(0.0, math.cos(error)) ** 2
     return forward, 0.0, clamp(k_angular * error, max_angular)
+
+
+def moving_time(dt: float, now: float, command_time: float, timeout: float) -> float:
+    """How much of the step (now - dt, now] a command given at ``command_time`` still drives.
+
+    A command expires ``timeout`` seconds after it was given (``timeout <= 0``: never), and the
+    robot stops then, even when the step comes late.
+    """
+    if timeout <= 0:
+        return dt
+    return max(0.0, min(dt, command_time + timeout - (now - dt)))

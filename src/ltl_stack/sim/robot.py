@@ -13,7 +13,7 @@ from typing import Any
 
 from ltl_stack.ros.proposition_node import NodeConfigError, NodeSpec, Param, run_node
 from ltl_stack.ros.regions import RegionMap, RegionsError
-from ltl_stack.sim.kinematics import MODES, Pose2D, integrate, limit_command
+from ltl_stack.sim.kinematics import MODES, Pose2D, integrate, limit_command, moving_time
 
 REGION_PARAMS = [
     Param("regions_file", "", "LTLMoP .regions file of the workspace (optional)"),
@@ -93,11 +93,12 @@ class SimRobot:
     def step(self, dt_wall: float, now_wall: float) -> None:
         """Advance the pose by ``dt_wall`` wall seconds (times ``~time_scale``)."""
         with self._lock:
-            timeout = self.config["cmd_timeout"]
-            if timeout > 0 and now_wall - self.command_time > timeout:
-                self.command = (0.0, 0.0, 0.0)
             vx, vy, wz = self.command
-            self.pose = integrate(self.pose, vx, vy, wz, dt_wall * self.config["time_scale"])
+            timeout = self.config["cmd_timeout"]
+            moving = moving_time(dt_wall, now_wall, self.command_time, timeout)
+            if timeout > 0 and now_wall >= self.command_time + timeout:
+                self.command = (0.0, 0.0, 0.0)
+            self.pose = integrate(self.pose, vx, vy, wz, moving * self.config["time_scale"])
 
     def publish(self) -> None:
         import math

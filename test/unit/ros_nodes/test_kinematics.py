@@ -69,3 +69,12 @@ def test_go_to_point_reaches_any_target(mode, x, y, th, tx, ty):
         cmd = limit_command(*go_to_point(pose, (tx, ty), mode, 0.5, 1.5), mode, 0.5, 1.5)
         pose = integrate(pose, *cmd, dt)
     assert math.hypot(tx - pose.x, ty - pose.y) < 0.05, (pose, tx, ty)
+
+
+def test_moving_time_stops_at_the_command_timeout_even_for_late_steps():
+    from ltl_stack.sim.kinematics import moving_time
+
+    assert moving_time(0.1, now=10.0, command_time=9.95, timeout=0.5) == 0.1
+    assert moving_time(1.0, now=10.0, command_time=9.0, timeout=0.3) == pytest.approx(0.3)  # late step
+    assert moving_time(0.1, now=10.0, command_time=5.0, timeout=0.5) == 0.0
+    assert moving_time(0.1, now=10.0, command_time=0.0, timeout=0.0) == 0.1  # no timeout
