@@ -46,14 +46,14 @@ def test_diff_drive_robot_ignores_sideways_commands_and_drives_a_circle(ros):
     assert all(abs(xy(o)[1]) < 1e-9 for o in odom.snapshot()), "a diff-drive robot moved sideways"
 
     ros.publish(ros.topic("cmd_vel"), twist(vx=0.5, wz=1.0))
-    start = len(odom.snapshot())
-    odom.wait(lambda ms: len(ms) > start and yaw(ms[-1]) > 1.0, what="the robot to turn 1 rad")
-    # Constant (v, w) moves along a circle of radius v / w = 0.5 around a fixed centre.
-    x0, y0 = xy(odom.snapshot()[start])
-    cx, cy = x0, y0 + 0.5
-    for o in odom.snapshot()[start + 1:]:
-        x, y = xy(o)
-        assert abs(math.hypot(x - cx, y - cy) - 0.5) < 0.02, (x, y)
+    odom.wait_last(lambda o: yaw(o) > 1.0, what="the robot to turn 1 rad")
+    # Constant (v, w) moves along a circle of radius r = v / w = 0.5: the centre
+    # (x - r sin(yaw), y + r cos(yaw)) is the same for every pose on it.
+    turning = [o for o in odom.snapshot() if o.twist.twist.angular.z == 1.0][2:]
+    assert len(turning) > 5, len(turning)
+    centres = [(xy(o)[0] - 0.5 * math.sin(yaw(o)), xy(o)[1] + 0.5 * math.cos(yaw(o))) for o in turning]
+    for cx, cy in centres:
+        assert math.hypot(cx - centres[0][0], cy - centres[0][1]) < 1e-3, (cx, cy, centres[0])
 
 
 def test_holonomic_robot_moves_sideways_and_stops_when_commands_stop(ros):
