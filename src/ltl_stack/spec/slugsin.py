@@ -68,7 +68,7 @@ def parse_prefix(line: Line, names: Names) -> Formula:
             raise _incomplete(stack, names, len(line.text) + 1)
         word, column = tokens[i]
         i += 1
-        glued = _GLUED.match(word)
+        glued = _GLUED.match(word) if word[0] in "$?" else None
         if glued:
             word, count_word, count_column = glued[1], glued[2], column + 1
         elif word in ("$", "?"):
