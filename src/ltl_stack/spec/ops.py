@@ -36,32 +36,26 @@ def fold(f: Formula, combine: Callable[[Formula, tuple], R]) -> R:
 
 def conjunction(args: list[Formula] | tuple[Formula, ...]) -> Formula:
     """``And`` of ``args`` with nested conjunctions merged; one argument is itself, none is true."""
-    flat: list[Formula] = []
-    for a in args:
-        if isinstance(a, And):
-            flat.extend(a.args)
-        else:
-            flat.append(a)
-    if not flat:
-        return TRUE
-    if len(flat) == 1:
-        return flat[0]
-    return And(tuple(flat))
+    return _junction(And, args, TRUE)
 
 
 def disjunction(args: list[Formula] | tuple[Formula, ...]) -> Formula:
     """``Or`` of ``args`` with nested disjunctions merged; one argument is itself, none is false."""
+    return _junction(Or, args, FALSE)
+
+
+def _junction(kind: type, args, empty: Formula) -> Formula:
     flat: list[Formula] = []
     for a in args:
-        if isinstance(a, Or):
+        if isinstance(a, kind):
             flat.extend(a.args)
         else:
             flat.append(a)
     if not flat:
-        return FALSE
+        return empty
     if len(flat) == 1:
         return flat[0]
-    return Or(tuple(flat))
+    return kind(tuple(flat))
 
 
 def flatten(f: Formula) -> Formula:

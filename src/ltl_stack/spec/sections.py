@@ -55,6 +55,16 @@ def strip_comment(raw: str) -> str:
     return raw[:m.start()] if m else raw
 
 
+def read_spec(text: str, file: str, valid_name: Callable[[str], bool], name_rule: str,
+              parse_clause: Callable[[Line, Names], Formula]) -> Spec:
+    """The reading loop both formats share; ``parse_clause`` turns one clause line into a formula."""
+    builder = SpecBuilder(file, valid_name, name_rule)
+    builder.read_layout(text)
+    for section, line in builder.clause_lines:
+        builder.add_clause(section, parse_clause(line, builder.names(section, line)), line)
+    return builder.finish()
+
+
 class SpecBuilder:
     """Collects sections, declarations and clauses of one file; ``names`` answers the readers."""
 

@@ -17,7 +17,7 @@ from ltl_stack.spec.errors import SpecError
 from ltl_stack.spec.formula import FALSE, TRUE, And, Const, Formula, Iff, Implies, Not, Or, Var, Xor, children
 from ltl_stack.spec.model import SLUGSIN_SECTIONS, Spec
 from ltl_stack.spec.ops import Pending, settle
-from ltl_stack.spec.sections import Line, Names, SpecBuilder
+from ltl_stack.spec.sections import Line, Names, read_spec
 
 OPERATORS = {"!": 1, "&": 2, "|": 2, "^": 2}
 _TOKEN = re.compile(r"\S+")
@@ -34,11 +34,7 @@ def valid_name(name: str) -> bool:
 
 def parse_slugsin(text: str, file: str = "<string>") -> Spec:
     """Read a ``.slugsin`` spec; raises ``SpecError`` naming file, line and column."""
-    builder = SpecBuilder(file, valid_name, NAME_RULE)
-    builder.read_layout(text)
-    for section, line in builder.clause_lines:
-        builder.add_clause(section, parse_prefix(line, builder.names(section, line)), line)
-    return builder.finish()
+    return read_spec(text, file, valid_name, NAME_RULE, parse_prefix)
 
 
 class _Frame:

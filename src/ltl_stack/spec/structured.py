@@ -25,7 +25,7 @@ from ltl_stack.spec.formula import FALSE, TRUE, And, Formula, Iff, Implies, Not,
 from ltl_stack.spec.integers import IntExpr, compare, constant_expr, variable_expr
 from ltl_stack.spec.model import Spec
 from ltl_stack.spec.ops import Pending, settle
-from ltl_stack.spec.sections import Line, Names, SpecBuilder
+from ltl_stack.spec.sections import Line, Names, read_spec
 from ltl_stack.spec.slugsin import parse_prefix
 
 NAME_RULE = "a name is a letter or '_' followed by letters, digits, '_', '@' or '.' (not TRUE or FALSE)"
@@ -50,11 +50,7 @@ def valid_name(name: str) -> bool:
 
 def parse_structured(text: str, file: str = "<string>") -> Spec:
     """Read a structured (infix) spec; raises ``SpecError`` naming file, line and column."""
-    builder = SpecBuilder(file, valid_name, NAME_RULE)
-    builder.read_layout(text)
-    for section, line in builder.clause_lines:
-        builder.add_clause(section, parse_clause(line, builder.names(section, line)), line)
-    return builder.finish()
+    return read_spec(text, file, valid_name, NAME_RULE, parse_clause)
 
 
 def parse_clause(line: Line, names: Names) -> Formula:
