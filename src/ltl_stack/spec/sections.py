@@ -75,7 +75,8 @@ class SpecBuilder:
         self.inputs: list[str] = []
         self.outputs: list[str] = []
         self.integers: dict[str, IntegerVariable] = {}
-        self._declared_at: dict[str, str] = {}
+        self.declared_at: dict[str, str] = {}  # Boolean proposition (integer bits too) -> where
+        self._integer_at: dict[str, str] = {}  # integer name -> where
         self._declared_integers: list[tuple[IntegerVariable, str, Line]] = []
         self.clause_lines: list[tuple[str, Line]] = []
         self.sections: dict[str, list[Clause]] = {name: [] for name in SLUGSIN_SECTIONS}
@@ -109,12 +110,11 @@ class SpecBuilder:
                 self.clause_lines.append((current, line))
         for var, _, _ in self._declared_integers:
             self.integers[var.name] = var
-        plain = [n for n in (*self.inputs, *self.outputs) if n not in self._bits_of_declared()]
+        bits = {b for var, _, _ in self._declared_integers for b in var.bits}
+        plain = [n for n in (*self.inputs, *self.outputs) if n not in bits]
         for var in detect_integers(plain):
-            self.integers.setdefault(var.name, var)
-
-    def _bits_of_declared(self) -> set[str]:
-        return {b for var, _, _ in self._declared_integers for b in var.bits}
+            if var.name not in self.declared_at:
+                self.integers.setdefault(var.name, var)
 
     def _section(self, name: str, line: Line) -> str:
         if name in ("INPUT", "OUTPUT"):
@@ -136,9 +136,9 @@ class SpecBuilder:
                 raise self.error(line.number, column,
                                  f"integer '{name}' has an empty range {low}...{high} (lower bound above upper)")
             var = integer_variable(name, low, high)
-            where = f"integer {name} at line {line.number}"
-            if name in self.integers or any(name == v.name for v, _, _ in self._declared_integers):
-                raise self.error(line.number, column, f"integer '{name}' is declared twice")
+            where = f"a bit of integer {name} at line {line.number}"
+            self._claim(name, line, column)
+            self._integer_at[name] = f"integer at line {line.number}"
             for bit in var.bits:
                 self._add(section, bit, line, column, where)
             self._declared_integers.append((var, section, line))
@@ -152,7 +152,13 @@ class SpecBuilder:
             raise self.error(line.number, extra,
                              f"one proposition per line in [{section}]; unexpected '{parts[1]}'")
         self._check_name(text, line, column)
-        self._add(section, text, line, column, f"line {line.number}")
+        self._add(section, text, line, column, f"proposition at line {line.number}")
+
+    def _claim(self, name: str, line: Line, column: int) -> None:
+        """Refuse a name already used by a proposition or an integer."""
+        first = self._integer_at.get(name) or self.declared_at.get(name)
+        if first is not None:
+            raise self.error(line.number, column, f"'{name}' is declared twice (first as {first})")
 
     def _check_name(self, name: str, line: Line, column: int) -> None:
         if "'" in name:
@@ -162,10 +168,8 @@ class SpecBuilder:
             raise self.error(line.number, column, f"invalid proposition name '{name}': {self._name_rule}")
 
     def _add(self, section: str, name: str, line: Line, column: int, where: str) -> None:
-        if name in self._declared_at:
-            raise self.error(line.number, column,
-                             f"proposition '{name}' is declared twice (first at {self._declared_at[name]})")
-        self._declared_at[name] = where
+        self._claim(name, line, column)
+        self.declared_at[name] = where
         (self.inputs if section == "INPUT" else self.outputs).append(name)
 
     # -- pass 2: clauses -------------------------------------------------------------------
@@ -203,7 +207,7 @@ class Names:
         return self.builder.error(self.line.number, column, message)
 
     def is_integer(self, name: str) -> bool:
-        return name in self.builder.integers and name not in self.builder._declared_at
+        return name in self.builder.integers and name not in self.builder.declared_at
 
     def integer(self, name: str) -> IntegerVariable:
         return self.builder.integers[name]
@@ -216,7 +220,7 @@ class Names:
 
     def boolean(self, name: str, primed: bool, column: int) -> Var:
         """The variable ``name`` (primed or not), checked against the declarations."""
-        if name not in self.builder._declared_at:
+        if name not in self.builder.declared_at:
             if self.is_integer(name):
                 raise self.error(column, f"integer variable '{name}' needs a comparison, such as {name} = 0")
             raise self.error(column, f"undeclared proposition '{name}' (declare it in [INPUT] or [OUTPUT])")
