@@ -170,3 +170,24 @@ def test_load_spec_picks_the_reader(tmp_path):
     with pytest.raises(SpecError) as info:
         load_spec(broken)
     assert str(info.value) == f"{broken}:6:6: undeclared proposition 'c' (declare it in [INPUT] or [OUTPUT])"
+
+
+@pytest.mark.parametrize("text, meaning", [
+    ("z < 0", lambda z: z < 0),
+    ("z + 3 = 4", lambda z: z + 3 == 4),
+    ("z >= -0 + 1", None),
+    ("1 + z != z + 1", lambda z: False),
+])
+def test_negative_lower_bounds(text, meaning):
+    header = "[INPUT]\nz: -3...2\n[OUTPUT]\n[ENV_TRANS]\n"
+    if meaning is None:  # there are no negative constants, as in slugs
+        with pytest.raises(SpecError, match="expected a number or an integer variable, got '-'"):
+            parse_structured(header + text + "\n")
+        return
+    spec = parse_structured(header + text + "\n")
+    assert spec.inputs == ["z@0.-3.2", "z@1", "z@2"], spec.inputs
+    f = spec.env_safety[0].formula
+    for bits in range(8):
+        current = {b: bits >> i & 1 for i, b in enumerate(spec.inputs)}
+        got = truth_bits(f, (current, {}, 1))
+        assert got == int(meaning(-3 + bits)), (text, bits, got)
