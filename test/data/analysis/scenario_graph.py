@@ -95,16 +95,17 @@ def expected_registrations(path: str | Path) -> set[tuple[str, str, str]]:
 
 
 def run_node(path: str, node: str) -> None:
+    scenario = load_scenario(path)
+    spec = scenario["nodes"][node]
+    namespace, _, name = node.rpartition("/")
+    sys.argv = [sys.argv[0], f"__ns:={namespace or '/'}"]  # rospy takes the namespace from sys.argv
     import actionlib
     import roslib.message
     import rospy
 
     from ltl_stack.msg import PropositionAction
 
-    scenario = load_scenario(path)
-    spec = scenario["nodes"][node]
-    namespace, _, name = node.rpartition("/")
-    rospy.init_node(name, argv=[sys.argv[0], f"__ns:={namespace or '/'}"], anonymous=False)
+    rospy.init_node(name, anonymous=False)
     keep = []
     for t in spec["pub"]:
         keep.append(rospy.Publisher(t, roslib.message.get_message_class(topic_type(scenario, t)), queue_size=1))

@@ -1,0 +1,176 @@
+"""analyze_graph on a real ROS master with real nodes: the thesis' Figs. 3.6-3.9, 3.14 and 3.15.
+
+Clean and patrol (Example 8): every node of test/data/analysis/clean_and_patrol.yaml runs as a real
+rospy node (topics, actionlib clients and servers) under the names of the shared mapping.
+Spheros (Example 9): ltl_stack's own set_velocity / set_color proposition nodes and one sim_robot
+per robot, launched as the mapping in test/data/analysis/spheros_mapping.yaml says.
+"""
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+import yaml
+from helpers import RosMaster, free_port, require_shared, wait_for
+
+from ltl_stack.analysis.checks import analyze
+from ltl_stack.analysis.graph import ComputationGraph
+from ltl_stack.analysis.snapshot import SnapshotError
+from ltl_stack.ros.graph_snapshot import take_snapshot
+from ltl_stack.runtime.mapping import load_mapping
+
+pytestmark = pytest.mark.ros
+
+DATA = Path(__file__).resolve().parents[1] / "data" / "analysis"
+sys.path.insert(0, str(DATA))
+import scenario_graph  # noqa: E402
+
+MGMB = "/move_group_and_move_base"
+ROBOTS = ["sphero_wpw", "sphero_ggw", "sphero_rgw", "sphero_wpp"]
+
+
+def registrations(master: RosMaster) -> set[tuple[str, str, str]]:
+    pubs, subs, _ = master.system_state()
+    return {("pub", t, n) for t, ns in pubs for n in ns} | {("sub", t, n) for t, ns in subs for n in ns}
+
+
+def wait_until_registered(master: RosMaster, expected: set, timeout: float = 60.0) -> None:
+    try:
+        wait_for(lambda: expected <= registrations(master), timeout, "every scenario node to register")
+    except AssertionError:
+        missing = sorted(expected - registrations(master))[:10]
+        logs = "\n".join(p.output()[-300:] for p in master.processes if not p.running())
+        raise AssertionError(f"not registered after {timeout} s: {missing}\n{logs}") from None
+
+
+@pytest.fixture(scope="module")
+def clean_and_patrol(tmp_path_factory):
+    mapping = require_shared("specs", "move_group_and_move_base", "move_group_and_move_base.yaml")
+    master = RosMaster(tmp_path_factory.mktemp("clean_and_patrol"))
+    try:
+        scenario = DATA / "clean_and_patrol.yaml"
+        for node in scenario_graph.load_scenario(scenario)["nodes"]:
+            master.run([sys.executable, str(DATA / "scenario_graph.py"), str(scenario), node],
+                       name=node.strip("/").replace("/", "_"))
+        wait_until_registered(master, scenario_graph.expected_registrations(scenario))
+        yield master, mapping
+    finally:
+        master.shutdown()
+
+
+def test_live_snapshot_is_the_graph_the_nodes_registered(clean_and_patrol):
+    master, _ = clean_and_patrol
+    live = take_snapshot(master.uri)
+    expected = scenario_graph.scenario_snapshot(DATA / "clean_and_patrol.yaml")
+    assert live.master == master.uri and live.taken
+    assert live.nodes == expected.nodes
+    assert {k: (t.type, t.publishers, t.subscribers) for k, t in live.topics.items()} == \
+        {k: (t.type, t.publishers, t.subscribers) for k, t in expected.topics.items()}
+    assert set(live.services) >= set(expected.services)
+
+
+def test_live_clean_and_patrol_reproduces_figs_3_6_to_3_8(clean_and_patrol):
+    master, mapping_path = clean_and_patrol
+    mapping = load_mapping(mapping_path)
+    a = analyze(ComputationGraph(take_snapshot(master.uri)), mapping, list(mapping.inputs), list(mapping.outputs))
+    assert [(f.output, f.input, f.witness.text) for f in a.e1] == [
+        ("pickup", "pickup_ac", f"(/pickup) -> [{MGMB}/outputs/pickup_status] -> (/pickup_ac)"),
+        ("drop", "drop_ac", f"(/drop) -> [{MGMB}/outputs/drop_status] -> (/drop_ac)")]
+    groups = {g.channel: set(g.outputs) for g in a.e2}
+    regions = {"rightLane", "leftLane", "topLane", "leftGround", "bottomLane", "rightGround"}
+    assert groups["/cmd_vel"] == regions | {"stop", "pickup"}
+    assert groups["arm_1/arm_controller/follow_joint_trajectory/action_topics"] == {"pickup", "drop"}
+    assert groups["move_base/action_topics"] == regions
+    assert a.e3 == [] and "/rosout" in a.graph.ignored
+
+
+def run_cli(master: RosMaster, *args: str, timeout: float = 120) -> subprocess.CompletedProcess:
+    return subprocess.run(["rosrun", "ltl_stack", "analyze_graph", *args], env=master.env, capture_output=True,
+                          text=True, timeout=timeout)
+
+
+def test_cli_live_with_a_wrong_mapping_reports_e3_and_saves_the_snapshot(clean_and_patrol, tmp_path):
+    master, mapping_path = clean_and_patrol
+    data = yaml.safe_load(mapping_path.read_text())
+    data["outputs"]["pickup"] = [data["outputs"]["pickup"],
+                                 dict(data["outputs"]["drop"], node_subscribe_topic=f"{MGMB}/outputs/pickup")]
+    wrong = tmp_path / "wrong.yaml"
+    wrong.write_text(yaml.safe_dump(data))
+    saved = tmp_path / "graph.yaml"
+    spec = mapping_path.with_suffix(".slugsin")
+    done = run_cli(master, "--spec", str(spec), "--mapping", str(wrong), "--live", "--json",
+                   "--save-snapshot", str(saved))
+    assert done.returncode == 0, done.stderr
+    report = json.loads(done.stdout)
+    gripper = [f for f in report["E3"] if f["topic"] == "/arm_1/gripper_controller/position_command"]
+    assert [(f["output"], f["nodes"]) for f in gripper] == [("pickup", ["/pickup", "/drop"])]  # Fig. 3.9
+    assert "[analyze_graph] taking a snapshot of the ROS master" in done.stderr
+    # the saved snapshot gives the same report offline
+    offline = run_cli(master, "--spec", str(spec), "--mapping", str(wrong), "--snapshot", str(saved), "--json")
+    assert offline.returncode == 0, offline.stderr
+    assert json.loads(offline.stdout)["E3"] == report["E3"]
+
+
+# --- four spheros with ltl_stack's proposition nodes and simulated robots ------------------------------
+
+def sphero_nodes() -> list[list[str]]:
+    mapping = yaml.safe_load((DATA / "spheros_mapping.yaml").read_text())
+    commands = []
+    for entries in mapping["outputs"].values():
+        for entry in entries:
+            ns, _, name = entry["node"].rpartition("/")
+            script = "set_velocity" if entry["filename"] == "set_velocity.py" else "set_color"
+            commands.append(["rosrun", "ltl_stack", script, f"__ns:={ns}", f"__name:={name}",
+                             f"_proposition_topic:={entry['node_subscribe_topic']}",
+                             f"_topic:={entry['parameters']['publish_topic']}"])
+    for robot in ROBOTS:
+        commands.append(["rosrun", "ltl_stack", "sim_robot", f"__ns:=/{robot}", "__name:=sim_robot"])
+    return commands
+
+
+@pytest.fixture(scope="module")
+def spheros(tmp_path_factory):
+    master = RosMaster(tmp_path_factory.mktemp("spheros"))
+    try:
+        for i, command in enumerate(sphero_nodes()):
+            master.run(command, name=f"sphero_{i:02d}")
+        mapping = yaml.safe_load((DATA / "spheros_mapping.yaml").read_text())
+        expected = {("sub", e["node_subscribe_topic"], e["node"]) for es in mapping["outputs"].values() for e in es}
+        expected |= {("sub", f"/{r}/cmd_vel", f"/{r}/sim_robot") for r in ROBOTS}
+        expected |= {("pub", e["parameters"]["publish_topic"], e["node"])
+                     for es in mapping["outputs"].values() for e in es}
+        wait_until_registered(master, expected)
+        yield master
+    finally:
+        master.shutdown()
+
+
+def test_live_spheros_fig_3_14_and_3_15(spheros):
+    spec = require_shared("specs", "spheros", "spheros.slugsin")
+    common = ["--spec", str(spec), "--mapping", str(DATA / "spheros_mapping.yaml"), "--live", "--json",
+              "--ignore-topics", "/collision,/diagnostics,/imu,/odom,/pose,/current_region"]  # robot sensors
+    done = run_cli(spheros, *common, "--robots", ",".join(ROBOTS))
+    assert done.returncode == 0, done.stderr
+    report = json.loads(done.stdout)
+    assert [(f["output"], f["suffix"], f["missing"]) for f in report["C1"]] == [
+        ("move_down", "/cmd_vel", ["sphero_wpw"])]  # Fig. 3.14
+    assert report["C2"] == []
+    assert {tuple(s["propositions"]) for s in report["suggestions"]} == {("move_left", "move_down")}, \
+        "moving and colouring the same robot do not compete; the simulated robot merges them"
+    done = run_cli(spheros, *common, "--robots", ",".join([*ROBOTS, "sphero_wrb"]), "--fail-on-findings")
+    assert done.returncode == 1, done.stderr
+    report = json.loads(done.stdout)
+    assert [(f["robot"], f["suffixes_of_other_robots"]) for f in report["C2"]] == [
+        ("sphero_wrb", ["/cmd_vel", "/set_color"])]  # Fig. 3.15
+
+
+def test_unreachable_master_is_one_clear_error():
+    uri = f"http://127.0.0.1:{free_port()}/"
+    start = time.monotonic()
+    with pytest.raises(SnapshotError, match=f"cannot read the graph from the ROS master at {uri}"):
+        take_snapshot(uri, timeout=2.0)
+    assert time.monotonic() - start < 10
