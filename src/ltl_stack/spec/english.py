@@ -14,12 +14,14 @@ with ``ops.fold`` (no recursion), so deep formulas are fine.
 """
 from __future__ import annotations
 
-from ltl_stack.spec.formula import And, Const, Formula, Iff, Implies, Not, Or, Var, Xor
-from ltl_stack.spec.model import Clause
+from collections.abc import Sequence
+
+from ltl_stack.spec.formula import FALSE, TRUE, And, Const, Formula, Iff, Implies, Not, Or, Var, Xor
+from ltl_stack.spec.model import SECTIONS, Clause, IntegerVariable, Spec
 from ltl_stack.spec.ops import fold
 from ltl_stack.spec.slugsin import formula_to_slugsin
 
-__all__ = ["clause_to_english", "formula_to_english", "formula_to_infix", "formula_to_slugsin"]
+__all__ = ["clause_to_english", "formula_to_english", "formula_to_infix", "formula_to_slugsin", "spec_to_english"]
 
 # A rendered subformula and how it binds: "atom" needs no parentheses anywhere.
 _Piece = tuple[str, str]
@@ -63,11 +65,45 @@ def _name(var: Var) -> str:
     return f"next {name}" if var.primed else name
 
 
-def formula_to_english(f: Formula) -> str:
-    """``f`` as a Structured English phrase (no section word in front)."""
+def _integer_values(args: tuple[Formula, ...], integers: Sequence[IntegerVariable]) -> tuple[list[str], list[int]]:
+    """Phrases ``x is 3`` for groups of literals in ``args`` that fix every bit of an integer.
+
+    Returns the phrases and the positions of the literals they replace.
+    """
+    owner = {bit: (var, i) for var in integers for i, bit in enumerate(var.bits)}
+    groups: dict[tuple[str, bool], dict[int, tuple[int, bool]]] = {}
+    for position, arg in enumerate(args):
+        negated = isinstance(arg, Not)
+        var = arg.arg if negated else arg
+        if isinstance(var, Var) and var.name in owner:
+            integer, bit = owner[var.name]
+            groups.setdefault((integer.name, var.primed), {})[bit] = (position, not negated)
+    phrases, used = [], []
+    for var in integers:
+        for primed in (False, True):
+            group = groups.get((var.name, primed), {})
+            if var.bits and len(group) == len(var.bits):
+                value = var.low + sum(1 << bit for bit, (_, on) in group.items() if on)
+                phrases.append(f"{'next ' if primed else ''}{var.name} is {value}")
+                used.extend(position for position, _ in group.values())
+    return phrases, used
+
+
+def formula_to_english(f: Formula, integers: Sequence[IntegerVariable] = ()) -> str:
+    """``f`` as a Structured English phrase (no section word in front).
+
+    With the spec's ``integers``, a conjunction that fixes every bit of an integer reads
+    ``x is 3`` (``next x is 3`` when primed) instead of listing its bits; ``and true`` and
+    ``or false`` are left out.
+    """
+    return _english(f, integers)[0]
+
+
+def _english(f: Formula, integers: Sequence[IntegerVariable]) -> tuple:
+    """The phrase of ``f`` and how it binds (``atom``, ``not``, ``and``, ``or``, ``if``, …)."""
     def wrap(piece: tuple, allowed: tuple[str, ...] = ("atom", "not")) -> str:
         text, kind = piece[0], piece[1]
-        return text if kind in allowed else f"({text})"
+        return text if kind in allowed or kind == "value" else f"({text})"
 
     def condition(cause: tuple, effect: tuple) -> tuple:
         allowed = ("atom", "not", "and", "or")
@@ -80,6 +116,8 @@ def formula_to_english(f: Formula) -> str:
         if isinstance(node, Const):
             return ("true" if node.value else "false"), "atom", None
         if isinstance(node, Not):
+            if kids[0][1] == "value":  # "x is 3" -> "x is not 3"
+                return kids[0][0].replace(" is ", " is not ", 1), "atom", kids[0]
             return "not " + wrap(kids[0]), "not", kids[0]
         if isinstance(node, Or) and len(kids) >= 2 and kids[0][1] == "not":
             # slugs writes "a -> b" as "| ! a b": read it back as a condition
@@ -91,23 +129,36 @@ def formula_to_english(f: Formula) -> str:
                 return ("true" if kind == "and" else "false"), "atom", None
             if len(kids) == 1:
                 return kids[0]
-            return f" {kind} ".join(wrap(k, ("atom", "not", kind)) for k in kids), kind, None
+            neutral = TRUE if kind == "and" else FALSE  # "x and true" reads as "x"
+            keep = [i for i, a in enumerate(node.args) if a != neutral] or [0]
+            parts = [wrap(kids[i], ("atom", "not", kind)) for i in keep]
+            if kind == "and" and integers:
+                phrases, used = _integer_values(tuple(node.args[i] for i in keep), integers)
+                if phrases:
+                    parts = phrases + [p for j, p in enumerate(parts) if j not in set(used)]
+                    if len(parts) == 1:
+                        return parts[0], "value", None
+            if len(parts) == 1:
+                return kids[keep[0]]
+            return f" {kind} ".join(parts), kind, None
         left, right = kids
         if isinstance(node, Implies):
             return condition(left, right)
         if isinstance(node, Iff):
             return f"{wrap(left)} if and only if {wrap(right)}", "iff", None
         return f"exactly one of {wrap(left)} and {wrap(right)}", "xor", None
-    return fold(f, combine)[0]
+    return fold(f, combine)
 
 
-def clause_to_english(clause_or_formula: Clause | Formula, section: str | None = None) -> str:
+def clause_to_english(clause_or_formula: Clause | Formula, section: str | None = None,
+                      integers: Sequence[IntegerVariable] = ()) -> str:
     """A Structured English sentence for a clause (or formula) of ``section`` (one of ``SECTIONS``).
 
     Without a section only the formula is rendered, with no ``always``/``infinitely often``.
+    Pass ``spec.integers`` to read integer bits as values (``x is 3``).
     """
     f = clause_or_formula.formula if isinstance(clause_or_formula, Clause) else clause_or_formula
-    body = formula_to_english(f)
+    body, kind, _ = _english(f, integers)
     if section is None:
         return body
     if section not in SECTION_WORDS:
@@ -115,10 +166,11 @@ def clause_to_english(clause_or_formula: Clause | Formula, section: str | None =
     word = SECTION_WORDS[section]
     if body.startswith("if "):
         return f"{word}, {body}"
-    if word != "infinitely often" and isinstance(f, (And, Or, Xor, Iff)) and len(_top_args(f)) > 1:
+    if word != "infinitely often" and kind in ("and", "or", "xor", "iff"):
         return f"{word} ({body})"
     return f"{word} {body}"
 
 
-def _top_args(f: Formula) -> tuple:
-    return f.args if isinstance(f, (And, Or)) else (f.left, f.right)
+def spec_to_english(spec: Spec) -> dict[str, list[str]]:
+    """Every clause of ``spec`` as a sentence, by section (integers read as values)."""
+    return {name: [clause_to_english(c, name, spec.integers) for c in spec.section(name)] for name in SECTIONS}

@@ -6,7 +6,13 @@ from hypothesis import given, settings
 from spec_testing import NAMES, SPECS, formulas
 
 from ltl_stack.spec import load_spec, parse_structured
-from ltl_stack.spec.english import clause_to_english, formula_to_english, formula_to_infix, formula_to_slugsin
+from ltl_stack.spec.english import (
+    clause_to_english,
+    formula_to_english,
+    formula_to_infix,
+    formula_to_slugsin,
+    spec_to_english,
+)
 from ltl_stack.spec.formula import FALSE, TRUE, And, Iff, Implies, Not, Or, Var, Xor
 from ltl_stack.spec.model import Clause
 from ltl_stack.spec.ops import flatten
@@ -31,7 +37,8 @@ def v(name: str, primed: bool = False) -> Var:
     (Or((Not(Not(v("sense"))), v("move"), v("stop"))), "env_safety", "always, if not sense then move or stop"),
     (Xor(v("a"), Or((v("b"), v("c")))), None, "exactly one of a and (b or c)"),
     (Implies(Implies(v("a"), v("b")), v("c")), None, "if (if a then b) then c"),
-    (And((TRUE, Not(FALSE))), None, "true and not false"),
+    (And((TRUE, Not(FALSE))), None, "not false"),  # "and true" is left out
+    (Or((FALSE, TRUE)), None, "true"),
 ])
 def test_structured_english_sentences(f, section, expected):
     got = clause_to_english(Clause(f), section)
@@ -86,3 +93,15 @@ def test_infix_parses_back_to_the_same_formula(f):
     header = "[INPUT]\n" + "\n".join(NAMES) + "\n[OUTPUT]\n[SYS_TRANS]\n"
     spec = parse_structured(header + formula_to_infix(f) + "\n")
     assert spec.sys_safety[0].formula == flatten(f), (formula_to_infix(f), f)
+
+
+def test_integers_read_as_values():
+    spec = parse_structured("[INPUT]\nx:0...5\n[OUTPUT]\ndone\n[SYS_INIT]\nx = 4\n[SYS_TRANS]\n"
+                            "x' != 3 | done'\n[SYS_LIVENESS]\nx' = 0 & done\n", "i.ltl")
+    got = spec_to_english(spec)
+    assert got["sys_init"] == ["initially x is 4"], got
+    assert got["sys_safety"] == ["always (next x is not 3 or next done)"], got
+    assert got["sys_liveness"] == ["infinitely often next x is 0 and done"], got
+    assert got["env_init"] == ["initially not (x@2 and x@1)"], got  # the range constraint 0<=x<=5
+    # without the integers the bits show
+    assert clause_to_english(spec.sys_init[0], "sys_init") == "initially (not x@0.0.5 and not x@1 and x@2)"
