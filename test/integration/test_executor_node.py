@@ -253,7 +253,8 @@ def test_assumption_violation_is_diagnosed_and_outputs_follow_the_policy(ros_mas
 
     probe.publish(LOCK, False)  # breaks lock -> lock'
     diag = wait_for(lambda: [d for d in probe.of("diag") if d["level"] == 2], 10, "an ERROR diagnostic")[0]
-    assert f"{lock_spec}:{LOCK_CLAUSE_LINE}" in diag["message"], diag
+    assert f"{lock_spec}:{LOCK_CLAUSE_LINE}: | ! lock lock' (always, if lock then next lock)" in diag["message"], diag
+    assert ["meaning", "always, if lock then next lock"] in diag["values"], diag
     assert ["clause", f"{lock_spec}:{LOCK_CLAUSE_LINE}: | ! lock lock'"] in diag["values"], diag
     log = executor.wait_output("environment assumption violated")
     assert "Traceback" not in log, log

@@ -380,12 +380,15 @@ class ExecutorNode:
             return
         self._last_violation_key = key
         clauses = [f"{c.location}: {c.text}" for c in violation.clauses] or ["(no single clause)"]
+        meanings = [_english(c) for c in violation.clauses]
+        shown = [f"{c} ({m})" if m else c for c, m in zip(clauses, meanings + [""] * len(clauses), strict=False)]
         policy = "holding the last safe outputs" if self.options.on_violation == HOLD else "all outputs false"
         text = (f"environment assumption violated by inputs {format_valuation(readings)} from state "
-                f"{update.state.id}: {'; '.join(clauses)}; {policy}, waiting for admissible inputs")
+                f"{update.state.id}: {'; '.join(shown)}; {policy}, waiting for admissible inputs")
         self.rospy.logerr("%s: %s", self.name, text)
-        values = [("clause", c) for c in clauses] + [("inputs", format_valuation(readings)),
-                                                     ("state", str(update.state.id)), ("policy", self.options.on_violation)]
+        values = [("clause", c) for c in clauses] + [("meaning", m) for m in meanings if m] + [
+            ("inputs", format_valuation(readings)), ("state", str(update.state.id)),
+            ("policy", self.options.on_violation)]
         self._diagnose(2, "environment assumptions", text, values)
         if self.json_lines:
             print(json.dumps({"event": "violation", "state": update.state.id, "inputs": readings,
@@ -399,6 +402,16 @@ class ExecutorNode:
         array = DiagnosticArray(status=[status])
         array.header.stamp = self.rospy.Time.now()
         self.diag_pub.publish(array)
+
+
+def _english(clause: Any) -> str:
+    """The clause in Structured English, or "" when it cannot be rendered."""
+    try:
+        from ltl_stack.spec.english import clause_to_english
+
+        return clause_to_english(clause, "env_safety")
+    except Exception:  # noqa: BLE001 - a rendering problem must not hide the violation itself
+        return ""
 
 
 def _merge_options(args: argparse.Namespace, get_param) -> Options:
