@@ -15,9 +15,11 @@ left out, so that they do not make every node reach every other one (false confl
 """
 from __future__ import annotations
 
+import re
 from collections.abc import Collection, Iterable
 from dataclasses import dataclass
-from fnmatch import fnmatchcase
+from fnmatch import translate
+from functools import lru_cache
 
 from ltl_stack.analysis.snapshot import Snapshot
 
@@ -47,7 +49,12 @@ def action_vertex_name(namespace: str) -> str:
 
 def matches_any(name: str, patterns: Iterable[str]) -> bool:
     """True if ``name`` matches one of the shell-style ``patterns`` (``*`` crosses ``/``)."""
-    return any(fnmatchcase(name, p) for p in patterns)
+    return _pattern_regex(tuple(patterns)).match(name) is not None
+
+
+@lru_cache(maxsize=64)
+def _pattern_regex(patterns: tuple[str, ...]) -> re.Pattern:
+    return re.compile("|".join(f"(?:{translate(p)})" for p in patterns) or r"(?!)")
 
 
 @dataclass(frozen=True)

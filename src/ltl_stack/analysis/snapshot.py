@@ -27,6 +27,8 @@ from pathlib import Path
 import yaml
 
 FORMAT = "ltl_stack/graph_snapshot/1"
+_YAML_LOADER = getattr(yaml, "CSafeLoader", yaml.SafeLoader)  # libyaml when present: big graphs load fast
+_YAML_DUMPER = getattr(yaml, "CSafeDumper", yaml.SafeDumper)
 
 
 class SnapshotError(Exception):
@@ -127,7 +129,7 @@ class Snapshot:
         if path.suffix.lower() == ".json":
             text = json.dumps(data, indent=1) + "\n"
         else:
-            text = yaml.safe_dump(data, sort_keys=False, default_flow_style=None, width=120)
+            text = yaml.dump(data, Dumper=_YAML_DUMPER, sort_keys=False, default_flow_style=None, width=120)
         write_atomically(path, text)
 
     @classmethod
@@ -138,7 +140,7 @@ class Snapshot:
         except OSError as e:
             raise SnapshotError(f"{path}: cannot read snapshot: {e.strerror or e}") from None
         try:
-            data = json.loads(text) if path.suffix.lower() == ".json" else yaml.safe_load(text)
+            data = json.loads(text) if path.suffix.lower() == ".json" else yaml.load(text, Loader=_YAML_LOADER)
         except json.JSONDecodeError as e:
             raise SnapshotError(f"{path}:{e.lineno}:{e.colno}: not valid JSON: {e.msg}") from None
         except yaml.YAMLError as e:
