@@ -341,3 +341,21 @@ def test_bad_spec_and_mapping_exit_2_naming_file_and_line(tmp_path, lock_spec):
                               text=True, timeout=60)
         assert proc.returncode == 2, proc
         assert fragment in proc.stderr and "Traceback" not in proc.stderr, proc.stderr
+
+
+def test_rate_steps_without_input_changes_and_start_paused_waits(ros_master, probes, tmp_path):
+    spec = tmp_path / "blink.slugsin"  # out must be true and false infinitely often, whatever a does
+    spec.write_text("[INPUT]\na\n\n[OUTPUT]\nout\n\n[SYS_LIVENESS]\nout\n! out\n")
+    ros_master.run(["rosrun", "ltl_stack", "controller_executor", str(spec), "--rate", "20", "--start-paused"],
+                   name="executor")
+    ros_master.wait_for_subscriber("/blink/inputs/a")
+    probe = probes(["bool:/blink/outputs/out", f"state:{STATE}"])
+    probe.publish("/blink/inputs/a", True)
+    wait_for(lambda: probe.of("state") and probe.of("state")[-1]["running"] is False, 10, "a paused ~state")
+    assert [s["state"] for s in probe.of("state")] == [-1] * len(probe.of("state")), probe.of("state")
+    probe.call("/controller_executor/set_running", True)
+    # With the input constant, the 20 Hz steps alone make out blink.
+    wait_for(lambda: len(probe.of("bool", topic="/blink/outputs/out")) >= 5, 10, "out to change 4 times")
+    values = [e["value"] for e in probe.of("bool", topic="/blink/outputs/out")]
+    assert all(x != y for x, y in zip(values, values[1:], strict=False)), values
+    assert len(probe.of("published")) == 1
