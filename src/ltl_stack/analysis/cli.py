@@ -18,6 +18,7 @@ import argparse
 import json
 import sys
 from collections.abc import Callable, Sequence
+from dataclasses import replace
 from pathlib import Path
 
 from ltl_stack.analysis import report
@@ -26,8 +27,8 @@ from ltl_stack.analysis.graph import DEFAULT_IGNORED_TOPICS, ComputationGraph
 from ltl_stack.analysis.snapshot import Snapshot, SnapshotError, write_atomically
 from ltl_stack.analysis.suggest import MutualExclusion, add_to_spec, input_exclusion_for, mutual_exclusions
 from ltl_stack.runtime.mapping import MappingError, check_mapping, errors, load_mapping
-from ltl_stack.spec import SpecError, load_spec, write_slugsin
-from ltl_stack.spec.model import Spec
+from ltl_stack.spec import SpecError, formula_to_slugsin, load_spec, write_slugsin
+from ltl_stack.spec.model import SLUGSIN_SECTIONS, Spec
 
 EXIT_OK, EXIT_FINDINGS, EXIT_INPUT, EXIT_UNREALIZABLE = 0, 1, 2, 3
 
@@ -158,6 +159,7 @@ def apply_suggestions(spec: Spec, suggestions: list[MutualExclusion], out: str,
     new_spec = add_to_spec(spec, [suggestions[i - 1] for i in picked], file=out)
     new_spec.source = out
     text = write_slugsin(new_spec)
+    new_spec = _with_written_lines(new_spec, text, out)
     try:
         write_atomically(Path(out), text + ("" if text.endswith("\n") else "\n"))
     except OSError as e:
@@ -182,6 +184,23 @@ def apply_suggestions(spec: Spec, suggestions: list[MutualExclusion], out: str,
         result["input_assumption"] = {**assumption.to_dict(), **report.suggestion_forms(assumption),
                                       "restores_realizability": is_realizable(fixed, robotics_semantics=True)}
     return result
+
+
+def _with_written_lines(spec: Spec, text: str, out: str) -> Spec:
+    """The added clauses (``file == out``) get the line numbers they have in the written text."""
+    lines = text.split("\n")
+    for section, header in SLUGSIN_SECTIONS.items():
+        if f"[{header}]" not in lines:
+            continue
+        first = lines.index(f"[{header}]") + 1  # 0-based index of the section's first clause
+        clauses = []
+        for k, clause in enumerate(spec.section(section)):
+            at = first + k
+            if clause.file == out and at < len(lines) and lines[at] == formula_to_slugsin(clause.formula):
+                clause = replace(clause, line=at + 1)
+            clauses.append(clause)
+        spec = spec.with_section(section, clauses)
+    return spec
 
 
 def _pick(suggestions: list[MutualExclusion], chosen: list[str] | None) -> list[int]:

@@ -156,3 +156,36 @@ def test_apply_json(snapshots, tmp_path, capsys):
     assert applied["explanation"]["kind"] == "deadlock"
     assert applied["input_assumption"]["propositions"] == ["left_arrow", "down_arrow"]
     assert applied["input_assumption"]["restores_realizability"] is True
+
+
+def test_thesis_example_9_on_the_shared_sphero_mapping(tmp_path, capsys):
+    """All four spheros as the shared mapping has them: move_* and turn_* groups (Fig. 3.13); making
+    them exclusive is unrealizable until the arrow/stop inputs are assumed exclusive."""
+    import yaml
+
+    mapping_path = require_shared("specs", "spheros", "spheros.yaml")
+    mapping = yaml.safe_load(mapping_path.read_text())
+    nodes = {}
+    for entries in mapping["outputs"].values():
+        for e in entries:
+            nodes[e["node"]] = {"sub": [e["node_subscribe_topic"]], "pub": [e["parameters"]["publish_topic"]]}
+    for robot in {e["parameters"]["publish_topic"].split("/")[1] for es in mapping["outputs"].values() for e in es}:
+        nodes[f"/{robot}/driver"] = {"sub": [f"/{robot}/cmd_vel", f"/{robot}/set_color"], "pub": [f"/{robot}/odom"]}
+    snapshot = tmp_path / "spheros.json"
+    scenarios.snapshot_of({"nodes": nodes}).save(snapshot)
+    out = tmp_path / "spheros_exclusive.slugsin"
+    args = ["--spec", str(mapping_path.with_suffix(".slugsin")), "--mapping", str(mapping_path),
+            "--snapshot", str(snapshot), "--apply", str(out), "--json"]
+    assert main(args) == EXIT_UNREALIZABLE
+    data = json.loads(capsys.readouterr().out)
+    assert sorted(tuple(s["propositions"]) for s in data["suggestions"]) == [
+        ("move_left", "move_right", "move_up", "move_down", "stop"),
+        ("turn_red", "turn_yellow", "turn_green", "turn_blue", "turn_purple", "turn_white")]
+    hint = data["apply"]["input_assumption"]
+    assert hint["propositions"] == ["left_arrow", "right_arrow", "up_arrow", "down_arrow", "stop_sign"]
+    assert hint["restores_realizability"] is True
+    lines = out.read_text().split("\n")
+    added = [c for c in data["apply"]["explanation"]["core"] if c.get("file") == str(out)]
+    assert added, data["apply"]["explanation"]["core"]
+    for clause in added:
+        assert clause["line"] > 0 and lines[clause["line"] - 1].startswith("| & move_left'"), clause

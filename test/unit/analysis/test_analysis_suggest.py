@@ -114,3 +114,30 @@ def test_maximal_cliques_cover_every_pair_and_are_cliques_and_maximal(pairs):
     for e in edges:
         assert any(e <= c for c in cliques), e
     assert len(set(cliques)) == len(cliques)
+
+
+@settings(max_examples=30, deadline=None)
+@given(prop_names)
+def test_slugsin_lines_read_back_to_the_same_constraint(names):
+    from ltl_stack.analysis.report import suggestion_forms
+    from ltl_stack.spec import parse_slugsin, write_slugsin
+
+    s = MutualExclusion(tuple(names))
+    spec = add_to_spec(Spec(inputs=[], outputs=list(names)), [s])
+    back = parse_slugsin(write_slugsin(spec), "roundtrip.slugsin")
+    forms = suggestion_forms(s)
+    assert forms["slugsin"]["SYS_TRANS"] in write_slugsin(spec).split("\n")
+    for values in itertools.product([False, True], repeat=len(names)):
+        valuation = dict(zip(names, values, strict=True))
+        expected = sum(values) <= 1
+        assert evaluate(back.sys_safety[0].formula, {}, valuation) == expected
+        assert evaluate(back.sys_init[0].formula, valuation) == expected
+
+
+def test_english_quotes_names_that_are_sentence_words():
+    from ltl_stack.analysis.report import suggestion_forms
+
+    s = MutualExclusion(("not", "and", "not_ready"))
+    assert s.sentence() == "'not', 'and' and not_ready are mutually exclusive"
+    assert suggestion_forms(s)["english_expanded"].startswith(
+        "always (('not' and not 'and' and not not_ready) or (not 'not' and 'and' and not not_ready)")
