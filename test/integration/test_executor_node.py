@@ -21,26 +21,7 @@ from helpers import wait_for
 pytestmark = pytest.mark.ros
 
 # out follows a, busy follows lock; the environment promises that lock, once set, stays set.
-LOCK_SPEC = textwrap.dedent("""\
-    [INPUT]
-    a
-    lock
-
-    [OUTPUT]
-    out
-    busy
-
-    [ENV_TRANS]
-    | ! lock lock'
-
-    [SYS_TRANS]
-    | & out' a' & ! out' ! a'
-    | & busy' lock' & ! busy' ! lock'
-
-    [SYS_INIT]
-    | & out a & ! out ! a
-    | & busy lock & ! busy ! lock
-    """)
+LOCK_SPEC = (Path(__file__).resolve().parents[1] / "unit" / "runtime" / "lock.slugsin").read_text()
 LOCK_CLAUSE_LINE = 10
 
 PROBE = textwrap.dedent('''\

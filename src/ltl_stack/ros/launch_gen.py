@@ -16,10 +16,8 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import posixpath
 import sys
-import tempfile
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -38,6 +36,7 @@ from ltl_stack.runtime.mapping import (
     load_mapping,
     resolve_name,
 )
+from ltl_stack.synthesis.automaton import write_atomic
 
 EXIT_OK = 0
 EXIT_BAD_INPUT = 2
@@ -153,21 +152,6 @@ def _comment(text: str) -> str:
     return str(text).replace("--", "- -")
 
 
-def write_atomic(path: str | os.PathLike, text: str) -> None:
-    """Write ``text`` to ``path`` through a temporary file in the same folder, so a reader never
-    sees half a file."""
-    target = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", dir=target.parent or ".")
-    try:
-        with os.fdopen(fd, "w") as handle:
-            handle.write(text)
-        os.chmod(tmp, 0o644)
-        os.replace(tmp, target)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-
-
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="generate_launch",
@@ -234,4 +218,4 @@ def main(argv: Sequence[str] | None = None) -> int:
     return EXIT_OK
 
 
-__all__ = ["INPUT", "LaunchError", "LaunchResult", "generate_launch", "main", "write_atomic"]
+__all__ = ["INPUT", "LaunchError", "LaunchResult", "generate_launch", "main"]

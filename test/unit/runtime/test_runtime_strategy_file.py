@@ -7,7 +7,7 @@ from __future__ import annotations
 import argparse
 import json
 import subprocess
-import textwrap
+from pathlib import Path
 
 import pytest
 from hypothesis import given, settings
@@ -19,26 +19,8 @@ from ltl_stack.runtime.explicit import AutomatonStrategy
 from ltl_stack.spec import parse_slugsin
 from ltl_stack.synthesis import synthesize
 
-LOCK = textwrap.dedent("""\
-    [INPUT]
-    a
-    lock
-
-    [OUTPUT]
-    out
-    busy
-
-    [ENV_TRANS]
-    | ! lock lock'
-
-    [SYS_TRANS]
-    | & out' a' & ! out' ! a'
-    | & busy' lock' & ! busy' ! lock'
-
-    [SYS_INIT]
-    | & out a & ! out ! a
-    | & busy lock & ! busy ! lock
-    """)
+# out follows a, busy follows lock; the environment promises that lock, once set, stays set.
+LOCK = (Path(__file__).resolve().parent / "lock.slugsin").read_text()
 
 
 @pytest.fixture(scope="module")
