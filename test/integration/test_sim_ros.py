@@ -137,7 +137,8 @@ def test_manipulation_server_pick_sets_holding_and_drop_can_be_cancelled_or_fail
     pick.send_goal(PropositionGoal(activate=True), feedback_cb=lambda f: progress.append(f.progress))
     assert pick.wait_for_result(rospy.Duration(10))
     assert (pick.get_state(), pick.get_result().completed) == (3, True), pick.get_goal_status_text()
-    assert progress == sorted(progress) and progress[-1] == 1.0, progress
+    # Feedback and result travel on different topics; the last feedback may come after the result.
+    assert len(progress) >= 2 and progress == sorted(progress) and 0 <= progress[0] <= progress[-1] <= 1, progress
     holding.wait_last(lambda b: b.data is True, what="holding after pick")
 
     drop.send_goal(PropositionGoal(activate=True))
