@@ -254,7 +254,7 @@ def test_assumption_violation_is_diagnosed_and_outputs_follow_the_policy(ros_mas
 
 
 def test_init_props_with_true_and_false_values_start_without_waiting(ros_master, probes, lock_spec):
-    start_executor(ros_master, lock_spec, "--init-props", "a=1,lock=0")
+    executor = start_executor(ros_master, lock_spec, "--init-props", "a=1,lock=0", "--json")
     probe = probes(LISTEN)
     probe.wait_value(OUT, True)
     probe.wait_value(BUSY, False)
@@ -262,6 +262,20 @@ def test_init_props_with_true_and_false_values_start_without_waiting(ros_master,
     assert first["inputs"] == {"a": True, "lock": False}, first
     # A live reading replaces the assumed one.
     probe.publish(A, False)
+    probe.wait_value(OUT, False)
+    probe.publish(A, True)
+    probe.wait_value(OUT, True)
+    def events():
+        return [json.loads(x) for x in executor.output().splitlines() if x.startswith("{")]
+
+    wait_for(lambda: len(events()) >= 3, 10, "three JSON events from --json")
+    events = events()
+    assert [(e["event"], e["inputs"], e["outputs"]) for e in events] == [
+        ("start", {"a": True, "lock": False}, {"out": True, "busy": False}),
+        ("step", {"a": False, "lock": False}, {"out": False, "busy": False}),
+        ("step", {"a": True, "lock": False}, {"out": True, "busy": False})], events
+    # Shutting down leaves every output false.
+    executor.stop()
     probe.wait_value(OUT, False)
 
 
