@@ -98,6 +98,9 @@ def to_text(a: Analysis, suggestions: list[MutualExclusion], *, reach: bool = Fa
     for key, findings in sections:
         add("")
         add(f"{key}  {CHECKS[key]}: {len(findings) or 'none'}")
+        if key == "E2":
+            out.extend(_e2_lines(findings))
+            continue
         for f in findings:
             out.extend("  " + line for line in _finding_lines(key, f))
     if a.robots:
@@ -135,6 +138,27 @@ def suggestion_lines(i: int, s: MutualExclusion) -> list[str]:
     for section, line in forms["slugsin"].items():
         lines.append(f"   .slugsin [{section}]: {line}")
     return lines
+
+
+def _e2_lines(groups) -> list[str]:
+    """E2 groups; channels where the same pairs compete are named under the first one, not repeated."""
+    alike: dict[tuple, list] = {}
+    for g in groups:
+        alike.setdefault((g.outputs, g.pairs), []).append(g)
+    lines = []
+    for first, *others in alike.values():
+        lines.append(f"  {_channel_text(first)}: {', '.join(first.outputs)}")
+        if not first.complete:
+            lines.append(f"    competing pairs: {', '.join(a + '/' + b for a, b in first.pairs)}")
+        lines.extend(f"    {w.proposition}: {w.text}" for w in first.witnesses)
+        if others:
+            lines.append("    the same outputs also compete on: "
+                         + _short_list([_channel_text(g) for g in others], 6))
+    return lines
+
+
+def _channel_text(f) -> str:
+    return f"({f.channel})" if f.kind == ACTION else f"[{f.channel}]"
 
 
 def _finding_lines(key: str, f) -> list[str]:

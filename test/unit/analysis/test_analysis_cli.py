@@ -41,6 +41,9 @@ def test_text_report_shows_findings_chains_and_suggestions(snapshots, capsys):
     assert "pickup -> pickup_ac: (/pickup) -> [/move_group_and_move_base/outputs/pickup_status] -> (/pickup_ac)" in out
     assert "E2  Output propositions publishing to the same topic or action (thesis 3.5.2.3): 7" in out
     assert "2. pickup and drop are mutually exclusive" in out
+    assert "    the same outputs also compete on: [/joint_states], " \
+           "(arm_1/arm_controller/follow_joint_trajectory/action_topics), (move_group/action_topics)" in out
+    assert out.count("[/odom]") == 1, "channels with the same competing outputs are listed once"
     assert ".slugsin [SYS_TRANS]: | & pickup' ! drop' | & ! pickup' drop' & ! pickup' ! drop'" in out
     assert "Structured English: always ((pickup and not drop) or (not pickup and drop) or (not pickup and not drop))" in out
 
