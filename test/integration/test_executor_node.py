@@ -265,11 +265,11 @@ def test_init_props_with_true_and_false_values_start_without_waiting(ros_master,
     probe.wait_value(OUT, False)
     probe.publish(A, True)
     probe.wait_value(OUT, True)
-    def events():
+    def json_events():
         return [json.loads(x) for x in executor.output().splitlines() if x.startswith("{")]
 
-    wait_for(lambda: len(events()) >= 3, 10, "three JSON events from --json")
-    events = events()
+    wait_for(lambda: len(json_events()) >= 3, 10, "three JSON events from --json")
+    events = json_events()
     assert [(e["event"], e["inputs"], e["outputs"]) for e in events] == [
         ("start", {"a": True, "lock": False}, {"out": True, "busy": False}),
         ("step", {"a": False, "lock": False}, {"out": False, "busy": False}),
