@@ -400,7 +400,7 @@ class Explanation:
             "init_clauses": [clause_dict(c, "sys_init") for c in self.init_clauses],
             "realizable_with_default_init": self.realizable_with_default_init,
             "deadlock": None if self.deadlock is None else {
-                "position": self.deadlock["position"], "inputs_next": self.deadlock["inputs_next"],
+                **{k: v for k, v in self.deadlock.items() if k != "clauses"},
                 "clauses": [clause_dict(c, "sys_safety") for c in self.deadlock["clauses"]]},
             "failing_goals": [clause_dict(c, "sys_liveness") for c in self.failing_goals],
             "core": [clause_dict(c, s) for s, c in self.core],
@@ -435,7 +435,13 @@ class Explanation:
                        "sys_init are losing; restricting sys_init to the winning ones fixes it.")
         if self.deadlock is not None:
             d = self.deadlock
-            out.append(f"For example at {_true_names(d['position'])}, when the environment plays "
+            if d["steps"]:
+                moves = "; ".join(f"env {_true_names(m['inputs_next'])}, robot {_true_names(m['outputs_next'])}"
+                                  for m in d["path"][:6])
+                more = " ..." if d["steps"] > 6 else ""
+                out.append(f"From {_true_names(d['start'])} the environment forces it within {d['steps']} "
+                           f"move(s), whatever the robot answers; e.g. {moves}{more}.")
+            out.append(f"At {_true_names(d['position'])}, when the environment plays "
                        f"{_true_names(d['inputs_next'])}, every next output breaks one of:")
             out += [f"  {clause_line(c, 'sys_safety')}" for c in d["clauses"]]
         if self.failing_goals:
@@ -502,7 +508,7 @@ def explain(spec: Spec, *, robotics_semantics: bool = True, counterstrategy: boo
         variants.checks += 1
         result.kind = LIVELOCK if safe.realizable else DEADLOCK
         if result.kind == DEADLOCK:
-            result.deadlock = _deadlock_example(game)
+            result.deadlock = _deadlock_example(game, robotics_semantics)
     if result.kind == LIVELOCK:
         for _, clause, u in goals:
             if not variants.realizable(variants.variant(sys_goals=[(clause, u)])):
@@ -544,19 +550,60 @@ def explain(spec: Spec, *, robotics_semantics: bool = True, counterstrategy: boo
     return result
 
 
-def _deadlock_example(game: Game) -> dict | None:
-    """A position and env move after which no next output satisfies sys safety, with the sys safety
-    clauses that some next output breaks there (at least one of them fails for every output)."""
+def _deadlock_example(game: Game, robotics_semantics: bool) -> dict | None:
+    """How the environment forces a deadlock: from an initial position, a sequence of env moves
+    (with one robot answer each) that ends where, after the env's move, no next output satisfies
+    sys safety; with the sys safety clauses some next output breaks there (each output breaks one).
+
+    The moves come from the environment's attractor to such positions (``cpre_env`` layers)."""
     bdd = game.bdd
-    stuck = game.env_trans & bdd.forall(game.outputs_next, ~game.sys_trans)
-    pick = bdd.pick(stuck, care_vars=set(game.variables) | set(game.inputs_next))
+    stuck_moves = game.env_trans & bdd.forall(game.outputs_next, ~game.sys_trans)
+    layers = [bdd.exist(game.inputs_next, stuck_moves)]
+    while True:
+        wider = layers[-1] | game.cpre_env(game.prime(layers[-1]))
+        if wider == layers[-1]:
+            break
+        layers.append(wider)
+    attractor = layers[-1]
+    if robotics_semantics:
+        starts = game.env_init & game.sys_init & attractor
+    else:
+        forced = bdd.forall(game.outputs, ~(game.env_init & game.sys_init) | attractor)
+        starts = game.env_init & game.sys_init & forced
+    if starts == bdd.false:
+        starts = attractor
+    pick = bdd.pick(starts, care_vars=set(game.variables))
     if pick is None:
         return None
-    position = {v: bool(pick[v]) for v in game.variables}
-    x_next = {v: bool(pick[game.inputs_next[n]]) for n, v in enumerate(game.inputs)}
-    values = game.assignment(position, x_next)
+    current = {v: bool(pick[v]) for v in game.variables}
+    start = dict(current)
+    path = []
+
+    def rank(valuation) -> int:
+        cube = game.cube(valuation)
+        return next(k for k, layer in enumerate(layers) if (cube & layer) != bdd.false)
+
+    k = rank(current)
+    while k > 0:
+        here = game.cube(current)
+        moves = game.env_trans & bdd.forall(game.outputs_next, ~game.sys_trans | game.prime(layers[k - 1]))
+        x_pick = bdd.pick(bdd.exist(game.variables, here & moves), care_vars=set(game.inputs_next))
+        x_next = {v: bool(x_pick[game.inputs_next[n]]) for n, v in enumerate(game.inputs)}
+        answers = bdd.exist(game.variables, here & game.cube({}, x_next) & game.sys_trans)
+        y_pick = bdd.pick(answers, care_vars=set(game.outputs_next) | set(game.inputs_next))
+        if y_pick is None:
+            break  # this move already leaves the robot without a safe answer
+        y_next = {v: bool(y_pick[game.outputs_next[n]]) for n, v in enumerate(game.outputs)}
+        path.append({"position": current, "inputs_next": x_next, "outputs_next": y_next})
+        current = {**x_next, **y_next}
+        k = rank(current)
+    here = game.cube(current)
+    x_pick = bdd.pick(bdd.exist(game.variables, here & stuck_moves), care_vars=set(game.inputs_next))
+    x_next = {v: bool(x_pick[game.inputs_next[n]]) for n, v in enumerate(game.inputs)}
+    values = game.assignment(current, x_next)
     clauses = [c for c, u in game.clauses("sys_safety") if _let(bdd, values, u) != bdd.true]
-    return {"position": position, "inputs_next": x_next, "clauses": clauses}
+    return {"start": start, "path": path, "steps": len(path), "position": current, "inputs_next": x_next,
+            "clauses": clauses}
 
 
 def counterstrategy(spec: Spec, *, robotics_semantics: bool = True,

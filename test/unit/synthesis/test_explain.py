@@ -57,6 +57,19 @@ def holds(clauses, current, nxt=None):
     return all(evaluate(c.formula, current, nxt) for c in clauses)
 
 
+def check_deadlock_path(spec, d):
+    """The path is a legal play from an initial position that ends in a move with no safe answer."""
+    current = d["start"]
+    assert holds(spec.env_init, current) and holds(spec.sys_init, current), d
+    for move in d["path"]:
+        assert move["position"] == current
+        assert holds(spec.env_safety, current, move["inputs_next"]), d
+        current = {**move["inputs_next"], **move["outputs_next"]}
+        assert holds(spec.sys_safety, move["position"], current), d
+    assert current == d["position"] and holds(spec.env_safety, current, d["inputs_next"]), d
+    assert not any(holds(spec.sys_safety, current, {**d["inputs_next"], **y}) for y in all_valuations(spec.outputs))
+
+
 def strongly_connected_components(succ: dict[int, list[int]]) -> list[set[int]]:
     """Kosaraju's algorithm, iterative."""
     order, seen = [], set()
@@ -262,6 +275,8 @@ def test_random_unrealizable_specs():
             expected = DEADLOCK if not reference_solver.is_realizable(safety_only, robotics_semantics=robotics) \
                 else LIVELOCK
             assert e.kind == expected, (seed, robotics, e.kind)
+            if e.kind == DEADLOCK:
+                check_deadlock_path(spec, e.deadlock)
             check_counterstrategy(spec, e.counterstrategy, robotics)
         check_core(spec, e, robotics)
         check_assumption_core(spec, e)
@@ -348,3 +363,15 @@ def test_specs_without_inputs_or_outputs(inputs, outputs, sections, kind, capsys
         check_core(spec, e, robotics)
         check_counterstrategy(spec, e.counterstrategy, robotics)
     assert capsys.readouterr().out == ""  # no stray warnings from the BDD library
+
+
+@pytest.mark.parametrize("robotics", [True, False])
+def test_deadlock_path_shows_how_the_environment_forces_it(robotics):
+    # the robot must raise o at once and keep it; i' while o holds leaves it no safe move
+    spec = make_spec(["i"], ["o"], file="forced.slugsin", sys_init=["! o"], sys_safety=["o'", "| ! i' ! o"])
+    e = explain(spec, robotics_semantics=robotics)
+    d = e.deadlock
+    assert (e.kind, d["steps"], d["start"]["o"], d["position"]["o"]) == (DEADLOCK, 1, False, True), d
+    check_deadlock_path(spec, d)
+    assert "forces it within 1 move(s)" in e.to_text(), e.to_text()
+    json.dumps(e.to_dict())
