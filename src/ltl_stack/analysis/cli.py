@@ -19,16 +19,16 @@ import json
 import sys
 from collections.abc import Callable, Sequence
 from dataclasses import replace
-from pathlib import Path
 
 from ltl_stack.analysis import report
 from ltl_stack.analysis.checks import Analysis, analyze, e2_groups
 from ltl_stack.analysis.graph import DEFAULT_IGNORED_TOPICS, ComputationGraph
-from ltl_stack.analysis.snapshot import Snapshot, SnapshotError, write_atomically
+from ltl_stack.analysis.snapshot import Snapshot, SnapshotError
 from ltl_stack.analysis.suggest import MutualExclusion, add_to_spec, input_exclusion_for, mutual_exclusions
 from ltl_stack.runtime.mapping import MappingError, check_mapping, errors, load_mapping
 from ltl_stack.spec import SpecError, formula_to_slugsin, load_spec, write_slugsin
 from ltl_stack.spec.model import SLUGSIN_SECTIONS, Spec
+from ltl_stack.synthesis.automaton import write_atomic
 
 EXIT_OK, EXIT_FINDINGS, EXIT_INPUT, EXIT_UNREALIZABLE = 0, 1, 2, 3
 
@@ -161,7 +161,7 @@ def apply_suggestions(spec: Spec, suggestions: list[MutualExclusion], out: str,
     text = write_slugsin(new_spec)
     new_spec = _with_written_lines(new_spec, text, out)
     try:
-        write_atomically(Path(out), text + ("" if text.endswith("\n") else "\n"))
+        write_atomic(out, text + ("" if text.endswith("\n") else "\n"))
     except OSError as e:
         raise UsageError(f"{out}: cannot write the spec: {e.strerror or e}") from None
     from ltl_stack.synthesis import is_realizable

@@ -19,12 +19,13 @@ from __future__ import annotations
 
 import json
 import os
-import tempfile
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import yaml
+
+from ltl_stack.synthesis.automaton import write_atomic
 
 FORMAT = "ltl_stack/graph_snapshot/1"
 _YAML_LOADER = getattr(yaml, "CSafeLoader", yaml.SafeLoader)  # libyaml when present: big graphs load fast
@@ -130,7 +131,7 @@ class Snapshot:
             text = json.dumps(data, indent=1) + "\n"
         else:
             text = yaml.dump(data, Dumper=_YAML_DUMPER, sort_keys=False, default_flow_style=None, width=120)
-        write_atomically(path, text)
+        write_atomic(path, text)
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> Snapshot:
@@ -154,17 +155,3 @@ def _names(value: object, where: str) -> list[str]:
     if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
         raise SnapshotError(f"{where}: expected a list of names")
     return sorted(set(value))
-
-
-def write_atomically(path: Path, text: str) -> None:
-    """Write ``text`` to ``path`` through a temporary file in the same folder, so no half file is left."""
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent if str(path.parent) else ".")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as f:
-            f.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
