@@ -182,3 +182,23 @@ def test_rosnode_kill_stops_an_active_output_node_promptly_and_drives_it_off(ros
     assert time.monotonic() - start < 5
     assert node.popen.returncode == 0, node.output()
     cmd.wait_last(lambda t: not nonzero(t), what="a zero Twist when killed")
+
+
+def test_publish_on_edge_sends_configured_messages_of_any_type(ros):
+    from std_msgs.msg import String
+
+    out = ros.record(ros.topic("camera/mode"), String)
+    ros.run("publish_on_edge", f"_topic:={ros.topic('camera/mode')}", "_type:=std_msgs/String",
+            "_on_true:={data: 'off'}", "_on_false:={data: 'on'}",
+            f"proposition:={ros.topic('outputs/disableCamera')}")
+    ros.set_bool(ros.topic("outputs/disableCamera"), True)
+    out.wait_last(lambda m: m.data == "off", what="'off' on the rising edge")
+    ros.set_bool(ros.topic("outputs/disableCamera"), False)
+    out.wait_last(lambda m: m.data == "on", what="'on' on the falling edge")
+    assert [m.data for m in out.snapshot()] == ["off", "on"], out.snapshot()
+
+
+def test_publish_on_edge_without_a_topic_is_a_dummy_actuator_that_logs_edges(ros):
+    node = ros.run("publish_on_edge", f"proposition:={ros.topic('outputs/radio')}")
+    ros.set_bool(ros.topic("outputs/radio"), True)
+    node.wait_output(f"{ros.topic('outputs/radio')} rose")

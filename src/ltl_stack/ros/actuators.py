@@ -1,4 +1,5 @@
-"""Output proposition nodes that command a robot directly: ``set_velocity`` and ``set_color``.
+"""Output proposition nodes that command a robot directly: ``set_velocity``, ``set_color`` and the
+generic ``publish_on_edge`` (any message on the rising/falling edge; a dummy actuator without a topic).
 
 Their parameters keep the names of the thesis' mappings (``publish_topic``, ``vx`` .. ``az``,
 ``r``/``g``/``b``), so a mapping written for the original stack names them unchanged.
@@ -7,7 +8,15 @@ from __future__ import annotations
 
 from typing import Any
 
-from ltl_stack.ros.proposition_node import OUTPUT_PARAMS, NodeSpec, OutputPropositionNode, Param, run_node
+from ltl_stack.ros.proposition_node import (
+    OUTPUT_PARAMS,
+    NodeSpec,
+    OutputPropositionNode,
+    Param,
+    fill_message,
+    message_class,
+    run_node,
+)
 
 SET_VELOCITY = NodeSpec(
     name="set_velocity",
@@ -95,6 +104,54 @@ class SetColor(OutputPropositionNode):
     def on_falling(self) -> None:
         if self.config["off_on_false"]:
             self.pub.publish(self.black)
+
+
+PUBLISH_ON_EDGE = NodeSpec(
+    name="publish_on_edge",
+    kind="output",
+    description="Publish a message of any type on the rising edge (~on_true) and, if given, on the "
+                "falling edge (~on_false); with no ~topic it only logs the edges (a dummy actuator).",
+    params=[
+        *OUTPUT_PARAMS,
+        Param("topic", "", "topic to publish on (empty: only log the edges)", aliases=("publish_topic",)),
+        Param("type", "std_msgs/Bool", "its message type"),
+        Param("on_true", {"data": True}, "message fields published on the rising edge"),
+        Param("on_false", {}, "message fields published on the falling edge (empty: nothing)"),
+        Param("latch", True, "latch the topic"),
+        Param("repeat", False, "republish ~on_true every 1/~rate s while true"),
+    ],
+)
+
+
+class PublishOnEdge(OutputPropositionNode):
+    """Publish one configured message when the proposition rises and another when it falls."""
+
+    def __init__(self, config: dict[str, Any]) -> None:
+        import rospy
+
+        self.pub = self.on_true = self.on_false = None
+        if config["topic"]:
+            cls = message_class(config["type"])
+            self.on_true = fill_message(cls, config["on_true"], "~on_true")
+            self.on_false = fill_message(cls, config["on_false"], "~on_false") if config["on_false"] else None
+            self.pub = rospy.Publisher(config["topic"], cls, queue_size=10, latch=config["latch"])
+        super().__init__(config)
+
+    def on_rising(self) -> None:
+        if self.pub is not None:
+            self.pub.publish(self.on_true)
+
+    def while_true(self) -> None:
+        if self.pub is not None and self.config["repeat"]:
+            self.pub.publish(self.on_true)
+
+    def on_falling(self) -> None:
+        if self.pub is not None and self.on_false is not None:
+            self.pub.publish(self.on_false)
+
+
+def publish_on_edge_main() -> None:
+    run_node(PUBLISH_ON_EDGE, PublishOnEdge)
 
 
 def set_velocity_main() -> None:
