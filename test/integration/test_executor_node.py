@@ -379,3 +379,27 @@ def test_thesis_simple_example_runs_with_its_own_mapping(ros_master, probes):
         # Example 7 (simple.slugsin): person -> stop_camera, !sense_object -> move, sense_object -> stop.
         assert (not person or outputs["stop_camera"]) and (sense_object or outputs["move"]) and \
             (not sense_object or outputs["stop"]), state
+
+
+def test_transient_violation_between_two_messages_is_not_reported(ros_master, probes, tmp_path):
+    spec = tmp_path / "regions.slugsin"  # the robot is in exactly one of two regions; at1 says it is in r1
+    spec.write_text("[INPUT]\nr1\nr2\n\n[OUTPUT]\nat1\n\n[ENV_INIT]\n| & r1 ! r2 & ! r1 r2\n\n"
+                    "[ENV_TRANS]\n| & r1' ! r2' & ! r1' r2'\n\n[SYS_TRANS]\n| & at1' r1' & ! at1' ! r1'\n\n"
+                    "[SYS_INIT]\n| & at1 r1 & ! at1 ! r1\n")
+    executor = ros_master.run(["rosrun", "ltl_stack", "controller_executor", str(spec), "--violation-grace", "1.0"],
+                              name="executor")
+    ros_master.wait_for_subscriber("/regions/inputs/r2")
+    probe = probes(["bool:/regions/outputs/at1", "diag:/diagnostics"])
+    probe.publish("/regions/inputs/r1", True)
+    probe.publish("/regions/inputs/r2", False)
+    probe.wait_value("/regions/outputs/at1", True)
+    # Moving r1 -> r2 arrives as two messages; in between both regions read true.
+    probe.publish("/regions/inputs/r2", True)
+    probe.publish("/regions/inputs/r1", False)
+    probe.wait_value("/regions/outputs/at1", False)
+    # Now a lasting violation (no region at all): reported after the grace time, once.
+    probe.publish("/regions/inputs/r2", False)
+    wait_for(lambda: [d for d in probe.of("diag") if d["level"] == 2], 10, "the violation diagnostic")
+    log = executor.output()
+    reported = [x for x in log.splitlines() if "environment assumption violated" in x]
+    assert len(reported) == 1 and "inputs !r1 !r2" in reported[0], log

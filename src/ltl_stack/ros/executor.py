@@ -25,6 +25,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import threading
 import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
@@ -72,6 +73,7 @@ class Options:
     on_violation: str = HOLD
     start_paused: bool = False
     publisher_check_period: float = 2.0
+    violation_grace: float = 0.2
 
 
 PARAM_DEFAULTS = Options()
@@ -109,6 +111,10 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--start-paused", action="store_true", default=None, help="start paused")
     parser.add_argument("--publisher-check-period", type=float, metavar="S",
                         help="how often to look for extra publishers on input topics (default 2; 0 = never)")
+    parser.add_argument("--violation-grace", type=float, metavar="S",
+                        help="report a violation only when the inputs stay inadmissible this long (default 0.2): "
+                             "one sensor change often arrives as several topic messages, e.g. leaving one region "
+                             "and entering the next; the output policy applies at once either way")
     parser.add_argument("--check", action="store_true", help="load, validate and synthesize, print a summary "
                         "and exit without ROS")
     parser.add_argument("--json", action="store_true", help="machine-readable output: the --check summary, or "
@@ -334,7 +340,13 @@ class ExecutorNode:
         if update.stepped:
             self._report_step(update)
         if update.violation is not None:
-            self._report_violation(update)
+            if self.options.violation_grace > 0:
+                timer = threading.Timer(self.options.violation_grace, self._confirm_violation,
+                                        args=(update, _key(self.controller.readings)))
+                timer.daemon = True
+                timer.start()
+            else:
+                self._report_violation(update)
         elif self._last_violation_key is not None and self.controller.violation is None:
             self._last_violation_key = None
             self.rospy.loginfo("%s: inputs admissible again; continuing", self.name)
@@ -370,12 +382,18 @@ class ExecutorNode:
             print(json.dumps({"event": "start" if update.started else "step", "state": state.id, "goal": state.goal,
                               "inputs": dict(state.inputs), "outputs": update.outputs}), flush=True)
 
+    def _confirm_violation(self, update: Update, key: tuple) -> None:
+        """Report ``update``'s violation if the same inputs are still inadmissible after the grace time."""
+        with self.controller.lock:
+            if self.controller.violation is not None and _key(self.controller.readings) == key:
+                self._report_violation(update)
+
     def _report_violation(self, update: Update) -> None:
         from ltl_stack.spec.valuation import format_valuation
 
         violation = update.violation
         readings = self.controller.readings
-        key = tuple(sorted(readings.items()))
+        key = _key(readings)
         if key == self._last_violation_key:
             return
         self._last_violation_key = key
@@ -404,6 +422,10 @@ class ExecutorNode:
         self.diag_pub.publish(array)
 
 
+def _key(readings: Mapping[str, bool]) -> tuple:
+    return tuple(sorted(readings.items()))
+
+
 def _english(clause: Any) -> str:
     """The clause in Structured English, or "" when it cannot be rendered."""
     try:
@@ -425,7 +447,7 @@ def _merge_options(args: argparse.Namespace, get_param) -> Options:
     options = Options(**values)
     if options.on_violation not in VIOLATION_POLICIES:
         raise ExecutorError(f"on_violation must be one of {', '.join(VIOLATION_POLICIES)}, got {options.on_violation!r}")
-    for name in ("rate", "ready_timeout", "publisher_check_period"):
+    for name in ("rate", "ready_timeout", "publisher_check_period", "violation_grace"):
         value = getattr(options, name)
         if not isinstance(value, int | float) or value < 0:
             raise ExecutorError(f"{name} must be a number >= 0, got {value!r}")
