@@ -36,11 +36,21 @@ class SynthesisResult:
 
 def synthesize(spec: Spec, *, robotics_semantics: bool = True, cooperative: bool = True,
                progress: Progress | None = None, options: Options | None = None) -> SynthesisResult:
-    """Solve the game of ``spec`` and, when realizable, build its symbolic strategy."""
+    """Solve the game of ``spec`` and, when realizable, build its symbolic strategy.
+
+    The verdict is the spec's (cooperation never changes it). With ``cooperative`` the game is first
+    solved without moves that leave the environment no admissible input; only if that loses is the
+    ordinary game solved, and its strategy then avoids such moves wherever it can
+    (``strategy.fully_cooperative`` is False).
+    """
     start = time.perf_counter()
     game = Game(spec)
     solution = solve(game, robotics_semantics=robotics_semantics, cooperative=cooperative,
                      options=options, progress=progress)
+    if cooperative and not solution.realizable:
+        if progress:
+            progress("no strategy avoids trapping the environment; solving the ordinary game")
+        solution = solve(game, robotics_semantics=robotics_semantics, options=options, progress=progress)
     strategy = SymbolicStrategy(game, solution, cooperative=cooperative) if solution.realizable else None
     return SynthesisResult(solution.realizable, strategy, time.perf_counter() - start, game, solution)
 

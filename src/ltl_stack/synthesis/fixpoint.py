@@ -16,6 +16,11 @@ Techniques (each can be switched off to measure it, see ``Options``):
   that strategy enumeration and stepping see a stable order).
 - conjunction fused with quantification inside ``cpre_sys`` (``and_exists``/``or_forall``).
 
+When no liveness formula mentions next-state variables, the equivalent state-based iterates of
+Bloem et al. (JCSS 2012) are used instead: ``X = (goal_j & cpre(Z')) | cpre(Y') | (!asm_i & cpre(X'))``
+(same W; each cpre has a smaller target, and cpre(Z') is shared by all goals, cpre(Y') by all
+assumptions). The strategy relation of ``strategy.py`` is valid for both kinds of iterates.
+
 The X and Y iterates of the last Z iteration (computed with Z = W) are kept in ``Solution.layers``
 for strategy extraction (thesis Alg. 1 prefers the earliest Y iterate).
 """
@@ -37,6 +42,8 @@ class Options:
     recycle: bool = True
     reorder: bool = True
     early_exit: bool = False
+    #: None: state-based iterates when no liveness formula mentions next-state variables
+    state_based: bool | None = None
 
 
 @dataclass
@@ -61,6 +68,7 @@ class Solution:
     seconds: float
     robotics_semantics: bool
     complete: bool = True  # False when an early exit stopped before the fixpoint
+    cooperative: bool = False  # solved without moves that leave the environment no admissible input
 
 
 def init_ok(game: Game, winning, robotics_semantics: bool) -> bool:
@@ -105,26 +113,42 @@ def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = Fa
         Z = bdd.true
         recycled: list[list[list]] = [[] for _ in game.sys_goals]  # [j][c][i] from last Z iteration
         iteration = 0
+        state_based = opts.state_based
+        if state_based is None:
+            state_based = not game.liveness_has_next
         while True:
             iteration += 1
             layers: list[GoalLayers] = []
             Z_next = bdd.true
+            cox_z = game.cpre_sys(game.prime(Z), sys_trans) if state_based else None
             for j, goal in enumerate(game.sys_goals):
-                reach_goal = goal & game.prime(Z)
+                reach_goal = goal & (cox_z if state_based else game.prime(Z))
                 gl = GoalLayers(Y=[bdd.false], X=[])
                 Y = bdd.false
                 c = 0
                 while True:
-                    live = reach_goal | game.prime(Y)
+                    if state_based:
+                        live = reach_goal | game.cpre_sys(game.prime(Y), sys_trans)
+                    else:
+                        live = reach_goal | game.prime(Y)
                     Xs = []
                     Y_new = Y
                     for i, nasm in enumerate(not_asm):
+                        if nasm == bdd.false:
+                            # no waiting allowed (assumption "true"): X needs no iteration
+                            X = live if state_based else game.cpre_sys(live, sys_trans)
+                            Xs.append(X)
+                            Y_new = Y_new | X
+                            continue
                         X = bdd.true
                         old = recycled[j]
                         if opts.recycle and old:
                             X = old[min(c, len(old) - 1)][i]
                         while True:
-                            X_new = game.cpre_sys(live | (game.prime(X) & nasm), sys_trans)
+                            if state_based:
+                                X_new = live | (nasm & game.cpre_sys(game.prime(X), sys_trans))
+                            else:
+                                X_new = game.cpre_sys(live | (game.prime(X) & nasm), sys_trans)
                             if X_new == X:
                                 break
                             X = X_new
@@ -143,7 +167,8 @@ def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = Fa
                     if progress:
                         progress(f"Z iteration {iteration}: goal {j} already fails the initial condition")
                     return Solution(False, Z_next, layers, sys_trans, iteration,
-                                    time.perf_counter() - start, robotics_semantics, complete=False)
+                                    time.perf_counter() - start, robotics_semantics, complete=False,
+                                    cooperative=cooperative)
             if progress:
                 progress(f"Z iteration {iteration}: {', '.join(str(len(g.Y)) for g in layers)} "
                          f"Y iterations per goal, {time.perf_counter() - start:.2f} s")
@@ -152,7 +177,7 @@ def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = Fa
             Z = Z_next
         realizable = init_ok(game, Z, robotics_semantics)
         return Solution(realizable, Z, layers, sys_trans, iteration,
-                        time.perf_counter() - start, robotics_semantics)
+                        time.perf_counter() - start, robotics_semantics, cooperative=cooperative)
     finally:
         if BACKEND == "cudd":
             bdd.configure(reordering=old_reordering)

@@ -16,7 +16,8 @@ Stable API (other modules, ``explain.py`` and the differential tests rely on it)
 - ``env_init``, ``sys_init``      conjunctions of the init clauses (current variables only)
 - ``env_trans``, ``sys_trans``    conjunctions of the safety clauses (current and next variables)
 - ``env_goals``, ``sys_goals``    one BDD per liveness clause; ``[true]`` when the section is empty
-                                  (goals may mention next variables: they constrain transitions)
+                                  (goals may mention next variables: they constrain transitions;
+                                  ``liveness_has_next`` says whether any does)
 - ``clauses(section)``            ``[(Clause, BDD)]`` per clause of any section of ``SECTIONS``
 - ``violated(section, current, nxt)``  the clauses of ``section`` that a valuation breaks
 - ``cpre_sys(target)``            positions from which the system can force the next transition
@@ -56,8 +57,12 @@ def prime_name(name: str) -> str:
 class Game:
     """The BDD game of a ``Spec``. Build one per spec; all BDDs share ``self.bdd``."""
 
-    def __init__(self, spec: Spec, *, bdd=None) -> None:
+    def __init__(self, spec: Spec, *, bdd=None, interleave: bool = True, fused: bool = True) -> None:
+        """``interleave=False`` declares all current variables before all next ones and
+        ``fused=False`` quantifies after conjoining; both exist only to measure those techniques."""
         self.spec = spec
+        self.interleave = interleave
+        self.fused = fused
         self.bdd = bdd if bdd is not None else _backend.BDD()
         self.inputs: list[str] = list(spec.inputs)
         self.outputs: list[str] = list(spec.outputs)
@@ -80,18 +85,24 @@ class Game:
         self.sys_trans = self._conjoin("sys_safety")
         self.env_goals = [u for _, u in self._clauses["env_liveness"]] or [self.true]
         self.sys_goals = [u for _, u in self._clauses["sys_liveness"]] or [self.true]
+        nxt = set(self.variables_next)
+        #: True when some liveness formula mentions next-state variables (a transition goal)
+        self.liveness_has_next = any(nxt & self.bdd.support(u) for u in self.env_goals + self.sys_goals)
         env_support = self.bdd.support(self.env_trans)
         # slugs forbids primed outputs in env safety; if a spec has them, use the general cpre.
         self._env_sees_outputs_next = any(v in env_support for v in self.outputs_next)
 
     # --- variables -------------------------------------------------------------------------
     def _declare(self) -> None:
-        names = []
-        for v in self.variables:
-            names += [v, prime_name(v)]
+        if self.interleave:
+            names = []
+            for v in self.variables:
+                names += [v, prime_name(v)]
+        else:
+            names = self.variables + [prime_name(v) for v in self.variables]
         existing = set(self.bdd.vars)
         self.bdd.declare(*[n for n in names if n not in existing])
-        if BACKEND == "cudd" and not existing:
+        if BACKEND == "cudd" and not existing and self.interleave:
             try:
                 self.bdd.group({v: 2 for v in self.variables})
             except Exception:  # pragma: no cover - grouping is an optimisation only
@@ -198,7 +209,7 @@ class Game:
         if self._env_sees_outputs_next:
             u = bdd.exist(self.outputs_next, ~self.env_trans | (trans & target))
             return bdd.forall(self.inputs_next, u)
-        if BACKEND == "cudd":
+        if BACKEND == "cudd" and self.fused:
             moves = _backend.and_exists(trans, target, self.outputs_next)
             return _backend.or_forall(~self.env_trans, moves, self.inputs_next)
         moves = bdd.exist(self.outputs_next, trans & target)

@@ -12,9 +12,10 @@ The goal counter advances when a move satisfies ``goal_j & W'``.
 ``step`` never builds the explicit automaton: it restricts the goal's relation to the current
 position and the new inputs and picks one output valuation deterministically (each output keeps its
 current value when it may, in the spec's output order). The cooperative variant (slugs'
-``--cooperativeGR1Strategy`` idea) solves the game without moves that leave the environment no
-admissible input and, among equally good moves, prefers those that let the environment reach the
-liveness assumption the strategy is waiting for soonest.
+``--cooperativeGR1Strategy`` idea) comes from the game solved without moves that leave the
+environment no admissible input (``synthesize`` falls back to the ordinary game, preferring such
+moves only as a last resort, when that one loses) and, among equally good moves, prefers those that
+let the environment reach the liveness assumption the strategy is waiting for soonest.
 
 Recovery (Alg. 1 lines 19-25) plugs in at ``SymbolicStrategy._move``: when the goal relation has no
 move for (x, y, x'), a recovery relation would be consulted there.
@@ -71,6 +72,9 @@ class SymbolicStrategy:
         self.game = game
         self.solution = solution
         self.cooperative = cooperative
+        #: every move leaves the environment an admissible input (False when the spec is only
+        #: realizable by trapping the environment somewhere; such moves are then a last resort)
+        self.fully_cooperative = solution.cooperative
         self.inputs = list(game.inputs)
         self.outputs = list(game.outputs)
         self.winning = solution.winning
@@ -86,6 +90,8 @@ class SymbolicStrategy:
         layers = self.solution.layers[j]
         trans = self.solution.sys_trans
         not_asm = [~a for a in game.env_goals]
+        solution_cooperative = self.solution.cooperative
+        alive_next = game.prime(bdd.exist(game.variables_next, game.env_trans))
         covered = bdd.false
         relation = bdd.false
         for c, Yc in enumerate(layers.Y):
@@ -97,6 +103,8 @@ class SymbolicStrategy:
                     continue
                 block = new & paths
                 if self.cooperative:
+                    if not solution_cooperative:
+                        block = self._prefer(block, [alive_next])
                     block = self._prefer_helping(block, i)
                 relation |= block
                 covered |= new
@@ -107,10 +115,15 @@ class SymbolicStrategy:
         liveness assumption i soonest (both players cooperating, within the winning positions)."""
         game = self.game
         bdd = game.bdd
-        asm = game.env_goals[i]
-        if asm == bdd.true:
+        if game.env_goals[i] == bdd.true:
             return block
-        layers = self._help_layers(i)
+        return self._prefer(block, self._help_layers(i))
+
+    def _prefer(self, block, layers: list):
+        """For each (x, y, x') of ``block`` keep only the moves in the first of ``layers`` that has
+        one (moves in none of them stay when nothing better exists)."""
+        game = self.game
+        bdd = game.bdd
         result = bdd.false
         remaining = block
         for target in layers:

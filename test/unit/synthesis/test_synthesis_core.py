@@ -144,11 +144,24 @@ def test_synthesize_reports_unrealizable_without_strategy():
     assert result.seconds >= 0
 
 
-def test_cooperative_game_forbids_trapping_the_environment():
+def test_cooperation_traps_the_environment_only_as_a_last_resort():
     # Env safety "! o": once o is true the environment has no admissible move, so the robot
     # "wins" the impossible goal (false) by setting o. It starts with o false (sys_init).
-    # Cooperatively that move is forbidden, so the robot loses.
+    # The cooperative game is lost; the verdict stays the spec's, and the strategy says it is
+    # not fully cooperative.
     spec = make_spec(["i"], ["o"], sys_init=["! o"], env_safety=["! o"], sys_liveness=["0"])
-    got = (synthesize(spec, robotics_semantics=False, cooperative=False).realizable,
-           synthesize(spec, robotics_semantics=False, cooperative=True).realizable)
+    game = Game(spec)
+    got = (solve(game).realizable, solve(game, cooperative=True).realizable)
     assert got == (True, False), got
+    result = synthesize(spec, robotics_semantics=False, cooperative=True)
+    assert (result.realizable, result.strategy.fully_cooperative) == (True, False)
+    state = result.strategy.step(result.strategy.initial_state({"i": False}), {"i": True})
+    assert state.outputs == {"o": True}, state.outputs
+    # when both o values are fine, the cooperative strategy leaves the environment a move
+    fine = make_spec(["i"], ["o"], env_safety=["! o"])
+    strategy = synthesize(fine, cooperative=True).strategy
+    assert strategy.fully_cooperative
+    state = strategy.initial_state({"i": False}, {"o": False})
+    for value in (True, False, True):
+        state = strategy.step(state, {"i": value})
+        assert state.outputs == {"o": False}, state.outputs
