@@ -84,5 +84,9 @@ build_workspace() {
 }
 
 install_debian_packages
+# Two shells bootstrapping at once (two terminals, parallel tests) must not build over each other.
+mkdir -p "$LTL_STACK_HOME"
+exec 9>"$LTL_STACK_HOME/.bootstrap.lock"
+flock 9
 make_venv
 build_workspace
