@@ -2,6 +2,9 @@
 
 Clean and patrol (Example 8): every node of test/data/analysis/clean_and_patrol.yaml runs as a real
 rospy node (topics, actionlib clients and servers) under the names of the shared mapping.
+The same setup with ltl_stack's own proposition nodes (action_proposition, set_velocity,
+topic_threshold_sensor) and simulated robot and servers, launched as
+test/data/analysis/clean_and_patrol_sim_mapping.yaml says.
 Spheros (Example 9): ltl_stack's own set_velocity / set_color proposition nodes and one sim_robot
 per robot, launched as the mapping in test/data/analysis/spheros_mapping.yaml says.
 """
@@ -115,31 +118,88 @@ def test_cli_live_with_a_wrong_mapping_reports_e3_and_saves_the_snapshot(clean_a
     assert json.loads(offline.stdout)["E3"] == report["E3"]
 
 
-# --- four spheros with ltl_stack's proposition nodes and simulated robots ------------------------------
+# --- ltl_stack's own proposition nodes and simulated robots, launched as a mapping says ------------
 
-def sphero_nodes() -> list[list[str]]:
-    mapping = yaml.safe_load((DATA / "spheros_mapping.yaml").read_text())
-    commands = []
-    for entries in mapping["outputs"].values():
-        for entry in entries:
-            ns, _, name = entry["node"].rpartition("/")
-            script = "set_velocity" if entry["filename"] == "set_velocity.py" else "set_color"
-            commands.append(["rosrun", "ltl_stack", script, f"__ns:={ns}", f"__name:={name}",
-                             f"_proposition_topic:={entry['node_subscribe_topic']}",
-                             f"_topic:={entry['parameters']['publish_topic']}"])
-    for robot in ROBOTS:
-        commands.append(["rosrun", "ltl_stack", "sim_robot", f"__ns:=/{robot}", "__name:=sim_robot"])
-    return commands
+def mapping_commands(mapping_path: Path) -> tuple[list[list[str]], set[tuple[str, str, str]]]:
+    """rosrun commands for every node entry of a mapping (filename = the ltl_stack node, parameters =
+    private parameters), and the registrations that show each one is up."""
+    mapping = yaml.safe_load(mapping_path.read_text())
+    commands, expected = [], set()
+    for kind, topic_key in (("inputs", "node_publish_topic"), ("outputs", "node_subscribe_topic")):
+        for entries in (mapping.get(kind) or {}).values():
+            for entry in entries if isinstance(entries, list) else [entries]:
+                ns, _, name = entry["node"].rpartition("/")
+                script = entry["filename"].removesuffix(".py")
+                params = [f"_{k}:={yaml.safe_dump(v, default_flow_style=True).strip().removesuffix('...').strip()}"
+                          if isinstance(v, dict) else f"_{k}:={v}" for k, v in (entry.get("parameters") or {}).items()]
+                commands.append(["rosrun", "ltl_stack", script, f"__ns:={ns or '/'}", f"__name:={name}",
+                                 f"_proposition_topic:={entry[topic_key]}", *params])
+                expected.add(("pub" if kind == "inputs" else "sub", entry[topic_key], entry["node"]))
+    return commands, expected
+
+
+@pytest.fixture(scope="module")
+def clean_and_patrol_sim(tmp_path_factory):
+    mapping = DATA / "clean_and_patrol_sim_mapping.yaml"
+    arm = "/arm_1/arm_controller/follow_joint_trajectory"
+    master = RosMaster(tmp_path_factory.mktemp("clean_and_patrol_sim"))
+    try:
+        commands, expected = mapping_commands(mapping)
+        commands += [["rosrun", "ltl_stack", "sim_robot", "__name:=sim_robot"],
+                     ["rosrun", "ltl_stack", "sim_navigation_server", "__name:=move_base", "_action:=/move_base"],
+                     ["rosrun", "ltl_stack", "sim_manipulation_server", "__name:=arm_controller", f"_actions:=[{arm}]"]]
+        expected |= {("sub", "/move_base/goal", "/move_base"), ("sub", f"{arm}/goal", "/arm_controller"),
+                     ("sub", "/cmd_vel", "/sim_robot"), ("pub", f"{arm}/goal", "/pickup"), ("pub", f"{arm}/goal", "/drop"),
+                     ("pub", "/move_base/goal", f"{MGMB}/outputs/topLane")}
+        for i, command in enumerate(commands):
+            master.run(command, name=f"cp_sim_{i:02d}")
+        wait_until_registered(master, expected)
+        yield master, mapping
+    finally:
+        master.shutdown()
+
+
+def test_live_sim_clean_and_patrol_figs_3_6_to_3_9(clean_and_patrol_sim, tmp_path):
+    master, mapping = clean_and_patrol_sim
+    spec = require_shared("specs", "move_group_and_move_base", "move_group_and_move_base.slugsin")
+    done = run_cli(master, "--spec", str(spec), "--mapping", str(mapping), "--live", "--json")
+    assert done.returncode == 0, done.stderr
+    report = json.loads(done.stdout)
+    assert [(f["output"], f["input"], f["chain"]) for f in report["E1"]] == [
+        ("pickup", "pickup_ac", f"(/pickup) -> [{MGMB}/outputs/pickup_status] -> (/pickup_ac)"),
+        ("drop", "drop_ac", f"(/drop) -> [{MGMB}/outputs/drop_status] -> (/drop_ac)")]  # Fig. 3.6
+    groups = {g["topic"]: g for g in report["E2"]}
+    regions = ["rightLane", "leftLane", "topLane", "leftGround", "bottomLane", "rightGround"]
+    assert set(groups["/cmd_vel"]["outputs"]) == {*regions, "stop", "pickup"}  # Fig. 3.7
+    chains = {c["proposition"]: c["chain"] for c in groups["/cmd_vel"]["chains"]}
+    assert chains["topLane"] == f"({MGMB}/outputs/topLane) -> (move_base/action_topics) -> (/move_base) -> [/cmd_vel]"
+    assert chains["pickup"] == "(/pickup_approach) -> [/cmd_vel]"
+    assert groups["arm_1/arm_controller/follow_joint_trajectory/action_topics"]["outputs"] == ["pickup", "drop"]
+    assert report["E3"] == []
+    assert sorted(sorted(s["propositions"]) for s in report["suggestions"]) == [
+        sorted(["pickup", "stop", *regions]), ["drop", "pickup"]]
+    # the drop node wrongly mapped to pickup as well (Fig. 3.9)
+    data = yaml.safe_load(mapping.read_text())
+    data["outputs"]["pickup"].append(dict(data["outputs"]["drop"], node_subscribe_topic=f"{MGMB}/outputs/pickup"))
+    wrong = tmp_path / "wrong.yaml"
+    wrong.write_text(yaml.safe_dump(data))
+    done = run_cli(master, "--spec", str(spec), "--mapping", str(wrong), "--live", "--json")
+    assert done.returncode == 0, done.stderr
+    e3 = json.loads(done.stdout)["E3"]
+    assert sorted((f["output"], f["topic"], f["nodes"]) for f in e3) == [
+        ("pickup", "/holding", ["/pickup", "/drop"]),  # downstream: the arm server's state
+        ("pickup", "arm_1/arm_controller/follow_joint_trajectory/action_topics", ["/pickup", "/drop"])]
 
 
 @pytest.fixture(scope="module")
 def spheros(tmp_path_factory):
     master = RosMaster(tmp_path_factory.mktemp("spheros"))
     try:
-        for i, command in enumerate(sphero_nodes()):
+        commands, expected = mapping_commands(DATA / "spheros_mapping.yaml")
+        commands += [["rosrun", "ltl_stack", "sim_robot", f"__ns:=/{r}", "__name:=sim_robot"] for r in ROBOTS]
+        for i, command in enumerate(commands):
             master.run(command, name=f"sphero_{i:02d}")
         mapping = yaml.safe_load((DATA / "spheros_mapping.yaml").read_text())
-        expected = {("sub", e["node_subscribe_topic"], e["node"]) for es in mapping["outputs"].values() for e in es}
         expected |= {("sub", f"/{r}/cmd_vel", f"/{r}/sim_robot") for r in ROBOTS}
         expected |= {("pub", e["parameters"]["publish_topic"], e["node"])
                      for es in mapping["outputs"].values() for e in es}
