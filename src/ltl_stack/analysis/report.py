@@ -42,7 +42,8 @@ def to_dict(a: Analysis, suggestions: list[MutualExclusion], *, reach: bool = Fa
     data = {
         "graph": {"nodes": len(g.nodes), "topics": sum(c.kind != ACTION for c in g.channels),
                   "actions": sorted(c.name for c in g.channels if c.kind == ACTION),
-                  "services": len(g.services), "edges": g.edge_count,
+                  "services": {name: providers for name, providers in sorted(g.services.items())},
+                  "edges": g.edge_count,
                   "ignored_topics": sorted(g.ignored), "ignore_patterns": list(g.ignore_patterns)},
         "proposition_topics_not_crossed": a.boundary,
         "proposition_nodes": a.nodes,

@@ -57,6 +57,8 @@ def test_json_report_for_tools(snapshots, capsys):
     assert [(s["propositions"], s["slugsin"]["SYS_TRANS"]) for s in data["suggestions"]] == [
         (["move_left", "move_down"], "| & move_left' ! move_down' | & ! move_left' move_down' & ! move_left' ! move_down'")]
     assert data["apply"] is None and data["finding_count"] == len(data["E2"]) + 2
+    assert data["graph"]["services"]["/sphero_ggw/driver/get_loggers"] == ["/sphero_ggw/driver"], \
+        "services are listed (not analysed)"
 
 
 def test_markdown_report_has_thesis_like_tables(snapshots, capsys):
