@@ -338,5 +338,28 @@ def _entry_topics(mapping: Mapping | None, kind: str, prop: str, namespace: str)
     return topics
 
 
+def format_mapping(mapping: Mapping) -> str:
+    """The mapping as YAML in the thesis stack's layout (one node: a mapping; several: a list);
+    ``parse_mapping`` reads it back to the same propositions, nodes and parameters."""
+    data: dict[str, Any] = {}
+    if mapping.namespace:
+        data["namespace"] = mapping.namespace
+    for key, section in (("inputs", mapping.inputs), ("outputs", mapping.outputs)):
+        if not section:
+            continue
+        data[key] = {}
+        for prop, entries in section.items():
+            items = [_entry_dict(e) for e in entries]
+            data[key][prop] = None if not items else items[0] if len(items) == 1 else items
+    return yaml.safe_dump(data, sort_keys=False, default_flow_style=False, allow_unicode=True)
+
+
+def _entry_dict(entry: NodeEntry) -> dict[str, Any]:
+    fields = [("node", entry.node), (_TOPIC_KEY[entry.kind], entry.topic), ("pkg", entry.pkg),
+              ("filename", entry.filename), ("type", entry.type), ("args", entry.args or None),
+              ("parameters", dict(entry.parameters) or None)]
+    return {key: value for key, value in fields if value is not None}
+
+
 def errors(issues: Iterable[MappingIssue]) -> list[MappingIssue]:
     return [i for i in issues if i.severity == "error"]

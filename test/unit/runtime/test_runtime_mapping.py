@@ -13,6 +13,7 @@ from ltl_stack.runtime.mapping import (
     MappingError,
     check_mapping,
     default_topic,
+    format_mapping,
     load_mapping,
     parse_mapping,
     resolve_name,
@@ -208,3 +209,33 @@ def test_tutorial_output_without_node_is_a_warning_with_its_line():
     assert got == [f"{m.file}:19: warning: output 'stop_camera' has no entry with a 'node'; it is treated as "
                    "unmapped and the executor uses its default topic"], got
     assert shared_dir() is not None
+
+
+def _essence(m):
+    return {kind: {p: [(e.node, e.topic, e.pkg, e.filename, e.type, e.args, e.parameters) for e in es]
+                   for p, es in section.items()}
+            for kind, section in (("inputs", m.inputs), ("outputs", m.outputs))}, m.namespace
+
+
+@pytest.mark.parametrize("scenario", ["simple", "tutorial", "firefighting", "move_group_and_move_base",
+                                      "spheros", "spheros_problem"])
+def test_format_mapping_round_trips_the_thesis_mappings(scenario):
+    m = load_mapping(require_shared("specs", scenario, f"{scenario}.yaml"))
+    again = parse_mapping(format_mapping(m), "again.yaml")
+    assert _essence(again) == _essence(m)
+
+
+ENTRY = st.fixed_dictionaries({"node": NAMES.map(lambda n: f"/ns/{n}")},
+                              optional={"pkg": NAMES, "filename": NAMES.map(lambda n: n + ".py"), "args": NAMES,
+                                        "parameters": st.dictionaries(NAMES, st.integers() | st.booleans()
+                                                                      | NAMES | st.floats(allow_nan=False),
+                                                                      min_size=1, max_size=3)})
+
+
+@given(st.dictionaries(NAMES, st.lists(ENTRY, max_size=3), max_size=4), st.none() | NAMES)
+def test_format_mapping_round_trips_any_mapping(outputs, namespace):
+    data = {"outputs": {p: es if len(es) != 1 else es[0] for p, es in outputs.items()}}
+    if namespace:
+        data["namespace"] = namespace
+    m = parse_mapping(yaml.safe_dump(data), "gen.yaml")
+    assert _essence(parse_mapping(format_mapping(m), "again.yaml")) == _essence(m)
