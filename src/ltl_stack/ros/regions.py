@@ -201,6 +201,58 @@ class RegionMap:
                 return name
         return None
 
+    def route(self, start: Point, target: str, margin: float = 0.15) -> list[Point]:
+        """Waypoints from ``start`` to a point well inside region ``target``.
+
+        When the robot is in a region that shares a border with ``target``, the route crosses the
+        middle of that border at right angles (a point ``margin`` inside each side, then the target's
+        interior point), so between convex regions the robot never passes through a third region,
+        as the region-adjacency assumptions of a specification expect. Otherwise it is one straight leg.
+        """
+        goal_region = self.find(target)
+        here = self.region_at(*start)
+        goal = goal_region.interior_point()
+        if here is None or here == goal_region.name:
+            return [goal]
+        border = shared_border(self.regions[here], goal_region)
+        if border is None:
+            return [goal]
+        (x1, y1), (x2, y2) = border
+        mx, my = (x1 + x2) / 2.0, (y1 + y2) / 2.0
+        length = math.hypot(x2 - x1, y2 - y1)
+        nx, ny = -(y2 - y1) / length, (x2 - x1) / length
+        step = min(margin, length / 4.0)
+        if not self.regions[here].contains(mx + nx * step, my + ny * step):
+            nx, ny = -nx, -ny
+        return [(mx + nx * step, my + ny * step), (mx - nx * step, my - ny * step), goal]
+
+
+def shared_border(a: Region, b: Region, tolerance: float = 1e-6) -> tuple[Point, Point] | None:
+    """The longest stretch of boundary that regions ``a`` and ``b`` share, or None if they do not touch."""
+    best: tuple[Point, Point] | None = None
+    best_length = tolerance
+    for p1, p2 in _edges(a.polygon):
+        ex, ey = p2[0] - p1[0], p2[1] - p1[1]
+        length = math.hypot(ex, ey)
+        if length < tolerance:
+            continue
+        ux, uy = ex / length, ey / length
+        for q1, q2 in _edges(b.polygon):
+            # Both ends of b's edge must lie on the line through a's edge.
+            if any(abs((q[0] - p1[0]) * uy - (q[1] - p1[1]) * ux) > tolerance for q in (q1, q2)):
+                continue
+            t1 = (q1[0] - p1[0]) * ux + (q1[1] - p1[1]) * uy
+            t2 = (q2[0] - p1[0]) * ux + (q2[1] - p1[1]) * uy
+            lo, hi = max(0.0, min(t1, t2)), min(length, max(t1, t2))
+            if hi - lo > best_length:
+                best_length = hi - lo
+                best = ((p1[0] + ux * lo, p1[1] + uy * lo), (p1[0] + ux * hi, p1[1] + uy * hi))
+    return best
+
+
+def _edges(polygon: Sequence[Point]) -> list[tuple[Point, Point]]:
+    return [(polygon[i], polygon[(i + 1) % len(polygon)]) for i in range(len(polygon))]
+
 
 def _sections(text: str) -> dict[str, tuple[int, list[str]]]:
     """Split a .regions file into {section name: (header line number, body lines)}."""

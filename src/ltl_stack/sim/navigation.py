@@ -1,7 +1,8 @@
 """``sim_navigation_server``: a move_base-like action server for the simulated robot.
 
 It serves ``ltl_stack/Navigate`` on ``~action`` (default ``navigate``): the goal names a region of
-``~regions_file`` (the robot drives to a point well inside it) or a world point. It reads the robot's
+``~regions_file`` (the robot drives to a point well inside it, crossing the middle of the border when
+it starts in an adjacent region — see ``RegionMap.route``) or a world point. It reads the robot's
 ``odom``, publishes ``cmd_vel`` with a proportional go-to-point controller, sends the remaining distance
 as feedback, stops the robot and succeeds within ``~goal_tolerance``, and stops and reports
 preempted when the goal is cancelled. A goal naming an unknown region is aborted with the reason.
@@ -83,13 +84,15 @@ class NavigationServer:
     def region_of(self, pose: Pose2D) -> str:
         return (self.regions.region_at(pose.x, pose.y) or "") if self.regions is not None else ""
 
-    def target_of(self, goal: Any) -> tuple[float, float]:
-        """World point of a goal; RegionsError for an unknown region or no regions file."""
+    def waypoints_of(self, goal: Any, start: Pose2D | None) -> list[tuple[float, float]]:
+        """World points to drive through for a goal; RegionsError for an unknown region or no regions file."""
         if not goal.region:
-            return (goal.x, goal.y)
+            return [(goal.x, goal.y)]
         if self.regions is None:
             raise RegionsError(f"goal names region {goal.region!r} but the server has no ~regions_file")
-        return self.regions.find(goal.region).interior_point()
+        if start is None:
+            return [self.regions.find(goal.region).interior_point()]
+        return self.regions.route((start.x, start.y), goal.region)
 
     def stop(self) -> None:
         self.cmd_pub.publish(self._twist())
@@ -99,14 +102,17 @@ class NavigationServer:
 
         from ltl_stack.msg import NavigateFeedback, NavigateResult
 
+        c = self.config
+        wait_until = time.monotonic() + c["odom_timeout"]
+        while self.current_pose() is None and time.monotonic() < wait_until and not rospy.is_shutdown():
+            rospy.sleep(0.02)
         try:
-            target = self.target_of(goal)
+            waypoints = self.waypoints_of(goal, self.current_pose())
         except RegionsError as error:
             self.server.set_aborted(NavigateResult(reached=False), str(error))
             return
-        c = self.config
+        target = waypoints.pop(0)
         rate = rospy.Rate(c["rate"])
-        wait_until = time.monotonic() + c["odom_timeout"]
         while not rospy.is_shutdown():
             pose = self.current_pose()
             if self.server.is_preempt_requested():
@@ -123,8 +129,12 @@ class NavigationServer:
             else:
                 wait_until = time.monotonic() + c["odom_timeout"]
                 dist = math.hypot(target[0] - pose.x, target[1] - pose.y)
-                self.server.publish_feedback(NavigateFeedback(distance=dist, x=pose.x, y=pose.y))
-                if dist <= c["goal_tolerance"]:
+                if waypoints and dist <= c["goal_tolerance"]:
+                    target = waypoints.pop(0)
+                    dist = math.hypot(target[0] - pose.x, target[1] - pose.y)
+                left = dist + sum(math.dist(a, b) for a, b in zip([target, *waypoints], waypoints, strict=False))
+                self.server.publish_feedback(NavigateFeedback(distance=left, x=pose.x, y=pose.y))
+                if not waypoints and dist <= c["goal_tolerance"]:
                     self.stop()
                     self.server.set_succeeded(NavigateResult(reached=True, region=self.region_of(pose)),
                                               "reached")

@@ -5,7 +5,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from hypothesis import given
+from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from ltl_stack.ros.regions import Region, RegionMap, RegionsError, point_in_polygon
@@ -111,3 +111,52 @@ def test_interior_point_of_a_concave_region_is_inside():
     cx, cy = region.centroid()
     assert not region.contains(cx, cy), (cx, cy)  # the centroid of this L is outside it
     assert region.contains(*region.interior_point())
+
+
+def _clean_and_patrol_map():
+    from pathlib import Path
+
+    from ltl_stack.ros.regions import RegionMap
+
+    return RegionMap.load(Path(__file__).resolve().parents[3] / "config/clean_and_patrol/clean_and_patrol.regions")
+
+
+def test_shared_border_of_touching_and_separate_regions():
+    from ltl_stack.ros.regions import shared_border
+
+    regions = _clean_and_patrol_map().regions
+    got = shared_border(regions["topLane"], regions["rightLane"])
+    assert got is not None and sorted(got) == [(5.0, 3.0), (6.0, 3.0)], got
+    got = shared_border(regions["leftGround"], regions["rightGround"])
+    assert got is not None and sorted(got) == [(3.0, 1.0), (3.0, 3.0)], got
+    assert shared_border(regions["topLane"], regions["bottomLane"]) is None
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.sampled_from(["topLane", "rightLane", "bottomLane", "leftLane", "leftGround", "rightGround"]),
+       st.sampled_from(["topLane", "rightLane", "bottomLane", "leftLane", "leftGround", "rightGround"]),
+       st.floats(0.05, 0.95), st.floats(0.05, 0.95))
+def test_route_to_an_adjacent_region_never_passes_through_a_third(start_region, goal_region, fx, fy):
+    import math
+
+    from ltl_stack.ros.regions import shared_border
+
+    regions = _clean_and_patrol_map()
+    xs = [p[0] for p in regions.regions[start_region].polygon]
+    ys = [p[1] for p in regions.regions[start_region].polygon]
+    start = (min(xs) + fx * (max(xs) - min(xs)), min(ys) + fy * (max(ys) - min(ys)))
+    route = regions.route(start, goal_region)
+    assert regions.region_at(*route[-1]) == goal_region, route
+    adjacent = shared_border(regions.regions[start_region], regions.regions[goal_region]) is not None
+    if start_region == goal_region or not adjacent:
+        assert len(route) == 1, route
+        return
+    seen = []
+    for a, b in zip([start, *route], route, strict=False):
+        n = max(2, int(math.dist(a, b) / 0.01))
+        for i in range(n + 1):
+            x, y = a[0] + (b[0] - a[0]) * i / n, a[1] + (b[1] - a[1]) * i / n
+            here = regions.region_at(x, y)
+            if here and (not seen or seen[-1] != here):
+                seen.append(here)
+    assert seen == [start_region, goal_region], (start, route, seen)
