@@ -181,7 +181,7 @@ def build_strategy(spec: Any, options: Options, log=print) -> Any:
             automaton = Automaton.load(options.strategy, inputs=list(spec.inputs))
         except (OSError, ValueError, KeyError, TypeError) as err:
             raise ExecutorError(f"{options.strategy}: cannot load strategy: {err}") from None
-        if list(automaton.inputs) != list(spec.inputs) or list(automaton.outputs) != list(spec.outputs):
+        if set(automaton.inputs) != set(spec.inputs) or set(automaton.outputs) != set(spec.outputs):
             raise ExecutorError(f"{options.strategy}: the strategy's propositions (inputs {automaton.inputs}, "
                                 f"outputs {automaton.outputs}) differ from the spec's (inputs {spec.inputs}, "
                                 f"outputs {spec.outputs})")
