@@ -74,6 +74,7 @@ class Options:
     start_paused: bool = False
     publisher_check_period: float = 2.0
     violation_grace: float = 0.2
+    settle_steps: int = 16
 
 
 PARAM_DEFAULTS = Options()
@@ -111,6 +112,10 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--start-paused", action="store_true", default=None, help="start paused")
     parser.add_argument("--publisher-check-period", type=float, metavar="S",
                         help="how often to look for extra publishers on input topics (default 2; 0 = never)")
+    parser.add_argument("--settle-steps", type=int, metavar="N",
+                        help="after a step, keep stepping with unchanged inputs while the state changes, at most "
+                             "N times (default 16), so the robot starts its next move without waiting for an input "
+                             "change; 0 takes exactly one step per input change")
     parser.add_argument("--violation-grace", type=float, metavar="S",
                         help="report a violation only when the inputs stay inadmissible this long (default 0.2): "
                              "one sensor change often arrives as several topic messages, e.g. leaving one region "
@@ -447,7 +452,7 @@ def _merge_options(args: argparse.Namespace, get_param) -> Options:
     options = Options(**values)
     if options.on_violation not in VIOLATION_POLICIES:
         raise ExecutorError(f"on_violation must be one of {', '.join(VIOLATION_POLICIES)}, got {options.on_violation!r}")
-    for name in ("rate", "ready_timeout", "publisher_check_period", "violation_grace"):
+    for name in ("rate", "ready_timeout", "publisher_check_period", "violation_grace", "settle_steps"):
         value = getattr(options, name)
         if not isinstance(value, int | float) or value < 0:
             raise ExecutorError(f"{name} must be a number >= 0, got {value!r}")
@@ -462,7 +467,8 @@ def _check(args: argparse.Namespace) -> int:
     for warning in prepared.warnings:
         print(warning, file=sys.stderr)
     strategy = build_strategy(prepared.spec, options, log=lambda text: print(text, file=sys.stderr))
-    controller = Controller(strategy, on_violation=options.on_violation, init_props=init)
+    controller = Controller(strategy, on_violation=options.on_violation, init_props=init,
+                            settle_steps=options.settle_steps)
     summary = {"spec": str(args.spec), "mapping": args.mapping, "namespace": prepared.namespace,
                "inputs": prepared.input_topics, "outputs": prepared.output_topics,
                "warnings": prepared.warnings, "init_props": init, "ready": controller.ready}
@@ -504,7 +510,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         init = parse_init_props(options.init_props, prepared.spec)
         strategy = build_strategy(prepared.spec, options, log=lambda text: rospy.loginfo("%s: %s", rospy.get_name(), text))
         controller = Controller(strategy, on_violation=options.on_violation, init_props=init,
-                                running=True)
+                                running=True, settle_steps=options.settle_steps)
     except ExecutorError as err:
         print(f"controller_executor: error: {err}", file=sys.stderr)
         rospy.signal_shutdown("bad configuration")

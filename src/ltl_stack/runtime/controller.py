@@ -6,6 +6,11 @@ outputs=)`` and ``step(state, inputs)``, such as ``ltl_stack.synthesis.SymbolicS
 and the run/pause switch. It is event driven: a reading that changes the input valuation steps the
 strategy at once; a repeated reading does nothing.
 
+* Settling: after a step the strategy may still want to move with the same inputs (head for the
+  next region, start the next action). Event driven, nothing would change the inputs to trigger
+  that move, so the controller keeps stepping with unchanged readings — moves the environment's
+  "nothing happened" allows — until the state stops changing, at most ``settle_steps`` times.
+  Only the final state's outputs are published: the intermediate ones took no time.
 * Ready handshake: nothing is stepped before every input has reported once (``missing_inputs``).
 * Pause: while paused every output is false and nothing is stepped; on resume the strategy steps
   from its last state with the current readings.
@@ -75,7 +80,7 @@ class Controller:
 
     def __init__(self, strategy: StrategyLike, *, on_violation: str = HOLD,
                  init_props: Mapping[str, bool] | None = None, running: bool = True,
-                 recovery: Recovery | None = None) -> None:
+                 recovery: Recovery | None = None, settle_steps: int = 16) -> None:
         if on_violation not in VIOLATION_POLICIES:
             raise ValueError(f"on_violation must be one of {', '.join(VIOLATION_POLICIES)}, got {on_violation!r}")
         self.strategy = strategy
@@ -88,6 +93,9 @@ class Controller:
                              f"(inputs: {', '.join(self.inputs) or 'none'}; outputs: {', '.join(self.outputs) or 'none'})")
         self.on_violation = on_violation
         self.recovery = recovery
+        if settle_steps < 0:
+            raise ValueError(f"settle_steps must be >= 0, got {settle_steps}")
+        self.settle_steps = settle_steps
         self.lock = threading.RLock()
         self.state: Any = None
         self.running = running
@@ -178,6 +186,7 @@ class Controller:
                 self.init_error = str(err)
                 return self._result(error=self.init_error)
             self.init_error = None
+            self._settle(readings)
             return self._result(stepped=True, started=True)
         if not force and self.violation is None and readings == _valuation(self.state.inputs, self.inputs):
             return self._result()
@@ -191,7 +200,19 @@ class Controller:
             new_state = recovered
         self.violation = None
         self.state = new_state
+        self._settle(readings)
         return self._result(stepped=True)
+
+    def _settle(self, readings: dict[str, bool]) -> None:
+        """Step with unchanged readings while the state changes (at most ``settle_steps`` times)."""
+        for _ in range(self.settle_steps):
+            try:
+                following = self.strategy.step(self.state, readings)
+            except AssumptionViolation:
+                return  # the environment may not stay still here: wait for it to move
+            if following.id == self.state.id:
+                return
+            self.state = following
 
     def _result(self, **kwargs: Any) -> Update:
         outputs = self.current_outputs()

@@ -1,65 +1,110 @@
-"""The README's demo: real ROS nodes of this package exchanging its messages on a private master.
+"""The README's demo: thesis Example 8 (clean and patrol) end to end on a simulated youBot.
 
-Starts a rosmaster on a free port, a ``proposition_monitor`` listening for valuations, a
-``timed_proposition_server`` behind an actionlib action, then publishes a valuation with
-``set_propositions`` and drives the action with ``send_proposition_goal``, printing what each
-node reports. Exit code 0 only when the valuation arrived and the action completed.
+Starts a private rosmaster on a free port, launches ``clean_and_patrol.launch`` (the simulated
+robot, its navigation and manipulation servers, a scripted camera, every proposition node and the
+controller executor, which synthesizes the spec at start-up), prints the controller's trace — what it
+senses, what it does, what changed — and stops everything after the strategy has cycled through all
+its goals the given number of times. Exit code 0 when it did, 1 when it did not in time.
 """
 from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 import time
+from pathlib import Path
 
 from ltl_stack.sim.session import RosSession
 
+SCENARIOS = {
+    "clean_and_patrol": "Thesis Example 8: patrol the four lanes; when an object is seen, stop, pick it "
+                        "up, carry it to rightGround, drop it, and patrol again.",
+    "simple": "Thesis Example 7: always move; stop when an obstacle is sensed; stop the camera when a "
+              "person is there.",
+}
 
-def _wait_line(proc, timeout: float) -> str | None:
-    """The next output line of ``proc`` or None when it ends or ``timeout`` passes."""
-    import select
 
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        ready, _, _ = select.select([proc.stdout], [], [], 0.1)
-        if ready:
-            line = proc.stdout.readline()
-            return line.decode(errors="replace").rstrip() if line else None
-    return None
+def package_dir() -> Path:
+    """The ltl_stack package folder (where config/ and launch/ are)."""
+    return Path(__file__).resolve().parents[3]
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="tools/demo", description=__doc__.splitlines()[0])
-    parser.parse_args(argv)
+    parser = argparse.ArgumentParser(
+        prog="tools/demo", description=__doc__.splitlines()[0],
+        epilog="Exit codes: 0 the goal cycles completed, 1 they did not within --timeout "
+               "(the launch log is shown), 2 bad arguments.")
+    parser.add_argument("--scenario", choices=sorted(SCENARIOS), default="clean_and_patrol")
+    parser.add_argument("--cycles", type=int, default=2, help="goal cycles to run (default: %(default)s)")
+    parser.add_argument("--timeout", type=float, default=240.0, help="give up after S seconds")
+    parser.add_argument("--json", action="store_true", help="JSON lines instead of the readable trace")
+    parser.add_argument("--launch-arg", action="append", default=[], metavar="NAME:=VALUE",
+                        help="extra roslaunch argument, e.g. speed:=2.0 (repeatable)")
+    args = parser.parse_args(argv)
+    config = package_dir() / "config" / args.scenario
+    spec_files = sorted(config.glob("*.structuredslugs")) + sorted(config.glob("*.slugsin"))
+    if not spec_files:
+        print(f"demo: no spec in {config}", file=sys.stderr)
+        return 2
+    from ltl_stack.spec import load_spec
+
+    goals = max(1, len(load_spec(spec_files[0]).sys_liveness))
+
+    def say(text: str) -> None:
+        if not args.json:
+            print(f"[demo] {text}", flush=True)
+
     with RosSession() as ros:
-        print(f"[demo] private rosmaster at {ros.uri}", flush=True)
-        monitor = ros.start(["rosrun", "ltl_stack", "proposition_monitor", "/demo/valuation", "--json",
-                             "--count", "1"])
-        ros.start(["rosrun", "ltl_stack", "timed_proposition_server", "_action:=/demo/pickup",
-                   "_duration:=1.0"], stdout=open(ros.workdir / "server.log", "wb"))  # noqa: SIM115
-        sender = ros.start(["rosrun", "ltl_stack", "set_propositions", "/demo/valuation",
-                            "object=1,pickup=0", "--wait-subscribers", "1"])
-        print(f"[demo] set_propositions: {sender.communicate(timeout=60)[0].decode().strip()}", flush=True)
-        line = None
-        while True:
-            line = _wait_line(monitor, 30)
-            if line is None or line.startswith("{"):
+        say(SCENARIOS[args.scenario])
+        say(f"private rosmaster at {ros.uri}; launching {args.scenario}.launch")
+        log_path = ros.workdir / "roslaunch.log"
+        launch = ros.start(["roslaunch", "ltl_stack", f"{args.scenario}.launch", *args.launch_arg],
+                           stdout=open(log_path, "wb"))  # noqa: SIM115 - closed with the process
+        for key in ("ROS_MASTER_URI", "ROS_IP", "ROS_LOG_DIR", "ROS_HOME"):
+            os.environ[key] = ros.env[key]
+        import rospy
+        from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
+
+        from ltl_stack.ros.controller_trace import ControllerTrace
+
+        rospy.init_node("demo_trace", anonymous=True, disable_signals=True)
+        problems: list[str] = []
+
+        def on_diagnostics(msg: DiagnosticArray) -> None:
+            for status in msg.status:
+                if status.level >= DiagnosticStatus.ERROR:
+                    problems.append(status.message)
+                    if args.json:
+                        print(json.dumps({"event": "diagnostic", "message": status.message}), flush=True)
+                    else:
+                        print(f"[demo] controller reports: {status.message}", flush=True)
+
+        rospy.Subscriber("/diagnostics", DiagnosticArray, on_diagnostics)
+        trace = ControllerTrace(f"/{args.scenario}/controller_executor/state", goals, args.json)
+        say(f"synthesizing and starting; the run ends after {args.cycles} cycle(s) through {goals} goals")
+        started = time.monotonic()
+        reached = False
+        while time.monotonic() - started < args.timeout and launch.poll() is None:
+            if trace.wait_cycles(args.cycles, 1.0):
+                reached = True
                 break
-        if line is None:
-            print("[demo] FAILED: the monitor received no valuation", file=sys.stderr)
+        elapsed = time.monotonic() - started
+        rospy.signal_shutdown("demo finished")
+        summary = {"event": "summary", "scenario": args.scenario, "cycles": trace.cycles.completed,
+                   "states": len(trace.steps), "seconds": round(elapsed, 1), "problems": len(problems),
+                   "ok": reached}
+        if args.json:
+            print(json.dumps(summary), flush=True)
+        elif reached:
+            say(f"done: {trace.cycles.completed} goal cycle(s), {len(trace.steps)} controller states, "
+                f"{elapsed:.1f} s, {len(problems)} problem(s) reported")
+        if not reached:
+            print(f"[demo] FAILED: {args.cycles} goal cycle(s) not completed within {args.timeout:.0f} s; "
+                  f"last lines of the launch log:", file=sys.stderr)
+            launch_log = log_path.read_text(errors="replace").splitlines()
+            print("\n".join(launch_log[-30:]), file=sys.stderr)
             return 1
-        received = json.loads(line)
-        print(f"[demo] proposition_monitor received on {received['topic']}: {received['valuation']}", flush=True)
-        client = ros.start(["rosrun", "ltl_stack", "send_proposition_goal", "/demo/pickup", "--json"])
-        events = []
-        for raw in client.communicate(timeout=60)[0].decode().splitlines():
-            if raw.startswith("{"):
-                events.append(json.loads(raw))
-                print(f"[demo] action /demo/pickup {events[-1]}", flush=True)
-        if not events or not events[-1].get("completed"):
-            print("[demo] FAILED: the action did not complete", file=sys.stderr)
-            return 1
-    print("[demo] done: a valuation crossed the master and a proposition action completed", flush=True)
     return 0
 
 

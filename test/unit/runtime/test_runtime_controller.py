@@ -57,6 +57,9 @@ class ToyStrategy:
 
 
 def make(**kwargs):
+    # The toy strategy changes its goal on every step, so settling would always take settle_steps
+    # steps; these tests are about one step per input change.
+    kwargs.setdefault("settle_steps", 0)
     strategy = ToyStrategy()
     return strategy, Controller(strategy, **kwargs)
 
@@ -243,3 +246,37 @@ def test_violated_env_safety_evaluates_each_clause():
                                                          Clause(Var("busy", True), "busy'", "x", 1)])
     assert violated_env_safety(spec, {"lock": True}, {"lock": False}) == [LOCK_CLAUSE]
     assert violated_env_safety(spec, {"lock": True}, {"lock": True}) == []
+
+
+# --- settling: stepping with unchanged readings until the state stops changing ------------------
+
+def chain_automaton():
+    """go=1 leads through states 1 -> 2 -> 3 with the same input; 3 loops. Outputs say where."""
+    where = lambda k: {"at1": k == 1, "at2": k == 2, "at3": k == 3}  # noqa: E731
+    states = [S(0, {"go": False}, where(0), 0, [0, 1]), S(1, {"go": True}, where(1), 0, [2]),
+              S(2, {"go": True}, where(2), 0, [3]), S(3, {"go": True}, where(3), 0, [3])]
+    return Auto(states, [0])
+
+
+@pytest.mark.parametrize("settle_steps,expected", [(0, 1), (1, 2), (2, 3), (16, 3)])
+def test_settling_steps_with_unchanged_readings_until_the_state_repeats(settle_steps, expected):
+    ctl = Controller(AutomatonStrategy(chain_automaton()), settle_steps=settle_steps)
+    ctl.report("go", False)
+    update = ctl.report("go", True)
+    assert update.state.id == expected, update.state
+    assert update.outputs == {"at1": expected == 1, "at2": expected == 2, "at3": expected == 3}, update.outputs
+
+
+def test_settling_stops_where_the_environment_may_not_stay_still():
+    # From state 1 the only successor needs go=False: staying with go=True is not an allowed move.
+    states = [S(0, {"go": False}, {"busy": False}, 0, [1]), S(1, {"go": True}, {"busy": True}, 0, [0])]
+    ctl = Controller(AutomatonStrategy(Auto(states, [0])), settle_steps=16)
+    ctl.report("go", False)
+    update = ctl.report("go", True)
+    assert update.state.id == 1 and update.violation is None, update
+
+
+def test_settling_also_follows_the_initial_state():
+    ctl = Controller(AutomatonStrategy(Auto(chain_automaton().states, [1])), settle_steps=16)
+    update = ctl.report("go", True)
+    assert update.started and update.state.id == 3, update.state
