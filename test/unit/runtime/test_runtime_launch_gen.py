@@ -146,3 +146,17 @@ def test_an_existing_file_is_replaced_whole(tmp_path):
     assert main([str(mapping), "-o", str(out)]) == 0
     assert out.read_text().startswith('<?xml version="1.0"?>')
     assert sorted(p.name for p in tmp_path.iterdir()) == ["demo.launch", "demo.yaml"]
+
+
+def test_paths_inside_a_package_are_written_with_find(tmp_path):
+    from ltl_stack.ros.launch_gen import package_relative
+
+    pkg = tmp_path / "my_robot"
+    (pkg / "config").mkdir(parents=True)
+    (pkg / "package.xml").write_text('<?xml version="1.0"?><package format="3"><name>my_robot</name></package>')
+    spec = pkg / "config" / "task.slugsin"
+    spec.write_text("")
+    assert package_relative(spec) == "$(find my_robot)/config/task.slugsin"
+    outside = tmp_path / "elsewhere.slugsin"
+    outside.write_text("")
+    assert package_relative(outside) == str(outside.resolve())

@@ -1,0 +1,115 @@
+"""The thesis scenarios end to end on the simulated robot, through their own launch files.
+
+The clean-and-patrol run is the README's demo (``python -m ltl_stack.sim.demo``), which starts a
+private master on a free port, ``roslaunch``es the scenario and prints the controller's states as JSON
+lines; the test checks the behaviour the thesis narrates (Example 8).
+"""
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+import time
+
+import pytest
+from helpers import REPO_ROOT, wait_for
+from test_nodes_probe import Recorder, shared_master
+
+pytestmark = [pytest.mark.ros, pytest.mark.slow]
+
+LANES = ["topLane", "rightLane", "bottomLane", "leftLane"]
+REGIONS = [*LANES, "leftGround", "rightGround"]
+
+
+@pytest.fixture(scope="module")
+def clean_and_patrol_run():
+    """States and summary of two goal cycles of the clean-and-patrol demo."""
+    proc = subprocess.run([sys.executable, "-m", "ltl_stack.sim.demo", "--json", "--cycles", "2",
+                           "--timeout", "180"], capture_output=True, text=True, timeout=300, cwd=REPO_ROOT)
+    events = [json.loads(line) for line in proc.stdout.splitlines() if line.startswith("{")]
+    assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
+    return events
+
+
+def _states(events):
+    return [e for e in events if e["event"] == "state"]
+
+
+def test_demo_completes_two_goal_cycles_without_problems(clean_and_patrol_run):
+    summary = clean_and_patrol_run[-1]
+    assert summary["event"] == "summary" and summary["ok"] and summary["cycles"] == 2, summary
+    diagnostics = [e for e in clean_and_patrol_run if e["event"] == "diagnostic"]
+    assert diagnostics == [], diagnostics
+
+
+def test_every_lane_is_visited(clean_and_patrol_run):
+    visited = {r for s in _states(clean_and_patrol_run) for r in REGIONS if s["inputs"][f"{r}_rc"]}
+    assert set(LANES) <= visited, visited
+
+
+def test_pickup_only_after_an_object_was_seen_and_drop_only_at_right_ground(clean_and_patrol_run):
+    states = _states(clean_and_patrol_run)
+    pickups = [s for s in states if s["outputs"]["pickup"]]
+    drops = [s for s in states if s["outputs"]["drop"]]
+    assert pickups and drops, "the scripted object was never picked up and dropped"
+    first_object = next(i for i, s in enumerate(states) if s["inputs"]["object"])
+    for i, s in enumerate(states):
+        if s["outputs"]["pickup"]:
+            assert i >= first_object and (s["inputs"]["object"] or s["outputs"]["sawObject"]), s
+        if s["outputs"]["drop"]:
+            assert s["inputs"]["rightGround_rc"] and s["outputs"]["holdingObject"], s
+    holding = [i for i, s in enumerate(states) if s["outputs"]["holdingObject"]]
+    completed = [i for i, s in enumerate(states) if s["inputs"]["pickup_ac"]]
+    assert holding and completed and min(completed) <= min(holding), (completed, holding)
+
+
+def test_never_heads_for_two_regions_at_once(clean_and_patrol_run):
+    for s in _states(clean_and_patrol_run):
+        heading = [r for r in REGIONS if s["outputs"][r]]
+        assert len(heading) <= 1, s
+        assert not (heading and (s["outputs"]["pickup"] or s["outputs"]["stop"])), s
+
+
+def _speed(odom) -> float:
+    v = odom.twist.twist.linear
+    return math.hypot(v.x, v.y)
+
+
+def test_pause_stops_the_robot_within_one_step_and_resume_moves_it_again():
+    import rospy
+    from nav_msgs.msg import Odometry
+    from std_msgs.msg import Bool
+
+    from ltl_stack.msg import ControllerState
+
+    master = shared_master()
+    launch = master.run(["roslaunch", "ltl_stack", "clean_and_patrol.launch"], name="clean_and_patrol")
+    try:
+        state = Recorder("/clean_and_patrol/controller_executor/state", ControllerState)
+        odom = Recorder("/odom", Odometry)
+        try:
+            odom.wait(lambda msgs: msgs and _speed(msgs[-1]) > 0.2, timeout=60, what="the robot moving")
+        except AssertionError:
+            raise AssertionError(launch.output()[-4000:]) from None
+        # Pause through the service (called as a user would), resume through the topic.
+        paused_at = time.monotonic()
+        call = subprocess.run(["rosservice", "call", "/clean_and_patrol/controller_executor/set_running",
+                               "data: false"], env=master.env, capture_output=True, text=True, timeout=30)
+        assert call.returncode == 0 and "success: True" in call.stdout, call.stdout + call.stderr
+        paused = state.wait_last(lambda m: not m.running and not any(m.outputs.values), timeout=2,
+                                 what="a paused state with every output false")
+        assert paused.state_id >= 0
+        odom.wait_last(lambda m: _speed(m) < 1e-3, timeout=2, what="the robot standing still")
+        stopped_after = time.monotonic() - paused_at
+        assert stopped_after < 1.5, stopped_after
+        here = odom.last().pose.pose.position
+        time.sleep(0.5)  # the robot must stay where it is while paused, not merely slow down
+        there = odom.last().pose.pose.position
+        assert math.hypot(there.x - here.x, there.y - here.y) < 0.01, (here, there)
+        running = rospy.Publisher("/clean_and_patrol/controller_executor/running", Bool, queue_size=1, latch=True)
+        running.publish(Bool(True))
+        odom.wait(lambda msgs: msgs and _speed(msgs[-1]) > 0.2, timeout=15, what="the robot moving again")
+        wait_for(lambda: state.last() is not None and state.last().running, 5, "a running state")
+    finally:
+        launch.stop()
