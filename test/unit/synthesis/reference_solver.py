@@ -101,8 +101,11 @@ class Game:
     sys_goals: list[np.ndarray]   # (x, y, x', y'), one per sys liveness (true when none)
 
 
-def build_game(spec) -> Game:
-    """Evaluate every section of ``spec`` on every cell."""
+def build_game(spec, cooperative: bool = False) -> Game:
+    """Evaluate every section of ``spec`` on every cell.
+
+    ``cooperative``: the robot may only move to positions where the environment still has an input
+    that respects its safety (the game a strategy that never traps the environment must win)."""
     grid = Grid(spec.inputs, spec.outputs)
     full_env_trans = grid.conjunction(spec.env_safety)
     env_trans = full_env_trans[:, :, :, 0]
@@ -110,11 +113,15 @@ def build_game(spec) -> Game:
         raise ValueError("env safety mentions a primed output; slugs forbids that")
     env_goals = [grid.evaluate(c.formula) for c in spec.env_liveness] or [np.ones(grid.shape, dtype=bool)]
     sys_goals = [grid.evaluate(c.formula) for c in spec.sys_liveness] or [np.ones(grid.shape, dtype=bool)]
+    sys_trans = grid.conjunction(spec.sys_safety)
+    if cooperative:
+        env_can_move = env_trans.any(axis=2)                      # (x, y)
+        sys_trans = sys_trans & env_can_move[None, None, :, :]
     return Game(grid=grid,
                 env_init=grid.conjunction(spec.env_init)[:, :, 0, 0],
                 sys_init=grid.conjunction(spec.sys_init)[:, :, 0, 0],
                 env_trans=env_trans,
-                sys_trans=grid.conjunction(spec.sys_safety),
+                sys_trans=sys_trans,
                 env_goals=env_goals,
                 sys_goals=sys_goals)
 
