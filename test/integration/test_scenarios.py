@@ -11,6 +11,7 @@ import math
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import pytest
 from helpers import REPO_ROOT, wait_for
@@ -111,5 +112,64 @@ def test_pause_stops_the_robot_within_one_step_and_resume_moves_it_again():
         running.publish(Bool(True))
         odom.wait(lambda msgs: msgs and _speed(msgs[-1]) > 0.2, timeout=15, what="the robot moving again")
         wait_for(lambda: state.last() is not None and state.last().running, 5, "a running state")
+    finally:
+        launch.stop()
+
+
+def test_simple_scenario_moves_always_and_stops_for_the_person():
+    proc = subprocess.run([sys.executable, "-m", "ltl_stack.sim.demo", "--scenario", "simple", "--json",
+                           "--duration", "8", "--timeout", "60"], capture_output=True, text=True, timeout=120,
+                          cwd=REPO_ROOT)
+    assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
+    states = _states([json.loads(line) for line in proc.stdout.splitlines() if line.startswith("{")])
+    assert any(s["inputs"]["person"] for s in states), "the scripted person never showed up"
+    for s in states:
+        assert s["outputs"]["move"], s
+        if s["inputs"]["person"]:
+            assert s["outputs"]["stop"], s
+
+
+def _find_key(value, key):
+    """The first value stored under ``key`` anywhere in a JSON document."""
+    if isinstance(value, dict):
+        if key in value:
+            return value[key]
+        value = list(value.values())
+    if isinstance(value, list):
+        for item in value:
+            found = _find_key(item, key)
+            if found is not None:
+                return found
+    return None
+
+
+def test_live_analysis_of_the_simple_scenario_finds_move_and_stop_on_the_velocity_topic():
+    """Thesis Example 7 / Fig. 3.1: move and stop command /cmd_vel together (E2). With the suggested
+    mutual exclusion added, "always move" and "if person then stop" cannot both hold: the report says
+    the spec became unrealizable (exit 3) and names exactly the clauses that clash, with file:line."""
+    master = shared_master()
+    launch = master.run(["roslaunch", "ltl_stack", "simple.launch", "start_executor:=false"], name="simple")
+    try:
+        for topic in ("/simple/outputs/move", "/simple/outputs/stop"):
+            master.wait_for_subscriber(topic, timeout=60)
+        master.wait_for_publisher("/simple/inputs/person", timeout=60)
+        master.wait_for_publisher("/cmd_vel", timeout=60)
+        config = REPO_ROOT / "config" / "simple"
+        out = REPO_ROOT / "test" / ".simple_with_suggestion.slugsin"
+        try:
+            proc = subprocess.run(["rosrun", "ltl_stack", "analyze_graph", "--spec", str(config / "simple.structuredslugs"),
+                                   "--mapping", str(config / "simple.yaml"), "--live", "--json", "--apply", str(out)],
+                                  env=master.env, capture_output=True, text=True, timeout=120)
+            assert proc.returncode == 3, proc.stdout[-3000:] + proc.stderr[-3000:]
+            text = proc.stdout
+            assert '"/cmd_vel"' in text, text[:2000]
+            core = _find_key(json.loads(text), "core")
+            assert core is not None, text[:3000]
+            got = {(Path(c["file"]).name, c["text"]) for c in core}
+            assert len(got) == 3, got
+            assert {("simple.structuredslugs", "move'"), ("simple.structuredslugs", "person' -> stop'")} <= got, got
+            assert any(name == out.name and "move and stop are mutually exclusive" in t for name, t in got), got
+        finally:
+            out.unlink(missing_ok=True)
     finally:
         launch.stop()

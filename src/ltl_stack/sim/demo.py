@@ -4,7 +4,8 @@ Starts a private rosmaster on a free port, launches ``clean_and_patrol.launch`` 
 robot, its navigation and manipulation servers, a scripted camera, every proposition node and the
 controller executor, which synthesizes the spec at start-up), prints the controller's trace — what it
 senses, what it does, what changed — and stops everything after the strategy has cycled through all
-its goals the given number of times. Exit code 0 when it did, 1 when it did not in time.
+its goals the given number of times (for a spec without goals: after ``--duration`` seconds). Exit
+code 0 when it did, 1 when it did not in time.
 """
 from __future__ import annotations
 
@@ -20,8 +21,8 @@ from ltl_stack.sim.session import RosSession
 SCENARIOS = {
     "clean_and_patrol": "Thesis Example 8: patrol the four lanes; when an object is seen, stop, pick it "
                         "up, carry it to rightGround, drop it, and patrol again.",
-    "simple": "Thesis Example 7: always move; stop when an obstacle is sensed; stop the camera when a "
-              "person is there.",
+    "simple": "Thesis Example 7: always move; stop when a person is sensed (move and stop are then "
+              "true together, the conflict of Fig. 3.1).",
 }
 
 
@@ -38,6 +39,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--scenario", choices=sorted(SCENARIOS), default="clean_and_patrol")
     parser.add_argument("--cycles", type=int, default=2, help="goal cycles to run (default: %(default)s)")
     parser.add_argument("--timeout", type=float, default=240.0, help="give up after S seconds")
+    parser.add_argument("--duration", type=float, default=12.0,
+                        help="for a spec without system goals: run this many seconds (default: %(default)s)")
     parser.add_argument("--json", action="store_true", help="JSON lines instead of the readable trace")
     parser.add_argument("--launch-arg", action="append", default=[], metavar="NAME:=VALUE",
                         help="extra roslaunch argument, e.g. speed:=2.0 (repeatable)")
@@ -49,7 +52,8 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     from ltl_stack.spec import load_spec
 
-    goals = max(1, len(load_spec(spec_files[0]).sys_liveness))
+    has_goals = bool(load_spec(spec_files[0]).sys_liveness)
+    goals = len(load_spec(spec_files[0]).sys_liveness) if has_goals else 1
 
     def say(text: str) -> None:
         if not args.json:
@@ -82,13 +86,21 @@ def main(argv: list[str] | None = None) -> int:
 
         rospy.Subscriber("/diagnostics", DiagnosticArray, on_diagnostics)
         trace = ControllerTrace(f"/{args.scenario}/controller_executor/state", goals, args.json)
-        say(f"synthesizing and starting; the run ends after {args.cycles} cycle(s) through {goals} goals")
+        if has_goals:
+            say(f"synthesizing and starting; the run ends after {args.cycles} cycle(s) through {goals} goals")
+        else:
+            say(f"synthesizing and starting; the spec has no goals, the run ends after {args.duration:.0f} s")
         started = time.monotonic()
         reached = False
         while time.monotonic() - started < args.timeout and launch.poll() is None:
-            if trace.wait_cycles(args.cycles, 1.0):
+            if has_goals and trace.wait_cycles(args.cycles, 1.0):
                 reached = True
                 break
+            if not has_goals:
+                time.sleep(0.2)
+                if trace.steps and time.monotonic() - started >= args.duration:
+                    reached = True
+                    break
         elapsed = time.monotonic() - started
         rospy.signal_shutdown("demo finished")
         summary = {"event": "summary", "scenario": args.scenario, "cycles": trace.cycles.completed,
@@ -97,11 +109,13 @@ def main(argv: list[str] | None = None) -> int:
         if args.json:
             print(json.dumps(summary), flush=True)
         elif reached:
-            say(f"done: {trace.cycles.completed} goal cycle(s), {len(trace.steps)} controller states, "
-                f"{elapsed:.1f} s, {len(problems)} problem(s) reported")
+            cycles = f"{trace.cycles.completed} goal cycle(s), " if has_goals else ""
+            say(f"done: {cycles}{len(trace.steps)} controller states, {elapsed:.1f} s, "
+                f"{len(problems)} problem(s) reported")
         if not reached:
-            print(f"[demo] FAILED: {args.cycles} goal cycle(s) not completed within {args.timeout:.0f} s; "
-                  f"last lines of the launch log:", file=sys.stderr)
+            what = f"{args.cycles} goal cycle(s) not completed" if has_goals else "the controller never started"
+            print(f"[demo] FAILED: {what} within {args.timeout:.0f} s; last lines of the launch log:",
+                  file=sys.stderr)
             launch_log = log_path.read_text(errors="replace").splitlines()
             print("\n".join(launch_log[-30:]), file=sys.stderr)
             return 1
