@@ -22,8 +22,8 @@ class TooManyStates(SynthesisError):
     """The explicit automaton exceeds ``max_states``."""
 
 
-def _bits(values: dict[str, bool]) -> int:
-    return sum(int(v) << k for k, v in enumerate(values.values()))
+def _bits_of(values: tuple[bool, ...]) -> int:
+    return sum(int(v) << k for k, v in enumerate(values))
 
 
 def initial_states(strategy: SymbolicStrategy) -> list[State]:
@@ -41,40 +41,54 @@ def initial_states(strategy: SymbolicStrategy) -> list[State]:
 def extract(strategy: SymbolicStrategy, *, max_states: int | None = None, progress=None) -> Automaton:
     game = strategy.game
     bdd = game.bdd
-    numbers: dict[tuple, int] = {}
+    names = game.variables
+    nxt_names = game.variables_next
+    n_in = len(game.inputs)
+    goals = len(strategy.relations)
+    numbers: dict[tuple[tuple[bool, ...], int], int] = {}
     states: list[AutomatonState] = []
-    todo: deque[tuple[State, int]] = deque()
+    todo: deque[tuple[tuple[bool, ...], int, int]] = deque()
+    skip_cache: dict[tuple[tuple[bool, ...], int], int] = {}
 
-    def number(s: State) -> int:
-        key = (s.id, s.goal)
+    def number(values: tuple[bool, ...], goal: int) -> int:
+        key = (values, goal)
         n = numbers.get(key)
         if n is None:
             n = numbers[key] = len(states)
             if max_states is not None and n >= max_states:
                 raise TooManyStates(f"the explicit strategy has more than {max_states} states")
-            states.append(AutomatonState(n, dict(s.inputs), dict(s.outputs), s.goal))
-            todo.append((s, n))
+            states.append(AutomatonState(n, dict(zip(game.inputs, values[:n_in], strict=True)),
+                                         dict(zip(game.outputs, values[n_in:], strict=True)), goal))
+            todo.append((values, goal, n))
         return n
 
-    initial = [number(s) for s in initial_states(strategy)]
-    inputs_next = game.inputs_next
-    care = set(inputs_next)
+    def skip(values: tuple[bool, ...], goal: int) -> int:
+        key = (values, goal)
+        g = skip_cache.get(key)
+        if g is None:
+            g = skip_cache[key] = strategy._skip_satisfied(
+                dict(zip(game.inputs, values[:n_in], strict=True)),
+                dict(zip(game.outputs, values[n_in:], strict=True)), goal)
+        return g
+
+    initial = [number(tuple(s.valuation.values()), s.goal) for s in initial_states(strategy)]
+    moves_of = [strategy.deterministic(j) & game.env_trans for j in range(goals)]
+    care = set(nxt_names)
     while todo:
-        s, n = todo.popleft()
-        here = game.assignment(s.valuation)
-        admissible = bdd.let(here, game.env_trans)
-        moves = []
-        for a in bdd.pick_iter(admissible, care_vars=care):
-            moves.append({name: bool(a[inputs_next[k]]) for k, name in enumerate(game.inputs)})
-        moves.sort(key=_bits)
-        succ = []
-        for new_inputs in moves:
-            assign = {**here, **{inputs_next[k]: v for k, v in enumerate(new_inputs.values())}}
-            outputs = strategy._move(s, new_inputs, assign)
-            if outputs is None:
-                continue  # Alg. 1 lines 19-25 would add a recovery transition here.
-            succ.append(number(strategy._successor(s, new_inputs, outputs)))
-        states[n].successors = succ
+        values, goal, n = todo.popleft()
+        here = dict(zip(names, values, strict=True))
+        moves = bdd.let(here, moves_of[goal])
+        reached = bdd.let(here, strategy.reached[goal])
+        edges = []
+        for goal_reached, part in ((True, moves & reached), (False, moves & ~reached)):
+            start_goal = (goal + 1) % goals if goal_reached else goal
+            for a in bdd.pick_iter(part, care_vars=care):
+                target = tuple(bool(a[v]) for v in nxt_names)
+                edges.append((_bits_of(target[:n_in]), number(target, skip(target, start_goal))))
+        # Admissible inputs without a move (none from winning states) would get Alg. 1's
+        # recovery transitions (lines 19-25) here.
+        edges.sort()
+        states[n].successors = [t for _, t in edges]
         if progress and len(states) % 5000 == 0:
             progress(f"explicit strategy: {len(states)} states, {len(todo)} to expand")
     meta = {"cooperative": strategy.cooperative,

@@ -156,6 +156,22 @@ class SymbolicStrategy:
         cache[i] = layers
         return layers
 
+    def deterministic(self, j: int):
+        """Goal j's relation with exactly the move ``step`` picks for each (x, y, x'): outputs keep
+        their current value when they can, decided in the spec's output order (computed once)."""
+        cache = self.__dict__.setdefault("_deterministic", {})
+        if j in cache:
+            return cache[j]
+        game = self.game
+        bdd = game.bdd
+        D = self.relations[j]
+        for name, name_next in zip(game.outputs, game.outputs_next, strict=True):
+            keep = bdd.ite(bdd.var(name), bdd.var(name_next), ~bdd.var(name_next))
+            can_keep = bdd.exist(game.outputs_next, D & keep)
+            D = D & (keep | ~can_keep)
+        cache[j] = D
+        return D
+
     # --- execution --------------------------------------------------------------------------
     def _full(self, values: Mapping[str, bool] | None, names: list[str], what: str) -> dict[str, bool]:
         values = dict(values or {})

@@ -139,3 +139,17 @@ def test_exports_round_trip(tmp_path):
     dot = automaton.to_dot()
     assert dot.startswith('digraph "strategy" {') and dot.count("->") == \
         sum(len(s.successors) for s in automaton.states), dot
+
+
+def test_explicit_automaton_makes_the_same_moves_as_step():
+    for seed in range(12):
+        result = synthesize(random_spec(seed), robotics_semantics=True, cooperative=bool(seed % 2))
+        if not result.realizable:
+            continue
+        automaton = result.strategy.explicit()
+        for s in automaton.states:
+            here = State(dict(s.inputs), dict(s.outputs), s.goal)
+            for t in s.successors:
+                target = automaton.states[t]
+                got = result.strategy.step(here, target.inputs)
+                assert (got.outputs, got.goal) == (target.outputs, target.goal), (seed, s.id, t)
