@@ -12,8 +12,9 @@ Techniques (each can be switched off to measure it, see ``Options``):
   in the previous Z iteration; we start the X iteration there instead of at ``true``.
 - *early exit* for realizability-only queries: Z only shrinks, so as soon as an upper bound of W
   fails the initial condition the answer is "unrealizable".
-- *dynamic reordering* during the fixpoints (CUDD group sifting; it is switched off afterwards so
-  that strategy enumeration and stepping see a stable order).
+- *dynamic reordering* during the fixpoints (CUDD sifting with each x/x' pair grouped), switched on
+  once the manager is big enough to profit and off afterwards, so that strategy enumeration and
+  stepping see a stable order.
 - conjunction fused with quantification inside ``cpre_sys`` (``and_exists``/``or_forall``).
 
 When no liveness formula mentions next-state variables, the equivalent state-based iterates of
@@ -40,7 +41,10 @@ class Options:
     """Switches for the performance techniques (all on by default)."""
 
     recycle: bool = True
+    #: dynamic reordering, switched on once the manager holds ``reorder_threshold`` nodes (small
+    #: games lose more to sifting than they gain)
     reorder: bool = True
+    reorder_threshold: int = 30_000
     early_exit: bool = False
     #: None: state-based iterates when no liveness formula mentions next-state variables
     state_based: bool | None = None
@@ -105,8 +109,18 @@ def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = Fa
     start = time.perf_counter()
     reorder = opts.reorder and BACKEND == "cudd"
     old_reordering = bdd.configure()["reordering"] if BACKEND == "cudd" else False
+    reordering_on = False
+
+    def maybe_reorder() -> None:
+        nonlocal reordering_on
+        if reorder and not reordering_on and len(bdd) >= opts.reorder_threshold:
+            bdd.configure(reordering=True)
+            reordering_on = True
+            if progress:
+                progress(f"dynamic reordering on ({len(bdd)} nodes)")
+
     if BACKEND == "cudd":
-        bdd.configure(reordering=reorder)
+        bdd.configure(reordering=False)
     sys_trans = game.deadlock_free_sys_trans() if cooperative else game.sys_trans
     not_asm = [~a for a in game.env_goals]
     try:
@@ -131,6 +145,7 @@ def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = Fa
                         live = reach_goal | game.cpre_sys(game.prime(Y), sys_trans)
                     else:
                         live = reach_goal | game.prime(Y)
+                    maybe_reorder()
                     Xs = []
                     Y_new = Y
                     for i, nasm in enumerate(not_asm):
@@ -152,6 +167,7 @@ def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = Fa
                             if X_new == X:
                                 break
                             X = X_new
+                            maybe_reorder()
                         Xs.append(X)
                         Y_new = Y_new | X
                     gl.X.append(Xs)
