@@ -25,10 +25,10 @@ from ltl_stack.analysis.checks import Analysis, analyze, e2_groups
 from ltl_stack.analysis.graph import DEFAULT_IGNORED_TOPICS, ComputationGraph
 from ltl_stack.analysis.snapshot import Snapshot, SnapshotError
 from ltl_stack.analysis.suggest import MutualExclusion, add_to_spec, input_exclusion_for, mutual_exclusions
+from ltl_stack.fileio import write_atomic
 from ltl_stack.runtime.mapping import MappingError, check_mapping, errors, load_mapping
 from ltl_stack.spec import SpecError, formula_to_slugsin, load_spec, write_slugsin
 from ltl_stack.spec.model import SLUGSIN_SECTIONS, Spec
-from ltl_stack.synthesis.automaton import write_atomic
 
 EXIT_OK, EXIT_FINDINGS, EXIT_INPUT, EXIT_UNREALIZABLE = 0, 1, 2, 3
 

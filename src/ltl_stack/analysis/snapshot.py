@@ -25,7 +25,7 @@ from pathlib import Path
 
 import yaml
 
-from ltl_stack.synthesis.automaton import write_atomic
+from ltl_stack.fileio import write_atomic
 
 FORMAT = "ltl_stack/graph_snapshot/1"
 _YAML_LOADER = getattr(yaml, "CSafeLoader", yaml.SafeLoader)  # libyaml when present: big graphs load fast

@@ -26,6 +26,7 @@ from xml.sax.saxutils import escape, quoteattr
 
 import yaml
 
+from ltl_stack.fileio import write_atomic
 from ltl_stack.runtime.mapping import (
     INPUT,
     Mapping,
@@ -36,7 +37,6 @@ from ltl_stack.runtime.mapping import (
     load_mapping,
     resolve_name,
 )
-from ltl_stack.synthesis.automaton import write_atomic
 
 EXIT_OK = 0
 EXIT_BAD_INPUT = 2

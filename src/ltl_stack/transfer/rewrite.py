@@ -1,10 +1,10 @@
 """Rewriting a program by replacing byte spans only: every byte outside an edit stays as it was."""
 from __future__ import annotations
 
-import os
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
+
+from ltl_stack import fileio
 
 from .errors import TransferError
 from .source_ast import Span
@@ -29,21 +29,8 @@ def apply_edits(data: bytes, edits: list[Edit]) -> bytes:
 
 
 def write_atomic(path: str | Path, data: bytes | str, mode: int | None = None) -> None:
-    """Write through a temporary file and ``os.replace``, so no half-written file is ever left."""
-    path = Path(path)
-    if isinstance(data, str):
-        data = data.encode("utf-8")
+    """``ltl_stack.fileio.write_atomic``, failing with a TransferError that names the file."""
     try:
-        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.")
+        fileio.write_atomic(path, data, mode)
     except OSError as err:
         raise TransferError(f"cannot write: {err.strerror}", str(path)) from None
-    try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(data)
-        if mode is not None:
-            os.chmod(tmp, mode)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
