@@ -2,14 +2,14 @@
 from __future__ import annotations
 
 import os
-import signal
-import socket
 import subprocess
 import time
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 
 import pytest
+
+from ltl_stack.sim.session import free_port, stop_process
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
 
@@ -29,16 +29,6 @@ def require_shared(*parts: str) -> Path:
     if not path.exists():
         pytest.skip(f"shared file {path} is absent")
     return path
-
-
-def free_port() -> int:
-    """A TCP port on loopback that nothing listens on right now (never 11311)."""
-    while True:
-        with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
-            s.bind(("127.0.0.1", 0))
-            port = s.getsockname()[1]
-        if port != 11311:
-            return port
 
 
 def wait_for(predicate: Callable[[], object], timeout: float = 10.0, what: str = "a condition",
@@ -81,18 +71,8 @@ class RosProcess:
         return self.popen.poll() is None
 
     def stop(self, timeout: float = 5.0) -> int | None:
-        """SIGINT the process group (as Ctrl-C would), then SIGKILL if it lingers."""
-        if self.popen.poll() is None:
-            for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGKILL):
-                try:
-                    os.killpg(self.popen.pid, sig)
-                except ProcessLookupError:
-                    break
-                try:
-                    self.popen.wait(timeout)
-                    break
-                except subprocess.TimeoutExpired:
-                    continue
+        """SIGINT the process group (as Ctrl-C would), then SIGTERM, then SIGKILL if it lingers."""
+        stop_process(self.popen, timeout)
         self._log.close()
         return self.popen.returncode
 
