@@ -31,7 +31,7 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from ltl_stack.synthesis.game import BACKEND, Game
+from ltl_stack.synthesis.game import BACKEND, REORDER_THRESHOLD, Game
 
 Progress = Callable[[str], None]
 
@@ -44,7 +44,9 @@ class Options:
     #: dynamic reordering, switched on once the manager holds ``reorder_threshold`` nodes (small
     #: games lose more to sifting than they gain)
     reorder: bool = True
-    reorder_threshold: int = 30_000
+    reorder_threshold: int = REORDER_THRESHOLD
+    #: CUDD's memory limit in bytes (the machine is shared: fail rather than swap); 0 = no limit
+    max_memory: int = 4 * 2**30
     early_exit: bool = False
     #: None: state-based iterates when no liveness formula mentions next-state variables
     state_based: bool | None = None
@@ -121,6 +123,12 @@ def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = Fa
 
     if BACKEND == "cudd":
         bdd.configure(reordering=False)
+        if opts.max_memory:
+            bdd.configure(max_memory=opts.max_memory)
+
+    def cpre(target):
+        maybe_reorder()
+        return game.cpre_sys(target, sys_trans)
     sys_trans = game.deadlock_free_sys_trans() if cooperative else game.sys_trans
     not_asm = [~a for a in game.env_goals]
     try:
@@ -134,7 +142,7 @@ def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = Fa
             iteration += 1
             layers: list[GoalLayers] = []
             Z_next = bdd.true
-            cox_z = game.cpre_sys(game.prime(Z), sys_trans) if state_based else None
+            cox_z = cpre(game.prime(Z)) if state_based else None
             for j, goal in enumerate(game.sys_goals):
                 reach_goal = goal & (cox_z if state_based else game.prime(Z))
                 gl = GoalLayers(Y=[bdd.false], X=[])
@@ -142,16 +150,15 @@ def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = Fa
                 c = 0
                 while True:
                     if state_based:
-                        live = reach_goal | game.cpre_sys(game.prime(Y), sys_trans)
+                        live = reach_goal | cpre(game.prime(Y))
                     else:
                         live = reach_goal | game.prime(Y)
-                    maybe_reorder()
                     Xs = []
                     Y_new = Y
                     for i, nasm in enumerate(not_asm):
                         if nasm == bdd.false:
                             # no waiting allowed (assumption "true"): X needs no iteration
-                            X = live if state_based else game.cpre_sys(live, sys_trans)
+                            X = live if state_based else cpre(live)
                             Xs.append(X)
                             Y_new = Y_new | X
                             continue
@@ -161,13 +168,12 @@ def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = Fa
                             X = old[min(c, len(old) - 1)][i]
                         while True:
                             if state_based:
-                                X_new = live | (nasm & game.cpre_sys(game.prime(X), sys_trans))
+                                X_new = live | (nasm & cpre(game.prime(X)))
                             else:
-                                X_new = game.cpre_sys(live | (game.prime(X) & nasm), sys_trans)
+                                X_new = cpre(live | (game.prime(X) & nasm))
                             if X_new == X:
                                 break
                             X = X_new
-                            maybe_reorder()
                         Xs.append(X)
                         Y_new = Y_new | X
                     gl.X.append(Xs)

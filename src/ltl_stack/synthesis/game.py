@@ -34,6 +34,7 @@ the environment breaks its safety assumptions first, so
 """
 from __future__ import annotations
 
+import heapq
 from collections.abc import Iterable, Mapping
 
 from ltl_stack.spec.formula import And, Const, Formula, Iff, Implies, Not, Or, Var, Xor
@@ -47,6 +48,10 @@ except ImportError:  # pragma: no cover
     from dd import autoref as _backend
 
     BACKEND = "autoref"
+
+
+#: node count from which building the game and solving it use dynamic reordering
+REORDER_THRESHOLD = 30_000
 
 
 def prime_name(name: str) -> str:
@@ -165,10 +170,26 @@ class Game:
         return done[id(formula)]
 
     def _conjoin(self, section: str):
-        acc = self.bdd.true
-        for _, u in self._clauses[section]:
-            acc &= u
-        return acc
+        """Conjunction of a section's clauses, smallest operands first (a left-to-right fold can
+        build huge intermediate BDDs: 30x slower on slugs' factory_assembly specs)."""
+        heap = [(len(u), k, u) for k, (_, u) in enumerate(self._clauses[section])]
+        if not heap:
+            return self.bdd.true
+        heapq.heapify(heap)
+        count = len(heap)
+        reordering = False
+        while len(heap) > 1:
+            _, _, a = heapq.heappop(heap)
+            _, _, b = heapq.heappop(heap)
+            c = a & b
+            heapq.heappush(heap, (len(c), count, c))
+            count += 1
+            if BACKEND == "cudd" and not reordering and len(self.bdd) > REORDER_THRESHOLD:
+                self.bdd.configure(reordering=True)  # big conjunctions need a better order
+                reordering = True
+        if reordering:
+            self.bdd.configure(reordering=False)
+        return heap[0][2]
 
     def clauses(self, section: str) -> list[tuple[Clause, object]]:
         """``(Clause, BDD)`` for each clause of ``section`` (one of ``SECTIONS``)."""
