@@ -93,3 +93,12 @@ def test_max_states(spec_file, tmp_path, capsys):
     code = main([spec_file(COPY), "--json", str(tmp_path / "s.json"), "--max-states", "2"])
     assert code == 3 and "more than 2 states" in capsys.readouterr().err
     assert not (tmp_path / "s.json").exists()
+
+
+def test_explain_and_counterstrategy(spec_file, tmp_path, capsys):
+    pytest.importorskip("ltl_stack.synthesis.explain")
+    out = tmp_path / "counter.json"
+    code = main([spec_file(LOSING), "--explain", "--counterstrategy", str(out), "--json-summary"])
+    summary = json.loads(capsys.readouterr().out)
+    assert (code, summary["realizable"], "explanation" in summary) == (10, False, True), summary
+    assert json.loads(out.read_text()), out.read_text()
