@@ -112,10 +112,13 @@ def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = Fa
     reorder = opts.reorder and BACKEND == "cudd"
     old_reordering = bdd.configure()["reordering"] if BACKEND == "cudd" else False
     reordering_on = False
+    calls = 0
 
     def maybe_reorder() -> None:
-        nonlocal reordering_on
-        if reorder and not reordering_on and len(bdd) >= opts.reorder_threshold:
+        # len(bdd) makes CUDD collect garbage: look only every 8th call
+        nonlocal reordering_on, calls
+        calls += 1
+        if reorder and not reordering_on and calls % 8 == 1 and len(bdd) >= opts.reorder_threshold:
             bdd.configure(reordering=True)
             reordering_on = True
             if progress:

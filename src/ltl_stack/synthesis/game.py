@@ -54,6 +54,13 @@ except ImportError:  # pragma: no cover
 REORDER_THRESHOLD = 30_000
 
 
+def _new_manager():
+    """A BDD manager; CUDD starts with a small cache (it grows on demand) to start fast."""
+    if BACKEND == "cudd":
+        return _backend.BDD(initial_cache_size=2**16)
+    return _backend.BDD()  # pragma: no cover
+
+
 def prime_name(name: str) -> str:
     """The next-state variable name of proposition ``name``."""
     return name + "'"
@@ -68,7 +75,7 @@ class Game:
         self.spec = spec
         self.interleave = interleave
         self.fused = fused
-        self.bdd = bdd if bdd is not None else _backend.BDD()
+        self.bdd = bdd if bdd is not None else _new_manager()
         self.inputs: list[str] = list(spec.inputs)
         self.outputs: list[str] = list(spec.outputs)
         self.inputs_next = [prime_name(v) for v in self.inputs]
@@ -184,7 +191,7 @@ class Game:
             c = a & b
             heapq.heappush(heap, (len(c), count, c))
             count += 1
-            if BACKEND == "cudd" and not reordering and len(self.bdd) > REORDER_THRESHOLD:
+            if BACKEND == "cudd" and not reordering and len(c) > REORDER_THRESHOLD // 2:
                 self.bdd.configure(reordering=True)  # big conjunctions need a better order
                 reordering = True
         if reordering:
