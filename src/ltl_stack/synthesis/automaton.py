@@ -100,9 +100,9 @@ class Automaton:
 
     @classmethod
     def from_slugs_json(cls, data: dict, inputs: list[str] | None = None) -> Automaton:
-        """Read slugs' layout. It does not say which variables are inputs: pass ``inputs`` (default:
-        none). States whose id is below the first successor-only id are taken as initial (slugs
-        numbers its initial states first)."""
+        """Read slugs' layout. It does not say which variables are inputs (pass ``inputs``; default
+        none) nor which states are initial: states that no transition enters are taken as initial
+        (the first state when every state is entered)."""
         names = list(data["variables"])
         inputs = [n for n in names if n in set(inputs or [])]
         outputs = [n for n in names if n not in set(inputs)]
