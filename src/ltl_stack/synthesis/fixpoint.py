@@ -41,7 +41,7 @@ class Options:
     """Switches for the performance techniques (all on by default)."""
 
     recycle: bool = True
-    #: dynamic reordering, switched on once the manager holds ``reorder_threshold`` nodes (small
+    #: dynamic reordering, switched on once the manager holds ``reorder_threshold`` nodes (tiny
     #: games lose more to sifting than they gain)
     reorder: bool = True
     reorder_threshold: int = REORDER_THRESHOLD

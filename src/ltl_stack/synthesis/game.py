@@ -51,7 +51,7 @@ except ImportError:  # pragma: no cover
 
 
 #: node count from which building the game and solving it use dynamic reordering
-REORDER_THRESHOLD = 30_000
+REORDER_THRESHOLD = 2_000
 
 
 def _new_manager():
