@@ -113,9 +113,13 @@ def main(argv: list[str] | None = None) -> int:
             say(f"done: {cycles}{len(trace.steps)} controller states, {elapsed:.1f} s, "
                 f"{len(problems)} problem(s) reported")
         if not reached:
-            what = f"{args.cycles} goal cycle(s) not completed" if has_goals else "the controller never started"
-            print(f"[demo] FAILED: {what} within {args.timeout:.0f} s; last lines of the launch log:",
-                  file=sys.stderr)
+            if launch.poll() is not None:
+                why = f"roslaunch exited with code {launch.returncode} after {elapsed:.0f} s"
+            elif has_goals:
+                why = f"{args.cycles} goal cycle(s) not completed within {args.timeout:.0f} s"
+            else:
+                why = f"the controller did not start within {args.timeout:.0f} s"
+            print(f"[demo] FAILED: {why}; last lines of the launch log:", file=sys.stderr)
             launch_log = log_path.read_text(errors="replace").splitlines()
             print("\n".join(launch_log[-30:]), file=sys.stderr)
             return 1
