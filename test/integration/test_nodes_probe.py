@@ -37,6 +37,9 @@ def shared_master() -> RosMaster:
             tcpros_base._is_use_tcp_keepalive()
         finally:
             # The probe keeps talking to this master; other tests must not see it in the environment.
+            # ROS_IP stays 127.0.0.1 (what every test master uses): rospy reads it lazily when it first
+            # serves a topic, and the machine's host name may not resolve (a bare chroot or container).
+            saved.pop("ROS_IP")
             for key, value in saved.items():
                 if value is None:
                     os.environ.pop(key, None)
