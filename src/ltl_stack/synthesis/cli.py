@@ -41,7 +41,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--explain", action="store_true",
                    help="when unrealizable, explain why (ltl_stack.synthesis.explain)")
     p.add_argument("--counterstrategy", metavar="OUT",
-                   help="when unrealizable, write the environment's counterstrategy (JSON)")
+                   help="when unrealizable, write the environment's counterstrategy (JSON; Graphviz DOT when OUT ends in .dot)")
     p.add_argument("--quiet", action="store_true", help="print nothing but errors")
     p.add_argument("--json-summary", action="store_true",
                    help="print a JSON summary (verdict, times, sizes) on stdout instead of text")
@@ -50,9 +50,9 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
+    from ltl_stack.fileio import write_atomic
     from ltl_stack.spec import SpecError, load_spec
     from ltl_stack.synthesis import synthesize
-    from ltl_stack.synthesis.automaton import write_atomic
     from ltl_stack.synthesis.explicit import TooManyStates
 
     start = time.perf_counter()
@@ -125,30 +125,28 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _explain(spec, args, summary: dict) -> int | None:
-    """Run ``ltl_stack.synthesis.explain`` (owned by another module; optional). Returns an exit
-    code only when writing the counterstrategy failed."""
-    try:
-        from ltl_stack.synthesis import explain as explain_module
-    except ImportError:
-        print("synthesize: --explain/--counterstrategy need ltl_stack.synthesis.explain, which is not "
-              "installed in this version", file=sys.stderr)
-        return None
-    from ltl_stack.synthesis.automaton import write_atomic
+    """Explain why the spec is unrealizable and, with --counterstrategy, write the environment's
+    counterstrategy (JSON; DOT too when OUT ends in .dot). Returns an exit code only when writing failed."""
+    from ltl_stack.fileio import write_atomic
+    from ltl_stack.synthesis.explain import explain
 
-    explanation = explain_module.explain(spec, robotics_semantics=args.robotics_semantics)
+    def progress(text: str) -> None:
+        if not args.quiet:
+            print(f"synthesize: {text}", file=sys.stderr, flush=True)
+
+    explanation = explain(spec, robotics_semantics=args.robotics_semantics,
+                          counterstrategy=bool(args.counterstrategy), progress=progress)
     if args.explain:
         summary["explanation"] = explanation.to_dict()
         summary["explanation_text"] = explanation.to_text()
     if args.counterstrategy:
-        counter = getattr(explanation, "counterstrategy", None)
-        if counter is None and hasattr(explain_module, "counterstrategy"):
-            counter = explain_module.counterstrategy(spec, robotics_semantics=args.robotics_semantics)
+        counter = explanation.counterstrategy
         if counter is None:
-            print("synthesize: the explain module offers no counterstrategy", file=sys.stderr)
+            print("synthesize: no counterstrategy: the spec is realizable", file=sys.stderr)
             return None
-        data = counter.to_json() if hasattr(counter, "to_json") else counter
+        text = counter.to_dot() if args.counterstrategy.endswith(".dot") else json.dumps(counter.to_json(), indent=1) + "\n"
         try:
-            write_atomic(args.counterstrategy, json.dumps(data, indent=1) + "\n")
+            write_atomic(args.counterstrategy, text)
         except OSError as e:
             print(f"synthesize: cannot write {args.counterstrategy}: {e}", file=sys.stderr)
             return EXIT_EXPORT_FAILED
