@@ -74,7 +74,7 @@ def worker(job: dict) -> dict:
         return {"realizable": realizable, "seconds": seconds}
     opts = Options(**job.get("options", {}))
     start = time.perf_counter()
-    game = Game(spec, interleave=job.get("interleave", True), fused=job.get("fused", True))
+    game = Game(spec, interleave=job.get("interleave"), fused=job.get("fused", True))
     early = task == "realizability"
     sol = solve(game, robotics_semantics=robotics, early_exit=early, options=opts)
     solved = time.perf_counter()
