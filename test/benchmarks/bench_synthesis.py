@@ -78,7 +78,7 @@ def worker(job: dict) -> dict:
     early = task == "realizability"
     sol = solve(game, robotics_semantics=robotics, early_exit=early, options=opts)
     solved = time.perf_counter()
-    out = {"realizable": sol.realizable, "parse": parse, "seconds": solved - start,
+    out = {"realizable": sol.realizable, "parse": parse, "seconds": solved - start, "interleaved": game.interleave,
            "z": sol.z_iterations, "complete": sol.complete}
     if task == "explicit" and sol.realizable:
         strategy = SymbolicStrategy(game, sol)
@@ -166,9 +166,24 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--timeout", type=float, default=120.0, help="per measurement (s)")
     p.add_argument("--out", default=str(OUT))
     p.add_argument("--json", help="also write the raw results as JSON")
+    p.add_argument("--order", nargs="+", metavar="SPEC",
+                   help="only compare the automatic variable order with the forced interleaved one "
+                        "(realizability, early exit; spec names or grid:n:k:m) and print a table")
     args = p.parse_args(argv)
     if args.worker:
         print(json.dumps(worker(json.loads(args.worker))))
+        return 0
+    if args.order:
+        print("| spec | realizable | order chosen | auto | interleaved | auto / interleaved |")
+        print("|---|---|---|---|---|---|")
+        for name in args.order:
+            job = {"case": case_path(name), "task": "realizability"}
+            auto = measure(job, args.timeout, args.repeat)
+            inter = measure(dict(job, interleave=True), args.timeout, args.repeat)
+            ratio = f"{auto['seconds'] / inter['seconds']:.2f}" if "seconds" in auto and "seconds" in inter else "–"
+            chosen = {True: "interleaved", False: "block"}.get(auto.get("interleaved"), "?")
+            print(f"| `{name}` | {auto.get('realizable', '?')} | {chosen} | {show(auto)} | {show(inter)} | {ratio} |",
+                  flush=True)
         return 0
     if not SHARED.is_dir():
         print(f"bench_synthesis: {SHARED} is absent; nothing to measure", file=sys.stderr)
