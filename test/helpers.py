@@ -1,7 +1,6 @@
 """Helpers for tests that run real ROS processes: free ports, waiting, starting nodes, shared data."""
 from __future__ import annotations
 
-import os
 import subprocess
 import time
 from collections.abc import Callable, Mapping, Sequence
@@ -9,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from ltl_stack.sim.session import free_port, stop_process
+from ltl_stack.sim.session import await_master, free_port, master_command, master_env, stop_process
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
 
@@ -82,32 +81,17 @@ class RosMaster:
 
     def __init__(self, workdir: Path):
         self.port = free_port()
-        self.uri = f"http://127.0.0.1:{self.port}/"
         self.workdir = workdir
-        self.env = dict(os.environ)
-        self.env.update(ROS_MASTER_URI=self.uri, ROS_IP="127.0.0.1", ROS_LOG_DIR=str(workdir / "log"),
-                        ROS_HOME=str(workdir / "ros_home"), PYTHONUNBUFFERED="1")
-        self.env.pop("ROS_HOSTNAME", None)
+        self.env = master_env(self.port, workdir)
+        self.uri = self.env["ROS_MASTER_URI"]
         self.processes: list[RosProcess] = []
-        self._master = RosProcess(["rosmaster", "--core", "-p", str(self.port), "-w", "4"], self.env,
-                                  workdir / "rosmaster.log")
-        wait_for(self._online, timeout=20, what=f"rosmaster on port {self.port}")
-        # roscore sets /run_id; roslaunch expects it when it joins an existing master.
-        self.proxy().setParam("/pytest", "/run_id", f"pytest-{self.port}")
+        self._master = RosProcess(master_command(self.port), self.env, workdir / "rosmaster.log")
+        await_master(self.uri, self._master.popen, self._master.log_path, f"pytest-{self.port}")
 
     def proxy(self):
         import xmlrpc.client
 
         return xmlrpc.client.ServerProxy(self.uri)
-
-    def _online(self) -> bool:
-        if not self._master.running():
-            raise AssertionError(f"rosmaster exited:\n{self._master.output()}")
-        try:
-            code, _, _ = self.proxy().getSystemState("/pytest")
-        except OSError:
-            return False
-        return code == 1
 
     def system_state(self) -> tuple[list, list, list]:
         """(publishers, subscribers, services) as the master reports them."""

@@ -52,8 +52,9 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     from ltl_stack.spec import load_spec
 
-    has_goals = bool(load_spec(spec_files[0]).sys_liveness)
-    goals = len(load_spec(spec_files[0]).sys_liveness) if has_goals else 1
+    goal_count = len(load_spec(spec_files[0]).sys_liveness)
+    has_goals = goal_count > 0
+    goals = goal_count or 1
 
     def say(text: str) -> None:
         if not args.json:

@@ -27,6 +27,37 @@ def free_port() -> int:
             return port
 
 
+def master_env(port: int, workdir: Path) -> dict[str, str]:
+    """This process's environment pointed at a master on ``port``, with logs kept under ``workdir``."""
+    env = dict(os.environ, ROS_MASTER_URI=f"http://127.0.0.1:{port}/", ROS_IP="127.0.0.1", PYTHONUNBUFFERED="1",
+               ROS_LOG_DIR=str(workdir / "log"), ROS_HOME=str(workdir / "ros_home"))
+    env.pop("ROS_HOSTNAME", None)
+    return env
+
+
+def master_command(port: int) -> list[str]:
+    """The command line of a bare rosmaster on ``port``."""
+    return ["rosmaster", "--core", "-p", str(port), "-w", "4"]
+
+
+def await_master(uri: str, master: subprocess.Popen, log_path: Path, run_id: str, timeout: float = 20.0) -> None:
+    """Wait until the master at ``uri`` answers, then set ``/run_id`` as roscore does (roslaunch expects
+    it when it joins an existing master). RuntimeError, with the master's log, when it exits or stays silent."""
+    deadline = time.monotonic() + timeout
+    proxy = xmlrpc.client.ServerProxy(uri)
+    while True:
+        if master.poll() is not None:
+            raise RuntimeError(f"rosmaster exited:\n{log_path.read_text(errors='replace')[-4000:]}")
+        try:
+            proxy.getSystemState("/ltl_stack")
+            break
+        except OSError:
+            if time.monotonic() > deadline:
+                raise RuntimeError(f"rosmaster did not answer on {uri} within {timeout:.0f} s") from None
+            time.sleep(0.05)
+    proxy.setParam("/ltl_stack", "/run_id", run_id)
+
+
 class RosSession:
     """A private master and the processes started against it (use as a context manager)."""
 
@@ -34,28 +65,14 @@ class RosSession:
         self._tmp = None if workdir else tempfile.TemporaryDirectory(prefix="ltl_stack-")
         self.workdir = Path(workdir or self._tmp.name)
         self.port = port or free_port()
-        self.uri = f"http://127.0.0.1:{self.port}/"
-        self.env = dict(os.environ, ROS_MASTER_URI=self.uri, ROS_IP="127.0.0.1", PYTHONUNBUFFERED="1",
-                        ROS_LOG_DIR=str(self.workdir / "log"), ROS_HOME=str(self.workdir / "ros_home"))
-        self.env.pop("ROS_HOSTNAME", None)
+        self.env = master_env(self.port, self.workdir)
+        self.uri = self.env["ROS_MASTER_URI"]
         self.processes: list[subprocess.Popen] = []
 
     def __enter__(self) -> RosSession:
-        master = self.start(["rosmaster", "--core", "-p", str(self.port), "-w", "4"],
-                            stdout=open(self.workdir / "rosmaster.log", "wb"))  # noqa: SIM115
-        deadline = time.monotonic() + 20
-        proxy = xmlrpc.client.ServerProxy(self.uri)
-        while True:
-            if master.poll() is not None:
-                raise RuntimeError(f"rosmaster exited; see {self.workdir / 'rosmaster.log'}")
-            try:
-                proxy.getSystemState("/ltl_stack")
-                break
-            except OSError:
-                if time.monotonic() > deadline:
-                    raise RuntimeError(f"rosmaster did not answer on {self.uri}") from None
-                time.sleep(0.05)
-        proxy.setParam("/ltl_stack", "/run_id", f"ltl_stack-{self.port}")
+        log_path = self.workdir / "rosmaster.log"
+        master = self.start(master_command(self.port), stdout=open(log_path, "wb"))  # noqa: SIM115
+        await_master(self.uri, master, log_path, f"ltl_stack-{self.port}")
         return self
 
     def start(self, args: Sequence[str], stdout=None) -> subprocess.Popen:
