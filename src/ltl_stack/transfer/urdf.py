@@ -245,21 +245,19 @@ def _tree_cached(path: str, mtime: float) -> UrdfTree:
     return UrdfTree(joints, links, root.get("name", ""), path)
 
 
-def load_urdf_tree(path: str | Path) -> UrdfTree:
-    """Only the link/joint names of a URDF (fast; no yourdfpy import)."""
-    path = Path(path)
+def _mtime(path: str | Path) -> float:
+    """The file's modification time (the cache key beside its path); TransferError naming it if unreadable."""
     try:
-        mtime = path.stat().st_mtime
+        return Path(path).stat().st_mtime
     except OSError as err:
         raise TransferError(f"cannot read URDF: {err.strerror}", str(path)) from None
-    return _tree_cached(str(path), mtime)
+
+
+def load_urdf_tree(path: str | Path) -> UrdfTree:
+    """Only the link/joint names of a URDF (fast; no yourdfpy import)."""
+    return _tree_cached(str(path), _mtime(path))
 
 
 def load_urdf(path: str | Path) -> UrdfModel:
     """Parse a URDF (cached per file and modification time); clear errors name the file and element."""
-    path = Path(path)
-    try:
-        mtime = path.stat().st_mtime
-    except OSError as err:
-        raise TransferError(f"cannot read URDF: {err.strerror}", str(path)) from None
-    return _load_cached(str(path), mtime)
+    return _load_cached(str(path), _mtime(path))
