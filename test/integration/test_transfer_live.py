@@ -128,8 +128,10 @@ def test_transferred_keyboard_program_drives_the_simulated_turtlebot_within_limi
     recorder = ros_master.run([sys.executable, str(DATA / "twist_recorder.py"), f"_topic:={topic}",
                                f"_out:={record}"], name="recorder")
     recorder.wait_output("recording", timeout=20)
-    ros_master.wait_for_subscriber(topic)
-    program = ros_master.run([sys.executable, str(tmp_path / "kb.py"), "_keys:=udlr"], name="keyboard")
+    wait_for(lambda: len(ros_master.subscribers(topic)) >= 2, 20, f"the robot and the recorder on {topic}")
+    # Both must be connected before the first key, or the recorder can miss it.
+    program = ros_master.run([sys.executable, str(tmp_path / "kb.py"), "_keys:=udlr", "_listeners:=2"],
+                             name="keyboard")
     wait_for(lambda: record.exists() and len(record.read_text().splitlines()) >= 4, 30,
              f"four Twists on {topic}\n{program.output()}")
     twists = [json.loads(line) for line in record.read_text().splitlines()]

@@ -46,8 +46,9 @@ def main():
     rospy.init_node("keyboard_control")
     pub = rospy.Publisher('cmd_vel', Twist, queue_size=1)
     keys = rospy.get_param("~keys", "")  # scripted key presses (for tests); empty reads the terminal
+    listeners = rospy.get_param("~listeners", 1)  # scripted keys: how many subscribers must hear them
     rate = rospy.Rate(10)
-    while keys and pub.get_num_connections() == 0 and not rospy.is_shutdown():
+    while keys and pub.get_num_connections() < listeners and not rospy.is_shutdown():
         rate.sleep()  # scripted keys: wait for the robot to listen, so that no key press is lost
     index = 0
     while not rospy.is_shutdown():
