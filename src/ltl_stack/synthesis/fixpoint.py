@@ -50,14 +50,22 @@ class Options:
     early_exit: bool = False
     #: None: state-based iterates when no liveness formula mentions next-state variables
     state_based: bool | None = None
+    #: within a round of mu Y, compute the X of assumption i with the Y already grown by the X
+    #: sets of assumptions 0..i-1 (chaotic iteration: same fixpoint, fewer rounds)
+    gauss_seidel: bool = True
+    #: stop a mu Y loop as soon as Y covers the current Z (more X sets could only add positions
+    #: outside Z, which neither Z nor the strategy uses)
+    saturate: bool = True
 
 
 @dataclass
 class GoalLayers:
     """Iterates for one system goal j in the last Z iteration.
 
-    ``Y[c]`` is the c-th iterate of mu Y (``Y[0]`` is false); ``X[c][i]`` the nu X fixpoint computed
-    with ``Y[c]`` for assumption i, so ``Y[c+1] = Y[c] | X[c][0] | ... | X[c][p-1]``.
+    ``Y[c]`` is the c-th iterate of mu Y (``Y[0]`` is false) and ``Y[c+1] = Y[c] | X[c][0] | ... |
+    X[c][p-1]``. ``X[c][i]`` is the nu X fixpoint for assumption i computed with
+    ``Y[c] | X[c][0] | ... | X[c][i-1]`` (``Options.gauss_seidel``; with ``Y[c]`` alone otherwise).
+    ``X[c]`` has fewer than p sets when Y covered Z before the round ended (``Options.saturate``).
     """
 
     Y: list = field(default_factory=list)
@@ -133,14 +141,39 @@ def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = Fa
         maybe_reorder()
         return game.cpre_sys(target, sys_trans)
     sys_trans = game.deadlock_free_sys_trans() if cooperative else game.sys_trans
+
+    def x_fixpoint(live, nasm, old: list, old_converged: bool, c: int, i: int):
+        """nu X. live | (nasm & cpre(X')) (state-based) or nu X. cpre(live | (X' & nasm))."""
+        if nasm == bdd.false:  # no waiting allowed (assumption "true"): no iteration needed
+            return live if state_based else cpre(live)
+        # start from an upper bound: the X at the same place in the previous Z iteration, or the
+        # last X of a loop that reached the fixpoint of Y (it bounds every later X), or true
+        if opts.recycle and c < len(old) and i < len(old[c]):
+            X = old[c][i]
+        elif opts.recycle and old and old_converged and c >= len(old):
+            X = old[-1][i]
+        elif state_based:
+            X = live | (nasm & cox_true)  # the first iterate from true
+        else:
+            X = bdd.true
+        while True:
+            if state_based:
+                X_new = live | (nasm & cpre(game.prime(X)))
+            else:
+                X_new = cpre(live | (game.prime(X) & nasm))
+            if X_new == X:
+                return X
+            X = X_new
     not_asm = [~a for a in game.env_goals]
     try:
         Z = bdd.true
         recycled: list[list[list]] = [[] for _ in game.sys_goals]  # [j][c][i] from last Z iteration
+        converged = [False for _ in game.sys_goals]
         iteration = 0
         state_based = opts.state_based
         if state_based is None:
             state_based = not game.liveness_has_next
+        cox_true = cpre(bdd.true) if state_based else None
         while True:
             iteration += 1
             layers: list[GoalLayers] = []
@@ -148,45 +181,40 @@ def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = Fa
             cox_z = cpre(game.prime(Z)) if state_based else None
             for j, goal in enumerate(game.sys_goals):
                 reach_goal = goal & (cox_z if state_based else game.prime(Z))
-                gl = GoalLayers(Y=[bdd.false], X=[])
+                gl = GoalLayers(Y=[], X=[])
                 Y = bdd.false
+                live = None  # recomputed only when Y grows
+                covered = converged_now = False
                 c = 0
-                while True:
-                    if state_based:
-                        live = reach_goal | cpre(game.prime(Y))
-                    else:
-                        live = reach_goal | game.prime(Y)
-                    Xs = []
-                    Y_new = Y
-                    for i, nasm in enumerate(not_asm):
-                        if nasm == bdd.false:
-                            # no waiting allowed (assumption "true"): X needs no iteration
-                            X = live if state_based else cpre(live)
-                            Xs.append(X)
-                            Y_new = Y_new | X
-                            continue
-                        X = bdd.true
-                        old = recycled[j]
-                        if opts.recycle and old:
-                            X = old[min(c, len(old) - 1)][i]
-                        while True:
-                            if state_based:
-                                X_new = live | (nasm & cpre(game.prime(X)))
-                            else:
-                                X_new = cpre(live | (game.prime(X) & nasm))
-                            if X_new == X:
-                                break
-                            X = X_new
-                        Xs.append(X)
-                        Y_new = Y_new | X
-                    gl.X.append(Xs)
-                    c += 1
-                    if Y_new == Y:
-                        break
-                    Y = Y_new
+                while not covered:
                     gl.Y.append(Y)
+                    Y_round = Y
+                    Xs: list = []
+                    gl.X.append(Xs)
+                    for i, nasm in enumerate(not_asm):
+                        if live is None:
+                            live = reach_goal | (cpre(game.prime(Y)) if state_based else game.prime(Y))
+                        X = x_fixpoint(live, nasm, recycled[j], converged[j], c, i)
+                        Xs.append(X)
+                        if opts.gauss_seidel:
+                            if (X & ~Y) != bdd.false:
+                                Y = Y | X
+                                live = None
+                            if opts.saturate and (Z & ~Y) == bdd.false:
+                                covered = True  # Y covers Z: more X sets cannot change Z & Y
+                                break
+                        else:
+                            Y = Y | X
+                    c += 1
+                    if Y == Y_round:
+                        converged_now = True
+                        break
+                    live = None
+                    if opts.saturate and (Z & ~Y) == bdd.false:
+                        covered = True
                 layers.append(gl)
                 recycled[j] = gl.X
+                converged[j] = converged_now
                 Z_next &= Y
                 if early_exit and not init_ok(game, Z_next, robotics_semantics):
                     if progress:

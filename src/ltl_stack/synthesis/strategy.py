@@ -4,9 +4,11 @@ Built from the X/Y iterates of the last Z iteration (``fixpoint.Solution.layers`
 thesis §4.6 and Alg. 1: for goal j and each (x, y, x') the strategy allows exactly the moves of the
 earliest (Y iterate c, assumption i) pair that covers (x, y, x'):
 
-    paths[j][c][i] = sys_trans & ((goal_j & W') | Y[c]' | (X[c][i]' & !asm_i))
+    paths[j][c][i] = sys_trans & ((goal_j & W') | B[c][i]' | (X[c][i]' & !asm_i))
+    B[c][i] = Y[c] | X[c][0] | ... | X[c][i-1]
 
-so every move reaches goal j (T.1), gets closer to it (T.2) or waits for an environment goal (T.3).
+so every move reaches goal j (T.1), gets closer to it (T.2: to an earlier (c, i) pair in
+lexicographic order) or waits for an environment goal (T.3).
 The goal counter advances when a move satisfies ``goal_j & W'``.
 
 ``step`` never builds the explicit automaton: it restricts the goal's relation to the current
@@ -94,10 +96,11 @@ class SymbolicStrategy:
         alive_next = game.prime(bdd.exist(game.variables_next, game.env_trans))
         covered = bdd.false
         relation = bdd.false
-        for c, Yc in enumerate(layers.Y):
-            base = self.reached[j] | game.prime(Yc)
-            for i, X in enumerate(layers.X[c]):
-                paths = trans & (base | (game.prime(X) & not_asm[i]))
+        for Yc, Xs in zip(layers.Y, layers.X, strict=True):
+            below = Yc  # Y[c] and the X sets of the assumptions before i in round c
+            for i, X in enumerate(Xs):
+                paths = trans & (self.reached[j] | game.prime(below) | (game.prime(X) & not_asm[i]))
+                below = below | X
                 new = bdd.exist(game.outputs_next, paths) & ~covered
                 if new == bdd.false:
                     continue

@@ -4,6 +4,8 @@ Each spec is small enough that the expected verdict or set is argued in its comm
 """
 from __future__ import annotations
 
+import itertools
+
 import pytest
 from random_specs import make_spec
 
@@ -119,11 +121,11 @@ def test_techniques_do_not_change_the_winning_set():
                      sys_safety=["| ! o' | o i'", "| ! p' j'"],
                      sys_liveness=["o", "& p ! o"], env_liveness=["i", "j"])
     results = set()
-    for recycle in (True, False):
-        for reorder in (True, False):
-            game = Game(spec)
-            sol = solve(game, options=Options(recycle=recycle, reorder=reorder))
-            results.add((sol.realizable, frozenset(winning_valuations(game, sol.winning))))
+    for recycle, reorder, gauss_seidel, saturate in itertools.product((True, False), repeat=4):
+        game = Game(spec)
+        options = Options(recycle=recycle, reorder=reorder, gauss_seidel=gauss_seidel, saturate=saturate)
+        sol = solve(game, options=options)
+        results.add((sol.realizable, frozenset(winning_valuations(game, sol.winning))))
     assert len(results) == 1, results
     realizable, winning = results.pop()
     assert realizable, winning
