@@ -16,6 +16,13 @@ Techniques (each can be switched off to measure it, see ``Options``):
   once the manager is big enough to profit and off afterwards, so that strategy enumeration and
   stepping see a stable order.
 - conjunction fused with quantification inside ``cpre_sys`` (``and_exists``/``or_forall``).
+- *Gauss-Seidel rounds* of mu Y: the X set of assumption i is computed with Y already grown by the
+  X sets of assumptions 0..i-1 of the same round (a chaotic iteration of the same least fixpoint:
+  every intermediate Y stays below it), so Y needs fewer rounds; on the grid-patrol family this
+  halves the number of cpre calls.
+- *saturation*: a mu Y loop stops as soon as Y covers Z (Z & Y can no longer change), which saves
+  the confirming round(s) of every goal in the last Z iteration.
+- the first X iterate from ``true`` is ``live | (!asm_i & cpre(true))`` with cpre(true) computed once.
 
 When no liveness formula mentions next-state variables, the equivalent state-based iterates of
 Bloem et al. (JCSS 2012) are used instead: ``X = (goal_j & cpre(Z')) | cpre(Y') | (!asm_i & cpre(X'))``
@@ -23,7 +30,8 @@ Bloem et al. (JCSS 2012) are used instead: ``X = (goal_j & cpre(Z')) | cpre(Y') 
 assumptions). The strategy relation of ``strategy.py`` is valid for both kinds of iterates.
 
 The X and Y iterates of the last Z iteration (computed with Z = W) are kept in ``Solution.layers``
-for strategy extraction (thesis Alg. 1 prefers the earliest Y iterate).
+for strategy extraction (thesis Alg. 1 prefers the earliest Y iterate; here the earliest
+(Y round, assumption) pair in lexicographic order, see ``GoalLayers``).
 """
 from __future__ import annotations
 
@@ -164,6 +172,7 @@ def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = Fa
             if X_new == X:
                 return X
             X = X_new
+
     not_asm = [~a for a in game.env_goals]
     try:
         Z = bdd.true
