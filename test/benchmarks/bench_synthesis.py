@@ -275,13 +275,12 @@ def main(argv: list[str] | None = None) -> int:
     # 3. techniques
     lines += ["", "## Techniques (each switched off alone; full fixpoint, default semantics)", "",
               "| case | all on | no recycling | no reordering | not interleaved | unfused cpre | "
-              "transition-based iterates | no Gauss-Seidel in Y rounds | no Y saturation |",
-              "|---|---|---|---|---|---|---|---|---|"]
+              "transition-based iterates | no Gauss-Seidel in Y rounds |",
+              "|---|---|---|---|---|---|---|---|"]
     variants = [("all on", {}), ("no recycling", {"options": {"recycle": False}}),
                 ("no reordering", {"options": {"reorder": False}}), ("not interleaved", {"interleave": False}),
                 ("unfused", {"fused": False}), ("transition-based", {"options": {"state_based": False}}),
-                ("no Gauss-Seidel", {"options": {"gauss_seidel": False}}),
-                ("no saturation", {"options": {"saturate": False}})]
+                ("no Gauss-Seidel", {"options": {"gauss_seidel": False}})]
     for name in TECHNIQUE_SPECS if not args.quick else ["grid:8:4:2", "move_group_and_move_base"]:
         try:
             case = case_path(name)

@@ -20,8 +20,6 @@ Techniques (each can be switched off to measure it, see ``Options``):
   X sets of assumptions 0..i-1 of the same round (a chaotic iteration of the same least fixpoint:
   every intermediate Y stays below it), so Y needs fewer rounds; on the grid-patrol family this
   halves the number of cpre calls.
-- *saturation*: a mu Y loop stops as soon as Y covers Z (Z & Y can no longer change), which saves
-  the confirming round(s) of every goal in the last Z iteration.
 - the first X iterate from ``true`` is ``live | (!asm_i & cpre(true))`` with cpre(true) computed once.
 
 When no liveness formula mentions next-state variables, the equivalent state-based iterates of
@@ -61,9 +59,6 @@ class Options:
     #: within a round of mu Y, compute the X of assumption i with the Y already grown by the X
     #: sets of assumptions 0..i-1 (chaotic iteration: same fixpoint, fewer rounds)
     gauss_seidel: bool = True
-    #: stop a mu Y loop as soon as Y covers the current Z (more X sets could only add positions
-    #: outside Z, which neither Z nor the strategy uses)
-    saturate: bool = True
 
 
 @dataclass
@@ -73,7 +68,6 @@ class GoalLayers:
     ``Y[c]`` is the c-th iterate of mu Y (``Y[0]`` is false) and ``Y[c+1] = Y[c] | X[c][0] | ... |
     X[c][p-1]``. ``X[c][i]`` is the nu X fixpoint for assumption i computed with
     ``Y[c] | X[c][0] | ... | X[c][i-1]`` (``Options.gauss_seidel``; with ``Y[c]`` alone otherwise).
-    ``X[c]`` has fewer than p sets when Y covered Z before the round ended (``Options.saturate``).
     """
 
     Y: list = field(default_factory=list)
@@ -150,16 +144,14 @@ def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = Fa
         return game.cpre_sys(target, sys_trans)
     sys_trans = game.deadlock_free_sys_trans() if cooperative else game.sys_trans
 
-    def x_fixpoint(live, nasm, old: list, old_converged: bool, c: int, i: int):
+    def x_fixpoint(live, nasm, old: list, c: int, i: int):
         """nu X. live | (nasm & cpre(X')) (state-based) or nu X. cpre(live | (X' & nasm))."""
         if nasm == bdd.false:  # no waiting allowed (assumption "true"): no iteration needed
             return live if state_based else cpre(live)
-        # start from an upper bound: the X at the same place in the previous Z iteration, or the
-        # last X of a loop that reached the fixpoint of Y (it bounds every later X), or true
-        if opts.recycle and c < len(old) and i < len(old[c]):
-            X = old[c][i]
-        elif opts.recycle and old and old_converged and c >= len(old):
-            X = old[-1][i]
+        # start from an upper bound: the X at the same place in the previous Z iteration (the
+        # last round there ran at the fixpoint of Y, so it bounds every later round), or true
+        if opts.recycle and old:
+            X = old[min(c, len(old) - 1)][i]
         elif state_based:
             X = live | (nasm & cox_true)  # the first iterate from true
         else:
@@ -177,7 +169,6 @@ def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = Fa
     try:
         Z = bdd.true
         recycled: list[list[list]] = [[] for _ in game.sys_goals]  # [j][c][i] from last Z iteration
-        converged = [False for _ in game.sys_goals]
         iteration = 0
         state_based = opts.state_based
         if state_based is None:
@@ -193,9 +184,8 @@ def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = Fa
                 gl = GoalLayers(Y=[], X=[])
                 Y = bdd.false
                 live = None  # recomputed only when Y grows
-                covered = converged_now = False
                 c = 0
-                while not covered:
+                while True:
                     gl.Y.append(Y)
                     Y_round = Y
                     Xs: list = []
@@ -203,27 +193,18 @@ def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = Fa
                     for i, nasm in enumerate(not_asm):
                         if live is None:
                             live = reach_goal | (cpre(game.prime(Y)) if state_based else game.prime(Y))
-                        X = x_fixpoint(live, nasm, recycled[j], converged[j], c, i)
+                        X = x_fixpoint(live, nasm, recycled[j], c, i)
                         Xs.append(X)
-                        if opts.gauss_seidel:
-                            if (X & ~Y) != bdd.false:
-                                Y = Y | X
-                                live = None
-                            if opts.saturate and (Z & ~Y) == bdd.false:
-                                covered = True  # Y covers Z: more X sets cannot change Z & Y
-                                break
-                        else:
+                        if (X & ~Y) != bdd.false:
                             Y = Y | X
+                            if opts.gauss_seidel:
+                                live = None
                     c += 1
                     if Y == Y_round:
-                        converged_now = True
                         break
                     live = None
-                    if opts.saturate and (Z & ~Y) == bdd.false:
-                        covered = True
                 layers.append(gl)
                 recycled[j] = gl.X
-                converged[j] = converged_now
                 Z_next &= Y
                 if early_exit and not init_ok(game, Z_next, robotics_semantics):
                     if progress:

@@ -79,7 +79,7 @@ def test_engine_winning_positions_equal_reference():
     fixpoint = pytest.importorskip("ltl_stack.synthesis.fixpoint")
     from ltl_stack.synthesis.game import Game
 
-    plain = fixpoint.Options(recycle=False, reorder=False, gauss_seidel=False, saturate=False)
+    plain = fixpoint.Options(recycle=False, reorder=False, gauss_seidel=False)
     bad = []
     for seed, state_based in itertools.product(range(0, 300, 3), (False, True)):
         # state-based liveness (primes removed) takes the engine's cheaper state-based iterates
