@@ -2,6 +2,7 @@
 
     python test/benchmarks/bench_synthesis.py                 # everything, writes docs/benchmarks/synthesis.md
     python test/benchmarks/bench_synthesis.py --quick         # thesis specs and small family members only
+    python test/benchmarks/bench_synthesis.py --grid 16:4:3   # grid patrol vs omega, alternating runs
 
 Every measurement runs in a fresh subprocess (``--worker``) with a time limit, so a slow case cannot
 stall the run and memory does not accumulate. Times are in-process wall times (``perf_counter``),
@@ -183,6 +184,9 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--order", nargs="+", metavar="SPEC",
                    help="only compare the automatic variable order with the forced interleaved one "
                         "(realizability, early exit; spec names or grid:n:k:m) and print a table")
+    p.add_argument("--grid", nargs="+", metavar="N:K:M",
+                   help="only the grid patrol family vs omega for these members (e.g. 16:4:3), "
+                        "ours and omega alternating, and print a table")
     args = p.parse_args(argv)
     if args.worker:
         print(json.dumps(worker(json.loads(args.worker))))
@@ -198,6 +202,21 @@ def main(argv: list[str] | None = None) -> int:
             chosen = {True: "interleaved", False: "block"}.get(auto.get("interleaved"), "?")
             print(f"| `{name}` | {auto.get('realizable', '?')} | {chosen} | {show(auto)} | {show(inter)} | {ratio} |",
                   flush=True)
+        return 0
+    if args.grid:
+        print("| member | ours (each run) | omega (each run) | omega / ours (medians) |")
+        print("|---|---|---|---|")
+        for member in args.grid:
+            job = {"case": f"grid:{member}"}
+            ours, omega = [], []
+            for _ in range(args.repeat):  # alternate, so drift hits both sides alike
+                ours.append(run(dict(job, task="synthesis"), max(args.timeout, 300.0)))
+                omega.append(run(dict(job, task="omega"), max(args.timeout, 300.0)))
+            a = [r["seconds"] for r in ours if "seconds" in r]
+            b = [r["seconds"] for r in omega if "seconds" in r]
+            ratio = f"{statistics.median(b) / statistics.median(a):.1f}" if a and b else "–"
+            print(f"| {member} | {', '.join(show(r) for r in ours)} | {', '.join(show(r) for r in omega)} "
+                  f"| {ratio} |", flush=True)
         return 0
     if not SHARED.is_dir():
         print(f"bench_synthesis: {SHARED} is absent; nothing to measure", file=sys.stderr)
