@@ -98,6 +98,47 @@ def test_threshold_sensor_compares_a_field_with_hysteresis(ros):
         out.wait_last(lambda b, e=expected: b.data is e, what=f"{expected} after range {value}")
 
 
+def test_threshold_sensor_publishes_the_stale_value_while_sensing_stops(ros):
+    import threading
+
+    from sensor_msgs.msg import Range
+    from std_msgs.msg import Bool
+
+    out = ros.record(ros.topic("inputs/clear"), Bool)
+    ros.run("topic_threshold_sensor", f"_topic:={ros.topic('range')}", "_type:=sensor_msgs/Range",
+            "_field:=range", "_comparison:=gt", "_threshold:=0.5", "_stale_after:=0.4",
+            "_stale_value:=false", f"_proposition_topic:={ros.topic('inputs/clear')}")
+    ros.master.wait_for_subscriber(ros.topic("range"))
+    # sensing at 20 Hz for well over the limit: the value stays true throughout
+    stop = threading.Event()
+
+    def sense():
+        while not stop.wait(0.05):
+            ros.publish(ros.topic("range"), Range(range=1.0))
+    feeder = threading.Thread(target=sense, daemon=True)
+    feeder.start()
+    try:
+        out.wait_last(lambda b: b.data is True, what="True while sensing")
+        count = len(out.snapshot())
+        time.sleep(3 * 0.4)
+        assert all(b.data for b in out.snapshot()[count:]), "went stale while sensing arrived"
+    finally:
+        stop.set()
+        feeder.join()
+    out.wait_last(lambda b: b.data is False, what="the stale value after sensing stopped")
+    ros.publish(ros.topic("range"), Range(range=1.0))
+    out.wait_last(lambda b: b.data is True, what="True again once sensing resumed")
+
+
+def test_negative_stale_after_is_one_clear_error(ros):
+    node = ros.run("topic_threshold_sensor", "_topic:=/x", "_type:=sensor_msgs/Range",
+                   "_stale_after:=-1")
+    wait_for(lambda: not node.running(), 15, "the sensor to exit")
+    assert node.popen.returncode == 2, node.output()
+    assert "~stale_after must be >= 0" in node.output(), node.output()
+    assert "Traceback" not in node.output(), node.output()
+
+
 def test_threshold_sensor_learns_the_type_from_the_master_and_forwards_a_bool(ros):
     from std_msgs.msg import Bool
 

@@ -9,7 +9,7 @@ nothing while false. On shutdown it drives its behaviour off.
 The proposition topic comes from the ``~proposition_topic`` parameter, or else from the relative
 name ``proposition`` (remap it: ``proposition:=/ns/outputs/move``).
 
-``EdgeDetector``, ``Param`` and ``coerce_param`` are ROS-free, and ``rospy`` is imported only
+``EdgeDetector``, ``StaleWatch``, ``Param`` and ``coerce_param`` are ROS-free, and ``rospy`` is imported only
 inside the ROS parts, so this module imports (and is unit-tested) without a master.
 """
 from __future__ import annotations
@@ -18,6 +18,7 @@ import argparse
 import json
 import sys
 import threading
+import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -46,6 +47,32 @@ class EdgeDetector:
             return None
         self.value = value
         return RISING if value else FALLING
+
+
+class StaleWatch:
+    """Tells when sensing has not arrived for ``after`` seconds (times are passed in, so the logic
+    runs without ROS). ``after <= 0`` disables it: nothing is ever stale."""
+
+    def __init__(self, after: float, now: float) -> None:
+        self.after = float(after)
+        self._last = now
+        self.stale = False
+        self._lock = threading.Lock()
+
+    def seen(self, now: float) -> bool:
+        """Record fresh sensing; return whether it ends a stale period."""
+        with self._lock:
+            self._last = now
+            ended, self.stale = self.stale, False
+        return ended
+
+    def check(self, now: float) -> bool:
+        """Return True exactly once when the sensing becomes stale."""
+        with self._lock:
+            if self.after <= 0 or self.stale or now - self._last < self.after:
+                return False
+            self.stale = True
+            return True
 
 
 @dataclass(frozen=True)
@@ -279,6 +306,9 @@ INPUT_PARAMS = [
     Param("proposition_topic", "", "topic of the input proposition (default: relative name 'proposition')"),
     Param("rate", 10.0, "republish the Boolean this often (Hz); it is also published at once on change"),
     Param("init_value", False, "value published before the first sensing arrives"),
+    Param("stale_after", 0.0, "seconds without sensing after which ~stale_value is published "
+          "until sensing resumes (0: never)"),
+    Param("stale_value", False, "value published while the sensing is stale"),
 ]
 
 #: Parameters every output node reads.
@@ -292,20 +322,42 @@ class InputPropositionNode:
     """Base of input proposition nodes: subclasses call ``self.set_value(bool)`` from sensing."""
 
     def __init__(self, config: dict[str, Any]) -> None:
+        import rospy
+
         self.config = config
         self.output = PropositionPublisher(proposition_topic(), rate=config["rate"],
                                            initial=config["init_value"])
+        after = float(config.get("stale_after", 0.0))
+        if after < 0:
+            raise NodeConfigError(f"{rospy.get_name()}: ~stale_after must be >= 0 (got {after})")
+        self.stale = StaleWatch(after, time.monotonic())
+        self._stale_timer = rospy.Timer(rospy.Duration(min(after / 4, 0.1)), self._check_stale) \
+            if after > 0 else None
 
     def set_value(self, value: bool) -> None:
+        """Publish the sensed value (and end a stale period)."""
         import rospy
 
+        if self.stale.seen(time.monotonic()):
+            rospy.loginfo("%s: sensing resumed", rospy.get_name())
         if self.output.set(value):
             rospy.logdebug("%s: %s -> %s", rospy.get_name(), self.output.topic, bool(value))
+
+    def _check_stale(self, _event: Any) -> None:
+        import rospy
+
+        if self.stale.check(time.monotonic()):
+            value = bool(self.config["stale_value"])
+            rospy.logwarn("%s: no sensing for %.2f s: publishing %s on %s until it resumes",
+                          rospy.get_name(), self.stale.after, value, self.output.topic)
+            self.output.set(value)
 
     def spin(self) -> None:
         import rospy
 
         rospy.spin()
+        if self._stale_timer is not None:
+            self._stale_timer.shutdown()
         self.output.close()
 
 

@@ -1,4 +1,4 @@
-"""ROS-free parts of the proposition-node bases: edge detection and parameter coercion."""
+"""ROS-free parts of the proposition-node bases: edge detection, staleness, parameter coercion."""
 from __future__ import annotations
 
 import pytest
@@ -11,6 +11,7 @@ from ltl_stack.ros.proposition_node import (
     EdgeDetector,
     NodeConfigError,
     Param,
+    StaleWatch,
     coerce_param,
     describe_params,
 )
@@ -20,6 +21,42 @@ def test_edges_of_a_hand_written_sequence():
     edges = EdgeDetector()
     got = [edges.update(v) for v in [False, True, True, False, False, True]]
     assert got == [None, RISING, None, FALLING, None, RISING], got
+
+
+def test_stale_watch_fires_once_per_gap_and_clears_on_sensing():
+    watch = StaleWatch(0.5, now=10.0)
+    assert [watch.check(t) for t in (10.2, 10.49)] == [False, False]
+    assert watch.check(10.5) is True and watch.stale
+    assert watch.check(11.0) is False  # once per stale period
+    assert watch.seen(11.2) is True and not watch.stale  # sensing ends the period
+    assert watch.seen(11.3) is False
+    assert [watch.check(t) for t in (11.7, 11.8)] == [False, True]
+
+
+@given(st.lists(st.tuples(st.booleans(), st.floats(0, 1)), max_size=60), st.floats(0.05, 1))
+def test_stale_exactly_when_the_last_sensing_is_older_than_the_limit(events, after):
+    """Replay sensing/check events in time order: the watch is stale iff the last sensing (or the
+    start) lies at least ``after`` back when checked, and it reports each stale period once."""
+    now = 0.0
+    watch = StaleWatch(after, now)
+    last = now
+    stale = False
+    for is_sensing, dt in events:
+        now += dt
+        if is_sensing:
+            assert watch.seen(now) is stale
+            last, stale = now, False
+        else:
+            fired = watch.check(now)
+            should = not stale and now - last >= after
+            assert fired is should, (now, last, after)
+            stale = stale or should
+        assert watch.stale is stale
+
+
+def test_stale_watch_disabled_by_zero():
+    watch = StaleWatch(0.0, now=0.0)
+    assert watch.check(1e9) is False and not watch.stale
 
 
 @given(st.lists(st.booleans()))
