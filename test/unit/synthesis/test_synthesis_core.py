@@ -131,6 +131,30 @@ def test_techniques_do_not_change_the_winning_set():
     assert realizable, winning
 
 
+def test_gauss_seidel_rounds_need_fewer_cpre_calls_for_the_same_winning_set():
+    """The benchmark's grid patrol with two obstacles (four liveness assumptions): computing each
+    X with the Y already grown in the same round must save cpre calls, not just time."""
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[2] / "benchmarks" / "bench_synthesis_family.py"
+    module_spec = importlib.util.spec_from_file_location("bench_synthesis_family", path)
+    family = importlib.util.module_from_spec(module_spec)
+    module_spec.loader.exec_module(family)
+    spec = family.grid_patrol(8, 4, 2)
+    results = {}
+    for gauss_seidel in (True, False):
+        game = Game(spec)
+        calls = []
+        cpre = game.cpre_sys
+        game.cpre_sys = lambda target, trans=None, cpre=cpre, calls=calls: calls.append(1) or cpre(target, trans)
+        sol = solve(game, options=Options(gauss_seidel=gauss_seidel))
+        results[gauss_seidel] = (len(calls), sol.realizable, frozenset(winning_valuations(game, sol.winning)))
+    (fast, *same_fast), (slow, *same_slow) = results[True], results[False]
+    assert same_fast == same_slow
+    assert fast < 0.8 * slow, (fast, slow)
+
+
 def test_early_exit_stops_before_the_fixpoint():
     spec = make_spec(["i"], ["o"], sys_init=["o"], sys_safety=["| ! o' | o i'"],
                      sys_liveness=["o", "! o"])
