@@ -271,15 +271,26 @@ def main(argv: list[str] | None = None) -> int:
     if not args.quick:
         table = slugs_generated()
         lines += ["", "## slugs' generated families (realizability, default semantics)", "",
-                  "| spec | inputs+outputs | realizable | ours (early exit) | ours (full) | slugs | ours / slugs |",
-                  "|---|---|---|---|---|---|---|"]
+                  "| spec | inputs+outputs | realizable | ours (early exit) | ours (full) | slugs | ours / slugs | "
+                  "ours explicit (states) | slugs explicit, 30 s limit (states) |",
+                  "|---|---|---|---|---|---|---|---|---|"]
         for path in generated_specs():
             name = path.stem
             row = table.get(name, {})
             real = measure({"case": str(path), "task": "realizability"}, min(args.timeout, 60.0), args.repeat)
             full = measure({"case": str(path), "task": "synthesis"}, min(args.timeout, 60.0), 1) \
                 if real.get("realizable") is False else {"note": "same"}
-            raw["generated"][name] = {"realizability": real, "full": full}
+            expl = measure({"case": str(path), "task": "explicit", "max_states": 200_000},
+                           min(args.timeout, 60.0), 1) if real.get("realizable") else {}
+            raw["generated"][name] = {"realizability": real, "full": full, "explicit": expl}
+            if "explicit" in expl:
+                expl_txt = f"{fmt(expl['explicit'])} ({expl['states']})"
+            elif "timeout" in expl or "error" in expl:
+                expl_txt = show(expl)
+            else:
+                expl_txt = f"– ({expl['states']} states)" if "states" in expl else "–"
+            slugs_expl = {"yes": f"{float(row.get('expl_wall_median_s') or 0):.2f} s ({row.get('expl_states')})",
+                          "timeout": "> 30 s"}.get(row.get("expl_result", ""), "–")
             slugs_s = row.get("real_wall_median_s") or None
             slugs_txt = f"{float(slugs_s):.2f} s" if slugs_s else (
                 "> 60 s" if row.get("probe_result_60s") == "timeout" else "–")
@@ -288,7 +299,8 @@ def main(argv: list[str] | None = None) -> int:
                 "< 1 (slugs timed out)" if ours and row.get("probe_result_60s") == "timeout" else "–")
             size = f"{row.get('n_in_bool', '?')}+{row.get('n_out_bool', '?')}"
             lines.append(f"| `{name}` | {size} | {real.get('realizable', '?')} | {show(real)} | "
-                         f"{show(full) if 'note' not in full else '(same run)'} | {slugs_txt} | {ratio} |")
+                         f"{show(full) if 'note' not in full else '(same run)'} | {slugs_txt} | {ratio} | "
+                         f"{expl_txt} | {slugs_expl} |")
             log(f"{name}: {real}")
 
     # 3. techniques
