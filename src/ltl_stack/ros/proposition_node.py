@@ -9,8 +9,8 @@ nothing while false. On shutdown it drives its behaviour off.
 The proposition topic comes from the ``~proposition_topic`` parameter, or else from the relative
 name ``proposition`` (remap it: ``proposition:=/ns/outputs/move``).
 
-``EdgeDetector``, ``StaleWatch``, ``Param`` and ``coerce_param`` are ROS-free, and ``rospy`` is imported only
-inside the ROS parts, so this module imports (and is unit-tested) without a master.
+``EdgeDetector``, ``StaleWatch``, ``Param`` and ``coerce_param`` are ROS-free, and ``rospy`` is
+imported only inside the ROS parts, so this module imports (and is unit-tested) without a master.
 """
 from __future__ import annotations
 
@@ -331,6 +331,7 @@ class InputPropositionNode:
         if after < 0:
             raise NodeConfigError(f"{rospy.get_name()}: ~stale_after must be >= 0 (got {after})")
         self.stale = StaleWatch(after, time.monotonic())
+        self._sensing_lock = threading.Lock()  # a stale value never overwrites fresh sensing
         self._stale_timer = rospy.Timer(rospy.Duration(min(after / 4, 0.1)), self._check_stale) \
             if after > 0 else None
 
@@ -338,19 +339,21 @@ class InputPropositionNode:
         """Publish the sensed value (and end a stale period)."""
         import rospy
 
-        if self.stale.seen(time.monotonic()):
-            rospy.loginfo("%s: sensing resumed", rospy.get_name())
-        if self.output.set(value):
-            rospy.logdebug("%s: %s -> %s", rospy.get_name(), self.output.topic, bool(value))
+        with self._sensing_lock:
+            if self.stale.seen(time.monotonic()):
+                rospy.loginfo("%s: sensing resumed", rospy.get_name())
+            if self.output.set(value):
+                rospy.logdebug("%s: %s -> %s", rospy.get_name(), self.output.topic, bool(value))
 
     def _check_stale(self, _event: Any) -> None:
         import rospy
 
-        if self.stale.check(time.monotonic()):
-            value = bool(self.config["stale_value"])
-            rospy.logwarn("%s: no sensing for %.2f s: publishing %s on %s until it resumes",
-                          rospy.get_name(), self.stale.after, value, self.output.topic)
-            self.output.set(value)
+        with self._sensing_lock:
+            if self.stale.check(time.monotonic()):
+                value = bool(self.config["stale_value"])
+                rospy.logwarn("%s: no sensing for %.2f s: publishing %s on %s until it resumes",
+                              rospy.get_name(), self.stale.after, value, self.output.topic)
+                self.output.set(value)
 
     def spin(self) -> None:
         import rospy
