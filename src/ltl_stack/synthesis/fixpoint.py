@@ -184,8 +184,8 @@ def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = Fa
                 gl = GoalLayers(Y=[], X=[])
                 Y = bdd.false
                 live = None  # recomputed only when Y grows
-                c = 0
                 while True:
+                    c = len(gl.X)  # the round
                     gl.Y.append(Y)
                     Y_round = Y
                     Xs: list = []
@@ -195,11 +195,10 @@ def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = Fa
                             live = reach_goal | (cpre(game.prime(Y)) if state_based else game.prime(Y))
                         X = x_fixpoint(live, nasm, recycled[j], c, i)
                         Xs.append(X)
-                        if (X & ~Y) != bdd.false:
-                            Y = Y | X
-                            if opts.gauss_seidel:
-                                live = None
-                    c += 1
+                        grown = Y | X
+                        if opts.gauss_seidel and grown != Y:
+                            live = None
+                        Y = grown
                     if Y == Y_round:
                         break
                     live = None
