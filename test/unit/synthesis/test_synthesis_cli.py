@@ -96,7 +96,6 @@ def test_max_states(spec_file, tmp_path, capsys):
 
 
 def test_explain_and_counterstrategy(spec_file, tmp_path, capsys):
-    pytest.importorskip("ltl_stack.synthesis.explain")
     out = tmp_path / "counter.json"
     code = main([spec_file(LOSING), "--explain", "--counterstrategy", str(out), "--json-summary"])
     summary = json.loads(capsys.readouterr().out)
