@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import threading
 
 import actionlib
 import rospy
@@ -82,11 +83,16 @@ def client_main(argv: list[str] | None = None) -> int:
         return EXIT_NO_MASTER
     rospy.init_node("send_proposition_goal", anonymous=True)
 
+    printing = threading.Lock()  # feedback arrives on actionlib's thread, the result on ours
+
     def show(kind: str, **fields: object) -> None:
         if args.json:
-            print(json.dumps({"event": kind, **fields}), flush=True)
+            line = json.dumps({"event": kind, **fields})
         else:
-            print(f"{kind}: " + ", ".join(f"{k}={v}" for k, v in fields.items()), flush=True)
+            line = f"{kind}: " + ", ".join(f"{k}={v}" for k, v in fields.items())
+        with printing:  # one write per line: two threads' lines never run together
+            sys.stdout.write(line + "\n")
+            sys.stdout.flush()
 
     client = actionlib.SimpleActionClient(args.action, PropositionAction)
     if not client.wait_for_server(rospy.Duration(args.timeout)):
