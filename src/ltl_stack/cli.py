@@ -1,0 +1,115 @@
+"""The small toolkit every ltl_stack command-line tool shares: one exit-code table
+(``ltl_stack.errors.Exit``), one message style, one meaning of ``--json``, and outputs that never
+overwrite an input.
+
+Conventions (the README's "Tools" section describes them to users):
+
+* errors: ``<tool>: error: <file>:<line>: <message>`` on stderr, one line, no traceback;
+* warnings: ``<tool>: warning: <message>``; progress: ``<tool>: <message>`` (stderr);
+* ``--json``: the tool's machine-readable result on **stdout** (never a file path);
+* output files are written atomically (``ltl_stack.fileio.write_atomic``) and only once every check
+  has passed; an output that names an input (same file, also through links) is refused with exit 2.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+from collections.abc import Callable, Iterable
+from typing import Any, TextIO
+
+from ltl_stack.errors import Exit, OutputError, UserError, exit_codes_epilog
+from ltl_stack.fileio import write_atomic
+
+
+class ToolParser(argparse.ArgumentParser):
+    """``argparse.ArgumentParser`` whose epilog lists the tool's exit codes from the one table.
+
+    Usage errors print ``usage`` and ``<tool>: error: …`` and exit ``Exit.BAD_INPUT`` (argparse's
+    own 2), ``--help`` prints help and exits 0 without doing anything else.
+    """
+
+    def __init__(self, prog: str, description: str, exit_codes: Iterable[Exit] = (), epilog: str = "",
+                 **kwargs: Any):
+        codes = tuple(exit_codes) or (Exit.OK, Exit.BAD_INPUT)
+        text = (epilog + "\n\n" if epilog else "") + exit_codes_epilog(*codes)
+        kwargs.setdefault("formatter_class", argparse.RawDescriptionHelpFormatter)
+        super().__init__(prog=prog, description=description, epilog=text, **kwargs)
+
+    def add_json(self, what: str = "the result") -> None:
+        """The shared ``--json`` flag: ``what`` as JSON on stdout instead of text."""
+        self.add_argument("--json", action="store_true", help=f"print {what} as JSON on stdout")
+
+
+def error(prog: str, message: str, stream: TextIO | None = None) -> None:
+    """Print the one error line of a tool."""
+    print(f"{prog}: error: {message}", file=stream or sys.stderr, flush=True)
+
+
+def warn(prog: str, message: str, stream: TextIO | None = None) -> None:
+    """Print a warning line of a tool."""
+    print(f"{prog}: warning: {message}", file=stream or sys.stderr, flush=True)
+
+
+def say(prog: str, message: str, stream: TextIO | None = None) -> None:
+    """Print a progress/information line of a tool (stderr, so stdout stays the result)."""
+    print(f"{prog}: {message}", file=stream or sys.stderr, flush=True)
+
+
+def print_json(data: Any) -> None:
+    """The ``--json`` result on stdout, one document, flushed."""
+    sys.stdout.write(json.dumps(data, indent=1, sort_keys=False) + "\n")
+    sys.stdout.flush()
+
+
+def run(prog: str, body: Callable[[], int | None]) -> int:
+    """Run a tool's body and turn every ``UserError`` into its one line and exit code.
+
+    ``KeyboardInterrupt`` exits 130 quietly; a closed stdout (``tool | head``) is not an error.
+    """
+    try:
+        code = body()
+        return int(Exit.OK if code is None else code)
+    except UserError as e:
+        error(prog, str(e))
+        return int(e.code)
+    except KeyboardInterrupt:
+        return int(Exit.INTERRUPTED)
+    except BrokenPipeError:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return int(Exit.OK)
+
+
+def _same_file(a: str, b: str) -> bool:
+    try:
+        return os.path.samefile(a, b)
+    except OSError:
+        return os.path.realpath(a) == os.path.realpath(b)
+
+
+def check_outputs(inputs: Iterable[str | os.PathLike | None], outputs: Iterable[str | os.PathLike | None]) -> None:
+    """Refuse (``OutputError``, exit 2) an output path that is one of the inputs, also through links
+    or another spelling of the path, and two outputs that are one file. ``None`` entries are skipped.
+
+    Call before any work is written, so a refused call leaves every file as it was.
+    """
+    ins = [os.fspath(p) for p in inputs if p is not None]
+    outs = [os.fspath(p) for p in outputs if p is not None]
+    for out in outs:
+        for inp in ins:
+            if _same_file(out, inp):
+                raise OutputError(f"{out}: output would overwrite the input {inp}; choose another output path")
+    for i, out in enumerate(outs):
+        for other in outs[i + 1:]:
+            if _same_file(out, other):
+                raise OutputError(f"{out}: named for two outputs ({other}); choose distinct output paths")
+
+
+def write_output(path: str | os.PathLike, data: str | bytes, what: str = "output") -> None:
+    """Write an output atomically; a failure is ``OutputError`` with ``Exit.WRITE_FAILED`` and no file left."""
+    try:
+        write_atomic(path, data)
+    except OSError as e:
+        raise OutputError(f"{path}: cannot write the {what}: {e.strerror or e}", Exit.WRITE_FAILED) from None
