@@ -107,9 +107,12 @@ def check_outputs(inputs: Iterable[str | os.PathLike | None], outputs: Iterable[
                 raise OutputError(f"{out}: named for two outputs ({other}); choose distinct output paths")
 
 
-def write_output(path: str | os.PathLike, data: str | bytes, what: str = "output") -> None:
-    """Write an output atomically; a failure is ``OutputError`` with ``Exit.WRITE_FAILED`` and no file left."""
+def write_output(path: str | os.PathLike, data: str | bytes, what: str = "output", mode: int | None = None) -> None:
+    """Write an output atomically; a failure is ``OutputError`` with ``Exit.WRITE_FAILED`` and no file left.
+
+    ``mode``: the new file's permissions (default: a new file's under the umask).
+    """
     try:
-        write_atomic(path, data)
+        write_atomic(path, data, mode)
     except OSError as e:
         raise OutputError(f"{path}: cannot write the {what}: {e.strerror or e}", Exit.WRITE_FAILED) from None

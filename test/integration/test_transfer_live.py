@@ -9,6 +9,12 @@ from pathlib import Path
 import pytest
 from helpers import require_shared, wait_for
 
+from ltl_stack.errors import Exit
+from ltl_stack.ros.live_channels import list_live_channels
+from ltl_stack.transfer.choose import rule_choice
+from ltl_stack.transfer.errors import TransferError
+from ltl_stack.transfer.limits import load_limits
+
 pytestmark = [pytest.mark.ros, pytest.mark.timeout(120)]
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "transfer"
@@ -18,8 +24,6 @@ FJT = "control_msgs/FollowJointTrajectoryAction"
 
 
 def live(ros_master):
-    from ltl_stack.ros.live_channels import list_live_channels
-
     return list_live_channels(ros_master.uri)
 
 
@@ -47,12 +51,10 @@ def test_live_listing_has_topics_with_types_and_actions(ros_master):
 
 
 def test_unreachable_master_is_one_clear_error(tmp_path):
-    from ltl_stack.ros.live_channels import list_live_channels
-    from ltl_stack.transfer.errors import TransferError
-
     with pytest.raises(TransferError) as err:
         list_live_channels("http://127.0.0.1:9/")
     assert str(err.value).startswith("http://127.0.0.1:9/: cannot reach the ROS master"), str(err.value)
+    assert err.value.code == Exit.NO_ROS
 
 
 def test_keyboard_example_asks_with_the_thesis_prompt(ros_master, tmp_path):
@@ -68,8 +70,6 @@ def test_keyboard_example_asks_with_the_thesis_prompt(ros_master, tmp_path):
 
 
 def test_non_interactive_choice_is_stated_and_flagged(ros_master, tmp_path):
-    from ltl_stack.transfer.choose import rule_choice
-
     start_target_robot(ros_master, TURTLEBOT_TWIST)
     done = transfer(ros_master, tmp_path, "keyboard_jackal.py", "jackal", "turtlebot", "--non-interactive", "--json")
     assert done.returncode == 0, done.stderr
@@ -114,8 +114,6 @@ def test_example_3_action_name_chosen_from_the_live_master(ros_master, tmp_path)
 
 
 def test_transferred_keyboard_program_drives_the_simulated_turtlebot_within_limits(ros_master, tmp_path):
-    from ltl_stack.transfer.limits import load_limits
-
     codebase = require_shared("codebase", "channel_counts.yaml")
     args = ["rosrun", "ltl_stack", "ros_code_transfer", str(DATA / "keyboard_jackal.py"), "--from", "jackal",
             "--to", "turtlebot", "--robots", str(require_shared("robots")), "-o", str(tmp_path / "kb.py"),

@@ -2,45 +2,40 @@
 
 Topics come from the master's topic/type table (publishers and subscribers both register types).
 An action ``ns`` shows up as the five topics ``ns/goal``, ``ns/cancel``, ``ns/status``,
-``ns/feedback`` and ``ns/result``; it is listed once, as ``ns`` with type ``pkg/XAction``.
+``ns/feedback`` and ``ns/result``; it is listed once, as ``ns`` with type ``pkg/XAction``
+(``ltl_stack.transfer.channels.channel_listing``). ``scripts/ros_code_transfer`` passes
+``list_live_channels`` to the transfer's command line, which does not import ROS itself.
 """
 from __future__ import annotations
 
 import os
+import socket
 
+import rosgraph
+
+from ltl_stack.errors import Exit
+from ltl_stack.transfer.channels import actions_from_topics, channel_listing
 from ltl_stack.transfer.errors import TransferError
 
-ACTION_SUFFIXES = ("goal", "cancel", "status", "feedback", "result")
-
-
-def actions_from_topics(topics: list[tuple[str, str]]) -> list[tuple[str, str]]:
-    """Actions (name, 'pkg/XAction') implied by the topic table: ``ns/goal`` of type ``pkg/XActionGoal``."""
-    by_name = dict(topics)
-    actions = []
-    for name, msg_type in topics:
-        if name.endswith("/goal") and msg_type.endswith("ActionGoal"):
-            ns = name[: -len("/goal")]
-            if all(f"{ns}/{suffix}" in by_name for suffix in ("status", "result")):
-                actions.append((ns, msg_type[: -len("Goal")]))
-    return sorted(actions)
+__all__ = ["actions_from_topics", "list_live_channels"]
 
 
 def list_live_channels(master_uri: str | None = None, timeout: float = 3.0) -> list[tuple[str, str]]:
-    """(name, type) of every topic and action on the master (``ROS_MASTER_URI`` unless given)."""
-    import socket
+    """(name, type) of every topic and action on the master (``ROS_MASTER_URI`` unless given).
 
-    import rosgraph
-
+    No master (unset or unreachable) is a ``TransferError`` with ``Exit.NO_ROS``.
+    """
     uri = master_uri or os.environ.get("ROS_MASTER_URI")
     if not uri:
-        raise TransferError("ROS_MASTER_URI is not set; start a master or drop --live", "<environment>")
+        raise TransferError("ROS_MASTER_URI is not set; start a master or drop --live", "<environment>",
+                            code=Exit.NO_ROS)
     master = rosgraph.Master("/ltl_stack_code_transfer", master_uri=uri)
     old = socket.getdefaulttimeout()
     socket.setdefaulttimeout(timeout)
     try:
         topics = [(name, msg_type) for name, msg_type in master.getTopicTypes()]
     except (OSError, rosgraph.MasterException) as err:
-        raise TransferError(f"cannot reach the ROS master: {err}", uri) from None
+        raise TransferError(f"cannot reach the ROS master: {err}", uri, code=Exit.NO_ROS) from None
     finally:
         socket.setdefaulttimeout(old)
-    return sorted(topics) + actions_from_topics(topics)
+    return channel_listing(topics)

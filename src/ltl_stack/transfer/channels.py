@@ -140,3 +140,21 @@ def find_channel_sites(src: SourceFile) -> list[ChannelSite]:
 def find_channels(text: str, filename: str = "<source>") -> list[ChannelUse]:
     """Channel uses of a program given as text."""
     return [site.use for site in find_channel_sites(SourceFile(text, filename))]
+
+
+def actions_from_topics(topics: list[tuple[str, str]]) -> list[tuple[str, str]]:
+    """Actions (name, 'pkg/XAction') implied by a topic table: ``ns/goal`` of type ``pkg/XActionGoal``
+    with ``ns/status`` and ``ns/result`` beside it (an action is listed once, as ``ns``)."""
+    by_name = dict(topics)
+    actions = []
+    for name, msg_type in topics:
+        if name.endswith("/goal") and msg_type.endswith("ActionGoal"):
+            ns = name[: -len("/goal")]
+            if all(f"{ns}/{suffix}" in by_name for suffix in ("status", "result")):
+                actions.append((ns, msg_type[: -len("Goal")]))
+    return sorted(actions)
+
+
+def channel_listing(topics: list[tuple[str, str]]) -> list[tuple[str, str]]:
+    """The A.2 listing of a master's topic table: every topic, then every action it implies."""
+    return sorted(topics) + actions_from_topics(topics)

@@ -1,31 +1,35 @@
-"""Command lines of the code transfer: ``ros_code_transfer`` and ``mine_channels`` (thin; the work is elsewhere)."""
+"""Command lines of the code transfer: ``ros_code_transfer`` and ``mine_channels`` (thin; the work is elsewhere).
+
+Both follow the shared tool conventions (``ltl_stack.cli``): one ``<tool>: error: …`` line and a code
+from ``ltl_stack.errors.Exit`` for every user mistake, ``--json`` on stdout, outputs written atomically
+only after every check, and never over an input. The live master listing (A.2) is an adapter in
+``ltl_stack.ros``; ``scripts/ros_code_transfer`` passes it in as ``list_live``.
+"""
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import sys
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 import yaml
 
+from ltl_stack.cli import ToolParser, check_outputs, print_json, run, say, warn, write_output
+from ltl_stack.errors import Exit
+from ltl_stack.inputs import read_text
+
 from .choose import prompt_text
-from .codebase import load_codebase, mine_programs
+from .codebase import is_python_program, load_codebase, mine_programs
 from .errors import TransferError
-from .profiles import load_profile
-from .rewrite import write_atomic
-from .transfer import TransferOptions, TransferRefused, transfer_program
+from .profiles import RobotProfile, load_profile
+from .transfer import TransferOptions, transfer_program
 
-EXIT_OK, EXIT_UNRESOLVED, EXIT_BAD_INPUT, EXIT_REFUSED = 0, 1, 2, 3
-
-EPILOG = """exit codes:
-  0  the target program was written and everything was resolved
-  1  the target program was written; the report lists what could not be resolved
-  2  bad input (unknown robot, unreadable or inconsistent file, unreachable master, no answer); nothing written
-  3  transfer refused (e.g. differential <-> holonomic velocity commands); nothing written
-"""
+TRANSFER = "ros_code_transfer"
+MINE = "mine_channels"
+#: a function listing the (name, type) channels of the running master, e.g. ``ros.live_channels``
+LiveLister = Callable[[], list[tuple[str, str]]]
 
 
 def make_asker(stream_in=None, stream_out=None):
@@ -47,11 +51,13 @@ def make_asker(stream_in=None, stream_out=None):
     return ask
 
 
-def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
-        prog="ros_code_transfer", formatter_class=argparse.RawDescriptionHelpFormatter, epilog=EPILOG,
-        description="Transfer a ROS Python program written for one robot to another (thesis chapter 2): "
-                    "replace channel names, scale/check velocity commands, retarget joint trajectories.")
+def build_parser() -> ToolParser:
+    parser = ToolParser(
+        TRANSFER, "Transfer a ROS Python program written for one robot to another (thesis chapter 2): "
+                  "replace channel names, scale/check velocity commands, retarget joint trajectories.",
+        exit_codes=(Exit.OK, Exit.NEGATIVE, Exit.BAD_INPUT, Exit.NO_ROS, Exit.WRITE_FAILED, Exit.REFUSED),
+        epilog="1: the target program was written; the report lists what could not be resolved.\n"
+               "Nothing is written on any other non-zero code.")
     parser.add_argument("source", help="the source robot's Python program")
     parser.add_argument("--from", dest="source_robot", required=True, help="source robot name")
     parser.add_argument("--to", dest="target_robot", required=True, help="target robot name")
@@ -64,88 +70,94 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--non-interactive", action="store_true",
                         help="never ask: choose by the documented rules and flag each choice in the report")
     parser.add_argument("--json-report", metavar="FILE", help="also write the report as JSON to FILE")
-    parser.add_argument("--json", action="store_true", help="print the report as JSON instead of text")
+    parser.add_json("the report")
     parser.add_argument("-q", "--quiet", action="store_true", help="no progress on standard error")
     return parser
 
 
-def main(argv: list[str] | None = None) -> int:
+def main(argv: list[str] | None = None, list_live: LiveLister | None = None) -> int:
+    """``ros_code_transfer``; ``list_live`` is the A.2 adapter (needed for ``--live``)."""
     args = build_parser().parse_args(argv)
-    started = time.perf_counter()
-    progress = None if args.quiet else (lambda msg: print(f"[transfer] {msg}", file=sys.stderr, flush=True))
-    report = None
-    try:
-        src_path = Path(args.source)
-        if Path(args.output).resolve() == src_path.resolve():
-            raise TransferError("the output would overwrite the source program; choose another -o", args.output)
-        try:
-            text = src_path.read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError) as err:
-            raise TransferError(f"cannot read the program: {getattr(err, 'strerror', None) or err}",
-                                args.source) from None
-        source = load_profile(args.robots, args.source_robot)
-        target = load_profile(args.robots, args.target_robot)
-        stats = None
-        codebase = args.codebase or target.channels
-        if codebase:
-            stats = load_codebase(codebase, target.name, progress)
-            if stats is None and progress:
-                progress(f"no channel statistics for {target.name} in {codebase}")
-        live = None
-        if args.live:
-            from ltl_stack.ros.live_channels import list_live_channels
+    return run(TRANSFER, lambda: _transfer(args, list_live))
 
-            live = list_live_channels()
-            if progress:
-                progress(f"{len(live)} channels on the live master")
-        ask = None if args.non_interactive else make_asker()
-        options = TransferOptions(stats=stats, live=live, ask=ask, progress=progress)
-        result = transfer_program(text, source, target, options, filename=str(src_path))
-        report = result.report
-        report.output_file = args.output
-        report.seconds = time.perf_counter() - started
-        write_atomic(args.output, result.text, mode=os.stat(src_path).st_mode & 0o777)
-        code = EXIT_UNRESOLVED if report.unresolved else EXIT_OK
-    except TransferRefused as err:
-        print(f"ros_code_transfer: refused: {err}", file=sys.stderr)
-        return EXIT_REFUSED
-    except TransferError as err:
-        print(f"ros_code_transfer: error: {err}", file=sys.stderr)
-        return EXIT_BAD_INPUT
+
+def _profile_files(*profiles: RobotProfile) -> list[str]:
+    return [str(path) for p in profiles for path in (p.limits and p.limits.file, p.urdf, p.srdf, p.channels)
+            if path]
+
+
+def _transfer(args, list_live: LiveLister | None) -> int:
+    started = time.perf_counter()
+    progress = None if args.quiet else (lambda msg: say(TRANSFER, msg))
+    outputs = [args.output, args.json_report]
+    check_outputs([args.source, args.codebase], outputs)   # before anything is read or written
+    text = read_text(args.source, "program")
+    source = load_profile(args.robots, args.source_robot)
+    target = load_profile(args.robots, args.target_robot)
+    check_outputs(_profile_files(source, target), outputs)
+    stats = None
+    codebase = args.codebase or target.channels
+    if codebase:
+        stats = load_codebase(codebase, target.name, progress)
+        if stats is None and progress:
+            progress(f"no channel statistics for {target.name} in {codebase}")
+    live = None
+    if args.live:
+        if list_live is None:
+            raise TransferError("--live needs the ROS adapter: run the ros_code_transfer script")
+        live = list_live()
+        if progress:
+            progress(f"{len(live)} channels on the live master")
+    ask = None if args.non_interactive else make_asker()
+    options = TransferOptions(stats=stats, live=live, ask=ask, progress=progress)
+    result = transfer_program(text, source, target, options, filename=str(args.source))
+    report = result.report
+    report.output_file = args.output
+    report.seconds = time.perf_counter() - started
+    write_output(args.output, result.text, "target program", mode=os.stat(args.source).st_mode & 0o777)
     if args.json_report:
         try:
-            write_atomic(args.json_report, report.to_json())
-        except TransferError as err:
-            print(f"ros_code_transfer: error: {err}", file=sys.stderr)
-            return EXIT_BAD_INPUT
-    sys.stdout.write(report.to_json() if args.json else report.to_text())
-    return code
+            write_output(args.json_report, report.to_json(), "JSON report")
+        except BaseException:
+            Path(args.output).unlink(missing_ok=True)  # any error leaves no output behind
+            raise
+    if args.json:
+        print_json(json.loads(report.to_json()))
+    else:
+        sys.stdout.write(report.to_text())
+    return Exit.NEGATIVE if report.unresolved else Exit.OK
 
 
 def mine_main(argv: list[str] | None = None) -> int:
     """``mine_channels DIR --robot NAME``: print (or write) the channel statistics of a codebase."""
-    parser = argparse.ArgumentParser(
-        prog="mine_channels",
-        description="Count the channel names per message type in a folder of ROS Python programs "
-                    "(thesis §2.5.1 A.1). Exit codes: 0 done, 2 bad input.")
+    parser = ToolParser(
+        MINE, "Count the channel names per message type in a folder of ROS Python programs "
+              "(thesis §2.5.1 A.1). Programs that cannot be read or parsed are skipped with a warning.",
+        exit_codes=(Exit.OK, Exit.BAD_INPUT, Exit.WRITE_FAILED))
     parser.add_argument("folder", help="folder of programs written for the robot (searched recursively)")
     parser.add_argument("--robot", required=True, help="robot name the statistics are filed under")
     parser.add_argument("-o", "--output", help="write the statistics YAML here (default: standard output)")
-    parser.add_argument("--json", action="store_true", help="print JSON instead of YAML")
+    parser.add_json("the statistics (instead of YAML)")
     parser.add_argument("-q", "--quiet", action="store_true", help="no progress on standard error")
     args = parser.parse_args(argv)
-    progress = None if args.quiet else (lambda msg: print(msg, file=sys.stderr))
-    try:
-        stats = mine_programs(args.folder, args.robot, progress)
-        for problem in stats.skipped:
-            print(f"mine_channels: skipped {problem}", file=sys.stderr)
-        data = stats.to_yaml_data()
-        text = json.dumps(data, indent=2) + "\n" if args.json else yaml.safe_dump(data, sort_keys=False)
-        if args.output:
-            write_atomic(args.output, text)
-        else:
-            sys.stdout.write(text)
-    except TransferError as err:
-        print(f"mine_channels: error: {err}", file=sys.stderr)
-        return EXIT_BAD_INPUT
-    return EXIT_OK
+    return run(MINE, lambda: _mine(args))
+
+
+def _mine(args) -> int:
+    folder = Path(args.folder)
+    if folder.is_dir():
+        programs = [p for p in folder.rglob("*") if p.is_file() and is_python_program(p)]
+        check_outputs(programs, [args.output])
+    progress = None if args.quiet else (lambda msg: say(MINE, msg))
+    stats = mine_programs(folder, args.robot, progress)
+    for problem in stats.skipped:
+        warn(MINE, f"skipped {problem}")
+    data = stats.to_yaml_data()
+    text = yaml.safe_dump(data, sort_keys=False)
+    if args.output:
+        write_output(args.output, text, "statistics")
+    if args.json:
+        print_json(data)
+    elif not args.output:
+        sys.stdout.write(text)
+    return Exit.OK

@@ -9,7 +9,8 @@ from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import yaml
+from ltl_stack.errors import InputError
+from ltl_stack.inputs import load_yaml, read_text
 
 from .channels import find_channels
 from .errors import TransferError
@@ -77,8 +78,8 @@ def mine_programs(folder: str | Path, robot: str, progress=None) -> ChannelStats
         if progress:
             progress(f"[{i}/{len(files)}] {path}")
         try:
-            uses = find_channels(path.read_text(encoding="utf-8", errors="replace"), str(path))
-        except TransferError as err:
+            uses = find_channels(read_text(path, "program"), str(path))
+        except (TransferError, InputError) as err:
             stats.skipped.append(str(err))
             continue
         stats.scripts += 1
@@ -92,12 +93,7 @@ def mine_programs(folder: str | Path, robot: str, progress=None) -> ChannelStats
 def parse_stats_file(path: str | Path) -> dict[str, ChannelStats]:
     """Read a statistics YAML (one or more robots)."""
     path = Path(path)
-    try:
-        data = yaml.safe_load(path.read_text())
-    except OSError as err:
-        raise TransferError(f"cannot read channel statistics: {err.strerror}", str(path)) from None
-    except yaml.YAMLError as err:
-        raise TransferError(f"not valid YAML: {getattr(err, 'problem', err)}", str(path)) from None
+    data = load_yaml(path, "channel statistics file")
     if not isinstance(data, dict):
         raise TransferError("expected robot -> message type -> channel -> count", str(path))
     result = {}
@@ -107,14 +103,14 @@ def parse_stats_file(path: str | Path) -> dict[str, ChannelStats]:
         stats = ChannelStats(str(robot))
         for key, names in body.items():
             if key == "scripts":
-                if not isinstance(names, int):
+                if isinstance(names, bool) or not isinstance(names, int) or names < 0:
                     raise TransferError("scripts must be a whole number", str(path), f"{robot}.scripts")
                 stats.scripts = names
                 continue
             if not isinstance(names, dict):
                 raise TransferError("expected channel -> count", str(path), f"{robot}.{key}")
             for name, n in names.items():
-                if not isinstance(n, int) or n < 0:
+                if isinstance(n, bool) or not isinstance(n, int) or n < 0:
                     raise TransferError(f"count must be a whole number, got {n!r}", str(path),
                                         f"{robot}.{key}.{name}")
                 stats.add(str(key), str(name), n)

@@ -9,7 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-import yaml
+from ltl_stack.inputs import load_yaml
 
 from .errors import TransferError
 
@@ -113,17 +113,8 @@ def parse_limits(data, file: str = "<limits>") -> VelocityLimits:
 
 
 def load_limits(path: str | Path) -> VelocityLimits:
-    """Read a unified velocity-limit YAML file."""
-    path = Path(path)
-    try:
-        data = yaml.safe_load(path.read_text())
-    except OSError as err:
-        raise TransferError(f"cannot read velocity limits: {err.strerror}", str(path)) from None
-    except yaml.YAMLError as err:
-        mark = getattr(err, "problem_mark", None)
-        where = f"line {mark.line + 1}" if mark else None
-        raise TransferError(f"not valid YAML: {getattr(err, 'problem', err)}", str(path), where) from None
-    return parse_limits(data, str(path))
+    """Read a unified velocity-limit YAML file (``ltl_stack.inputs``: bad files are one error naming file:line)."""
+    return parse_limits(load_yaml(path, "velocity limits file"), str(path))
 
 
 def scale_command(value: float, source: AxisLimit, target: AxisLimit) -> float:

@@ -16,7 +16,7 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import yaml
+from ltl_stack.inputs import load_yaml
 
 from .errors import TransferError
 from .limits import VelocityLimits, infer_drive, load_limits
@@ -87,10 +87,7 @@ def load_profile(robots_dir: str | Path, name: str) -> RobotProfile:
     declared: dict = {}
     profile_file = base / f"{name}.yaml"
     if profile_file.is_file():
-        try:
-            declared = yaml.safe_load(profile_file.read_text()) or {}
-        except yaml.YAMLError as err:
-            raise TransferError(f"not valid YAML: {getattr(err, 'problem', err)}", str(profile_file)) from None
+        declared = load_yaml(profile_file, "robot profile") or {}
         if not isinstance(declared, dict):
             raise TransferError("a robot profile must be a mapping", str(profile_file))
         unknown = set(declared) - PROFILE_KEYS

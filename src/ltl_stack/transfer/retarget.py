@@ -30,7 +30,7 @@ from .profiles import RobotProfile
 from .report import ParameterChange, TransferReport, Unresolved
 from .rewrite import Edit
 from .source_ast import SourceFile, format_angle, format_list, format_string
-from .srdf import similarity
+from .srdf import load_srdf, similarity
 from .urdf import ChainJoint, UrdfModel, actuated, chain_frames, chain_frames_jacobian, load_urdf
 
 SAMPLES = 12
@@ -250,8 +250,6 @@ def transfer_joint_commands(src: SourceFile, use: JointTrajectoryUse, source: Ro
     source_urdf, target_urdf = load_urdf(source.urdf), load_urdf(target.urdf)
     srdf = None
     if target.srdf is not None:
-        from .srdf import load_srdf
-
         srdf = load_srdf(target.srdf)
     chain_s = source_chain(source_urdf, names)
     chain_t, rule = target_chain(target_urdf, srdf, names)

@@ -2,11 +2,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from pathlib import Path
 
-from ltl_stack import fileio
-
-from .errors import TransferError
 from .source_ast import Span
 
 
@@ -26,11 +22,3 @@ def apply_edits(data: bytes, edits: list[Edit]) -> bytes:
     for edit in reversed(unique):
         out[edit.span.start:edit.span.end] = edit.text.encode("utf-8")
     return bytes(out)
-
-
-def write_atomic(path: str | Path, data: bytes | str, mode: int | None = None) -> None:
-    """``ltl_stack.fileio.write_atomic``, failing with a TransferError that names the file."""
-    try:
-        fileio.write_atomic(path, data, mode)
-    except OSError as err:
-        raise TransferError(f"cannot write: {err.strerror}", str(path)) from None

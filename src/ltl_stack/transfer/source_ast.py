@@ -8,7 +8,11 @@ from __future__ import annotations
 import ast
 from dataclasses import dataclass
 
-from .errors import TransferError
+from ltl_stack.errors import InputError
+
+#: deeper syntax trees than this are refused: real programs stay far below it, and the scanners walk
+#: some expressions recursively (``- - - 1``)
+MAX_AST_DEPTH = 200
 
 
 @dataclass(frozen=True)
@@ -27,10 +31,7 @@ class SourceFile:
         self.text = text
         self.filename = filename
         self.data = text.encode("utf-8")
-        try:
-            self.tree = ast.parse(text, filename=filename)
-        except SyntaxError as err:
-            raise TransferError(f"not valid Python: {err.msg}", filename, f"line {err.lineno}") from None
+        self.tree = parse_program(text, filename)
         self._line_starts = [0]
         for i, byte in enumerate(self.data):
             if byte == 0x0A:
@@ -77,6 +78,24 @@ class SourceFile:
             if found or scope is self.tree:
                 return found or []
             scope = self.scope_of(scope)
+
+
+def parse_program(text: str, filename: str) -> ast.Module:
+    """``ast.parse`` with one ``InputError`` (file:line) for invalid or absurdly nested programs."""
+    try:
+        tree = ast.parse(text, filename=filename)
+    except SyntaxError as err:  # also IndentationError ("too many levels of indentation")
+        raise InputError(filename, f"not valid Python: {err.msg}", err.lineno or 0) from None
+    except (RecursionError, MemoryError):
+        raise InputError(filename, "not a program this tool reads: nested too deeply for Python's parser") from None
+    stack = [(tree, 1)]
+    while stack:
+        node, depth = stack.pop()
+        if depth > MAX_AST_DEPTH:
+            raise InputError(filename, f"nested more than {MAX_AST_DEPTH} levels deep",
+                             getattr(node, "lineno", 0))
+        stack.extend((child, depth + 1) for child in ast.iter_child_nodes(node))
+    return tree
 
 
 def _import_aliases(tree: ast.Module) -> dict[str, str]:

@@ -9,9 +9,11 @@ from __future__ import annotations
 import difflib
 from dataclasses import dataclass, field
 from pathlib import Path
-from xml.etree import ElementTree
+
+from ltl_stack.inputs import read_text
 
 from .errors import TransferError
+from .urdf import parse_xml
 
 
 @dataclass
@@ -90,10 +92,7 @@ class Srdf:
 
 def parse_srdf(text: str, file: str = "<srdf>") -> Srdf:
     """Read an SRDF document; a clear error names the file and the offending element."""
-    try:
-        root = ElementTree.fromstring(text)
-    except ElementTree.ParseError as err:
-        raise TransferError(f"not valid XML: {err}", file) from None
+    root = parse_xml(text, file)
     if root.tag != "robot":
         raise TransferError(f"root element is <{root.tag}>, expected <robot>", file)
     groups: dict[str, PlanningGroup] = {}
@@ -139,12 +138,8 @@ def _line(text: str, elem) -> str:
 
 
 def load_srdf(path: str | Path) -> Srdf:
-    path = Path(path)
-    try:
-        text = path.read_text()
-    except OSError as err:
-        raise TransferError(f"cannot read SRDF: {err.strerror}", str(path)) from None
-    return parse_srdf(text, str(path))
+    """Read an SRDF file (UTF-8 text, well-formed XML, consistent groups)."""
+    return parse_srdf(read_text(path, "SRDF file"), str(path))
 
 
 def check_against_urdf(srdf: Srdf, urdf) -> None:

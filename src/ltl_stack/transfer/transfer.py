@@ -12,21 +12,21 @@ import ast
 import time
 from dataclasses import dataclass, field
 
-from .channels import ChannelSite, find_channel_sites, name_spans
+from .channels import ChannelSite, find_channel_sites, name_spans, resolve_name
 from .choose import Asker, Decision, choose_channel, choose_group, short_type
 from .codebase import ChannelStats
 from .commands import find_joint_trajectories, find_velocity_commands
-from .errors import TransferError
+from .errors import TransferRefused
 from .limits import scale_command
 from .profiles import RobotProfile
 from .report import ChannelChange, ParameterChange, TransferReport, Unresolved
+from .retarget import transfer_joint_commands
 from .rewrite import Edit, apply_edits
-from .source_ast import SourceFile, format_number, format_string
+from .source_ast import SourceFile, call_argument, format_number, format_string
+from .srdf import check_against_urdf, load_srdf, rank_groups
+from .urdf import load_urdf_tree
 
-
-class TransferRefused(TransferError):
-    """The transfer cannot be done safely at all (e.g. differential <-> holonomic velocity commands)."""
-
+__all__ = ["TransferOptions", "TransferRefused", "TransferResult", "transfer_program"]
 
 @dataclass
 class TransferOptions:
@@ -60,8 +60,6 @@ def transfer_program(text: str, source: RobotProfile, target: RobotProfile,
     _velocities(velocity, unresolved_velocity, source, target, report, edits, src)
     joints = find_joint_trajectories(src)
     if joints.names or joints.points:
-        from .retarget import transfer_joint_commands
-
         transfer_joint_commands(src, joints, source, target, report, edits, options.progress)
     for u in joints.unresolved:
         report.unresolved.append(Unresolved(u.field, u.line, f"'{u.text}': {u.reason}"))
@@ -130,9 +128,6 @@ def _channels(src: SourceFile, sites: list[ChannelSite], source: RobotProfile, t
 def _check_planning_frames(src: SourceFile, sites: list[ChannelSite], target: RobotProfile,
                            report: TransferReport) -> None:
     """The frame a MoveGroupInterface plans in (its second argument) must exist on the target."""
-    from .channels import resolve_name
-    from .source_ast import call_argument
-
     urdf = _target_urdf(target)
     if urdf is None:
         return
@@ -156,19 +151,13 @@ def _edit_name(src: SourceFile, site: ChannelSite, new: str, edits: list[Edit]) 
 def _load_srdf(robot: RobotProfile):
     if robot.srdf is None:
         return None
-    from .srdf import check_against_urdf, load_srdf
-
     srdf = load_srdf(robot.srdf)
     if robot.urdf is not None:
-        from .urdf import load_urdf_tree
-
         check_against_urdf(srdf, load_urdf_tree(robot.urdf))
     return srdf
 
 
 def _choose_group(source_group: str, target: RobotProfile, srdf, ask: Asker | None):
-    from .srdf import rank_groups
-
     if srdf is None:
         return Decision(None, "A.3 needs the target's SRDF")
     urdf = _target_urdf(target)
@@ -179,8 +168,6 @@ def _choose_group(source_group: str, target: RobotProfile, srdf, ask: Asker | No
 def _target_urdf(target: RobotProfile):
     if target.urdf is None:
         return None
-    from .urdf import load_urdf_tree
-
     return load_urdf_tree(target.urdf)
 
 

@@ -7,10 +7,16 @@ check it against yourdfpy's own scene-graph forward kinematics.
 from __future__ import annotations
 
 import functools
+import io
 from dataclasses import dataclass
 from pathlib import Path
+from xml.etree import ElementTree
 
 import numpy as np
+import yourdfpy
+
+from ltl_stack.errors import InputError
+from ltl_stack.inputs import read_text
 
 from .errors import TransferError
 
@@ -207,30 +213,30 @@ def actuated(chain: list[ChainJoint]) -> list[ChainJoint]:
     return [j for j in chain if j.type in ACTUATED]
 
 
+def parse_xml(text: str, file: str) -> ElementTree.Element:
+    """The root element of an XML document; ``InputError`` with the line when it is not well-formed."""
+    try:
+        return ElementTree.fromstring(text)
+    except ElementTree.ParseError as err:
+        line = err.position[0] if getattr(err, "position", None) else 0
+        raise InputError(file, f"not valid XML: {str(err).split(': line ')[0]}", line) from None
+
+
 @functools.lru_cache(maxsize=32)
 def _load_cached(path: str, mtime: float) -> UrdfModel:
-    import yourdfpy
-
+    text = _tree_cached(path, mtime)[1]  # checked: UTF-8 text, well-formed, a consistent <robot> tree
     try:
-        urdf = yourdfpy.URDF.load(path, build_scene_graph=False, load_meshes=False,
+        urdf = yourdfpy.URDF.load(io.BytesIO(text.encode("utf-8")), build_scene_graph=False, load_meshes=False,
                                   build_collision_scene_graph=False, load_collision_meshes=False)
-    except OSError as err:
-        raise TransferError(f"cannot read URDF: {err.strerror or err}", path) from None
     except Exception as err:  # yourdfpy/lxml raise many kinds for malformed files
         raise TransferError(f"not a valid URDF: {err}", path) from None
     return UrdfModel(urdf, path)
 
 
 @functools.lru_cache(maxsize=32)
-def _tree_cached(path: str, mtime: float) -> UrdfTree:
-    from xml.etree import ElementTree
-
-    try:
-        root = ElementTree.parse(path).getroot()
-    except OSError as err:
-        raise TransferError(f"cannot read URDF: {err.strerror or err}", path) from None
-    except ElementTree.ParseError as err:
-        raise TransferError(f"not valid XML: {err}", path) from None
+def _tree_cached(path: str, mtime: float) -> tuple[UrdfTree, str]:
+    text = read_text(path, "URDF file")
+    root = parse_xml(text, path)
     if root.tag != "robot":
         raise TransferError(f"root element is <{root.tag}>, expected <robot>", path)
     joints = []
@@ -242,11 +248,11 @@ def _tree_cached(path: str, mtime: float) -> UrdfTree:
                                 f"joint {name!r}")
         joints.append(JointInfo(name, elem.get("type", ""), parent.get("link"), child.get("link")))
     links = {e.get("name") for e in root.findall("link")}
-    return UrdfTree(joints, links, root.get("name", ""), path)
+    return UrdfTree(joints, links, root.get("name", ""), path), text
 
 
 def _mtime(path: str | Path) -> float:
-    """The file's modification time (the cache key beside its path); TransferError naming it if unreadable."""
+    """The file's modification time (the cache key beside its path); an error naming it if unreadable."""
     try:
         return Path(path).stat().st_mtime
     except OSError as err:
@@ -254,8 +260,8 @@ def _mtime(path: str | Path) -> float:
 
 
 def load_urdf_tree(path: str | Path) -> UrdfTree:
-    """Only the link/joint names of a URDF (fast; no yourdfpy import)."""
-    return _tree_cached(str(path), _mtime(path))
+    """Only the link/joint names of a URDF (fast: no kinematics)."""
+    return _tree_cached(str(path), _mtime(path))[0]
 
 
 def load_urdf(path: str | Path) -> UrdfModel:

@@ -4,6 +4,7 @@ from helpers import require_shared
 from hypothesis import given
 from hypothesis import strategies as st
 
+from ltl_stack.errors import InputError
 from ltl_stack.transfer.errors import TransferError
 from ltl_stack.transfer.limits import AxisLimit, infer_drive, load_limits, parse_limits, scale_command
 
@@ -103,6 +104,6 @@ def test_bad_limits_name_the_file_and_the_key(data, where):
 def test_unreadable_yaml_names_the_line(tmp_path):
     bad = tmp_path / "bad.yaml"
     bad.write_text("linear:\n  x: [1,\n")
-    with pytest.raises(TransferError) as err:
+    with pytest.raises(InputError) as err:
         load_limits(bad)
-    assert str(bad) in str(err.value) and "line" in str(err.value), str(err.value)
+    assert str(err.value).startswith(f"{bad}:3: invalid YAML"), str(err.value)

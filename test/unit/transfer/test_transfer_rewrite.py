@@ -1,7 +1,7 @@
 """Invariants of the rewriting: bytes outside the edits never change; every command becomes its scaled value."""
 import ast
 
-from hypothesis import given, settings
+from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from ltl_stack.transfer.limits import AxisLimit, VelocityLimits, scale_command
@@ -20,6 +20,7 @@ def data_and_edits(draw):
     return data, edits
 
 
+@settings(suppress_health_check=[HealthCheck.too_slow])  # a busy machine draws slowly
 @given(data_and_edits())
 def test_bytes_outside_the_edits_are_kept(case):
     data, edits = case

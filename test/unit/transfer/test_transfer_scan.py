@@ -3,9 +3,9 @@ import textwrap
 
 import pytest
 
+from ltl_stack.errors import InputError
 from ltl_stack.transfer.channels import find_channels
 from ltl_stack.transfer.commands import find_joint_trajectories, find_velocity_commands
-from ltl_stack.transfer.errors import TransferError
 from ltl_stack.transfer.source_ast import SourceFile
 
 
@@ -65,9 +65,9 @@ def test_computed_names_are_reported_not_guessed():
 
 
 def test_syntax_errors_name_file_and_line():
-    with pytest.raises(TransferError) as err:
+    with pytest.raises(InputError) as err:
         find_channels("x = (\n", "prog.py")
-    assert str(err.value).startswith("prog.py: line "), str(err.value)
+    assert str(err.value).startswith("prog.py:1: not valid Python: "), str(err.value)
 
 
 def velocity(code):

@@ -4,6 +4,7 @@ from pathlib import Path
 import pytest
 from helpers import require_shared
 
+from ltl_stack.errors import UserError
 from ltl_stack.transfer.errors import TransferError
 from ltl_stack.transfer.profiles import load_profile
 from ltl_stack.transfer.srdf import check_against_urdf, load_srdf, parse_srdf, rank_groups, similarity
@@ -84,9 +85,9 @@ def test_inconsistent_srdf_names_the_file_and_the_group():
     ("<robot name='r'><group name='a'>", "not valid XML"),
 ])
 def test_bad_srdf(text, message):
-    with pytest.raises(TransferError) as err:
+    with pytest.raises(UserError) as err:
         parse_srdf(text, "r.srdf")
-    assert str(err.value).startswith("r.srdf: ") and message in str(err.value), str(err.value)
+    assert str(err.value).startswith("r.srdf:") and message in str(err.value), str(err.value)
 
 
 def test_a_planning_frame_the_target_lacks_is_unresolved():
