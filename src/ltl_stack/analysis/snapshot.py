@@ -25,15 +25,17 @@ from pathlib import Path
 
 import yaml
 
+from ltl_stack.errors import InputError, UserError
 from ltl_stack.fileio import write_atomic
+from ltl_stack.inputs import parse_json, parse_yaml, read_text
 
 FORMAT = "ltl_stack/graph_snapshot/1"
-_YAML_LOADER = getattr(yaml, "CSafeLoader", yaml.SafeLoader)  # libyaml when present: big graphs load fast
 _YAML_DUMPER = getattr(yaml, "CSafeDumper", yaml.SafeDumper)
 
 
-class SnapshotError(Exception):
-    """A snapshot file that cannot be read; the message names the file and what is wrong."""
+class SnapshotError(UserError):
+    """A snapshot file that cannot be read (the message names the file and what is wrong), or a
+    master the snapshot cannot be taken from (``code`` says which: 2 bad input, 3 no master)."""
 
 
 @dataclass
@@ -135,20 +137,16 @@ class Snapshot:
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> Snapshot:
-        path = Path(path)
+        """Read a snapshot (JSON for ``.json``, YAML otherwise) through ``ltl_stack.inputs``: a file
+        that is missing, binary, not UTF-8, invalid, too deeply nested, with non-string keys or
+        over-long integers is a ``SnapshotError`` naming file and line."""
+        file = str(path)
         try:
-            text = path.read_text(encoding="utf-8")
-        except OSError as e:
-            raise SnapshotError(f"{path}: cannot read snapshot: {e.strerror or e}") from None
-        try:
-            data = json.loads(text) if path.suffix.lower() == ".json" else yaml.load(text, Loader=_YAML_LOADER)
-        except json.JSONDecodeError as e:
-            raise SnapshotError(f"{path}:{e.lineno}:{e.colno}: not valid JSON: {e.msg}") from None
-        except yaml.YAMLError as e:
-            mark = getattr(e, "problem_mark", None)
-            where = f"{path}:{mark.line + 1}:{mark.column + 1}" if mark else str(path)
-            raise SnapshotError(f"{where}: not valid YAML: {getattr(e, 'problem', None) or e}") from None
-        return cls.from_dict(data, str(path))
+            text = read_text(path, "snapshot")
+            data = parse_json(text, file) if Path(path).suffix.lower() == ".json" else parse_yaml(text, file)
+        except InputError as e:
+            raise SnapshotError(str(e)) from None
+        return cls.from_dict(data, file)
 
 
 def _names(value: object, where: str) -> list[str]:

@@ -12,12 +12,14 @@ drawing's y axis points down).
 """
 from __future__ import annotations
 
-import json
 import math
 import re
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+
+from ltl_stack.errors import InputError, UserError
+from ltl_stack.inputs import parse_json, read_text
 
 Point = tuple[float, float]
 
@@ -25,7 +27,7 @@ BOUNDARY = "boundary"
 _HEADER = re.compile(r"^([A-Za-z][A-Za-z0-9_]*):\s*(#.*)?$")
 
 
-class RegionsError(ValueError):
+class RegionsError(UserError, ValueError):
     """A ``.regions`` file or a region name is wrong; the message names the file, line or region."""
 
 
@@ -129,11 +131,10 @@ class RegionMap:
     def load(cls, path: str | Path, scale: float = 1.0, x_trans: float = 0.0, y_trans: float = 0.0,
              flip_y: bool = False) -> RegionMap:
         """Read an LTLMoP ``.regions`` file, mapping its coordinates to the world (see module doc)."""
-        path = Path(path)
         try:
-            text = path.read_text()
-        except OSError as error:
-            raise RegionsError(f"{path}: cannot read regions file: {error.strerror}") from None
+            text = read_text(path, "regions file")
+        except InputError as error:  # missing, a folder, binary, not UTF-8
+            raise RegionsError(str(error)) from None
         return cls.parse(text, str(path), scale=scale, x_trans=x_trans, y_trans=y_trans, flip_y=flip_y)
 
     @classmethod
@@ -144,10 +145,10 @@ class RegionMap:
             raise RegionsError(f"{source}: no 'Regions:' section (is this an LTLMoP .regions file?)")
         start_line, lines = sections["Regions"]
         try:
-            items = json.loads("\n".join(lines))
-        except json.JSONDecodeError as error:
-            raise RegionsError(f"{source}:{start_line + error.lineno}: Regions section is not valid "
-                               f"JSON: {error.msg}") from None
+            items = parse_json("\n".join(lines), source)
+        except InputError as error:  # invalid JSON, nested too deep, an over-long integer
+            where = f"{source}:{start_line + error.line}" if error.line else source
+            raise RegionsError(f"{where}: Regions section: {error.message}") from None
         if not isinstance(items, list):
             raise RegionsError(f"{source}:{start_line + 1}: Regions section must be a JSON list")
 
@@ -157,6 +158,8 @@ class RegionMap:
         regions: dict[str, Region] = {}
         for index, item in enumerate(items):
             try:
+                if not isinstance(item, dict):
+                    raise TypeError(f"expected an object, got {type(item).__name__}")
                 name = str(item["name"])
                 ox, oy = (float(v) for v in item.get("position", (0, 0)))
                 if item.get("type", "poly") == "rect":
@@ -165,7 +168,10 @@ class RegionMap:
                 else:
                     raw = [(float(p[0]), float(p[1])) for p in item["points"]]
                 holes_raw = [[(float(p[0]), float(p[1])) for p in hole] for hole in item.get("holeList", [])]
-            except (KeyError, TypeError, ValueError, IndexError) as error:
+                points = [(ox, oy), *raw, *(p for hole in holes_raw for p in hole)]
+                if not all(math.isfinite(c) for point in points for c in point):
+                    raise ValueError("a coordinate is not a finite number")
+            except (KeyError, TypeError, ValueError, IndexError, OverflowError) as error:
                 raise RegionsError(f"{source}: region #{index} of the Regions section is malformed "
                                    f"({type(error).__name__}: {error})") from None
             if len(raw) < 3:

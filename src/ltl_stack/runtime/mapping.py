@@ -33,10 +33,12 @@ import re
 from collections import Counter
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import yaml
+
+from ltl_stack.errors import InputError, UserError
+from ltl_stack.inputs import construct_yaml, parse_yaml_node, read_text
 
 INPUT = "input"
 OUTPUT = "output"
@@ -47,8 +49,8 @@ _TOP_KEYS = {"inputs", "outputs", "namespace"}
 _NAME = re.compile(r"^/?[A-Za-z_~][A-Za-z0-9_/]*$")
 
 
-class MappingError(Exception):
-    """A mapping file that cannot be used; ``str()`` is ``file:line: message``."""
+class MappingError(UserError):
+    """A mapping file that cannot be used; ``str()`` is ``file:line: message`` (exit code 2)."""
 
     def __init__(self, file: str, line: int, message: str):
         self.file, self.line, self.message = file, line, message
@@ -131,25 +133,24 @@ def load_mapping(path: str | os.PathLike) -> Mapping:
     """Read a mapping YAML file; raises ``MappingError`` (file, line, message) when it is malformed."""
     file = str(path)
     try:
-        text = Path(path).read_text()
-    except OSError as err:
-        raise MappingError(file, 0, f"cannot read mapping: {err.strerror or err}") from None
+        text = read_text(path, "mapping file")
+    except InputError as err:  # missing, a folder, binary, not UTF-8
+        raise MappingError(file, err.line, err.message) from None
     return parse_mapping(text, file)
 
 
 def parse_mapping(text: str, file: str = "<string>") -> Mapping:
-    """Parse mapping YAML text (see ``load_mapping``)."""
-    loader = yaml.SafeLoader(text)
+    """Parse mapping YAML text (see ``load_mapping``).
+
+    The YAML goes through ``ltl_stack.inputs.parse_yaml_node``, so invalid YAML, keys that are not
+    strings (``5:``, ``yes:``, ``~:``), nesting deeper than any mapping needs, alias floods and
+    over-long integers are ``MappingError``s naming the line, like every structure error below.
+    """
     try:
-        root = loader.get_single_node()
-        data = loader.construct_document(root) if root is not None else None
-    except yaml.YAMLError as err:
-        mark = getattr(err, "problem_mark", None)
-        line = mark.line + 1 if mark is not None else 0
-        problem = getattr(err, "problem", None) or str(err)
-        raise MappingError(file, line, f"not valid YAML: {problem}") from None
-    finally:
-        loader.dispose()
+        root = parse_yaml_node(text, file)
+        data = construct_yaml(root, file)
+    except InputError as err:
+        raise MappingError(file, err.line, err.message) from None
     mapping = Mapping(file=file)
     if root is None or data is None:
         return mapping

@@ -19,16 +19,22 @@ Events at the same time fire in file order. A scalar ``value`` means ``{data: va
 """
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import yaml
 
+from ltl_stack.errors import InputError, UserError
+from ltl_stack.inputs import construct_yaml, parse_yaml_node, read_text
+
 DEFAULT_TYPE = "std_msgs/Bool"
+#: a legal ROS graph name, as rosgraph.names.is_legal_name checks it (this module stays ROS-free)
+_TOPIC = re.compile(r"^[~/A-Za-z][\w/]*$")
 
 
-class ScheduleError(ValueError):
+class ScheduleError(UserError, ValueError):
     """A schedule file is wrong; the message names the file, the line and the event."""
 
 
@@ -54,25 +60,13 @@ class Schedule:
         return {e.topic: e.type for e in self.events}
 
 
-class _LineLoader(yaml.SafeLoader):
-    """A SafeLoader that records each mapping's line number under the key ``__line__``."""
-
-
-def _construct_mapping(loader: _LineLoader, node: yaml.MappingNode) -> dict:
-    mapping = loader.construct_mapping(node, deep=True)
-    mapping["__line__"] = node.start_mark.line + 1
-    return mapping
-
-
-_LineLoader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, _construct_mapping)
-
-
-def _strip_lines(value: Any) -> Any:
-    if isinstance(value, dict):
-        return {k: _strip_lines(v) for k, v in value.items() if k != "__line__"}
-    if isinstance(value, list):
-        return [_strip_lines(v) for v in value]
-    return value
+def _event_lines(root: yaml.Node | None) -> list[int]:
+    """The line of each item of the ``events:`` list (empty when there is no such list)."""
+    if isinstance(root, yaml.MappingNode):
+        for key, value in root.value:
+            if key.value == "events" and isinstance(value, yaml.SequenceNode):
+                return [item.start_mark.line + 1 for item in value.value]
+    return []
 
 
 def _seconds(value: Any) -> float | None:
@@ -81,7 +75,7 @@ def _seconds(value: Any) -> float | None:
         return None
     try:
         number = float(value)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         return None
     return number if number >= 0 and number == number and number != float("inf") else None
 
@@ -89,25 +83,25 @@ def _seconds(value: Any) -> float | None:
 def parse_schedule(text: str, source: str = "<schedule>") -> Schedule:
     """Read a schedule from YAML text; ScheduleError naming ``source``, line and event if wrong."""
     try:
-        data = yaml.load(text, Loader=_LineLoader)  # noqa: S506 - a SafeLoader subclass
-    except yaml.YAMLError as error:
-        mark = getattr(error, "problem_mark", None)
-        where = f"{source}:{mark.line + 1}" if mark else source
-        raise ScheduleError(f"{where}: not valid YAML: {getattr(error, 'problem', error)}") from None
+        root = parse_yaml_node(text, source)
+        data = construct_yaml(root, source)
+    except InputError as error:  # invalid YAML, non-string keys, nesting, aliases, long integers
+        raise ScheduleError(str(error)) from None
     if not isinstance(data, dict) or not isinstance(data.get("events"), list):
         raise ScheduleError(f"{source}: expected a mapping with an 'events:' list")
-    unknown = set(data) - {"events", "loop", "period", "__line__"}
+    unknown = set(data) - {"events", "loop", "period"}
     if unknown:
         raise ScheduleError(f"{source}: unknown key(s) {', '.join(sorted(unknown))} "
                             "(expected events, loop, period)")
     events: list[Event] = []
     types: dict[str, tuple[str, int]] = {}
+    lines = _event_lines(root)
     for index, item in enumerate(data["events"]):
-        line = item.get("__line__", 0) if isinstance(item, dict) else 0
+        line = lines[index] if index < len(lines) else 0
         where = f"{source}:{line}: event #{index}" if line else f"{source}: event #{index}"
         if not isinstance(item, dict):
             raise ScheduleError(f"{where}: expected a mapping with at, topic and value")
-        extra = set(item) - {"at", "topic", "type", "value", "name", "__line__"}
+        extra = set(item) - {"at", "topic", "type", "value", "name"}
         if extra:
             raise ScheduleError(f"{where}: unknown key(s) {', '.join(sorted(extra))}")
         for key in ("at", "topic", "value"):
@@ -117,14 +111,15 @@ def parse_schedule(text: str, source: str = "<schedule>") -> Schedule:
         if at is None:
             raise ScheduleError(f"{where}: 'at' must be a number of seconds >= 0, got {item['at']!r}")
         topic = item["topic"]
-        if not isinstance(topic, str) or not topic.strip():
-            raise ScheduleError(f"{where}: 'topic' must be a topic name")
+        if not isinstance(topic, str) or not _TOPIC.match(topic) or "//" in topic:
+            raise ScheduleError(f"{where}: 'topic' must be a ROS topic name (letters, digits, _ and /), "
+                                f"got {topic!r}")
         msg_type = str(item.get("type", DEFAULT_TYPE))
         if topic in types and types[topic][0] != msg_type:
             raise ScheduleError(f"{where}: topic {topic} was given type {types[topic][0]} at line "
                                 f"{types[topic][1]}, now {msg_type}")
         types.setdefault(topic, (msg_type, line))
-        value = _strip_lines(item["value"])
+        value = item["value"]
         fields = value if isinstance(value, dict) else {"data": value}
         name = str(item.get("name") or f"{topic} := {value}")
         events.append(Event(at, topic, msg_type, fields, name, line))
@@ -141,11 +136,12 @@ def parse_schedule(text: str, source: str = "<schedule>") -> Schedule:
 
 
 def load_schedule(path: str | Path) -> Schedule:
-    path = Path(path)
+    """Read a schedule file; ``ScheduleError`` naming file and line for anything wrong with it
+    (also a missing, binary or non-UTF-8 file)."""
     try:
-        text = path.read_text()
-    except OSError as error:
-        raise ScheduleError(f"{path}: cannot read schedule: {error.strerror}") from None
+        text = read_text(path, "schedule")
+    except InputError as error:
+        raise ScheduleError(str(error)) from None
     return parse_schedule(text, str(path))
 
 

@@ -3,6 +3,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from ltl_stack.errors import InputError
+from ltl_stack.inputs import read_text
 from ltl_stack.spec.errors import SpecError
 from ltl_stack.spec.model import Spec
 from ltl_stack.spec.slugsin import parse_slugsin
@@ -14,20 +16,15 @@ def load_spec(path: str | Path) -> Spec:
     """Read ``path``: ``.slugsin`` as slugsin, ``.structuredslugs``/``.ltl`` as the structured format.
 
     Any other name is tried as slugsin, then as structured; when both fail, the error of the reader
-    that got further into the file is raised. Every problem is a ``SpecError`` naming the path.
+    that got further into the file is raised. Every problem is a ``SpecError`` naming the path (a
+    file that is not text, e.g. binary or not UTF-8, too, with the line of the first bad byte).
     """
     path = Path(path)
     file = str(path)
     try:
-        text = path.read_text(encoding="utf-8-sig")  # tolerate a byte-order mark
-    except FileNotFoundError:
-        raise SpecError(file, 0, 0, "no such file") from None
-    except IsADirectoryError:
-        raise SpecError(file, 0, 0, "is a directory, not a spec file") from None
-    except UnicodeDecodeError as e:
-        raise SpecError(file, 0, 0, f"not a text file (not UTF-8 at byte {e.start})") from None
-    except OSError as e:
-        raise SpecError(file, 0, 0, f"cannot read: {e.strerror or e}") from None
+        text = read_text(path, "spec file")  # a byte-order mark is tolerated
+    except InputError as e:  # missing, a folder, binary (NUL byte), not UTF-8: one line naming file[:line]
+        raise SpecError(file, e.line, 0, e.message) from None
     from ltl_stack.spec.structured import parse_structured
 
     suffix = path.suffix.lower()

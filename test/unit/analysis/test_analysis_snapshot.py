@@ -49,7 +49,12 @@ def test_dict_round_trip(topics):
 
 
 @pytest.mark.parametrize("text, message", [
-    ("nodes: [/a\n", "not valid YAML"),
+    ("nodes: [/a\n", "invalid YAML"),
+    ("topics:\n  5: {publishers: [/x]}\n", ":2: key '5' is not a string"),
+    ("nodes: [/a]\nyes: 1\n", ":2: key 'yes' is not a string"),
+    ("~: 1\n", ":1: key '~' is not a string"),
+    ("nodes: " + "[" * 100000 + "\n", ":1: nested more than 100 levels deep"),
+    ("taken: " + "1" * 5000 + "\n", ":1: integer of 5000 digits"),
     ("- just\n- a list\n", "expected a mapping"),
     ("format: other/2\n", "unknown format 'other/2'"),
     ("topics: [/a]\n", "'topics' must be a mapping"),
@@ -68,10 +73,32 @@ def test_bad_files_raise_one_clear_error(tmp_path, text, message):
 def test_bad_json_names_line(tmp_path):
     path = tmp_path / "bad.json"
     path.write_text('{"nodes": [\n "/a",\n]}')
-    with pytest.raises(SnapshotError, match=r"bad\.json:3:1: not valid JSON"):
+    with pytest.raises(SnapshotError, match=r"bad\.json:3: invalid JSON: .* \(column 1\)"):
         Snapshot.load(path)
 
 
-def test_missing_file(tmp_path):
-    with pytest.raises(SnapshotError, match="cannot read snapshot"):
+@pytest.mark.parametrize("text, message", [
+    ('{"nodes": ' + "[" * 100000 + "\n", ":1: nested more than 100 levels deep"),
+    ('{"taken": ' + "1" * 5000 + "}", "invalid JSON value"),
+    ('{"topics": {"/t": {"publishers": ["/a\\"[["]}}, "nodes": [\n' + "[" * 200, ":2: nested more than"),
+])
+def test_bad_json_snapshots(tmp_path, text, message):
+    path = tmp_path / "bad.json"
+    path.write_text(text)
+    with pytest.raises(SnapshotError) as err:
+        Snapshot.load(path)
+    assert str(err.value).startswith(str(path)) and message in str(err.value), err.value
+    assert err.value.code == 2
+
+
+def test_missing_binary_and_non_utf8_files(tmp_path):
+    with pytest.raises(SnapshotError, match="nope.yaml: no such file"):
         Snapshot.load(tmp_path / "nope.yaml")
+    binary = tmp_path / "s.json"
+    binary.write_bytes(b'{"nodes":\n ["/a\x00"]}')
+    with pytest.raises(SnapshotError, match=r"s\.json:2: not a text snapshot: it holds a NUL byte"):
+        Snapshot.load(binary)
+    latin = tmp_path / "s.yaml"
+    latin.write_bytes(b"nodes: [/caf\xe9]\n")
+    with pytest.raises(SnapshotError, match=r"s\.yaml:1: not a text snapshot: not UTF-8"):
+        Snapshot.load(latin)

@@ -72,7 +72,15 @@ def test_flip_y_negates_file_y():
 
 @pytest.mark.parametrize("text, message", [
     ("Background:\nNone\n", "small.regions: no 'Regions:' section"),
-    ("Regions:\n[\n  {\"name\": \"a\",\n  oops\n]\n", "small.regions:4: Regions section is not valid JSON"),
+    ("Regions:\n[\n  {\"name\": \"a\",\n  oops\n]\n", "small.regions:4: Regions section: invalid JSON"),
+    ("Regions:\n" + "[" * 100000 + "\n", "small.regions:2: Regions section: nested more than 100 levels deep"),
+    ("Regions:\n[{\"name\": \"a\", \"points\": [[" + "9" * 5000 + ", 0]]}]\n",
+     "small.regions: Regions section: invalid JSON value"),
+    ("Regions:\n[{\"name\": \"a\", \"points\": [[1" + "0" * 400 + ", 0], [1, 0], [0, 1]]}]\n",
+     "small.regions: region #0 of the Regions section is malformed (OverflowError"),
+    ("Regions:\n[{\"name\": \"a\", \"points\": [[NaN, 0], [1, 0], [0, 1]]}]\n", "not a finite number"),
+    ("Regions:\n[{\"name\": \"a\", \"points\": [[0, 0], [1e999, 0], [0, 1]]}]\n", "not a finite number"),
+    ("Regions:\n[\"a\"]\n", "region #0 of the Regions section is malformed (TypeError: expected an object"),
     ("Regions:\n[{\"name\": \"a\", \"points\": [[0, 0], [1, 1]]}]\n", "region 'a' has fewer than 3 vertices"),
     ("Regions:\n[{\"points\": []}]\n", "small.regions: region #0 of the Regions section is malformed"),
 ])
@@ -89,8 +97,14 @@ def test_unknown_region_lists_the_known_ones():
 
 
 def test_missing_file_names_it(tmp_path):
-    with pytest.raises(RegionsError, match="nothere.regions: cannot read regions file"):
+    with pytest.raises(RegionsError, match="nothere.regions: no such file"):
         RegionMap.load(tmp_path / "nothere.regions")
+    binary = tmp_path / "b.regions"
+    binary.write_bytes(b"Regions:\n[\x00]\n")
+    with pytest.raises(RegionsError) as err:
+        RegionMap.load(binary)
+    assert str(err.value) == f"{binary}:2: not a text regions file: it holds a NUL byte", err.value
+    assert err.value.code == 2
 
 
 @pytest.mark.parametrize("spec, name, count", [

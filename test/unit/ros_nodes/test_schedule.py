@@ -65,7 +65,14 @@ def test_every_event_fires_once_in_time_order_whatever_the_polling(times, polls)
 
 
 @pytest.mark.parametrize("text, message", [
-    ("events: [", "s.yaml:1: not valid YAML"),
+    ("events: [", "s.yaml:2: invalid YAML"),
+    ("events:\n  - {at: 1, topic: /a, value: 1}\n5: x\n", "s.yaml:3: key '5' is not a string"),
+    ("events:\n  - {at: 1, topic: /a, value: {yes: 1}}\n", "s.yaml:2: key 'yes' is not a string"),
+    ("~: 1\nevents: []\n", "s.yaml:1: key '~' is not a string"),
+    ("events: " + "[" * 100000 + "\n", "s.yaml:1: nested more than 100 levels deep"),
+    ("events:\n  - {at: " + "1" * 5000 + ", topic: /a, value: 1}\n", "s.yaml:2: integer of 5000 digits"),
+    ("events:\n  - {at: 1" + "0" * 400 + ", topic: /a, value: 1}\n", "s.yaml:2: event #0: 'at' must be a number"),
+    ("events:\n  - {at: 1, topic: 'bad topic!', value: 1}\n", "s.yaml:2: event #0: 'topic' must be a ROS topic"),
     ("[1, 2]", "s.yaml: expected a mapping with an 'events:' list"),
     ("events: []\nrepeat: true\n", "unknown key(s) repeat"),
     ("events:\n  - at: 1\n    topic: /a\n", "s.yaml:2: event #0: missing 'value'"),
@@ -83,8 +90,14 @@ def test_bad_schedules_give_one_clear_error(text, message):
 
 
 def test_missing_file_names_it(tmp_path):
-    with pytest.raises(ScheduleError, match="nothere.yaml: cannot read schedule"):
+    with pytest.raises(ScheduleError, match="nothere.yaml: no such file"):
         load_schedule(tmp_path / "nothere.yaml")
+    binary = tmp_path / "b.yaml"
+    binary.write_bytes(b"events:\n  - {at: 1, topic: /caf\xe9, value: 1}\n")
+    with pytest.raises(ScheduleError) as err:
+        load_schedule(binary)
+    assert str(err.value).startswith(f"{binary}:2: not a text schedule: not UTF-8"), err.value
+    assert err.value.code == 2
 
 
 def test_empty_schedule_is_finished_at_once():

@@ -135,7 +135,7 @@ def test_cli_errors_exit_2_and_write_nothing(tmp_path, capsys):
     assert f"{bad}:3: input 'a': unknown key 'nodes'" in err and "Traceback" not in err, err
     assert not out.exists() and list(tmp_path.iterdir()) == [bad]
     assert main([str(tmp_path / "missing.yaml")]) == 2
-    assert "cannot read mapping" in capsys.readouterr().err
+    assert "missing.yaml: no such file" in capsys.readouterr().err
 
 
 def test_an_existing_file_is_replaced_whole(tmp_path):

@@ -104,7 +104,7 @@ def test_two_propositions_on_one_topic_is_an_error():
 
 
 @pytest.mark.parametrize("text, line, fragment", [
-    ("inputs:\n  a: [1, 2\n", 3, "not valid YAML"),
+    ("inputs:\n  a: [1, 2\n", 3, "invalid YAML"),
     ("inputs:\n  a:\n    node: x\n    nod_publish_topic: t\n", 4, "unknown key 'nod_publish_topic'"),
     ("inputs:\n  a:\n    node: x\n  a:\n    node: y\n", 4, "'a' appears twice (first on line 2)"),
     ("inputs:\n  a:\n    node: x\n    node_subscribe_topic: t\n", 4, "use node_publish_topic"),
@@ -114,6 +114,11 @@ def test_two_propositions_on_one_topic_is_an_error():
     ("outputs:\n  b:\n    node: x\n    parameters: [1]\n", 4, "parameters must be a mapping"),
     ("robots: []\n", 1, "unknown top-level key 'robots'"),
     ("- a\n", 1, "must be a YAML mapping"),
+    ("inputs:\n  a: {}\n  5: {node: x}\n", 3, "key '5' is not a string"),
+    ("outputs:\n  yes:\n    node: x\n", 2, "key 'yes' is not a string"),
+    ("~: 1\n", 1, "key '~' is not a string"),
+    ("inputs:\n  a:\n    node: x\n    parameters: {n: " + "7" * 5000 + "}\n", 4, "integer of 5000 digits"),
+    ("inputs:\n  a: " + "[" * 100000 + "\n", 2, "nested more than"),
 ])
 def test_malformed_files_raise_one_error_with_line(text, line, fragment):
     with pytest.raises(MappingError) as info:
@@ -126,7 +131,13 @@ def test_malformed_files_raise_one_error_with_line(text, line, fragment):
 def test_missing_file_is_a_mapping_error(tmp_path):
     with pytest.raises(MappingError) as info:
         load_mapping(tmp_path / "nope.yaml")
-    assert "cannot read mapping" in str(info.value) and "nope.yaml" in str(info.value), str(info.value)
+    assert str(info.value) == f"{tmp_path / 'nope.yaml'}: no such file", str(info.value)
+    binary = tmp_path / "m.yaml"
+    binary.write_bytes(b"inputs:\n  a:\n    node: x\x00\n")
+    with pytest.raises(MappingError) as info:
+        load_mapping(binary)
+    assert str(info.value) == f"{binary}:3: not a text mapping file: it holds a NUL byte", str(info.value)
+    assert info.value.code == 2
 
 
 def test_topics_default_under_the_namespace_and_relative_names_resolve_in_groups():

@@ -7,6 +7,7 @@ import pytest
 from hypothesis import given, settings
 from spec_testing import SPECS, formulas, random_samples, same_content, shared_specs, truth_bits
 
+from ltl_stack.errors import UserError
 from ltl_stack.spec import SpecError, load_spec, parse_slugsin, parse_structured, write_slugsin
 from ltl_stack.spec.formula import FALSE, TRUE, And, Not, Or, Var, Xor
 from ltl_stack.spec.model import Clause, Spec
@@ -241,7 +242,8 @@ def test_byte_order_mark_and_windows_line_ends(tmp_path):
     binary.write_bytes(b"[INPUT]\n\xff\xfe\n")
     with pytest.raises(SpecError) as info:
         load_spec(binary)
-    assert str(info.value) == f"{binary}: not a text file (not UTF-8 at byte 8)", str(info.value)
+    assert str(info.value) == f"{binary}:2: not a text spec file: not UTF-8 at byte 8", str(info.value)
+    assert info.value.code == 2 and isinstance(info.value, UserError)
 
 
 def _chain_seconds(n: int, nesting: str) -> float:
