@@ -11,6 +11,9 @@ from __future__ import annotations
 import ast
 from dataclasses import dataclass
 
+from ltl_stack.inputs import load_yaml
+
+from .errors import TransferError
 from .source_ast import SourceFile, Span, call_argument, string_value
 
 TOPIC_CALLS = {"rospy.Publisher": "publisher", "rospy.Subscriber": "subscriber",
@@ -158,3 +161,15 @@ def actions_from_topics(topics: list[tuple[str, str]]) -> list[tuple[str, str]]:
 def channel_listing(topics: list[tuple[str, str]]) -> list[tuple[str, str]]:
     """The A.2 listing of a master's topic table: every topic, then every action it implies."""
     return sorted(topics) + actions_from_topics(topics)
+
+
+def load_listing(path: str) -> list[tuple[str, str]]:
+    """An A.2 listing saved from the target's master: YAML ``name: type`` per topic (as ``rostopic list
+    -v`` shows them; an action may be given by its five topics or as ``ns: pkg/XAction``)."""
+    data = load_yaml(path, "channel listing")
+    if not isinstance(data, dict):
+        raise TransferError("expected a mapping of channel name -> message type", str(path))
+    for name, msg_type in data.items():
+        if not isinstance(msg_type, str) or "/" not in msg_type:
+            raise TransferError(f"the type of {name!r} must be 'package/Type', got {msg_type!r}", str(path))
+    return channel_listing(list(data.items()))

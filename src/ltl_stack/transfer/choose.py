@@ -1,9 +1,14 @@
 """Choosing the target's channel for each source channel: A.1, A.2 and their combination (§2.5.1).
 
-A.1 takes the most probable name from the target robot's channel statistics. A.2 takes the channels of
-a live master with the same type; when more than one fits, the user is asked (the prompt of §2.5.1),
-or, non-interactively, the one whose name is most similar to the original is chosen and the choice is
-flagged. With both, A.1's most probable name that A.2 confirms on the master wins.
+A.1 takes the most probable name from the target robot's channel statistics, or, with
+``by_distribution``, lets the user pick from the whole distribution, ranked, with probabilities (the
+alternative §2.5.1 names). A.2 takes the channels of a live master with the same type; when more than
+one fits, the user is asked (the prompt of §2.5.1), or, non-interactively, the one whose name is most
+similar to the original is chosen and the choice is flagged. With both, A.1's most probable name that
+A.2 confirms on the master wins.
+
+An asker returns the index of the chosen option, or None when it has no answer (then the
+non-interactive rule decides and the report flags it).
 """
 from __future__ import annotations
 
@@ -13,8 +18,8 @@ from dataclasses import dataclass, field
 from .codebase import ChannelStats
 from .srdf import similarity
 
-# ask(kind word, type, original name, options) -> index of the chosen option
-Asker = Callable[[str, str, str, Sequence[str]], int]
+# ask(kind word, type, original name, options) -> index of the chosen option, or None: no answer
+Asker = Callable[[str, str, str, Sequence[str]], "int | None"]
 
 
 @dataclass
@@ -57,46 +62,61 @@ def rule_choice(original: str, options: Sequence[str]) -> int:
     return scored[0]
 
 
+def distribution_label(name: str, count: int, probability: float) -> str:
+    """One option of the A.1 distribution prompt: the name, its count and probability."""
+    return f"{name} ({count} use{'s' if count != 1 else ''}, p={probability:.2f})"
+
+
 def choose_channel(word: str, msg_type: str | None, original: str, stats: ChannelStats | None,
-                   live: list[tuple[str, str]] | None, ask: Asker | None) -> Decision:
+                   live: list[tuple[str, str]] | None, ask: Asker | None,
+                   by_distribution: bool = False) -> Decision:
     """Pick the target name for a topic or action of ``msg_type`` whose source name is ``original``."""
     ranked = stats.candidates(msg_type) if stats else []
     live_names = None if live is None else [name for name, t in live if types_match(t, msg_type)]
+    table = [{"name": n, "count": c, "probability": round(p, 2)} for n, c, p in ranked]
     if ranked:
-        top, count, prob = ranked[0]
-        table = [{"name": n, "count": c, "probability": round(p, 2)} for n, c, p in ranked]
-        if live_names is None:
-            return Decision(top, f"A.1 codebase ({count} of {sum(c for _, c, _ in ranked)} uses, p={prob:.2f})",
-                            candidates=table)
-        bare = {n.lstrip("/"): n for n in live_names}
-        confirmed = [(n, c, p) for n, c, p in ranked if n.lstrip("/") in bare]
-        if confirmed:
-            name, count, prob = confirmed[0]
-            flagged = None if name == top else \
-                f"the most probable name '{top}' is not on the live master; took the next one it has"
-            return Decision(bare[name.lstrip("/")],
-                            f"A.1 codebase (p={prob:.2f}) verified on the live master (A.2)",
-                            flagged=flagged, candidates=table)
+        total = sum(c for _, c, _ in ranked)
+        bare = {} if live_names is None else {n.lstrip("/"): n for n in live_names}
+        usable = ranked if live_names is None else [(n, c, p) for n, c, p in ranked if n.lstrip("/") in bare]
+        if usable:
+            top = ranked[0][0]
+            name, count, prob = usable[0]
+            how = f"A.1 codebase ({count} of {total} uses, p={prob:.2f})"
+            asked = False
+            if by_distribution and ask is not None and len(usable) > 1:
+                index = ask(word, msg_type or "?", original, [distribution_label(*u) for u in usable])
+                if index is not None:
+                    name, count, prob = usable[index]
+                    how, asked = f"A.1 codebase distribution, chosen by the user ({count} of {total} uses, " \
+                                 f"p={prob:.2f})", True
+            flagged = None
+            if by_distribution and ask is None and len(usable) > 1:
+                flagged = "took the most probable name without asking (--non-interactive)"
+            if live_names is None:
+                return Decision(name, how, user_input=asked, flagged=flagged, candidates=table)
+            if name != top and not asked:
+                flagged = f"the most probable name '{top}' is not on the live master; took the next one it has"
+            return Decision(bare[name.lstrip("/")], how + " verified on the live master (A.2)",
+                            user_input=asked, flagged=flagged, candidates=table)
     if live_names:
         options = sorted(live_names)
-        table = [{"name": n} for n in options]
+        live_table = [{"name": n} for n in options]
         if len(options) == 1:
             flagged = "the codebase's names are not on the live master" if ranked else None
             return Decision(options[0], "A.2 live master (the only channel of this type)",
-                            flagged=flagged, candidates=table)
-        if ask is not None:
-            index = ask(word, msg_type or "?", original, options)
+                            flagged=flagged, candidates=live_table)
+        index = ask(word, msg_type or "?", original, options) if ask is not None else None
+        if index is not None:
             return Decision(options[index], "A.2 live master, chosen by the user", user_input=True,
-                            candidates=table)
+                            candidates=live_table)
         index = rule_choice(original, options)
         return Decision(options[index], "A.2 live master, chosen by rule (most similar name)",
                         flagged=f"{len(options)} channels of this type; chose the one most similar to "
-                                f"'{original}' without asking (--non-interactive)", candidates=table)
+                                f"'{original}' without asking", candidates=live_table)
     if ranked:  # A.1 names exist but the master has none of this type
         top, count, prob = ranked[0]
         return Decision(top, f"A.1 codebase (p={prob:.2f})",
-                        flagged="no channel of this type on the live master to verify it",
-                        candidates=[{"name": n, "count": c, "probability": round(p, 2)} for n, c, p in ranked])
+                        flagged="no channel of this type on the live master to verify it", candidates=table)
     return Decision(None, "none")
 
 
@@ -107,8 +127,8 @@ def choose_group(source_group: str, ranked: list[tuple[str, float]], usable: Cal
     options = [n for n, _ in ranked]
     if not options:
         return Decision(None, "none", candidates=table)
-    if ask is not None:
-        index = ask("MoveIt group", "", source_group, options)  # options: most similar name first
+    index = ask("MoveIt group", "", source_group, options) if ask is not None else None  # most similar first
+    if index is not None:
         return Decision(options[index], "A.3 SRDF groups ranked by similarity, chosen by the user",
                         user_input=True, candidates=table)
     for name in options:
@@ -116,6 +136,6 @@ def choose_group(source_group: str, ranked: list[tuple[str, float]], usable: Cal
             flagged = None if name == options[0] else \
                 f"higher-ranked group(s) skipped: no single pose frame ({', '.join(options[:options.index(name)])})"
             return Decision(name, "A.3 SRDF groups ranked by similarity, most similar usable group",
-                            flagged=("chose without asking (--non-interactive)"
+                            flagged=("chose without asking"
                                      + (f"; {flagged}" if flagged else "")), candidates=table)
     return Decision(None, "none", candidates=table)

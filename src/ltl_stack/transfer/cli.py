@@ -20,10 +20,11 @@ from ltl_stack.cli import ToolParser, check_outputs, print_json, run, say, warn,
 from ltl_stack.errors import Exit
 from ltl_stack.inputs import read_text
 
-from .choose import prompt_text
+from .channels import load_listing
+from .choose import Asker, prompt_text, short_type
 from .codebase import is_python_program, load_codebase, mine_programs
 from .errors import TransferError
-from .profiles import RobotProfile, load_profile
+from .profiles import UNKNOWN, RobotProfile, load_profile
 from .transfer import TransferOptions, transfer_program
 
 TRANSFER = "ros_code_transfer"
@@ -51,6 +52,37 @@ def make_asker(stream_in=None, stream_out=None):
     return ask
 
 
+def parse_answers(pairs: Sequence[str]) -> dict[str, int]:
+    """``--choose KEY=N`` answers: KEY is the original channel/group name or the message type."""
+    answers: dict[str, int] = {}
+    for pair in pairs:
+        key, sep, number = pair.rpartition("=")
+        if not sep or not key or not number.isdigit() or int(number) < 1:
+            raise TransferError(f"--choose {pair!r}: expected KEY=N with N a whole number from 1 "
+                                "(KEY: original name or message type)")
+        answers[key] = int(number)
+    return answers
+
+
+def answering(answers: dict[str, int], fallback: Asker | None, used: set[str], stream_out=None) -> Asker:
+    """An asker that answers from ``--choose`` first (showing the prompt and the answer), then asks ``fallback``."""
+    def ask(word: str, msg_type: str, original: str, options: Sequence[str]) -> int | None:
+        keys = [original, original.lstrip("/"), msg_type, short_type(msg_type)]
+        key = next((k for k in keys if k in answers), None)
+        if key is None:
+            return fallback(word, msg_type, original, options) if fallback else None
+        used.add(key)
+        number = answers[key]
+        if number > len(options):
+            raise TransferError(f"--choose {key}={number}: the question about the {word} '{original}' has only "
+                                f"{len(options)} options")
+        print(prompt_text(word, msg_type, original, options) + f"\n{number}  (--choose {key}={number})",
+              file=stream_out or sys.stderr, flush=True)
+        return number - 1
+
+    return ask
+
+
 def build_parser() -> ToolParser:
     parser = ToolParser(
         TRANSFER, "Transfer a ROS Python program written for one robot to another (thesis chapter 2): "
@@ -59,16 +91,27 @@ def build_parser() -> ToolParser:
         epilog="1: the target program was written; the report lists what could not be resolved.\n"
                "Nothing is written on any other non-zero code.")
     parser.add_argument("source", help="the source robot's Python program")
-    parser.add_argument("--from", dest="source_robot", required=True, help="source robot name")
+    parser.add_argument("--from", dest="source_robot", required=True,
+                        help=f"source robot name; '{UNKNOWN}' when the program was written for no known robot "
+                             "(channels are chosen for the target alone, nothing is scaled)")
     parser.add_argument("--to", dest="target_robot", required=True, help="target robot name")
     parser.add_argument("--robots", required=True, help="robots folder (see docs/code_transfer.md)")
     parser.add_argument("-o", "--output", required=True, help="where to write the target program")
     parser.add_argument("--codebase", help="channel statistics YAML, or a folder of such files and/or "
                                            "<robot>/ program folders (A.1)")
-    parser.add_argument("--live", action="store_true",
-                        help="list the channels of the running ROS master (A.2; ROS_MASTER_URI)")
+    listing = parser.add_mutually_exclusive_group()
+    listing.add_argument("--live", action="store_true",
+                         help="list the channels of the running ROS master (A.2; ROS_MASTER_URI)")
+    listing.add_argument("--topics", metavar="FILE",
+                         help="A.2 from a listing saved from the target's master: YAML 'name: package/Type'")
+    parser.add_argument("--choose-by-distribution", action="store_true",
+                        help="A.1: ask which name to take from the codebase distribution (ranked, with "
+                             "probabilities) instead of taking the most probable one")
+    parser.add_argument("--choose", metavar="KEY=N", action="append", default=[],
+                        help="answer a question without the prompt: option N for the channel or group whose "
+                             "original name or message type is KEY (repeatable)")
     parser.add_argument("--non-interactive", action="store_true",
-                        help="never ask: choose by the documented rules and flag each choice in the report")
+                        help="never ask: choose by the documented rules (or --choose) and flag each choice")
     parser.add_argument("--json-report", metavar="FILE", help="also write the report as JSON to FILE")
     parser.add_json("the report")
     parser.add_argument("-q", "--quiet", action="store_true", help="no progress on standard error")
@@ -90,9 +133,10 @@ def _transfer(args, list_live: LiveLister | None) -> int:
     started = time.perf_counter()
     progress = None if args.quiet else (lambda msg: say(TRANSFER, msg))
     outputs = [args.output, args.json_report]
-    check_outputs([args.source, args.codebase], outputs)   # before anything is read or written
+    check_outputs([args.source, args.codebase, args.topics], outputs)   # before anything is read or written
+    answers = parse_answers(args.choose)
     text = read_text(args.source, "program")
-    source = load_profile(args.robots, args.source_robot)
+    source = load_profile(args.robots, args.source_robot, allow_unknown=True)
     target = load_profile(args.robots, args.target_robot)
     check_outputs(_profile_files(source, target), outputs)
     stats = None
@@ -101,16 +145,22 @@ def _transfer(args, list_live: LiveLister | None) -> int:
         stats = load_codebase(codebase, target.name, progress)
         if stats is None and progress:
             progress(f"no channel statistics for {target.name} in {codebase}")
-    live = None
+    live = load_listing(args.topics) if args.topics else None
     if args.live:
         if list_live is None:
             raise TransferError("--live needs the ROS adapter: run the ros_code_transfer script")
         live = list_live()
         if progress:
             progress(f"{len(live)} channels on the live master")
+    used: set[str] = set()
     ask = None if args.non_interactive else make_asker()
-    options = TransferOptions(stats=stats, live=live, ask=ask, progress=progress)
+    if answers:
+        ask = answering(answers, ask, used)
+    options = TransferOptions(stats=stats, live=live, ask=ask, progress=progress,
+                              choose_by_distribution=args.choose_by_distribution)
     result = transfer_program(text, source, target, options, filename=str(args.source))
+    for key in sorted(set(answers) - used):
+        warn(TRANSFER, f"--choose {key}={answers[key]}: no question was asked about {key!r}")
     report = result.report
     report.output_file = args.output
     report.seconds = time.perf_counter() - started

@@ -6,8 +6,9 @@ hold the literal (``vel = .3`` ... ``msg.linear.x = vel``): then the literal at 
 command, and nothing else with the same value is touched (§2.8 challenge 1).
 
 Joint commands: ``joint_names`` and ``positions`` of JointTrajectory/JointTrajectoryPoint, given
-inline or through a variable bound to a list literal, plus zero ``velocities``/``accelerations``
-lists whose length is the number of joints.
+inline or through a variable bound to a list literal, and their ``velocities``/``accelerations``:
+numeric list literals (scaled against the joints' velocity limits) or zero lists ``[0] * n`` whose
+length follows the number of joints.
 """
 from __future__ import annotations
 
@@ -56,6 +57,7 @@ class JointTrajectoryUse:
     names: list[JointList] = field(default_factory=list)
     points: list[JointList] = field(default_factory=list)
     zero_lists: list[tuple[Span, str, int]] = field(default_factory=list)  # (span, kind, line)
+    rates: list[tuple[str, JointList]] = field(default_factory=list)  # ('velocities'|'accelerations', list)
     unresolved: list[UnresolvedCommand] = field(default_factory=list)
 
 
@@ -218,13 +220,28 @@ def find_joint_trajectories(src: SourceFile) -> JointTrajectoryUse:
 
 
 def _zero_list(src: SourceFile, value: ast.expr, kind: str, line: int, use: JointTrajectoryUse) -> None:
-    """Remember ``[0]*n`` / ``[0, 0, ...]`` so its length can follow the number of joints."""
+    """Remember ``[0]*n`` / ``[0, 0, ...]`` (length follows the joints) and numeric lists (scaled)."""
     if isinstance(value, ast.BinOp) and isinstance(value.op, ast.Mult) and isinstance(value.left, ast.List) \
             and len(value.left.elts) == 1 and number_value(value.left.elts[0]) == 0 \
             and isinstance(value.right, ast.Constant) and isinstance(value.right.value, int):
         use.zero_lists.append((src.span(value), kind, line))
-    elif isinstance(value, ast.List) and value.elts and all(number_value(e) == 0 for e in value.elts):
+        return
+    if isinstance(value, ast.List) and value.elts and all(number_value(e) == 0 for e in value.elts):
         use.zero_lists.append((src.span(value), kind, line))
-    else:
+        return
+    found = _list_literal(src, value, kind)
+    if not found:
         use.unresolved.append(UnresolvedCommand(kind, line, src.segment(value),
-                                                "joint velocities/accelerations other than zero are not retargeted"))
+                                                "not a list literal (or a variable bound to one)"))
+        return
+    for lst, via in found:
+        values = [number_value(e) for e in lst.elts]
+        if None in values:
+            use.unresolved.append(UnresolvedCommand(kind, line, src.segment(lst), f"an element of {kind} is not a "
+                                                                                  "numeric literal"))
+            continue
+        joint_list = JointList(src.span(lst), values, line, via)
+        if all(v == 0 for v in values):
+            use.zero_lists.append((joint_list.span, kind, line))
+        elif all(joint_list.span != other.span for _, other in use.rates):
+            use.rates.append((kind, joint_list))

@@ -8,7 +8,14 @@ A robots folder ``DIR`` is read with two conventions, so that the shared folder 
   ``DIR/urdf/<robot>.urdf`` (or the one URDF whose file name starts with ``<robot>_`` or whose
   ``<robot name=...>`` is the robot's name), ``DIR/srdf/<robot>.srdf`` and ``DIR/channels/<robot>.yaml``.
 
-The drive type, when not given, is inferred from the limits (a usable ``linear.y`` means holonomic).
+The drive type (§2.5.2 B.2 scales only between robots with the same drive) is, in this order: the
+profile's ``drive:``, the table ``KNOWN_DRIVES`` of what the robots' bases really are, or an inference
+from the limits (a usable ``linear.y`` means holonomic). The table is needed because limits files do
+not always say it: the shared Pepper file has ``linear.y: 0..0`` although Pepper's base is
+omnidirectional.
+
+The source robot may be ``unknown`` (``UNKNOWN``, thesis Example 6): no files, no drive, so channels
+are chosen for the target alone and nothing is scaled (commands are only checked against the target).
 """
 from __future__ import annotations
 
@@ -23,6 +30,21 @@ from .limits import VelocityLimits, infer_drive, load_limits
 
 DRIVES = ("differential", "holonomic", "none")
 PROFILE_KEYS = {"name", "drive", "limits", "urdf", "srdf", "channels"}
+#: the source robot name of a program written for no robot in particular (thesis Example 6)
+UNKNOWN = "unknown"
+#: what the bases of well-known robots are (manufacturers' descriptions); a profile's ``drive:`` wins
+KNOWN_DRIVES = {
+    "jackal": "differential",      # Clearpath Jackal: skid-steer
+    "turtlebot": "differential",   # Kobuki base
+    "turtlebot2": "differential",
+    "kobuki": "differential",
+    "fetch": "differential",       # two drive wheels and casters
+    "pepper": "holonomic",         # three omni wheels
+    "nao": "holonomic",            # walks in x, y and theta (ALMotion moveToward)
+    "pr2": "holonomic",            # four powered casters
+    "youbot": "holonomic",         # mecanum wheels
+    "sphero": "holonomic",         # a rolling sphere driven in x and y
+}
 
 
 @dataclass
@@ -35,11 +57,15 @@ class RobotProfile:
     urdf: Path | None = None
     srdf: Path | None = None
     channels: Path | None = None
-    drive_inferred: bool = True
+    drive_source: str = "inferred from the limits"   # or "profile", "known robots table"
     sources: dict[str, str] = field(default_factory=dict)
 
+    @property
+    def unknown(self) -> bool:
+        return self.name == UNKNOWN and not self.sources
+
     def describe(self) -> str:
-        parts = [f"{self.name} ({self.drive} drive{' inferred from limits' if self.drive_inferred else ''})"]
+        parts = [f"{self.name} ({self.drive} drive, {self.drive_source})"]
         for key in ("limits", "urdf", "srdf", "channels"):
             if key in self.sources:
                 parts.append(f"{key}: {self.sources[key]}")
@@ -79,11 +105,22 @@ def list_robots(robots_dir: str | Path) -> list[str]:
     return sorted(names)
 
 
-def load_profile(robots_dir: str | Path, name: str) -> RobotProfile:
-    """Find and load the robot ``name`` in ``robots_dir``; a clear error when it is not there."""
+def unknown_profile() -> RobotProfile:
+    """The source robot of a program written for no robot in particular: no files, nothing to scale from."""
+    return RobotProfile(UNKNOWN, "none", drive_source="source robot unknown")
+
+
+def load_profile(robots_dir: str | Path, name: str, allow_unknown: bool = False) -> RobotProfile:
+    """Find and load the robot ``name`` in ``robots_dir``; a clear error when it is not there.
+
+    With ``allow_unknown`` (the source robot), ``unknown`` gives ``unknown_profile()`` unless the
+    folder describes a robot of that name.
+    """
     base = Path(robots_dir)
     if not base.is_dir():
         raise TransferError("robots folder does not exist", str(base))
+    if allow_unknown and name == UNKNOWN and UNKNOWN not in list_robots(base):
+        return unknown_profile()
     declared: dict = {}
     profile_file = base / f"{name}.yaml"
     if profile_file.is_file():
@@ -114,8 +151,14 @@ def load_profile(robots_dir: str | Path, name: str) -> RobotProfile:
     drive = declared.get("drive")
     if drive is not None and drive not in DRIVES:
         raise TransferError(f"drive must be one of {', '.join(DRIVES)}, got {drive!r}", str(profile_file), "drive")
-    profile = RobotProfile(name=str(declared.get("name", name)), drive=drive or infer_drive(limits),
-                           limits=limits, urdf=urdf, srdf=srdf, channels=channels, drive_inferred=drive is None)
+    if drive is not None:
+        drive_source = "profile"
+    elif name in KNOWN_DRIVES:
+        drive, drive_source = KNOWN_DRIVES[name], "known robots table"
+    else:
+        drive, drive_source = infer_drive(limits), "inferred from the limits"
+    profile = RobotProfile(name=str(declared.get("name", name)), drive=drive, limits=limits, urdf=urdf,
+                           srdf=srdf, channels=channels, drive_source=drive_source)
     for key, path in (("limits", limits_path), ("urdf", urdf), ("srdf", srdf), ("channels", channels)):
         if path is not None:
             profile.sources[key] = str(path)

@@ -205,6 +205,11 @@ def retarget_points(source: Chain, target: Chain, points: list[np.ndarray], prog
                 starts.insert(0, np.clip(q_s, lo, hi))
             candidates = [solve(s, WEIGHTS[0]) for s in starts]
             current = min(candidates, key=lambda q: objective(q, WEIGHTS[0])[0])
+        elif len(q_s) == len(lo):
+            # same joint count: the source's own angles compete with the warm start, so one far-off
+            # point (an arm lowered after waving) does not stay in the previous point's basin
+            candidates = [solve(previous, WEIGHTS[0]), solve(np.clip(q_s, lo, hi), WEIGHTS[0])]
+            current = min(candidates, key=lambda q: objective(q, WEIGHTS[0])[0])
         else:
             current = previous
         best = None
@@ -289,6 +294,7 @@ def transfer_joint_commands(src: SourceFile, use: JointTrajectoryUse, source: Ro
         report.parameters.append(ParameterChange(
             "positions" + (f" (variable {point.via})" if point.via else ""), point.line, text, new,
             "B.3 retargeted", within, f"end-effector error {result.ee_error * 1000:.1f} mm"))
+    _scale_rates(src, use, names, chain_s, chain_t, source_urdf, target_urdf, target, report, edits)
     for span, kind, line in use.zero_lists:
         text = src.data[span.start:span.end].decode("utf-8")
         new = f"[0] * {len(chain_t.names)}" if "*" in text else "[" + ", ".join(["0"] * len(chain_t.names)) + "]"
@@ -306,6 +312,65 @@ def transfer_joint_commands(src: SourceFile, use: JointTrajectoryUse, source: Ro
     if far:
         report.notes.append(f"trajectory point(s) {far}: the target's end effector cannot get within "
                             f"{10 * EE_TOLERANCE * 1000:.0f} mm of the source's (see the errors above)")
+
+
+def joint_correspondence(source: Chain, target: Chain) -> tuple[list[int], str]:
+    """For each target joint, the source joint whose motion it takes over: the same joint when the
+    names match, else the source joint at the same relative place from base to tip (first <- first,
+    last <- last, the ones between spread evenly)."""
+    if target.names == source.names:
+        return list(range(len(source.names))), "the same joints"
+    n_s, n_t = len(source.names), len(target.names)
+    match = [int(np.floor(j * (n_s - 1) / max(n_t - 1, 1) + 0.5)) for j in range(n_t)]
+    return match, "the source joint at the same relative place from base to tip"
+
+
+def _rate_text(values: list[float]) -> list[str]:
+    return [format_angle(v) for v in values]
+
+
+def _scale_rates(src: SourceFile, use: JointTrajectoryUse, names: list[str], chain_s: Chain, chain_t: Chain,
+                 source_urdf: UrdfModel, target_urdf: UrdfModel, target: RobotProfile, report: TransferReport,
+                 edits: list[Edit]) -> None:
+    """B.2 for joint rates: each target joint's velocity is its source joint's velocity scaled from the
+    source joint's velocity limit to the target joint's (Eqs. 2.1/2.2 with limits ±v_max, no deadband);
+    accelerations take the same factor, so the motion keeps its timing (v_t = r v_s gives a_t = r a_s)."""
+    if not use.rates:
+        return
+    match, rule = joint_correspondence(chain_s, chain_t)
+    index = {n: i for i, n in enumerate(names)}
+    limits_s = [source_urdf.velocity_limit(n) for n in chain_s.names]
+    limits_t = [target_urdf.velocity_limit(n) for n in chain_t.names]
+    missing = [n for n, v in zip(chain_s.names, limits_s, strict=True) if v is None] + \
+              [n for n, v in zip(chain_t.names, limits_t, strict=True) if v is None]
+    for kind, rates in use.rates:
+        text = src.data[rates.span.start:rates.span.end].decode("utf-8")
+        if len(rates.values) != len(names):
+            report.unresolved.append(Unresolved(kind, rates.line, f"{len(rates.values)} {kind} for {len(names)} "
+                                                                  "joints"))
+            continue
+        if missing:
+            report.unresolved.append(Unresolved(kind, rates.line, f"no velocity limit in the URDF for joint(s) "
+                                                                  f"{missing}; cannot scale {text}"))
+            continue
+        per_source = [rates.values[index[n]] if n in index else 0.0 for n in chain_s.names]
+        new_values, clamped = [], []
+        for j, i in enumerate(match):
+            ratio = limits_t[j] / limits_s[i]
+            value = per_source[i] * ratio
+            if kind == "velocities" and abs(value) > limits_t[j]:
+                clamped.append(chain_t.names[j])
+                value = float(np.clip(value, -limits_t[j], limits_t[j]))
+            new_values.append(value)
+        new = format_list(_rate_text(new_values), text)
+        note = f"v_max ratio per target joint ({rule}): " + ", ".join(
+            f"{chain_t.names[j]} <- {chain_s.names[i]} x{limits_t[j] / limits_s[i]:.3g}" for j, i in enumerate(match))
+        if clamped:
+            note += f"; clamped to the velocity limits of {clamped}"
+        edits.append(Edit(rates.span, new))
+        report.parameters.append(ParameterChange(kind + (f" (variable {rates.via})" if rates.via else ""),
+                                                 rates.line, text, new, "B.2 scaled (joint velocity limits)",
+                                                 True, note))
 
 
 def _check_joint_limits(src: SourceFile, use: JointTrajectoryUse, names: list[str], urdf: UrdfModel,
@@ -331,3 +396,16 @@ def _check_joint_limits(src: SourceFile, use: JointTrajectoryUse, names: list[st
                                                      True, "; ".join(outside)))
         else:
             report.parameters.append(ParameterChange("positions", point.line, text, text, "B.1 checked"))
+    for kind, rates in use.rates:
+        if kind != "velocities" or len(rates.values) != len(names):
+            continue  # accelerations have no URDF limit to check against
+        text = src.data[rates.span.start:rates.span.end].decode("utf-8")
+        vmax = [urdf.velocity_limit(n) for n in names]
+        clamped = [v if m is None else float(np.clip(v, -m, m)) for v, m in zip(rates.values, vmax, strict=True)]
+        if clamped != rates.values:
+            new = format_list(_rate_text(clamped), text)
+            edits.append(Edit(rates.span, new))
+            report.parameters.append(ParameterChange(kind, rates.line, text, new, "B.1 clamped", True,
+                                                     "clamped to the target's joint velocity limits"))
+        else:
+            report.parameters.append(ParameterChange(kind, rates.line, text, text, "B.1 checked"))

@@ -34,6 +34,7 @@ class TransferOptions:
     live: list[tuple[str, str]] | None = None      # A.2: (name, type) on the target's master
     ask: Asker | None = None                       # None: non-interactive (rules, flagged)
     progress: object = None                        # callable(str) for long work
+    choose_by_distribution: bool = False           # A.1: ask from the ranked distribution
 
 
 @dataclass
@@ -73,12 +74,13 @@ def _refuse_mixed_drives(sites: list[ChannelSite], velocity, source: RobotProfil
     twist = velocity or any(short_type(s.use.msg_type) == "Twist" for s in sites)
     drives = {source.drive, target.drive}
     if twist and drives == {"differential", "holonomic"}:
-        reason = (f"{source.name} has a {source.drive} drive and {target.name} a {target.drive} drive. "
+        reason = (f"{source.name} has a {source.drive} drive ({source.drive_source}) and {target.name} a "
+                  f"{target.drive} drive ({target.drive_source}). "
                   "Velocity commands do not carry over between the two (thesis §2.8, challenge 2): a "
                   "holonomic program may set linear.x and linear.y at different places, and whether they "
                   "form one diagonal motion or two motions can only be told by running it. Transfer "
-                  "between robots with the same drive, or set 'drive:' in a robot profile if the "
-                  "inferred drive is wrong.")
+                  "between robots with the same drive, or set 'drive:' in a robot profile if a drive "
+                  "is wrong.")
         report.refused = reason
         raise TransferRefused(reason, report.source_file)
 
@@ -102,7 +104,7 @@ def _channels(src: SourceFile, sites: list[ChannelSite], source: RobotProfile, t
                 decided[key] = _choose_group(use.name.value, target, target_srdf, options.ask)
             else:
                 decided[key] = choose_channel(use.word, use.msg_type, use.name.value, options.stats,
-                                              options.live, options.ask)
+                                              options.live, options.ask, options.choose_by_distribution)
         decision = decided[key]
         asked_here = decision.user_input and key not in answered
         answered.add(key)

@@ -125,6 +125,13 @@ class UrdfModel(UrdfTree):
                                 f"joint {name!r}")
         return float(lower), float(upper)
 
+    def velocity_limit(self, name: str) -> float | None:
+        """The joint's velocity limit (``<limit velocity=…>``, rad/s or m/s); None when absent or not positive."""
+        self.joint(name)
+        limit = self._joint_elements[name].limit
+        velocity = getattr(limit, "velocity", None) if limit is not None else None
+        return float(velocity) if velocity is not None and velocity > 0 else None
+
     def chain(self, base: str, tip: str) -> list[ChainJoint]:
         """The serial chain of joints (fixed ones included) from link ``base`` down to link ``tip``."""
         if base not in self.links or tip not in self.links:

@@ -11,7 +11,9 @@ from ltl_stack.transfer.profiles import list_robots, load_profile
     ("ur5", "ur5.urdf", None, "none"),
     ("j2n6s300", "j2n6s300.urdf", "j2n6s300.srdf", "none"),
     ("nao", "nao_robot_v3.urdf", "nao.srdf", "holonomic"),
-    ("pr2", "pr2.urdf", "pr2.srdf", "differential"),
+    ("pr2", "pr2.urdf", "pr2.srdf", "holonomic"),
+    ("pepper", "pepper.urdf", "pepper.srdf", "holonomic"),   # its limits say linear.y 0..0; the table knows
+    ("fetch", "fetch.urdf", "fetch.srdf", "differential"),
     ("jaco", "jaco_arm.urdf", "jaco.srdf", "none"),
 ])
 def test_shared_layout_by_convention(robot, urdf, srdf, drive):
@@ -27,7 +29,7 @@ def test_profile_file_overrides_conventions(tmp_path):
     (tmp_path / "my.yaml").write_text("linear: {x: {lower: -2, upper: 2}}\n")
     (tmp_path / "bot.yaml").write_text("drive: holonomic\nlimits: my.yaml\n")
     profile = load_profile(tmp_path, "bot")
-    assert (profile.drive, profile.drive_inferred, profile.limits["linear.x"].upper) == ("holonomic", False, 2.0)
+    assert (profile.drive, profile.drive_source, profile.limits["linear.x"].upper) == ("holonomic", "profile", 2.0)
     assert list_robots(tmp_path) == ["bot", "my"], list_robots(tmp_path)
 
 
