@@ -14,8 +14,10 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import sys
+import tempfile
 from collections.abc import Callable, Iterable
 from typing import Any, TextIO
 
@@ -116,3 +118,89 @@ def write_output(path: str | os.PathLike, data: str | bytes, what: str = "output
         write_atomic(path, data, mode)
     except OSError as e:
         raise OutputError(f"{path}: cannot write the {what}: {e.strerror or e}", Exit.WRITE_FAILED) from None
+
+
+
+def write_outputs(outputs: Iterable[tuple[str | os.PathLike, str | bytes, str]]) -> None:
+    """Write several outputs ``(path, data, what)`` all or none: each goes to a temporary file next
+    to its target first; only when every one is written are they renamed into place. A failure is
+    ``OutputError`` (``Exit.WRITE_FAILED``) and leaves no file behind and every target as it was."""
+    staged: list[tuple[str, str]] = []
+    try:
+        for path, data, what in outputs:
+            target = os.fspath(path)
+            raw = data.encode("utf-8") if isinstance(data, str) else data
+            if os.path.isdir(target):
+                raise OutputError(f"{target}: cannot write the {what}: it is a directory", Exit.WRITE_FAILED)
+            try:
+                fd, tmp = tempfile.mkstemp(prefix=f".{os.path.basename(target)}.", dir=os.path.dirname(target) or ".")
+                staged.append((tmp, target))
+                with os.fdopen(fd, "wb") as f:
+                    f.write(raw)
+                umask = os.umask(0)
+                os.umask(umask)
+                os.chmod(tmp, 0o666 & ~umask)
+            except OSError as e:
+                raise OutputError(f"{target}: cannot write the {what}: {e.strerror or e}", Exit.WRITE_FAILED) from None
+        for tmp, target in staged:
+            try:
+                os.replace(tmp, target)
+            except OSError as e:
+                raise OutputError(f"{target}: cannot write: {e.strerror or e}", Exit.WRITE_FAILED) from None
+    finally:
+        for tmp, _ in staged:
+            if os.path.exists(tmp):
+                os.unlink(tmp)
+
+# Option types for numbers (``type=`` of ``add_argument``): a value that is not a finite number in
+# range is a usage error (exit 2) with one short line, also for ``nan``, ``inf`` and integers longer
+# than Python converts.
+
+#: digits an integer option may have; longer ones are refused before ``int()`` (Python's own limit
+#: is 4300 digits, and its message repeats the whole number)
+MAX_OPTION_DIGITS = 18
+
+
+def _shown(text: str) -> str:
+    return repr(text if len(text) <= 24 else text[:20] + "…")
+
+
+def _number(text: str, kind: type, minimum: float, strict: bool) -> float | int:
+    word = "an integer" if kind is int else "a number"
+    bound = f"{'>' if strict else '>='} {minimum:g}"
+    value: float | int | None = None
+    digits = text.strip().lstrip("+-")
+    if kind is int:
+        if digits.isdigit() and len(digits) > MAX_OPTION_DIGITS:
+            raise argparse.ArgumentTypeError(f"{_shown(text)} has {len(digits)} digits (at most "
+                                             f"{MAX_OPTION_DIGITS})")
+        if digits.isdigit():
+            value = int(text)
+    elif len(text) <= 64:
+        try:
+            value = float(text)
+        except ValueError:
+            value = None
+    if value is None or not math.isfinite(value) or value < minimum or (strict and value == minimum):
+        raise argparse.ArgumentTypeError(f"{_shown(text)} is not {word} {bound}")
+    return value
+
+
+def positive_float(text: str) -> float:
+    """Option type: a finite number > 0 (a rate, a duration that must pass)."""
+    return float(_number(text, float, 0.0, True))
+
+
+def non_negative_float(text: str) -> float:
+    """Option type: a finite number >= 0 (a timeout or duration where 0 means "none")."""
+    return float(_number(text, float, 0.0, False))
+
+
+def non_negative_int(text: str) -> int:
+    """Option type: an integer >= 0 (a count where 0 means "no limit" or "none")."""
+    return int(_number(text, int, 0, False))
+
+
+def positive_int(text: str) -> int:
+    """Option type: an integer >= 1."""
+    return int(_number(text, int, 1, False))

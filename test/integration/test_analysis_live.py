@@ -13,7 +13,6 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import pytest
@@ -23,6 +22,7 @@ from helpers import RosMaster, free_port, require_shared, wait_for
 from ltl_stack.analysis.checks import analyze
 from ltl_stack.analysis.graph import ComputationGraph
 from ltl_stack.analysis.snapshot import SnapshotError
+from ltl_stack.errors import Exit
 from ltl_stack.ros.graph_snapshot import take_snapshot
 from ltl_stack.runtime.mapping import load_mapping
 
@@ -111,7 +111,8 @@ def test_cli_live_with_a_wrong_mapping_reports_e3_and_saves_the_snapshot(clean_a
     report = json.loads(done.stdout)
     gripper = [f for f in report["E3"] if f["topic"] == "/arm_1/gripper_controller/position_command"]
     assert [(f["output"], f["nodes"]) for f in gripper] == [("pickup", ["/pickup", "/drop"])]  # Fig. 3.9
-    assert "[analyze_graph] taking a snapshot of the ROS master" in done.stderr
+    assert "analyze_graph: taking a snapshot of the ROS master" in done.stderr
+    assert "analyze_graph: snapshot written to " + str(saved) in done.stderr
     # the saved snapshot gives the same report offline
     offline = run_cli(master, "--spec", str(spec), "--mapping", str(wrong), "--snapshot", str(saved), "--json")
     assert offline.returncode == 0, offline.stderr
@@ -230,7 +231,6 @@ def test_live_spheros_fig_3_14_and_3_15(spheros):
 
 def test_unreachable_master_is_one_clear_error():
     uri = f"http://127.0.0.1:{free_port()}/"
-    start = time.monotonic()
-    with pytest.raises(SnapshotError, match=f"cannot read the graph from the ROS master at {uri}"):
+    with pytest.raises(SnapshotError, match=f"cannot read the graph from the ROS master at {uri}") as err:
         take_snapshot(uri, timeout=2.0)
-    assert time.monotonic() - start < 10
+    assert err.value.code == Exit.NO_ROS

@@ -1,13 +1,14 @@
 """``analyze_graph``: conflicts between proposition nodes in a ROS graph, and the spec edits that avoid them.
 
-    rosrun ltl_stack analyze_graph --spec SPEC --mapping MAPPING (--snapshot FILE | --live)
+    rosrun ltl_stack analyze_graph --spec SPEC --mapping MAPPING (--snapshot FILE | --live [--master-uri URI])
         [--save-snapshot FILE] [--robots r1,r2] [--ignore-topics /odom,/imu] [--apply OUT] [--json|--markdown]
 
-Exit codes:
-    0  analysis done (findings or not, unless --fail-on-findings)
-    1  --fail-on-findings and there are findings
-    2  bad input: spec, mapping, snapshot, unreachable master, bad option (one message on stderr)
-    3  --apply: the spec with the suggestions added is unrealizable (the explanation is in the report)
+Exit codes (``ltl_stack.errors.Exit``): 0 analysis done (findings or not, unless
+--fail-on-findings); 1 --fail-on-findings and there are findings; 2 bad input (spec, mapping,
+snapshot, option, malformed master URI, an output that is an input); 3 no ROS master for --live;
+4 an output could not be written; 10 --apply: the spec with the suggestions added is unrealizable
+(the explanation is in the report). Outputs (--apply, --save-snapshot) are checked against the
+inputs before any work and written only when everything else has succeeded.
 
 The live snapshot comes from the ``take_live`` callable given to ``main`` (``scripts/analyze_graph``
 passes ``ltl_stack.ros.graph_snapshot.take_snapshot``), so this module stays free of ROS.
@@ -20,42 +21,44 @@ import sys
 from collections.abc import Callable, Sequence
 from dataclasses import replace
 
+from ltl_stack import cli
 from ltl_stack.analysis import report
 from ltl_stack.analysis.checks import Analysis, analyze, e2_groups
 from ltl_stack.analysis.graph import DEFAULT_IGNORED_TOPICS, ComputationGraph
-from ltl_stack.analysis.snapshot import Snapshot, SnapshotError
+from ltl_stack.analysis.snapshot import Snapshot, is_json_path
 from ltl_stack.analysis.suggest import MutualExclusion, add_to_spec, input_exclusion_for, mutual_exclusions
-from ltl_stack.fileio import write_atomic
-from ltl_stack.runtime.mapping import MappingError, check_mapping, errors, load_mapping
-from ltl_stack.spec import SpecError, formula_to_slugsin, load_spec, write_slugsin
+from ltl_stack.errors import Exit, UserError
+from ltl_stack.runtime.mapping import check_mapping, errors, load_mapping
+from ltl_stack.spec import formula_to_slugsin, load_spec, write_slugsin
 from ltl_stack.spec.model import SLUGSIN_SECTIONS, Spec
+from ltl_stack.synthesis import is_realizable
+from ltl_stack.synthesis.explain import explain
 
-EXIT_OK, EXIT_FINDINGS, EXIT_INPUT, EXIT_UNREALIZABLE = 0, 1, 2, 3
-
-
-class UsageError(Exception):
-    """Bad input; ``main`` prints it as one line and exits with ``EXIT_INPUT``."""
+PROG = "analyze_graph"
+EXIT_CODES = (Exit.OK, Exit.NEGATIVE, Exit.BAD_INPUT, Exit.NO_ROS, Exit.WRITE_FAILED, Exit.UNREALIZABLE)
 
 
 def _names(text: str) -> list[str]:
     return [t.strip() for t in text.split(",") if t.strip()]
 
 
-def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(
-        prog="analyze_graph",
-        description="Analyse the ROS computation graph of launched proposition nodes (thesis 3.5.2): "
-                    "E1 outputs reaching input nodes, E2 outputs reaching the same topic/action, E3 one "
-                    "output's nodes reaching the same topic, C1/C2 robots left behind; suggest "
-                    "mutual-exclusion clauses for the spec.",
-        epilog="Exit codes: 0 done, 1 findings with --fail-on-findings, 2 bad input, "
-               "3 --apply gave an unrealizable spec.")
+def build_parser() -> cli.ToolParser:
+    p = cli.ToolParser(
+        PROG,
+        "Analyse the ROS computation graph of launched proposition nodes (thesis 3.5.2): "
+        "E1 outputs reaching input nodes, E2 outputs reaching the same topic/action, E3 one "
+        "output's nodes reaching the same topic, C1/C2 robots left behind; suggest "
+        "mutual-exclusion clauses for the spec.",
+        exit_codes=EXIT_CODES,
+        epilog="1: findings with --fail-on-findings; 10: --apply gave an unrealizable spec. An output "
+               "(--apply, --save-snapshot) that names an input is refused before any work.")
     p.add_argument("--spec", required=True, help="the spec (.slugsin or structured)")
     p.add_argument("--mapping", required=True, help="the proposition mapping YAML")
     src = p.add_mutually_exclusive_group(required=True)
     src.add_argument("--snapshot", metavar="FILE", help="analyse a saved graph snapshot (YAML or JSON)")
     src.add_argument("--live", action="store_true", help="take a snapshot of the running ROS master")
-    p.add_argument("--master-uri", help="master for --live (default: $ROS_MASTER_URI)")
+    p.add_argument("--master-uri", metavar="URI",
+                   help="master for --live (default: __master:= or $ROS_MASTER_URI)")
     p.add_argument("--save-snapshot", metavar="FILE", help="also save the snapshot (.json: JSON, else YAML)")
     p.add_argument("--robots", type=_names, default=[], metavar="R1,R2,...",
                    help="homogeneous robots (topic namespaces) for checks C1 and C2")
@@ -73,43 +76,37 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--suggestions", type=_names, default=None, metavar="N1,N2,...",
                    help="with --apply: the numbers of the suggestions to add (default: all)")
     fmt = p.add_mutually_exclusive_group()
-    fmt.add_argument("--json", action="store_true", help="JSON report on stdout")
+    fmt.add_argument("--json", action="store_true", help="print the report as JSON on stdout")
     fmt.add_argument("--markdown", action="store_true", help="Markdown report (tables like the thesis figures)")
     p.add_argument("--fail-on-findings", action="store_true", help="exit 1 when there are findings")
     return p
 
 
 def main(argv: Sequence[str] | None = None, take_live: Callable[..., Snapshot] | None = None) -> int:
-    args = build_parser().parse_args(argv)
-    try:
-        return run(args, take_live)
-    except UsageError as e:
-        print(f"analyze_graph: {e}", file=sys.stderr)
-        return EXIT_INPUT
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if args.master_uri is not None and not args.live:
+        parser.error("--master-uri needs --live")
+    if args.suggestions is not None and not args.apply:
+        parser.error("--suggestions needs --apply")
+    return cli.run(PROG, lambda: run(args, take_live))
 
 
 def progress(message: str) -> None:
-    print(f"[analyze_graph] {message}", file=sys.stderr, flush=True)
+    cli.say(PROG, message)
 
 
 def run(args: argparse.Namespace, take_live: Callable[..., Snapshot] | None) -> int:
-    spec = _load_spec(args.spec)
-    try:
-        mapping = load_mapping(args.mapping)
-    except MappingError as e:
-        raise UsageError(str(e)) from None
+    """The analysis; every user mistake is a ``UserError`` (``cli.run`` prints it and exits with its code)."""
+    cli.check_outputs([args.spec, args.mapping, args.snapshot], [args.apply, args.save_snapshot])
+    spec = load_spec(args.spec)
+    mapping = load_mapping(args.mapping)
     issues = check_mapping(mapping, spec.inputs, spec.outputs)
     bad = errors(issues)
     if bad:
         more = f" (and {len(bad) - 1} more errors)" if len(bad) > 1 else ""
-        raise UsageError(f"{bad[0]}{more}")
+        raise UserError(f"{bad[0]}{more}")
     snapshot = _snapshot(args, take_live)
-    if args.save_snapshot:
-        try:
-            snapshot.save(args.save_snapshot)
-        except OSError as e:
-            raise UsageError(f"{args.save_snapshot}: cannot write snapshot: {e.strerror or e}") from None
-        progress(f"snapshot saved to {args.save_snapshot}")
     ignored = list(DEFAULT_IGNORED_TOPICS if args.generic_topics is None else args.generic_topics)
     graph = ComputationGraph(snapshot, [*ignored, *args.add_generic_topics])
     progress(f"graph: {len(graph.nodes)} nodes, {len(graph.channels)} topics/actions, {graph.edge_count} edges")
@@ -117,40 +114,38 @@ def run(args: argparse.Namespace, take_live: Callable[..., Snapshot] | None) -> 
                        robot_topics_to_ignore=args.ignore_topics, progress=progress)
     suggestions = mutual_exclusions(e2_groups(analysis), spec.outputs)
     applied = None
+    outputs = []
     if args.apply:
-        applied = apply_suggestions(spec, suggestions, args.apply, args.suggestions)
+        applied, text = apply_suggestions(spec, suggestions, args.apply, args.suggestions)
+        outputs.append((args.apply, text, "spec"))
+    if args.save_snapshot:
+        outputs.append((args.save_snapshot, snapshot.to_text(is_json_path(args.save_snapshot)), "snapshot"))
+    cli.write_outputs(outputs)  # only now, all or none: an error above leaves no output behind
+    for path, _, what in outputs:
+        progress(f"{what} written to {path}")
     warnings = [str(i) for i in issues]
     _print_report(args, analysis, suggestions, warnings, applied)
     if applied is not None and not applied["realizable"]:
-        return EXIT_UNREALIZABLE
+        return Exit.UNREALIZABLE
     if args.fail_on_findings and analysis.finding_count:
-        return EXIT_FINDINGS
-    return EXIT_OK
-
-
-def _load_spec(path: str) -> Spec:
-    try:
-        return load_spec(path)
-    except SpecError as e:
-        raise UsageError(str(e)) from None
+        return Exit.NEGATIVE
+    return Exit.OK
 
 
 def _snapshot(args: argparse.Namespace, take_live: Callable[..., Snapshot] | None) -> Snapshot:
-    try:
-        if args.snapshot:
-            return Snapshot.load(args.snapshot)
-        if take_live is None:
-            raise UsageError("--live needs ROS (ltl_stack.ros.graph_snapshot); run it through rosrun ltl_stack "
-                             "analyze_graph")
-        progress("taking a snapshot of the ROS master")
-        return take_live(args.master_uri)
-    except SnapshotError as e:
-        raise UsageError(str(e)) from None
+    if args.snapshot:
+        return Snapshot.load(args.snapshot)
+    if take_live is None:
+        raise UserError("--live needs ROS (ltl_stack.ros.graph_snapshot); run it through rosrun ltl_stack "
+                        "analyze_graph", Exit.NO_ROS)
+    progress("taking a snapshot of the ROS master")
+    return take_live(args.master_uri)
 
 
 def apply_suggestions(spec: Spec, suggestions: list[MutualExclusion], out: str,
-                      chosen: list[str] | None) -> dict:
-    """Write ``spec`` plus the chosen suggestions to ``out``; synthesize; explain when unrealizable.
+                      chosen: list[str] | None) -> tuple[dict, str]:
+    """``spec`` plus the chosen suggestions, as the text to write to ``out``, synthesized; explained
+    when unrealizable. Returns (the report's ``apply`` entry, the .slugsin text); writes nothing.
 
     When the result is unrealizable, also try the assumption that the inputs driving the
     excluded outputs are mutually exclusive (thesis Example 9) and say whether it helps.
@@ -159,20 +154,14 @@ def apply_suggestions(spec: Spec, suggestions: list[MutualExclusion], out: str,
     new_spec = add_to_spec(spec, [suggestions[i - 1] for i in picked], file=out)
     new_spec.source = out
     text = write_slugsin(new_spec)
+    text += "" if text.endswith("\n") else "\n"
     new_spec = _with_written_lines(new_spec, text, out)
-    try:
-        write_atomic(out, text + ("" if text.endswith("\n") else "\n"))
-    except OSError as e:
-        raise UsageError(f"{out}: cannot write the spec: {e.strerror or e}") from None
-    from ltl_stack.synthesis import is_realizable
-    from ltl_stack.synthesis.explain import explain
-
-    progress(f"wrote {out} with suggestion(s) {', '.join(map(str, picked)) or 'none'}; synthesizing")
+    progress(f"spec with suggestion(s) {', '.join(map(str, picked)) or 'none'} for {out}; synthesizing")
     result: dict = {"output": out, "added": picked, "robotics_semantics": True,
                     "realizable_before": is_realizable(spec, robotics_semantics=True)}
     result["realizable"] = is_realizable(new_spec, robotics_semantics=True)
     if result["realizable"]:
-        return result
+        return result, text
     progress("unrealizable: explaining")
     explanation = explain(new_spec, robotics_semantics=True)
     result["explanation"] = explanation.to_dict()
@@ -183,7 +172,7 @@ def apply_suggestions(spec: Spec, suggestions: list[MutualExclusion], out: str,
         fixed = add_to_spec(new_spec, [assumption], file=out)
         result["input_assumption"] = {**assumption.to_dict(), **report.suggestion_forms(assumption),
                                       "restores_realizability": is_realizable(fixed, robotics_semantics=True)}
-    return result
+    return result, text
 
 
 def _with_written_lines(spec: Spec, text: str, out: str) -> Spec:
@@ -209,7 +198,7 @@ def _pick(suggestions: list[MutualExclusion], chosen: list[str] | None) -> list[
     picked = []
     for token in chosen:
         if not token.isdigit() or not 1 <= int(token) <= len(suggestions):
-            raise UsageError(f"--suggestions: {token!r} is not a suggestion number (there are {len(suggestions)})")
+            raise UserError(f"--suggestions: {token!r} is not a suggestion number (there are {len(suggestions)})")
         picked.append(int(token))
     return picked
 

@@ -25,8 +25,8 @@ from pathlib import Path
 
 import yaml
 
+from ltl_stack.cli import write_output
 from ltl_stack.errors import InputError, UserError
-from ltl_stack.fileio import write_atomic
 from ltl_stack.inputs import parse_json, parse_yaml, read_text
 
 FORMAT = "ltl_stack/graph_snapshot/1"
@@ -125,15 +125,17 @@ class Snapshot:
         snap.nodes = sorted(known)
         return snap
 
-    def save(self, path: str | os.PathLike) -> None:
-        """Write atomically (temp file + rename); JSON for ``.json``, YAML otherwise."""
-        path = Path(path)
+    def to_text(self, json_format: bool = False) -> str:
+        """The file text: JSON when ``json_format``, else YAML."""
         data = self.to_dict()
-        if path.suffix.lower() == ".json":
-            text = json.dumps(data, indent=1) + "\n"
-        else:
-            text = yaml.dump(data, Dumper=_YAML_DUMPER, sort_keys=False, default_flow_style=None, width=120)
-        write_atomic(path, text)
+        if json_format:
+            return json.dumps(data, indent=1) + "\n"
+        return yaml.dump(data, Dumper=_YAML_DUMPER, sort_keys=False, default_flow_style=None, width=120)
+
+    def save(self, path: str | os.PathLike) -> None:
+        """Write atomically (temp file + rename); JSON for ``.json``, YAML otherwise. A failure is
+        ``OutputError`` (``Exit.WRITE_FAILED``) and leaves no file behind."""
+        write_output(path, self.to_text(is_json_path(path)), "snapshot")
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> Snapshot:
@@ -143,10 +145,15 @@ class Snapshot:
         file = str(path)
         try:
             text = read_text(path, "snapshot")
-            data = parse_json(text, file) if Path(path).suffix.lower() == ".json" else parse_yaml(text, file)
+            data = parse_json(text, file) if is_json_path(path) else parse_yaml(text, file)
         except InputError as e:
             raise SnapshotError(str(e)) from None
         return cls.from_dict(data, file)
+
+
+def is_json_path(path: str | os.PathLike) -> bool:
+    """Snapshots named ``*.json`` are JSON, all others YAML."""
+    return Path(path).suffix.lower() == ".json"
 
 
 def _names(value: object, where: str) -> list[str]:

@@ -6,20 +6,26 @@ the strategy has gone N times through all system goals (the spec tells how many 
 """
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 import threading
 
-from ltl_stack.runtime.trace import GoalCycles, TraceStep, describe
+import rospy
 
-EXIT_OK, EXIT_TIMEOUT, EXIT_BAD_INPUT, EXIT_NO_MASTER = 0, 1, 2, 3
+from ltl_stack import cli
+from ltl_stack.errors import Exit, UserError
+from ltl_stack.msg import ControllerState
+from ltl_stack.ros.master import master_uri, ros_name, wait_for_master
+from ltl_stack.ros.valuation import msg_to_valuation
+from ltl_stack.runtime.trace import GoalCycles, TraceStep, describe
+from ltl_stack.spec import load_spec
+
+#: seconds to wait for the master before giving up with Exit.NO_ROS
+MASTER_WAIT = 10.0
 
 
 def step_of(msg, start: float) -> TraceStep:
     """A ``TraceStep`` of a ControllerState message, timed from ``start`` (seconds)."""
-    from ltl_stack.ros.valuation import msg_to_valuation
-
     return TraceStep(time=msg.header.stamp.to_sec() - start, state_id=msg.state_id, goal=msg.goal_index,
                      inputs=msg_to_valuation(msg.inputs), outputs=msg_to_valuation(msg.outputs),
                      running=msg.running)
@@ -29,10 +35,6 @@ class ControllerTrace:
     """Collects and prints the state changes of one controller (needs an initialised rospy node)."""
 
     def __init__(self, topic: str, goals: int | None = None, json_lines: bool = False, out=sys.stdout):
-        import rospy
-
-        from ltl_stack.msg import ControllerState
-
         self.goals = goals
         self.json_lines = json_lines
         self.out = out
@@ -63,8 +65,6 @@ class ControllerTrace:
 
     def wait_cycles(self, cycles: int, timeout: float) -> bool:
         """Block until ``cycles`` goal cycles completed (True) or ``timeout`` seconds passed (False)."""
-        import rospy
-
         end = rospy.get_time() + timeout
         with self.changed:
             while self.cycles is not None and self.cycles.completed < cycles:
@@ -75,42 +75,38 @@ class ControllerTrace:
         return True
 
 
-def main(argv: list[str] | None = None) -> int:
-    import rospy
-
-    from ltl_stack.ros.proposition_tools import wait_for_master
-
-    parser = argparse.ArgumentParser(
-        prog="controller_trace", description="Print a running controller's state changes.",
-        epilog="Exit codes: 0 done (or interrupted), 1 --cycles not reached within --timeout, "
-               "2 bad spec, 3 no ROS master.")
-    parser.add_argument("topic", nargs="?", default="controller_executor/state",
+def build_parser() -> cli.ToolParser:
+    parser = cli.ToolParser(
+        "controller_trace", "Print a running controller's state changes.",
+        exit_codes=(Exit.OK, Exit.NEGATIVE, Exit.BAD_INPUT, Exit.NO_ROS),
+        epilog="Exit 0 also when interrupted; 1 means --cycles were not reached within --timeout.")
+    parser.add_argument("topic", nargs="?", default="controller_executor/state", type=ros_name,
                         help="the executor's ~state topic (default: %(default)s, relative to the namespace)")
     parser.add_argument("--spec", help="the controller's spec, to number goals as 'k/n' and count cycles")
-    parser.add_argument("--cycles", type=int, default=0, help="exit after N cycles through all goals (needs --spec)")
-    parser.add_argument("--timeout", type=float, default=0.0, help="with --cycles: give up after S seconds")
-    parser.add_argument("--json", action="store_true", help="one JSON object per state")
-    args = parser.parse_args(rospy.myargv(argv if argv is not None else sys.argv)[1:])
-    goals = None
-    if args.spec:
-        from ltl_stack.spec import load_spec
-        from ltl_stack.spec.errors import SpecError
+    parser.add_argument("--cycles", type=cli.non_negative_int, default=0,
+                        help="exit after N cycles through all goals (needs --spec)")
+    parser.add_argument("--timeout", type=cli.non_negative_float, default=0.0, metavar="S",
+                        help="with --cycles: give up after S seconds (default 0: never)")
+    parser.add_argument("--master-uri", metavar="URI",
+                        help="the ROS master (default: __master:= or $ROS_MASTER_URI)")
+    parser.add_json("each state, one object per line,")
+    return parser
 
-        try:
-            goals = max(1, len(load_spec(args.spec).sys_liveness))
-        except SpecError as err:
-            print(f"controller_trace: {err}", file=sys.stderr)
-            return EXIT_BAD_INPUT
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(rospy.myargv(argv if argv is not None else sys.argv)[1:])
+    return cli.run("controller_trace", lambda: _trace(args))
+
+
+def _trace(args) -> int:
+    goals = max(1, len(load_spec(args.spec).sys_liveness)) if args.spec else None
     if args.cycles and goals is None:
-        print("controller_trace: --cycles needs --spec", file=sys.stderr)
-        return EXIT_BAD_INPUT
-    if not wait_for_master(10.0):
-        print("controller_trace: no ROS master at $ROS_MASTER_URI", file=sys.stderr)
-        return EXIT_NO_MASTER
+        raise UserError("--cycles needs --spec")
+    wait_for_master(master_uri(args.master_uri), MASTER_WAIT)
     rospy.init_node("controller_trace", anonymous=True)
     trace = ControllerTrace(args.topic, goals, args.json)
     if args.cycles:
         reached = trace.wait_cycles(args.cycles, args.timeout or float("inf"))
-        return EXIT_OK if reached else EXIT_TIMEOUT
+        return Exit.OK if reached else Exit.NEGATIVE
     rospy.spin()
-    return EXIT_OK
+    return Exit.OK

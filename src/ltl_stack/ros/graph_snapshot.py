@@ -1,16 +1,18 @@
 """Snapshot of a live ROS master's computation graph (thesis 3.5.2), through rosgraph's master API.
 
 Reads ``getSystemState`` (publishers, subscribers, services) and ``getTopicTypes``; it does not
-register a node, so the snapshot does not contain the tool itself. ``rosgraph`` is imported when
-a snapshot is taken, so that the offline analysis works on machines without ROS.
+register a node, so the snapshot does not contain the tool itself.
 """
 from __future__ import annotations
 
-import os
 import socket
 from datetime import UTC, datetime
 
+import rosgraph.masterapi
+
 from ltl_stack.analysis.snapshot import Snapshot, SnapshotError
+from ltl_stack.errors import Exit
+from ltl_stack.ros.master import master_uri as resolve_master_uri
 
 CALLER_ID = "/ltl_stack_analyze_graph"
 
@@ -18,14 +20,11 @@ CALLER_ID = "/ltl_stack_analyze_graph"
 def take_snapshot(master_uri: str | None = None, timeout: float = 5.0) -> Snapshot:
     """Nodes, topics (with types), publishers, subscribers and services of the master at ``master_uri``.
 
-    ``master_uri`` defaults to ``$ROS_MASTER_URI``. Raises ``SnapshotError`` with a clear message when
-    no master answers within ``timeout`` seconds.
+    ``master_uri`` defaults to ``__master:=`` or ``$ROS_MASTER_URI``. A malformed URI is a
+    ``UserError`` (exit 2); a master that does not answer within ``timeout`` seconds is a
+    ``SnapshotError`` with ``Exit.NO_ROS``.
     """
-    import rosgraph.masterapi
-
-    uri = master_uri or os.environ.get("ROS_MASTER_URI")
-    if not uri:
-        raise SnapshotError("no ROS master given: set ROS_MASTER_URI or pass --master-uri")
+    uri = resolve_master_uri(master_uri)
     master = rosgraph.masterapi.Master(CALLER_ID, master_uri=uri)
     previous = socket.getdefaulttimeout()
     socket.setdefaulttimeout(timeout)
@@ -33,7 +32,7 @@ def take_snapshot(master_uri: str | None = None, timeout: float = 5.0) -> Snapsh
         publishers, subscribers, services = master.getSystemState()
         topic_types = master.getTopicTypes()
     except (OSError, rosgraph.masterapi.MasterException) as e:
-        raise SnapshotError(f"cannot read the graph from the ROS master at {uri}: {e}") from None
+        raise SnapshotError(f"cannot read the graph from the ROS master at {uri}: {e}", Exit.NO_ROS) from None
     finally:
         socket.setdefaulttimeout(previous)
     taken = datetime.now(UTC).strftime("%Y-%m-%dT%H:%M:%SZ")

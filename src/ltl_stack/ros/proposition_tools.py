@@ -2,66 +2,71 @@
 
 ``set_propositions TOPIC a=1,b=0`` publishes one valuation (latched) and, with ``--rate``, keeps
 publishing it; ``proposition_monitor TOPIC`` prints every valuation it receives, readable or as
-JSON lines. Both are ordinary rospy nodes: they need a running master.
+JSON lines. Both are ordinary rospy nodes: they need a running master (``--master-uri``, else
+``$ROS_MASTER_URI``). A malformed master URI, an illegal topic name or a bad number is exit 2 with
+one line; no master is exit 3 (``ltl_stack.errors.Exit``).
 """
 from __future__ import annotations
 
-import argparse
 import json
 import sys
-import time
 
-import rosgraph
 import rospy
 
+from ltl_stack import cli
+from ltl_stack.errors import Exit, UserError
 from ltl_stack.msg import PropositionValuation
+from ltl_stack.ros.master import master_uri, ros_name, wait_for_master
 from ltl_stack.ros.valuation import msg_to_valuation, valuation_to_msg
 from ltl_stack.spec.valuation import format_valuation, parse_valuation
 
-EXIT_OK, EXIT_BAD_INPUT, EXIT_NO_MASTER = 0, 2, 3
+
+def add_master_options(parser: cli.ToolParser, timeout: float = 10.0, what: str = "the master") -> None:
+    """``--master-uri`` and ``--timeout`` as every tool that talks to a master has them."""
+    parser.add_argument("--master-uri", metavar="URI",
+                        help="the ROS master (default: __master:= or $ROS_MASTER_URI)")
+    parser.add_argument("--timeout", type=cli.positive_float, default=timeout, metavar="S",
+                        help=f"seconds to wait for {what} (default: %(default)s)")
 
 
-def wait_for_master(timeout: float) -> bool:
-    """True once the master at $ROS_MASTER_URI answers, False after ``timeout`` seconds."""
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if rosgraph.is_master_online():
-            return True
-        time.sleep(0.1)
-    return False
+def _argv(argv: list[str] | None) -> list[str]:
+    return rospy.myargv(argv if argv is not None else sys.argv)[1:]
+
+
+def set_propositions_parser() -> cli.ToolParser:
+    parser = cli.ToolParser(
+        "set_propositions", "Publish a proposition valuation (ltl_stack/PropositionValuation) on a topic.",
+        exit_codes=(Exit.OK, Exit.BAD_INPUT, Exit.NO_ROS))
+    parser.add_argument("topic", type=ros_name, help="topic to publish on, e.g. /simple/valuation")
+    parser.add_argument("valuation", help="e.g. 'person=1,move=0' or 'person !move'")
+    parser.add_argument("--rate", type=cli.non_negative_float, default=0.0, metavar="HZ",
+                        help="keep publishing at this rate (Hz) until interrupted; default 0: once")
+    parser.add_argument("--wait-subscribers", type=cli.non_negative_int, default=0, metavar="N",
+                        help="wait until N subscribers are connected before publishing")
+    add_master_options(parser, what="the master and the subscribers")
+    parser.add_json("what was published")
+    return parser
 
 
 def set_propositions_main(argv: list[str] | None = None) -> int:
     """Entry point of ``set_propositions``."""
-    parser = argparse.ArgumentParser(
-        prog="set_propositions",
-        description="Publish a proposition valuation (ltl_stack/PropositionValuation) on a topic.",
-        epilog="Exit codes: 0 published, 2 bad valuation, 3 no ROS master.")
-    parser.add_argument("topic", help="topic to publish on, e.g. /simple/valuation")
-    parser.add_argument("valuation", help="e.g. 'person=1,move=0' or 'person !move'")
-    parser.add_argument("--rate", type=float, default=0.0,
-                        help="keep publishing at this rate (Hz) until interrupted; default: once")
-    parser.add_argument("--wait-subscribers", type=int, default=0, metavar="N",
-                        help="wait until N subscribers are connected before publishing")
-    parser.add_argument("--timeout", type=float, default=10.0, help="seconds to wait for master/subscribers")
-    parser.add_argument("--json", action="store_true", help="print what was published as JSON")
-    args = parser.parse_args(rospy.myargv(argv if argv is not None else sys.argv)[1:])
+    args = set_propositions_parser().parse_args(_argv(argv))
+    return cli.run("set_propositions", lambda: _set_propositions(args))
+
+
+def _set_propositions(args) -> int:
     try:
         valuation = parse_valuation(args.valuation.replace(" ", ","))
     except ValueError as err:
-        print(f"set_propositions: {err}", file=sys.stderr)
-        return EXIT_BAD_INPUT
-    if not wait_for_master(args.timeout):
-        print("set_propositions: no ROS master at $ROS_MASTER_URI", file=sys.stderr)
-        return EXIT_NO_MASTER
+        raise UserError(str(err)) from None
+    wait_for_master(master_uri(args.master_uri), args.timeout)
     rospy.init_node("set_propositions", anonymous=True, disable_signals=False)
     pub = rospy.Publisher(args.topic, PropositionValuation, queue_size=1, latch=True)
     deadline = rospy.Time.now() + rospy.Duration(args.timeout)
     while pub.get_num_connections() < args.wait_subscribers and not rospy.is_shutdown():
         if rospy.Time.now() > deadline:
-            print(f"set_propositions: fewer than {args.wait_subscribers} subscribers on {args.topic}",
-                  file=sys.stderr)
-            return EXIT_NO_MASTER
+            raise UserError(f"fewer than {args.wait_subscribers} subscribers on {args.topic} after "
+                            f"{args.timeout:g} s", Exit.NO_ROS)
         rospy.sleep(0.02)
     pub.publish(valuation_to_msg(valuation))
     if args.json:
@@ -79,23 +84,29 @@ def set_propositions_main(argv: list[str] | None = None) -> int:
     else:
         # Latched: stay up briefly so late subscribers that are already connecting get it.
         rospy.sleep(0.5)
-    return EXIT_OK
+    return Exit.OK
+
+
+def proposition_monitor_parser() -> cli.ToolParser:
+    parser = cli.ToolParser(
+        "proposition_monitor", "Print every proposition valuation received on a topic.",
+        exit_codes=(Exit.OK, Exit.BAD_INPUT, Exit.NO_ROS))
+    parser.add_argument("topic", type=ros_name, help="topic of ltl_stack/PropositionValuation messages")
+    parser.add_argument("--count", type=cli.non_negative_int, default=0,
+                        help="exit after this many messages (default 0: never)")
+    add_master_options(parser)
+    parser.add_json("each valuation, one object per line,")
+    return parser
 
 
 def proposition_monitor_main(argv: list[str] | None = None) -> int:
     """Entry point of ``proposition_monitor``."""
-    parser = argparse.ArgumentParser(
-        prog="proposition_monitor",
-        description="Print every proposition valuation received on a topic.",
-        epilog="Exit codes: 0 done, 3 no ROS master.")
-    parser.add_argument("topic", help="topic of ltl_stack/PropositionValuation messages")
-    parser.add_argument("--count", type=int, default=0, help="exit after this many messages (0: never)")
-    parser.add_argument("--json", action="store_true", help="one JSON object per line")
-    parser.add_argument("--timeout", type=float, default=10.0, help="seconds to wait for the master")
-    args = parser.parse_args(rospy.myargv(argv if argv is not None else sys.argv)[1:])
-    if not wait_for_master(args.timeout):
-        print("proposition_monitor: no ROS master at $ROS_MASTER_URI", file=sys.stderr)
-        return EXIT_NO_MASTER
+    args = proposition_monitor_parser().parse_args(_argv(argv))
+    return cli.run("proposition_monitor", lambda: _proposition_monitor(args))
+
+
+def _proposition_monitor(args) -> int:
+    wait_for_master(master_uri(args.master_uri), args.timeout)
     rospy.init_node("proposition_monitor", anonymous=True)
     received = 0
 
@@ -104,7 +115,7 @@ def proposition_monitor_main(argv: list[str] | None = None) -> int:
         try:
             valuation = msg_to_valuation(msg)
         except ValueError as err:
-            rospy.logwarn("%s: %s", args.topic, err)
+            cli.warn("proposition_monitor", f"{args.topic}: {err}")
             return
         received += 1
         stamp = msg.header.stamp.to_sec()
@@ -116,6 +127,6 @@ def proposition_monitor_main(argv: list[str] | None = None) -> int:
             rospy.signal_shutdown("received enough messages")
 
     rospy.Subscriber(args.topic, PropositionValuation, on_valuation)
-    rospy.loginfo("proposition_monitor listening on %s", rospy.resolve_name(args.topic))
+    cli.say("proposition_monitor", f"listening on {rospy.resolve_name(args.topic)}")
     rospy.spin()
-    return EXIT_OK
+    return Exit.OK

@@ -8,18 +8,35 @@ readable example of a SimpleActionServer.
 """
 from __future__ import annotations
 
-import argparse
 import json
+import math
 import sys
 import threading
+from typing import Any
 
 import actionlib
+import rosgraph.names
 import rospy
 
+from ltl_stack import cli
+from ltl_stack.errors import Exit, UserError
 from ltl_stack.msg import PropositionAction, PropositionFeedback, PropositionGoal, PropositionResult
-from ltl_stack.ros.proposition_tools import wait_for_master
+from ltl_stack.ros.master import master_uri, ros_name, wait_for_master
+from ltl_stack.ros.proposition_node import NodeConfigError, NodeSpec, Param, run_node
 
-EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT, EXIT_NO_MASTER = 0, 1, 2, 3
+TIMED_PROPOSITION_SERVER = NodeSpec(
+    name="timed_proposition_server",
+    kind="tool",
+    description="An ltl_stack/Proposition action server that completes each activating goal after "
+                "~duration seconds (feedback at ~feedback_rate), for trying the activation-completion "
+                "pattern without a robot.",
+    params=[
+        Param("action", "proposition", "the action name (relative names resolve in the node's namespace)",
+              kind=str),
+        Param("duration", 1.0, "seconds from activation to completion (>= 0)"),
+        Param("feedback_rate", 10.0, "feedback messages per second while a goal runs (> 0)"),
+    ],
+)
 
 
 class TimedPropositionServer:
@@ -51,36 +68,54 @@ class TimedPropositionServer:
         self.server.set_succeeded(PropositionResult(completed=True), "completed")
 
 
+def _build_server(config: dict[str, Any]) -> TimedPropositionServer:
+    """Check the parameters (``NodeConfigError`` → one [FATAL] line, exit 2) and start the server."""
+    name = rospy.get_name()
+    action, duration, rate = config["action"], config["duration"], config["feedback_rate"]
+    if not action or not rosgraph.names.is_legal_name(action):
+        raise NodeConfigError(f"{name}: parameter ~action {action!r} is not a legal ROS name")
+    if not math.isfinite(duration) or duration < 0:
+        raise NodeConfigError(f"{name}: parameter ~duration must be a number of seconds >= 0, got {duration!r}")
+    if not math.isfinite(rate) or rate <= 0:
+        raise NodeConfigError(f"{name}: parameter ~feedback_rate must be a number > 0, got {rate!r}")
+    server = TimedPropositionServer(action, duration, rate)
+    rospy.loginfo("%s: action %s ready (%.2f s per goal)", name, rospy.resolve_name(action), duration)
+    return server
+
+
 def server_main(argv: list[str] | None = None) -> int:
-    """Entry point of ``timed_proposition_server`` (params: ``~action``, ``~duration``)."""
-    rospy.myargv(argv if argv is not None else sys.argv)
-    rospy.init_node("timed_proposition_server")
-    name = rospy.get_param("~action", "proposition")
-    duration = float(rospy.get_param("~duration", 1.0))
-    TimedPropositionServer(name, duration)
-    rospy.loginfo("timed_proposition_server: action %s ready (%.2f s per goal)", rospy.resolve_name(name),
-                  duration)
-    rospy.spin()
-    return EXIT_OK
+    """Entry point of ``timed_proposition_server`` (params ``~action``, ``~duration``, ``~feedback_rate``).
+
+    ``--help`` and ``--json`` describe it and exit without starting a node.
+    """
+    run_node(TIMED_PROPOSITION_SERVER, _build_server, argv)
+    return Exit.OK
+
+
+def client_parser() -> cli.ToolParser:
+    parser = cli.ToolParser(
+        "send_proposition_goal", "Send one ltl_stack/Proposition goal and print its feedback and result.",
+        exit_codes=(Exit.OK, Exit.NEGATIVE, Exit.BAD_INPUT, Exit.NO_ROS))
+    parser.add_argument("action", type=ros_name, help="action name, e.g. /pickup_server")
+    parser.add_argument("--deactivate", action="store_true", help="send activate=false")
+    parser.add_argument("--cancel-after", type=cli.non_negative_float, default=0.0, metavar="S",
+                        help="cancel the goal after S seconds (default 0: never)")
+    parser.add_argument("--master-uri", metavar="URI",
+                        help="the ROS master (default: __master:= or $ROS_MASTER_URI)")
+    parser.add_argument("--timeout", type=cli.positive_float, default=30.0, metavar="S",
+                        help="seconds to wait for the master, the server and the result (default: %(default)s)")
+    parser.add_json("feedback and result, one object per line,")
+    return parser
 
 
 def client_main(argv: list[str] | None = None) -> int:
     """Entry point of ``send_proposition_goal``: send one goal, print feedback and the result."""
-    parser = argparse.ArgumentParser(
-        prog="send_proposition_goal",
-        description="Send one ltl_stack/Proposition goal and print its feedback and result.",
-        epilog="Exit codes: 0 completed, 1 not completed (cancelled, aborted, timed out), "
-               "3 no master or no action server.")
-    parser.add_argument("action", help="action name, e.g. /pickup_server")
-    parser.add_argument("--deactivate", action="store_true", help="send activate=false")
-    parser.add_argument("--cancel-after", type=float, default=0.0, metavar="S",
-                        help="cancel the goal after S seconds")
-    parser.add_argument("--timeout", type=float, default=30.0, help="seconds to wait for server and result")
-    parser.add_argument("--json", action="store_true", help="print JSON lines")
-    args = parser.parse_args(rospy.myargv(argv if argv is not None else sys.argv)[1:])
-    if not wait_for_master(args.timeout):
-        print("send_proposition_goal: no ROS master at $ROS_MASTER_URI", file=sys.stderr)
-        return EXIT_NO_MASTER
+    args = client_parser().parse_args(rospy.myargv(argv if argv is not None else sys.argv)[1:])
+    return cli.run("send_proposition_goal", lambda: _send_goal(args))
+
+
+def _send_goal(args) -> int:
+    wait_for_master(master_uri(args.master_uri), args.timeout)
     rospy.init_node("send_proposition_goal", anonymous=True)
 
     printing = threading.Lock()  # feedback arrives on actionlib's thread, the result on ours
@@ -96,8 +131,8 @@ def client_main(argv: list[str] | None = None) -> int:
 
     client = actionlib.SimpleActionClient(args.action, PropositionAction)
     if not client.wait_for_server(rospy.Duration(args.timeout)):
-        print(f"send_proposition_goal: no action server at {args.action}", file=sys.stderr)
-        return EXIT_NO_MASTER
+        raise UserError(f"no action server at {rospy.resolve_name(args.action)} (waited {args.timeout:g} s)",
+                            Exit.NO_ROS)
     client.send_goal(PropositionGoal(activate=not args.deactivate),
                      feedback_cb=lambda fb: show("feedback", progress=round(fb.progress, 3)))
     if args.cancel_after > 0 and not client.wait_for_result(rospy.Duration(args.cancel_after)):
@@ -107,4 +142,4 @@ def client_main(argv: list[str] | None = None) -> int:
     state = actionlib.GoalStatus.to_string(client.get_state()) if finished else "TIMEOUT"
     completed = bool(result.completed) if result is not None else False
     show("result", state=state, completed=completed)
-    return EXIT_OK if completed else EXIT_FAILED
+    return Exit.OK if completed else Exit.NEGATIVE

@@ -16,7 +16,10 @@ import sys
 import time
 from pathlib import Path
 
+from ltl_stack import cli
+from ltl_stack.errors import Exit, UserError
 from ltl_stack.sim.session import RosSession
+from ltl_stack.spec import load_spec
 
 SCENARIOS = {
     "clean_and_patrol": "Thesis Example 8: patrol the four lanes; when an object is seen, stop, pick it "
@@ -31,34 +34,46 @@ def package_dir() -> Path:
     return Path(__file__).resolve().parents[3]
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(
-        prog="tools/demo", description=__doc__.splitlines()[0],
-        epilog="Exit codes: 0 the goal cycles completed, 1 they did not within --timeout "
-               "(the launch log is shown), 2 bad arguments.")
+def build_parser() -> cli.ToolParser:
+    parser = cli.ToolParser(
+        "demo", __doc__.splitlines()[0], exit_codes=(Exit.OK, Exit.NEGATIVE, Exit.BAD_INPUT),
+        epilog="Exit 1: the goal cycles did not complete within --timeout (the launch log is shown).")
     parser.add_argument("--scenario", choices=sorted(SCENARIOS), default="clean_and_patrol")
-    parser.add_argument("--cycles", type=int, default=2, help="goal cycles to run (default: %(default)s)")
-    parser.add_argument("--timeout", type=float, default=240.0, help="give up after S seconds")
-    parser.add_argument("--duration", type=float, default=12.0,
+    parser.add_argument("--cycles", type=cli.positive_int, default=2, help="goal cycles to run (default: %(default)s)")
+    parser.add_argument("--timeout", type=cli.positive_float, default=240.0, metavar="S",
+                        help="give up after S seconds (default: %(default)s)")
+    parser.add_argument("--duration", type=cli.positive_float, default=12.0, metavar="S",
                         help="for a spec without system goals: run this many seconds (default: %(default)s)")
-    parser.add_argument("--json", action="store_true", help="JSON lines instead of the readable trace")
-    parser.add_argument("--launch-arg", action="append", default=[], metavar="NAME:=VALUE",
+    parser.add_json("the trace, one object per line,")
+    parser.add_argument("--launch-arg", action="append", default=[], metavar="NAME:=VALUE", type=_launch_arg,
                         help="extra roslaunch argument, e.g. speed:=2.0 (repeatable)")
-    args = parser.parse_args(argv)
+    return parser
+
+
+def _launch_arg(text: str) -> str:
+    name, sep, _ = text.partition(":=")
+    if not sep or not name.isidentifier():
+        raise argparse.ArgumentTypeError(f"{text!r} is not NAME:=VALUE")
+    return text
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    return cli.run("demo", lambda: run(args))
+
+
+def run(args: argparse.Namespace) -> int:
+    """Launch the scenario and follow its trace; ``Exit.NEGATIVE`` when it did not finish in time."""
     config = package_dir() / "config" / args.scenario
     spec_files = sorted(config.glob("*.structuredslugs")) + sorted(config.glob("*.slugsin"))
     if not spec_files:
-        print(f"demo: no spec in {config}", file=sys.stderr)
-        return 2
-    from ltl_stack.spec import load_spec
-
+        raise UserError(f"no spec in {config}")
     goal_count = len(load_spec(spec_files[0]).sys_liveness)
     has_goals = goal_count > 0
     goals = goal_count or 1
 
     def say(text: str) -> None:
-        if not args.json:
-            print(f"[demo] {text}", flush=True)
+        cli.say("demo", text)
 
     with RosSession() as ros:
         say(SCENARIOS[args.scenario])
@@ -83,7 +98,7 @@ def main(argv: list[str] | None = None) -> int:
                     if args.json:
                         print(json.dumps({"event": "diagnostic", "message": status.message}), flush=True)
                     else:
-                        print(f"[demo] controller reports: {status.message}", flush=True)
+                        cli.warn("demo", f"controller reports: {status.message}")
 
         rospy.Subscriber("/diagnostics", DiagnosticArray, on_diagnostics)
         trace = ControllerTrace(f"/{args.scenario}/controller_executor/state", goals, args.json)
@@ -120,11 +135,11 @@ def main(argv: list[str] | None = None) -> int:
                 why = f"{args.cycles} goal cycle(s) not completed within {args.timeout:.0f} s"
             else:
                 why = f"the controller did not start within {args.timeout:.0f} s"
-            print(f"[demo] FAILED: {why}; last lines of the launch log:", file=sys.stderr)
             launch_log = log_path.read_text(errors="replace").splitlines()
             print("\n".join(launch_log[-30:]), file=sys.stderr)
-            return 1
-    return 0
+            cli.error("demo", f"{why} (the last lines of the launch log are above)")
+            return Exit.NEGATIVE
+    return Exit.OK
 
 
 if __name__ == "__main__":

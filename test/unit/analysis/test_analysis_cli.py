@@ -3,12 +3,14 @@ from __future__ import annotations
 
 import itertools
 import json
+from pathlib import Path
 
 import pytest
 from analysis_data import DATA, scenarios
 from helpers import require_shared
 
-from ltl_stack.analysis.cli import EXIT_FINDINGS, EXIT_INPUT, EXIT_OK, EXIT_UNREALIZABLE, main
+from ltl_stack.analysis.cli import main
+from ltl_stack.errors import Exit
 from ltl_stack.spec import load_spec
 from ltl_stack.spec.formula import evaluate
 
@@ -36,7 +38,7 @@ def spheros_args(snapshots):
 
 
 def test_text_report_shows_findings_chains_and_suggestions(snapshots, capsys):
-    assert main(clean_and_patrol_args(snapshots)) == EXIT_OK
+    assert main(clean_and_patrol_args(snapshots)) == Exit.OK
     out = capsys.readouterr().out
     assert "pickup -> pickup_ac: (/pickup) -> [/move_group_and_move_base/outputs/pickup_status] -> (/pickup_ac)" in out
     assert "E2  Output propositions publishing to the same topic or action (thesis 3.5.2.3): 7" in out
@@ -50,7 +52,7 @@ def test_text_report_shows_findings_chains_and_suggestions(snapshots, capsys):
 
 def test_json_report_for_tools(snapshots, capsys):
     assert main([*spheros_args(snapshots), "--robots", ROBOTS + ",sphero_wrb",
-                 "--ignore-topics", "/collision,/diagnostics,/imu,/odom", "--json"]) == EXIT_OK
+                 "--ignore-topics", "/collision,/diagnostics,/imu,/odom", "--json"]) == Exit.OK
     data = json.loads(capsys.readouterr().out)
     assert [(f["output"], f["suffix"], f["missing"]) for f in data["C1"]] == [("move_down", "/cmd_vel", ["sphero_wpw"])]
     assert [f["robot"] for f in data["C2"]] == ["sphero_wrb"]
@@ -62,40 +64,41 @@ def test_json_report_for_tools(snapshots, capsys):
 
 
 def test_markdown_report_has_thesis_like_tables(snapshots, capsys):
-    assert main([*clean_and_patrol_args(snapshots), "--markdown"]) == EXIT_OK
+    assert main([*clean_and_patrol_args(snapshots), "--markdown"]) == Exit.OK
     out = capsys.readouterr().out
     assert "| Output | Input | Output-to-input chain |" in out
     assert "| /cmd_vel | pickup | `(/pickup) -> [/cmd_vel]` |" in out
 
 
 def test_reach_listing(snapshots, capsys):
-    assert main([*clean_and_patrol_args(snapshots), "--reach"]) == EXIT_OK
+    assert main([*clean_and_patrol_args(snapshots), "--reach"]) == Exit.OK
     out = capsys.readouterr().out
     assert "pickup /pickup publish-reachable:" in out
     assert "    /move_group: (/pickup) -> (move_group/action_topics) -> (/move_group)" in out
 
 
 def test_fail_on_findings_and_generic_topic_options(snapshots, capsys):
-    assert main([*clean_and_patrol_args(snapshots), "--fail-on-findings"]) == EXIT_FINDINGS
+    assert main([*clean_and_patrol_args(snapshots), "--fail-on-findings"]) == Exit.NEGATIVE
     capsys.readouterr()
-    assert main([*clean_and_patrol_args(snapshots), "--generic-topics", "", "--json"]) == EXIT_OK
+    assert main([*clean_and_patrol_args(snapshots), "--generic-topics", "", "--json"]) == Exit.OK
     data = json.loads(capsys.readouterr().out)
     assert data["graph"]["ignored_topics"] == [] and "/tf" in {g["topic"] for g in data["E2"]}, \
         "without the generic list /tf becomes a (false) conflict"
-    assert main([*clean_and_patrol_args(snapshots), "--add-generic-topics", "/cmd_vel", "--json"]) == EXIT_OK
+    assert main([*clean_and_patrol_args(snapshots), "--add-generic-topics", "/cmd_vel", "--json"]) == Exit.OK
     data = json.loads(capsys.readouterr().out)
     assert "/cmd_vel" in data["graph"]["ignored_topics"] and "/cmd_vel" not in {g["topic"] for g in data["E2"]}
 
 
 def test_save_snapshot(snapshots, tmp_path, capsys):
     out = tmp_path / "copy.json"
-    assert main([*clean_and_patrol_args(snapshots), "--save-snapshot", str(out)]) == EXIT_OK
+    assert main([*clean_and_patrol_args(snapshots), "--save-snapshot", str(out)]) == Exit.OK
     assert json.loads(out.read_text())["format"] == "ltl_stack/graph_snapshot/1"
 
 
-@pytest.mark.parametrize("case", ["spec", "mapping", "snapshot", "live", "suggestion"])
+@pytest.mark.parametrize("case", ["spec", "mapping", "snapshot", "live", "suggestion", "output is input"])
 def test_bad_input_is_one_line_and_exit_2(snapshots, tmp_path, capsys, case):
     args = clean_and_patrol_args(snapshots)
+    code = Exit.BAD_INPUT
     if case == "spec":
         bad = tmp_path / "bad.slugsin"
         bad.write_text("[INPUT]\na\n[SYS_TRANS]\n& a\n")
@@ -114,21 +117,27 @@ def test_bad_input_is_one_line_and_exit_2(snapshots, tmp_path, capsys, case):
     elif case == "live":
         args = [*args[:4], "--live"]
         expect = "--live needs ROS"
-    else:
+        code = Exit.NO_ROS
+    elif case == "suggestion":
         args += ["--apply", str(tmp_path / "o.slugsin"), "--suggestions", "7"]
         expect = "--suggestions: '7' is not a suggestion number (there are 2)"
-    assert main(args) == EXIT_INPUT
+    else:
+        args += ["--apply", str(tmp_path / "o.slugsin"), "--save-snapshot", args[1]]
+        expect = f"{args[1]}: output would overwrite the input"
+    before = {p: p.read_bytes() for p in map(Path, args[1:6:2])}
+    assert main(args) == code
     captured = capsys.readouterr()
     assert captured.out == ""
-    errors = [line for line in captured.err.splitlines() if not line.startswith("[analyze_graph]")]
-    assert len(errors) == 1 and expect in errors[0], captured.err
+    errors = [line for line in captured.err.splitlines() if "error:" in line]
+    assert len(errors) == 1 and errors[0].startswith("analyze_graph: error: ") and expect in errors[0], captured.err
     assert "Traceback" not in captured.err
     assert not (tmp_path / "o.slugsin").exists()
+    assert {p: p.read_bytes() for p in before} == before
 
 
 def test_apply_realizable_writes_the_spec_with_the_clauses(snapshots, tmp_path, capsys):
     out = tmp_path / "patched.slugsin"
-    assert main([*clean_and_patrol_args(snapshots), "--apply", str(out), "--suggestions", "2"]) == EXIT_OK
+    assert main([*clean_and_patrol_args(snapshots), "--apply", str(out), "--suggestions", "2"]) == Exit.OK
     text = capsys.readouterr().out
     assert f"--apply: wrote {out} with suggestion(s) 2." in text
     assert "The new spec is realizable" in text
@@ -143,7 +152,7 @@ def test_apply_realizable_writes_the_spec_with_the_clauses(snapshots, tmp_path, 
 
 def test_apply_unrealizable_explains_and_leads_to_input_exclusion(snapshots, tmp_path, capsys):
     out = tmp_path / "spheros_patched.slugsin"
-    assert main([*spheros_args(snapshots), "--apply", str(out)]) == EXIT_UNREALIZABLE
+    assert main([*spheros_args(snapshots), "--apply", str(out)]) == Exit.UNREALIZABLE
     text = capsys.readouterr().out
     assert "The new spec is UNREALIZABLE" in text
     assert "Explanation from the synthesis engine:" in text
@@ -155,7 +164,7 @@ def test_apply_unrealizable_explains_and_leads_to_input_exclusion(snapshots, tmp
 
 def test_apply_json(snapshots, tmp_path, capsys):
     out = tmp_path / "o.slugsin"
-    assert main([*spheros_args(snapshots), "--apply", str(out), "--json"]) == EXIT_UNREALIZABLE
+    assert main([*spheros_args(snapshots), "--apply", str(out), "--json"]) == Exit.UNREALIZABLE
     applied = json.loads(capsys.readouterr().out)["apply"]
     assert (applied["realizable_before"], applied["realizable"]) == (True, False)
     assert applied["explanation"]["kind"] == "deadlock"
@@ -181,7 +190,7 @@ def test_thesis_example_9_on_the_shared_sphero_mapping(tmp_path, capsys):
     out = tmp_path / "spheros_exclusive.slugsin"
     args = ["--spec", str(mapping_path.with_suffix(".slugsin")), "--mapping", str(mapping_path),
             "--snapshot", str(snapshot), "--apply", str(out), "--json"]
-    assert main(args) == EXIT_UNREALIZABLE
+    assert main(args) == Exit.UNREALIZABLE
     data = json.loads(capsys.readouterr().out)
     assert sorted(tuple(s["propositions"]) for s in data["suggestions"]) == [
         ("move_left", "move_right", "move_up", "move_down", "stop"),

@@ -1,0 +1,89 @@
+"""The ROS master a command-line tool talks to, and the graph names it is given, checked before
+any node starts.
+
+A malformed master URI (``--master-uri``, ``__master:=`` or ``$ROS_MASTER_URI``) and an illegal
+topic or action name are user mistakes (exit 2, one line); a master that does not answer is
+``Exit.NO_ROS`` (3). Used by ``controller_trace``, ``set_propositions``, ``proposition_monitor``,
+``send_proposition_goal`` and ``analyze_graph --live``.
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import socket
+import time
+from urllib.parse import urlsplit
+
+import rosgraph
+import rosgraph.masterapi
+import rosgraph.names
+
+from ltl_stack.errors import Exit, UserError
+
+#: seconds one probe of the master may take (an unreachable host otherwise blocks for minutes)
+PROBE_TIMEOUT = 2.0
+
+
+def check_master_uri(uri: str, origin: str = "--master-uri") -> str:
+    """``uri`` if it has the form ``http://HOST:PORT/``; else ``UserError`` (exit 2) naming ``origin``."""
+    problem = ""
+    try:
+        parts = urlsplit(uri)
+        port = parts.port
+    except ValueError as e:  # a port that is not a number or out of range, a bad IPv6 literal
+        problem, parts, port = str(e), None, None
+    if not problem and parts is not None:
+        if parts.scheme not in ("http", "https"):
+            problem = "the scheme must be http"
+        elif not parts.hostname:
+            problem = "no host"
+        elif port is None:
+            problem = "no port"
+    if problem:
+        shown = uri if len(uri) <= 80 else uri[:77] + "..."
+        raise UserError(f"{origin} {shown!r} is not a ROS master URI ({problem}; expected http://HOST:PORT/)")
+    return uri
+
+
+def master_uri(given: str | None = None) -> str:
+    """The master to use: ``given`` (``--master-uri``), else ``__master:=`` or ``$ROS_MASTER_URI``
+    (rospy's default when neither is set), checked by ``check_master_uri``. ``given`` is also put in
+    the environment, so a rospy node started afterwards registers with the same master."""
+    if given is not None:
+        check_master_uri(given, "--master-uri")
+        os.environ["ROS_MASTER_URI"] = given
+        return given
+    try:
+        uri = rosgraph.get_master_uri()
+    except ValueError as e:  # an empty __master:= remapping
+        raise UserError(str(e)) from None
+    origin = "ROS_MASTER_URI" if os.environ.get("ROS_MASTER_URI") == uri else "__master:="
+    return check_master_uri(uri, origin)
+
+
+def master_online(uri: str) -> bool:
+    """True when the master at ``uri`` answers within ``PROBE_TIMEOUT`` seconds."""
+    previous = socket.getdefaulttimeout()
+    socket.setdefaulttimeout(PROBE_TIMEOUT)
+    try:
+        return rosgraph.masterapi.Master("/ltl_stack_probe", master_uri=uri).is_online()
+    finally:
+        socket.setdefaulttimeout(previous)
+
+
+def wait_for_master(uri: str, timeout: float) -> None:
+    """Return once the master at ``uri`` answers; ``UserError`` with ``Exit.NO_ROS`` after ``timeout`` s."""
+    end = time.monotonic() + timeout
+    while not master_online(uri):
+        if time.monotonic() >= end:
+            raise UserError(f"no ROS master at {uri} (waited {timeout:g} s)", Exit.NO_ROS)
+        time.sleep(0.1)
+
+
+def ros_name(text: str) -> str:
+    """Option type: a legal ROS graph name (topic, action); illegal ones are a usage error (exit 2)."""
+    if not text or not rosgraph.names.is_legal_name(text):
+        shown = text if len(text) <= 60 else text[:57] + "..."
+        raise argparse.ArgumentTypeError(f"{shown!r} is not a legal ROS name (a letter, '/' or '~' first, "
+                                         "then letters, digits, '_' and '/')")
+    return text
