@@ -5,6 +5,7 @@ from pathlib import Path
 
 from ltl_stack.errors import InputError
 from ltl_stack.inputs import read_text
+from ltl_stack.spec.english_reader import ENGLISH_SUFFIXES, has_section_headers, parse_english
 from ltl_stack.spec.errors import SpecError
 from ltl_stack.spec.model import Spec
 from ltl_stack.spec.slugsin import parse_slugsin
@@ -13,7 +14,9 @@ STRUCTURED_SUFFIXES = (".structuredslugs", ".ltl")
 
 
 def load_spec(path: str | Path) -> Spec:
-    """Read ``path``: ``.slugsin`` as slugsin, ``.structuredslugs``/``.ltl`` as the structured format.
+    """Read ``path``: ``.slugsin`` as slugsin, ``.structuredslugs``/``.ltl`` as the structured format,
+    ``.spec``/``.english`` as Structured English (``english_reader``) unless the file starts with a
+    section header such as ``[INPUT]``.
 
     Any other name is tried as slugsin, then as structured; when both fail, the error of the reader
     that got further into the file is raised. Every problem is a ``SpecError`` naming the path (a
@@ -32,6 +35,8 @@ def load_spec(path: str | Path) -> Spec:
         return parse_slugsin(text, file)
     if suffix in STRUCTURED_SUFFIXES:
         return parse_structured(text, file)
+    if suffix in ENGLISH_SUFFIXES and not has_section_headers(text):
+        return parse_english(text, file)
     try:
         return parse_slugsin(text, file)
     except SpecError as as_slugsin:

@@ -1,0 +1,864 @@
+"""Read tasks written in Structured English (LTLMoP's sentences, [46]) into the GR(1) ``Spec``.
+
+A file has declarations (``Keyword: names``) and one sentence per line, as in the thesis::
+
+    Sensors: person
+    Actions: move, stop
+    Always move.
+    If you are sensing person then do stop.
+
+Declarations: ``Sensors:`` (environment inputs), ``Actions:`` (robot outputs that act at once),
+``Actions with completion:`` (the robot activates ``a``, the environment reports ``a_ac``),
+``Memory:`` (robot propositions kept by ``is set on … and reset on …``), ``Regions:`` (names;
+every region touches every other) or ``Map:`` (an LTLMoP ``.regions`` file, relative to the spec,
+whose adjacency becomes the topology). Regions get ``R`` (head for R) and ``R_rc`` (in R).
+``Other robots:`` is reserved for the negotiation of several robots.
+
+Sentences compile with the activation–completion encoding of [75] (``activation_completion``);
+each clause keeps the sentence's text, file and line. The full grammar and what each sentence
+compiles to are in ``docs/spec_formats.md`` (section "Structured English").
+
+Time: in a safety sentence (``always``, ``if … then do …``, memory) the present tense is the
+*next* state — the robot reacts to what it is sensing now — and the past tense (``you were in``,
+``you sensed``) the current one. In goals and initial conditions the present tense is the current
+state and the past tense is refused.
+
+The reader is iterative (an operator-precedence loop), so nesting depth costs no stack, and each
+line is read once: time and memory are linear in the size of the file.
+"""
+from __future__ import annotations
+
+import difflib
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ltl_stack.errors import InputError
+from ltl_stack.inputs import read_text
+from ltl_stack.spec.activation_completion import (
+    ACTION_COMPLETION,
+    REGION_COMPLETION,
+    action_clauses,
+    at_most_one,
+    region_clauses,
+)
+from ltl_stack.spec.errors import SpecError
+from ltl_stack.spec.formula import FALSE, TRUE, And, Formula, Iff, Implies, Not, Or, Var, walk
+from ltl_stack.spec.model import SECTIONS, Clause, Spec
+from ltl_stack.spec.ops import Pending, settle
+from ltl_stack.spec.region_map import RegionTopology, complete_topology, parse_region_map
+
+ENGLISH_SUFFIXES = (".spec", ".english")
+
+# Words of the sentences; a proposition may not be called one of these.
+KEYWORDS = frozenset("""
+and or not if then only unless always never assume do visit go to infinitely often you the robot it
+are is were was have has had did sensing sensed sense activating activated activate in finished finish
+set reset on start starts with environment env true false mutually exclusive together
+""".split())
+
+_COMMENT = re.compile(r"(^|\s)#")
+_DECLARATION = re.compile(r"^\s*(?P<key>[A-Za-z][A-Za-z' ]*?)\s*:(?P<rest>.*)$")
+_TOKEN = re.compile(r"(?P<space>\s+)|(?P<word>[A-Za-z_][A-Za-z0-9_]*)|(?P<punct>[(),.])")
+_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+
+DECLARATION_KINDS = {
+    "sensors": "sensors", "sensor": "sensors",
+    "actions": "actions", "action": "actions",
+    "actions with completion": "completion_actions", "action with completion": "completion_actions",
+    "memory": "memory", "memories": "memory", "memory propositions": "memory",
+    "regions": "regions", "region": "regions",
+    "map": "map", "region map": "map",
+    # Hook for the negotiation of several robots (issue 13): the names and meaning of other robots'
+    # propositions are defined there; until then the keyword is reserved and refused clearly.
+    "other robots": "other_robots", "other robot": "other_robots",
+}
+
+
+@dataclass
+class Declarations:
+    """What the declarations of an English spec introduce, by kind, and where."""
+
+    sensors: list[str] = field(default_factory=list)
+    actions: list[str] = field(default_factory=list)
+    completion_actions: list[str] = field(default_factory=list)
+    memory: list[str] = field(default_factory=list)
+    regions: list[str] = field(default_factory=list)
+    topology: RegionTopology | None = None
+    kind_of: dict[str, str] = field(default_factory=dict)  # name -> sensor/action/completion/memory/region
+    line_of: dict[str, int] = field(default_factory=dict)  # declaration kind -> its (first) line
+
+    @property
+    def inputs(self) -> list[str]:
+        return [*self.sensors, *(a + ACTION_COMPLETION for a in self.completion_actions),
+                *(r + REGION_COMPLETION for r in self.regions)]
+
+    @property
+    def outputs(self) -> list[str]:
+        return [*self.actions, *self.completion_actions, *self.memory, *self.regions]
+
+    def completion(self, name: str) -> str | None:
+        """``a_ac`` for a durative action, ``R_rc`` for a region, else None."""
+        if name in self.regions:
+            return name + REGION_COMPLETION
+        if name in self.completion_actions:
+            return name + ACTION_COMPLETION
+        return None
+
+
+@dataclass
+class EnglishSpec:
+    """A read English spec: the GR(1) ``spec``, the declarations, and the sentences by line."""
+
+    spec: Spec
+    declarations: Declarations
+    sentences: dict[int, str]
+
+
+def has_section_headers(text: str) -> bool:
+    """Does the first line that is not blank or a comment start with '[' (a slugs-format file)?"""
+    for raw in text.splitlines():
+        m = _COMMENT.search(raw)
+        body = (raw[:m.start()] if m else raw).strip()
+        if body:
+            return body.startswith("[")
+    return False
+
+
+def parse_english(text: str, file: str = "<string>", base_dir: str | Path | None = None) -> Spec:
+    """Read a Structured English spec; raises one ``SpecError`` naming file, line and column.
+
+    ``Map:`` paths are relative to ``base_dir`` (default: the folder of ``file``).
+    """
+    return read_english(text, file, base_dir).spec
+
+
+def read_english(text: str, file: str = "<string>", base_dir: str | Path | None = None) -> EnglishSpec:
+    """Like ``parse_english`` but also returns the declarations and sentences (for rendering back)."""
+    if base_dir is None:
+        base_dir = Path(file).parent if file and not file.startswith("<") else Path(".")
+    lines = []
+    for number, raw in enumerate(text.splitlines(), start=1):
+        m = _COMMENT.search(raw)
+        body = (raw[:m.start()] if m else raw).rstrip()
+        if body.strip():
+            lines.append((number, body))
+    decl = Declarations()
+    sentences: list[tuple[int, str]] = []
+    for number, body in lines:
+        if body.startswith("========"):
+            raise SpecError(file, number, 1, "this looks like an LTLMoP project file; an ltl_stack English spec has "
+                                             "declarations (Sensors:, Actions:, Map: …) and the sentences of its "
+                                             "'Spec:' section (see docs/spec_formats.md)")
+        m = _DECLARATION.match(body)
+        if m:
+            _declare(decl, m, number, body, file, Path(base_dir))
+        else:
+            sentences.append((number, body))
+    sections: dict[str, list[Clause]] = {name: [] for name in SECTIONS}
+    for number, body in sentences:
+        reader = _Sentence(body, number, file, decl)
+        for section, formula in reader.compile():
+            sections[section].append(Clause(formula, body.strip(), file, number))
+    _add_conventions(decl, sections, file)
+    spec = Spec(inputs=decl.inputs, outputs=decl.outputs, source=file, **sections)
+    return EnglishSpec(spec, decl, dict(sentences))
+
+
+# -- declarations ------------------------------------------------------------------------------
+
+def _declare(decl: Declarations, m: re.Match, number: int, body: str, file: str, base_dir: Path) -> None:
+    key = " ".join(m["key"].lower().split())
+    column = body.index(m["key"][0]) + 1
+    kind = DECLARATION_KINDS.get(key)
+    if kind is None:
+        known = ["Sensors", "Actions", "Actions with completion", "Memory", "Regions", "Map", "Other robots"]
+        close = difflib.get_close_matches(key, list(DECLARATION_KINDS), n=1, cutoff=0.6)
+        hint = f"; did you mean '{close[0].capitalize()}:'?" if close else ""
+        raise SpecError(file, number, column, f"unknown declaration '{m['key'].strip()}:'; expected one of "
+                                              f"{', '.join(k + ':' for k in known)}{hint}")
+    rest_column = m.start("rest") + 1
+    rest = m["rest"]
+    if kind == "other_robots":
+        raise SpecError(file, number, column, "'Other robots:' is reserved for propositions shared by other "
+                                              "robots (multi-robot negotiation), which are not defined yet")
+    if (kind == "map" and "regions" in decl.line_of) or (kind == "regions" and "map" in decl.line_of):
+        raise SpecError(file, number, column, "declare regions either with 'Regions:' or with 'Map:', not both")
+    decl.line_of.setdefault(kind, number)
+    if kind == "map":
+        _declare_map(decl, rest.strip(), number, rest_column + len(rest) - len(rest.lstrip()), file, base_dir)
+        return
+    for name, col in _names(rest, rest_column):
+        _add(decl, kind, name, number, col, file)
+
+
+def _names(rest: str, column: int) -> list[tuple[str, int]]:
+    out = []
+    for m in re.finditer(r"[^\s,]+", rest):
+        if m.group().lower() == "and":
+            continue
+        out.append((m.group(), column + m.start()))
+    return out
+
+
+_KIND_WORD = {"sensors": "sensor", "actions": "action", "completion_actions": "action with completion",
+              "memory": "memory proposition", "regions": "region"}
+
+
+def _add(decl: Declarations, kind: str, name: str, number: int, column: int, file: str) -> None:
+    if name.endswith("."):
+        name = name[:-1]
+    if not _NAME.match(name):
+        raise SpecError(file, number, column, f"invalid name '{name}': a name is a letter or '_' followed by "
+                                              "letters, digits or '_'")
+    if name.lower() in KEYWORDS:
+        raise SpecError(file, number, column, f"'{name}' is a word of the sentences and cannot name a proposition")
+    generated = {}
+    if kind == "completion_actions":
+        generated[name + ACTION_COMPLETION] = f"the completion of action {name}"
+    if kind == "regions":
+        generated[name + REGION_COMPLETION] = f"the completion of region {name}"
+    for new in (name, *generated):
+        if new in decl.kind_of:
+            first = decl.kind_of[new]
+            raise SpecError(file, number, column, f"'{new}' is declared twice (first as {_KIND_WORD.get(first, first)})")
+    getattr(decl, kind).append(name)
+    decl.kind_of[name] = kind
+    for new in generated:
+        decl.kind_of[new] = "completions"
+
+
+def _declare_map(decl: Declarations, path_text: str, number: int, column: int, file: str, base_dir: Path) -> None:
+    if not path_text:
+        raise SpecError(file, number, column, "expected the path of an LTLMoP .regions file after 'Map:'")
+    if decl.topology is not None:
+        raise SpecError(file, number, column, "only one 'Map:' per spec")
+    path = base_dir / path_text
+    try:
+        text = read_text(path, "region map", max_bytes=16 * 1024 * 1024)
+    except InputError as e:
+        raise SpecError(file, number, column, f"cannot read the map: {e}") from None
+    try:
+        topology = parse_region_map(text, str(path))
+    except SpecError as e:
+        raise SpecError(file, number, column, f"in the map: {e}") from None
+    if not topology.regions:
+        raise SpecError(file, number, column, f"the map {path_text} has no regions")
+    for region in topology.regions:
+        _add(decl, "regions", region, number, column, file)
+    decl.topology = topology
+
+
+def _add_conventions(decl: Declarations, sections: dict[str, list[Clause]], file: str) -> None:
+    """The generated clauses of [75]: regions (with topology) and durative actions."""
+    if decl.regions:
+        if decl.topology is None:
+            decl.topology = complete_topology(decl.regions)
+        origin = "Map" if "map" in decl.line_of else "Regions"
+        line = decl.line_of.get("map", decl.line_of.get("regions", 0))
+        for section, clauses in region_clauses(decl.topology, file, line, origin).items():
+            sections[section].extend(clauses)
+    if decl.completion_actions:
+        line = decl.line_of["completion_actions"]
+        for section, clauses in action_clauses(decl.completion_actions, file, line,
+                                               "Actions with completion").items():
+            sections[section].extend(clauses)
+
+
+# -- sentences ---------------------------------------------------------------------------------
+
+@dataclass
+class _Token:
+    kind: str  # word ( ) , .
+    text: str
+    column: int
+
+    @property
+    def low(self) -> str:
+        return self.text.lower()
+
+
+@dataclass(frozen=True)
+class _Phrase:
+    """``you are sensing``, ``you were in``, ``finished``, ``do not`` …: how the names after it read."""
+
+    completion: bool  # names read as their completion (R_rc, a_ac)
+    past: bool
+    negated: bool
+    length: int
+    text: str
+
+
+def _phrase_table() -> dict[tuple[str, ...], tuple[bool, bool, bool]]:
+    """word sequence -> (completion, past, negated)."""
+    verbs: dict[str, tuple[bool, bool, bool]] = {}
+    for be, past in (("are", False), ("is", False), ("were", True), ("was", True)):
+        for neg in (False, True):
+            n = " not" if neg else ""
+            verbs[f"{be}{n} sensing"] = (False, past, neg)
+            verbs[f"{be}{n} activating"] = (False, past, neg)
+            verbs[f"{be}{n} in"] = (True, past, neg)
+    for have, past in (("have", False), ("has", False), ("had", True)):
+        verbs[f"{have} finished"] = (True, past, False)
+        verbs[f"{have} not finished"] = (True, past, True)
+    verbs.update({"sensed": (False, True, False), "did not sense": (False, True, True),
+                  "activated": (False, True, False), "did not activate": (False, True, True)})
+    table: dict[tuple[str, ...], tuple[bool, bool, bool]] = {}
+    for subject in ("", "you ", "the robot ", "robot ", "it "):
+        for verb, meaning in verbs.items():
+            table[tuple((subject + verb).split())] = meaning
+    table[("finished",)] = (True, False, False)
+    table[("do",)] = (False, False, False)
+    table[("do", "not")] = (False, False, True)
+    return table
+
+
+PHRASES = _phrase_table()
+_LONGEST_PHRASE = max(len(k) for k in PHRASES)
+_BINARY = {"and": 2, "or": 1}
+
+# Sentence forms for "did you mean …": names become <kind> placeholders.
+TEMPLATES = [
+    "always <p>", "never <p>", "do <action>",
+    "if you are sensing <sensor> then do <action>", "if you are not sensing <sensor> then do <action>",
+    "if you are activating <p> then do <action>", "if you are in <region> then do <action>",
+    "if you were in <region> then do <action>", "if you have finished <action> then do <action>",
+    "do <action> if and only if you are sensing <sensor>", "do <action> unless you are sensing <sensor>",
+    "visit <region>", "go to <region>", "if you are sensing <sensor> then visit <region>",
+    "infinitely often <p>", "<memory> is set on <sensor> and reset on finished <action>",
+    "start in <region>", "robot starts with <action>", "environment starts with <sensor>",
+    "assume always <p>", "<p> and <p> are mutually exclusive",
+]
+_PLACEHOLDER = {"sensors": "<sensor>", "actions": "<action>", "completion_actions": "<action>",
+                "memory": "<memory>", "regions": "<region>", "completions": "<p>"}
+
+
+class _Sentence:
+    """One sentence line: tokens, the sentence forms, and the expression reader."""
+
+    def __init__(self, body: str, line: int, file: str, decl: Declarations):
+        self.body = body
+        self.line = line
+        self.file = file
+        self.decl = decl
+        self.tokens = self._tokenize()
+
+    def error(self, column: int, message: str, form: bool = False) -> SpecError:
+        """``form``: the sentence's shape is wrong, so the closest sentence form is suggested."""
+        error = SpecError(self.file, self.line, column, message)
+        error.form = form
+        return error
+
+    def _tokenize(self) -> list[_Token]:
+        out = []
+        position = 0
+        text = self.body
+        while position < len(text):
+            m = _TOKEN.match(text, position)
+            if not m:
+                raise self.error(position + 1, f"unexpected character {text[position]!r} (a sentence has words, "
+                                               "parentheses, commas and a final period)")
+            if m.lastgroup != "space":
+                out.append(_Token(m.lastgroup if m.lastgroup == "word" else m.group(), m.group(), position + 1))
+            position = m.end()
+        while out and out[-1].kind == ".":
+            out.pop()
+        for t in out:
+            if t.kind == ".":
+                raise self.error(t.column, "a period ends a sentence; write one sentence per line")
+        return out
+
+    # -- sentence forms ---------------------------------------------------------------------
+
+    def compile(self) -> list[tuple[str, Formula]]:
+        try:
+            return self._compile()
+        except SpecError as e:
+            hint = self._closest_form() if getattr(e, "form", False) else None
+            if hint and "did you mean" not in e.message:
+                raise SpecError(e.file, e.line, e.column, f"{e.message}; did you mean '{hint}'?") from None
+            raise
+
+    def _compile(self) -> list[tuple[str, Formula]]:
+        toks = self.tokens
+        words = [t.low for t in toks]
+        forced = None
+        start = 0
+        if words[:1] == ["assume"]:
+            forced, start = "env", 1
+            if len(toks) == 1:
+                raise self.error(toks[0].column + 6, "expected a sentence after 'Assume'")
+            if toks[1].kind == ",":
+                start = 2
+        rest = toks[start:]
+        w = words[start:]
+        if not rest:
+            raise self.error(1, "expected a sentence")
+        # initial conditions
+        if w[:2] in (["environment", "starts"], ["env", "starts"], ["the", "environment"]):
+            return self._environment_start(rest)
+        subject = 1 if w[:1] in (["robot"], ["you"]) else 2 if w[:2] == ["the", "robot"] else 0
+        if len(w) > subject and w[subject] in ("start", "starts"):
+            return self._robot_start(rest, subject + 1, forced)
+        # memory, mutual exclusion
+        if len(w) >= 4 and w[1:4] == ["is", "set", "on"]:
+            return self._memory(rest, forced)
+        if w[-2:] == ["mutually", "exclusive"] or w[-3:] == ["never", "true", "together"]:
+            return self._exclusive(rest, forced)
+        # conditionals and the plain forms
+        if w[0] == "always":
+            skip = 2 if len(rest) > 1 and rest[1].kind == "," else 1
+            if len(rest) == skip:
+                raise self.error(rest[0].column + len(rest[0].text), "expected what is always true after 'always'")
+            return self._statement(rest[skip:], forced, always=True)
+        if w[0] == "never":
+            if len(rest) == 1:
+                raise self.error(rest[0].column + 5, "expected what never happens after 'never'")
+            return [self._safety(Not(self._expr(rest[1:], "safety")), forced)]
+        return self._statement(rest, forced, always=False)
+
+    def _statement(self, toks: list[_Token], forced: str | None, always: bool) -> list[tuple[str, Formula]]:
+        words = [t.low for t in toks]
+        if words[0] == "if":
+            then = self._find(toks, ("then",))
+            if then is None:
+                raise self.error(toks[-1].column + len(toks[-1].text), "expected 'then' after the condition of 'if'",
+                                 form=True)
+            condition = toks[1:then - 1] if toks[then - 1].kind == "," else toks[1:then]
+            requirement = toks[then + 1:]
+            if not condition:
+                raise self.error(toks[then].column, "expected a condition between 'if' and 'then'")
+            if not requirement:
+                raise self.error(toks[then].column + 4, "expected what to do after 'then'")
+            return self._conditional(condition, requirement, "if", forced, always)
+        iff = self._find(toks, ("if", "and", "only", "if"))
+        if iff is not None:
+            return self._conditional(toks[iff + 4:], toks[:iff], "iff", forced, always, at=toks[iff])
+        unless = self._find(toks, ("unless",))
+        if unless is not None:
+            return self._conditional(toks[unless + 1:], toks[:unless], "unless", forced, always, at=toks[unless])
+        if not always and words[0] in ("visit", "go"):
+            return self._goals(self._visit(toks), forced)
+        if not always and words[:2] == ["infinitely", "often"]:
+            body = toks[2:]
+            if not body:
+                raise self.error(toks[1].column + 5, "expected what happens infinitely often")
+            goal = self._expr(body, "goal")
+            if forced is None and body[0].low != "do" and self._mentions_input(goal):
+                forced = "env"  # LTLMoP / the thesis' toolchain: a goal over sensing is an assumption
+            return self._goals([goal], forced)
+        return [self._safety(self._expr(toks, "safety"), forced)]
+
+    def _conditional(self, condition: list[_Token], requirement: list[_Token], how: str, forced: str | None,
+                     always: bool, at: _Token | None = None) -> list[tuple[str, Formula]]:
+        word = {"if": "then", "iff": "if and only if", "unless": "unless"}[how]
+        if not condition:
+            raise self.error(at.column if at else 1, f"expected a condition after '{word}'")
+        if not requirement:
+            raise self.error(at.column if at else 1, f"expected what to do before '{word}'")
+        first = [t.low for t in requirement[:2]]
+        if not always and (first[:1] in (["visit"], ["go"]) or first == ["infinitely", "often"]):
+            if first == ["infinitely", "often"]:
+                if len(requirement) == 2:
+                    raise self.error(requirement[1].column + 5, "expected what happens infinitely often")
+                goals = [self._expr(requirement[2:], "goal")]
+            else:
+                goals = self._visit(requirement)
+            cond = self._expr(condition, "goal")
+            return self._goals([self._combine(how, cond, g) for g in goals], forced)
+        cond = self._expr(condition, "safety")
+        req = self._expr(requirement, "safety")
+        return [self._safety(self._combine(how, cond, req), forced)]
+
+    @staticmethod
+    def _combine(how: str, cond: Formula, req: Formula) -> Formula:
+        if how == "if":
+            return Implies(cond, req)
+        if how == "iff":
+            return Iff(req, cond)
+        return Or((req, cond))
+
+    def _find(self, toks: list[_Token], words: tuple[str, ...]) -> int | None:
+        """Index of the first occurrence of ``words`` outside parentheses."""
+        depth = 0
+        n = len(words)
+        for i, t in enumerate(toks):
+            if t.kind == "(":
+                depth += 1
+            elif t.kind == ")":
+                depth -= 1
+            elif depth == 0 and t.low == words[0] and tuple(x.low for x in toks[i:i + n]) == words:
+                return i
+        return None
+
+    def _visit(self, toks: list[_Token]) -> list[Formula]:
+        """``visit a, b and c`` / ``go to a or b``: one goal per item of an 'and' list."""
+        skip = 2 if toks[0].low == "go" else 1
+        if toks[0].low == "go" and (len(toks) < 2 or toks[1].low != "to"):
+            raise self.error(toks[0].column + 3, "expected 'to' after 'go' (go to <region>)", form=True)
+        items = toks[skip:]
+        if not items:
+            raise self.error(toks[skip - 1].column + len(toks[skip - 1].text), "expected a region to visit")
+        names, connective = [], None
+        expect_name = True
+        for t in items:
+            if expect_name:
+                if t.kind != "word" or t.low in KEYWORDS:
+                    raise self.error(t.column, f"expected a region name, got '{t.text}'", form=True)
+                names.append(t)
+                expect_name = False
+            elif t.kind == "," or t.low in ("and", "or"):
+                if t.kind != ",":
+                    if connective and connective != t.low:
+                        raise self.error(t.column, "a list of regions is joined either by 'and' or by 'or'")
+                    connective = t.low
+                expect_name = True
+            else:
+                raise self.error(t.column, f"expected ',', 'and' or 'or' between regions, got '{t.text}'", form=True)
+        if expect_name:
+            raise self.error(items[-1].column + len(items[-1].text), "expected a region after the list's last "
+                                                                    "separator")
+        arrivals = []
+        for t in names:
+            if t.text not in self.decl.regions:
+                raise self.error(t.column, self._unknown(t.text, "region", self.decl.regions))
+            arrivals.append(And((Var(t.text), Var(t.text + REGION_COMPLETION))))
+        if connective == "or":
+            return [Or(tuple(arrivals))]
+        return arrivals
+
+    def _goals(self, goals: list[Formula], forced: str | None) -> list[tuple[str, Formula]]:
+        section = "env_liveness" if forced == "env" else "sys_liveness"
+        return [(section, g) for g in goals]
+
+    def _safety(self, formula: Formula, forced: str | None) -> tuple[str, Formula]:
+        robot_next = [v for v in walk(formula) if isinstance(v, Var) and v.primed and v.name in self._outputs]
+        if forced == "env":
+            if robot_next:
+                raise self.error(1, f"an assumption cannot depend on what the robot does next ('{robot_next[0].name}'"
+                                    f"); use the past tense, as in 'you were activating {robot_next[0].name}'")
+            return "env_safety", formula
+        return ("sys_safety" if robot_next else "env_safety"), formula
+
+    @property
+    def _outputs(self) -> set[str]:
+        return {n for n, k in self.decl.kind_of.items() if k in ("actions", "completion_actions", "memory", "regions")}
+
+    def _mentions_input(self, formula: Formula) -> bool:
+        outputs = self._outputs
+        return any(isinstance(v, Var) and v.name not in outputs for v in walk(formula))
+
+    # -- initial conditions, memory, mutual exclusion -------------------------------------------
+
+    def _robot_start(self, toks: list[_Token], i: int, forced: str | None) -> list[tuple[str, Formula]]:
+        words = [t.low for t in toks]
+        out: list[tuple[str, Formula]] = []
+        if i >= len(toks) or words[i] not in ("in", "with"):
+            where = toks[i].column if i < len(toks) else toks[-1].column + len(toks[-1].text)
+            raise self.error(where, "expected 'in <region>' or 'with <propositions>' after 'start'", form=True)
+        if words[i] == "in":
+            with_at = self._find(toks[i + 1:], ("with",))
+            region_toks = toks[i + 1:] if with_at is None else toks[i + 1:i + 1 + with_at]
+            if not region_toks:
+                raise self.error(toks[i].column + 2, "expected a region after 'in'")
+            out.append(("sys_init", self._expr(region_toks, "init", only="regions")))
+            out.append(("env_init", self._expr(region_toks, "init", only="regions", completion=True)))
+            if with_at is None:
+                return out
+            i = i + 1 + with_at
+        body = toks[i + 1:]
+        if not body:
+            raise self.error(toks[i].column + 4, "expected the propositions the robot starts with after 'with'")
+        if [t.low for t in body] == ["false"]:
+            robot = [*self.decl.actions, *self.decl.completion_actions, *self.decl.memory]
+            out.append(("sys_init", And(tuple(Not(Var(n)) for n in robot)) if robot else TRUE))
+        else:
+            out.append(("sys_init", self._expr(body, "init")))
+        return out
+
+    def _environment_start(self, toks: list[_Token]) -> list[tuple[str, Formula]]:
+        words = [t.low for t in toks]
+        i = 1 if words[0] != "the" else 2
+        if words[i:i + 2] != ["starts", "with"]:
+            raise self.error(toks[min(i, len(toks) - 1)].column, "expected 'starts with' (Environment starts with …)")
+        body = toks[i + 2:]
+        if not body:
+            raise self.error(toks[-1].column + 4, "expected what the environment starts with")
+        if [t.low for t in body] == ["false"]:
+            sensors = self.decl.sensors
+            return [("env_init", And(tuple(Not(Var(n)) for n in sensors)) if sensors else TRUE)]
+        return [("env_init", self._expr(body, "init"))]
+
+    def _memory(self, toks: list[_Token], forced: str | None) -> list[tuple[str, Formula]]:
+        """``P is set on E and reset on F``: P' <-> (!F' & (E' | P)), as LTLMoP's four clauses."""
+        name = toks[0]
+        if name.text not in self._outputs or name.text in self.decl.regions:
+            if name.text in self.decl.kind_of:
+                raise self.error(name.column, f"'{name.text}' is not a robot proposition; declare it under 'Memory:'")
+            raise self.error(name.column, self._unknown(name.text, "memory proposition", self.decl.memory))
+        reset = self._find(toks[4:], ("and", "reset", "on"))
+        if reset is None:
+            raise self.error(toks[-1].column + len(toks[-1].text),
+                             f"expected 'and reset on <event>' ({name.text} is set on … and reset on …)", form=True)
+        set_toks = toks[4:4 + reset]
+        reset_toks = toks[4 + reset + 3:]
+        if not set_toks:
+            raise self.error(toks[3].column + 2, "expected the event that sets it after 'set on'")
+        if not reset_toks:
+            raise self.error(toks[-1].column + len(toks[-1].text), "expected the event that resets it after 'reset on'")
+        if forced == "env":
+            raise self.error(1, "a memory proposition belongs to the robot; 'Assume' cannot define it")
+        e = self._expr(set_toks, "safety")
+        f = self._expr(reset_toks, "safety")
+        p, p_next = Var(name.text), Var(name.text, True)
+        return [("sys_safety", Implies(And((e, Not(f))), p_next)),
+                ("sys_safety", Implies(f, Not(p_next))),
+                ("sys_safety", Implies(And((p, Not(f))), p_next)),
+                ("sys_safety", Implies(And((Not(p), Not(e))), Not(p_next)))]
+
+    def _exclusive(self, toks: list[_Token], forced: str | None) -> list[tuple[str, Formula]]:
+        """``a, b and c are mutually exclusive``: at most one is true, initially and always."""
+        end = len(toks) - (3 if toks[-1].low == "exclusive" else 4)  # before "are mutually exclusive"/"are never true together"
+        if end < 1 or toks[end].low not in ("are", "is"):
+            raise self.error(toks[max(end, 0)].column, "expected '<a>, <b> and <c> are mutually exclusive'", form=True)
+        names = []
+        commas = [t for t in toks[:end] if t.kind == ","]
+        if commas and not any(t.low == "and" for t in toks[:end]):
+            raise self.error(commas[0].column, "a list 'a, b and c' needs 'and' before its last item")
+        for t in toks[:end]:
+            if t.kind == "," or t.low == "and":
+                continue
+            if t.kind != "word":
+                raise self.error(t.column, f"expected a proposition name, got '{t.text}'")
+            if t.text not in self.decl.kind_of:
+                raise self.error(t.column, self._unknown(t.text, "proposition", list(self.decl.kind_of)))
+            names.append(t.text)
+        if len(set(names)) < 2:
+            raise self.error(toks[0].column, "mutual exclusion needs at least two different propositions")
+        outputs = self._outputs
+        robot = [n in outputs for n in names]
+        if any(robot) and not all(robot):
+            raise self.error(toks[0].column, "mix of robot and environment propositions; "
+                                             "exclude robot propositions and sensed ones in separate sentences")
+        if all(robot) and forced != "env":
+            return [("sys_safety", at_most_one(names, True)), ("sys_init", at_most_one(names, False))]
+        if all(robot):
+            raise self.error(1, "an assumption cannot constrain the robot's propositions")
+        return [("env_safety", at_most_one(names, True)), ("env_init", at_most_one(names, False))]
+
+    # -- expressions --------------------------------------------------------------------------
+
+    def _expr(self, toks: list[_Token], mode: str, only: str | None = None, completion: bool = False) -> Formula:
+        """A condition: names, true/false, not/and/or, parentheses, phrases, comma lists.
+
+        ``mode`` is ``safety`` (present = next state), ``goal`` or ``init`` (present = current state).
+        A phrase (``you are sensing``) applies to the names after it joined by and/or, or to the
+        parenthesized group right after it; ``not`` in it negates that whole group. A connective
+        followed by anything but a name (another phrase, ``not``, ``(``, true, false) ends it, as
+        do the end and a ')' closing a '(' opened before it.
+        """
+        toks = self._lists(toks)
+        values: list = []
+        ops: list = []  # ("(", token) | ("phrase", _Phrase, token) | ("not", token) | ("and"/"or", token)
+        phrases: list[_Phrase] = []
+        expect = True
+        previous: _Token | None = None
+        i = 0
+
+        def apply(op) -> None:
+            kind = op[0]
+            if kind == "not":
+                values.append(Not(settle(values.pop())))
+            elif kind == "phrase":
+                phrases.pop()
+                if op[1].negated:
+                    values.append(Not(settle(values.pop())))
+            else:
+                right, left = values.pop(), values.pop()
+                values.append(Pending(And if kind == "and" else Or, left, right))
+
+        def close_group() -> None:
+            """End everything opened since the innermost '(' (at a ')' and at the end)."""
+            while ops and ops[-1][0] != "(":
+                apply(ops.pop())
+
+        def close_phrase() -> None:
+            """End the group of the innermost phrase, if it was opened after the innermost '('."""
+            k = len(ops) - 1
+            while k >= 0 and ops[k][0] not in ("(", "phrase"):
+                k -= 1
+            if k >= 0 and ops[k][0] == "phrase":
+                while len(ops) > k:
+                    apply(ops.pop())
+
+        while i < len(toks):
+            t = toks[i]
+            if expect:
+                phrase = self._phrase(toks, i)
+                if phrase is not None:
+                    ops.append(("phrase", phrase, t))
+                    phrases.append(phrase)
+                    previous = toks[i + phrase.length - 1]
+                    i += phrase.length
+                    continue
+                if t.low == "not":
+                    ops.append(("not", t))
+                elif t.kind == "(":
+                    ops.append(("(", t))
+                elif t.kind == "word" and t.low not in KEYWORDS - {"true", "false"}:
+                    values.append(self._atom(t, phrases[-1] if phrases else None, mode, only, completion))
+                    expect = False
+                elif t.low in ("you", "the", "robot", "it"):
+                    words = " ".join(x.text for x in toks[i:i + 3])
+                    raise self.error(t.column, f"'{words}' is not a phrase; expected one such as 'you are sensing', "
+                                               "'you are activating', 'you are in' or 'you have finished'", form=True)
+                else:
+                    after = f" after '{previous.text}'" if previous else ""
+                    raise self.error(t.column, f"expected a proposition or a phrase such as 'you are sensing'{after}, "
+                                               f"got '{t.text}'", form=t.kind == "word")
+                previous = t
+                i += 1
+                continue
+            if t.low in _BINARY:
+                # A phrase covers the names after it joined by and/or; anything else after a
+                # connective (a phrase, 'not', '(', true, false) ends it.
+                following = toks[i + 1] if i + 1 < len(toks) else None
+                if following is None or following.kind != "word" or following.low in KEYWORDS:
+                    close_phrase()
+                precedence = _BINARY[t.low]
+                while ops and (ops[-1][0] == "not" or (ops[-1][0] in _BINARY and _BINARY[ops[-1][0]] >= precedence)):
+                    apply(ops.pop())
+                ops.append((t.low, t))
+                expect = True
+            elif t.kind == ")":
+                close_group()
+                if not ops:
+                    raise self.error(t.column, "unexpected ')' without a matching '('")
+                ops.pop()
+            else:
+                raise self.error(t.column, f"expected 'and', 'or' or the end of the condition before '{t.text}'",
+                                 form=True)
+            previous = t
+            i += 1
+        if expect:
+            end = (previous.column + len(previous.text)) if previous else 1
+            after = f" after '{previous.text}'" if previous else ""
+            raise self.error(end, f"expected a proposition{after}")
+        while ops:
+            if ops[-1][0] == "(":
+                raise self.error(ops[-1][1].column, "this '(' is never closed")
+            apply(ops.pop())
+        return settle(values[0])
+
+    def _lists(self, toks: list[_Token]) -> list[_Token]:
+        """``a, b or c`` -> ``a or b or c``: each comma takes the connective that ends its list."""
+        if not any(t.kind == "," for t in toks):
+            return toks
+        out = list(toks)
+        depth_of, depth = [], 0
+        for t in out:
+            if t.kind == "(":
+                depth += 1
+            depth_of.append(depth)
+            if t.kind == ")":
+                depth -= 1
+        pending: dict[int, list[int]] = {}  # depth -> comma positions waiting for their connective
+        for k, t in enumerate(out):
+            d = depth_of[k]
+            if t.kind == ",":
+                pending.setdefault(d, []).append(k)
+            elif t.low in _BINARY and pending.get(d):
+                for c in pending.pop(d):
+                    out[c] = _Token("word", t.text, out[c].column)
+            elif t.kind == ")" and pending.get(d):
+                break
+        for commas in pending.values():
+            if commas:
+                raise self.error(out[commas[0]].column, "a list 'a, b and c' needs 'and' or 'or' before its last item")
+        return out
+
+    def _phrase(self, toks: list[_Token], i: int) -> _Phrase | None:
+        for length in range(min(_LONGEST_PHRASE, len(toks) - i), 0, -1):
+            key = tuple(t.low for t in toks[i:i + length])
+            meaning = PHRASES.get(key)
+            if meaning is not None:
+                return _Phrase(*meaning, length, " ".join(t.text for t in toks[i:i + length]))
+        return None
+
+    def _atom(self, t: _Token, phrase: _Phrase | None, mode: str, only: str | None, completion: bool) -> Formula:
+        if t.low == "true":
+            return TRUE
+        if t.low == "false":
+            return FALSE
+        name = t.text
+        if name not in self.decl.kind_of:
+            pool = self.decl.regions if only == "regions" else list(self.decl.kind_of)
+            raise self.error(t.column, self._unknown(name, "region" if only == "regions" else "proposition", pool))
+        if only == "regions" and name not in self.decl.regions:
+            raise self.error(t.column, self._unknown(name, "region", self.decl.regions))
+        past = phrase is not None and phrase.past
+        if past and mode != "safety":
+            what = "a goal" if mode == "goal" else "an initial condition"
+            raise self.error(t.column, f"'{phrase.text}' speaks of the previous state, which {what} does not have; "
+                                       "use the present tense")
+        if completion or (phrase is not None and phrase.completion):
+            done = self.decl.completion(name)
+            if done is None:
+                raise self.error(t.column, f"'{name}' has no completion: '{phrase.text if phrase else 'in'}' needs a "
+                                           "region or an action declared under 'Actions with completion:'")
+            name = done
+        return Var(name, mode == "safety" and not past)
+
+    def _unknown(self, name: str, what: str, pool: list[str]) -> str:
+        kind = self.decl.kind_of.get(name)
+        if kind is not None:
+            listed = ", ".join(pool[:8]) + (", …" if len(pool) > 8 else "") if pool else "none declared"
+            return f"'{name}' is a {_KIND_WORD.get(kind, 'completion')}, not a {what} ({what}s: {listed})"
+        close = difflib.get_close_matches(name, pool, n=1, cutoff=0.6)
+        if not close:
+            close = [p for p in pool if p.lower() == name.lower()][:1]
+        if close:
+            return f"unknown {what} '{name}'; did you mean '{close[0]}'?"
+        if not pool:
+            return f"unknown {what} '{name}' (no {what} is declared)"
+        listed = ", ".join(pool[:8]) + (", …" if len(pool) > 8 else "")
+        return f"unknown {what} '{name}' (declared: {listed})"
+
+    def _closest_form(self) -> str | None:
+        """The sentence form nearest to this line, with its names filled in (or None)."""
+        words, names = [], []
+        for t in self.tokens:
+            if t.kind != "word":
+                continue
+            kind = self.decl.kind_of.get(t.text)
+            if kind is not None:
+                words.append("<x>")
+                names.append((t.text, _PLACEHOLDER.get(kind, "<p>")))
+            else:
+                words.append(t.low)
+        if not words or len(words) > 60:
+            return None
+        best, score = None, 0.0
+        for template in TEMPLATES:
+            shape = ["<x>" if w.startswith("<") else w for w in template.split()]
+            ratio = difflib.SequenceMatcher(a=words, b=shape, autojunk=False).ratio()
+            if ratio > score:
+                best, score = template, ratio
+        if best is None or score < 0.6:
+            return None
+        filled, pool = [], list(names)
+        for w in best.split():
+            if w.startswith("<"):
+                match = next((n for n in pool if n[1] == w or w == "<p>"), None)
+                if match is None and pool:
+                    match = pool[0]
+                if match is not None:
+                    pool.remove(match)
+                    filled.append(match[0])
+                else:
+                    filled.append(w)
+            else:
+                filled.append(w)
+        suggestion = " ".join(filled)
+        original = " ".join(t.text for t in self.tokens if t.kind == "word").lower()
+        return None if suggestion.lower() == original else suggestion
