@@ -267,15 +267,14 @@ def _add_conventions(decl: Declarations, sections: dict[str, list[Clause]], file
 
 # -- sentences ---------------------------------------------------------------------------------
 
-@dataclass
 class _Token:
-    kind: str  # word ( ) , .
-    text: str
-    column: int
+    __slots__ = ("kind", "text", "column", "low")
 
-    @property
-    def low(self) -> str:
-        return self.text.lower()
+    def __init__(self, kind: str, text: str, column: int):
+        self.kind = kind  # word ( ) , .
+        self.text = text
+        self.column = column
+        self.low = text.lower()
 
 
 @dataclass(frozen=True)
@@ -315,6 +314,7 @@ def _phrase_table() -> dict[tuple[str, ...], tuple[bool, bool, bool]]:
 
 PHRASES = _phrase_table()
 _LONGEST_PHRASE = max(len(k) for k in PHRASES)
+_PHRASE_STARTS = frozenset(k[0] for k in PHRASES)
 _BINARY = {"and": 2, "or": 1}
 
 # Sentence forms for "did you mean …": names become <kind> placeholders.
@@ -778,6 +778,8 @@ class _Sentence:
         return out
 
     def _phrase(self, toks: list[_Token], i: int) -> _Phrase | None:
+        if i >= len(toks) or toks[i].low not in _PHRASE_STARTS:
+            return None
         for length in range(min(_LONGEST_PHRASE, len(toks) - i), 0, -1):
             key = tuple(t.low for t in toks[i:i + length])
             meaning = PHRASES.get(key)
