@@ -139,3 +139,17 @@ def test_transferred_keyboard_program_drives_the_simulated_turtlebot_within_limi
             assert limits[field].allows(value), (field, value)
     got = [(round(t["linear.x"], 6), round(t["angular.z"], 6)) for t in twists[:4]]
     assert got == [(0.2, 0.0), (-0.2, 0.0), (0.0, 0.675), (0.0, -0.675)], got
+
+
+def test_a1_distribution_prompt_offers_only_names_the_master_has(ros_master, tmp_path):
+    codebase = require_shared("codebase", "channel_counts.yaml")
+    start_target_robot(ros_master, TURTLEBOT_TWIST[1:4])   # safety_controller, switch, teleop
+    done = transfer(ros_master, tmp_path, "keyboard_jackal.py", "jackal", "turtlebot", "--codebase", str(codebase),
+                    "--choose-by-distribution", "--json", answer="2\n")
+    assert done.returncode == 0, done.stderr
+    assert ("The original topic was 'cmd_vel'. Input Example: 1\n"
+            "1. cmd_vel_mux/input/teleop (8 uses, p=0.28)\n"
+            "2. cmd_vel_mux/input/switch (1 use, p=0.03)\n") in done.stderr, done.stderr
+    channel = json.loads(done.stdout)["channels"][0]
+    assert channel["replacement"] == "/cmd_vel_mux/input/switch" and channel["user_input"], channel
+    assert channel["method"].endswith("verified on the live master (A.2)"), channel

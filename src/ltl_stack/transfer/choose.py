@@ -90,8 +90,8 @@ def choose_channel(word: str, msg_type: str | None, original: str, stats: Channe
                     how, asked = f"A.1 codebase distribution, chosen by the user ({count} of {total} uses, " \
                                  f"p={prob:.2f})", True
             flagged = None
-            if by_distribution and ask is None and len(usable) > 1:
-                flagged = "took the most probable name without asking (--non-interactive)"
+            if by_distribution and not asked and len(usable) > 1:
+                flagged = "took the most probable name without asking"
             if live_names is None:
                 return Decision(name, how, user_input=asked, flagged=flagged, candidates=table)
             if name != top and not asked:
