@@ -1,0 +1,200 @@
+"""What the analysis panel shows (thesis §3.6.1.2, §3.6.2.2, Figs. 3.6–3.9, 3.13–3.15), without Qt.
+
+``run_analysis`` does what ``analyze_graph`` does (snapshot, checks E1–E3/C1–C2, suggestions) and
+returns an ``AnalysisResult`` whose ``tables()`` are the rows of the panel's tables laid out like the
+thesis figures, with for each row the finding it belongs to (E2 rows of one topic share a group, so
+selecting a topic selects its rows). ``suggestion_text`` renders the suggestions as Structured
+English, LTL or ``.slugsin``; ``conflict_graph`` is the subgraph of a finding's witness chains with
+the conflicting channels highlighted; ``apply_and_check`` writes the amended spec, synthesizes it and
+explains an unrealizable result (``analysis.cli.apply_suggestions``).
+"""
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+from ltl_stack.analysis import report
+from ltl_stack.analysis.checks import Analysis, Witness, analyze, e2_groups
+from ltl_stack.analysis.cli import apply_suggestions, apply_text
+from ltl_stack.analysis.graph import DEFAULT_IGNORED_TOPICS, ComputationGraph
+from ltl_stack.analysis.snapshot import Snapshot
+from ltl_stack.analysis.suggest import MutualExclusion, mutual_exclusions
+from ltl_stack.gui.dotgraph import DotGraph
+from ltl_stack.runtime.mapping import MappingError, check_mapping, load_mapping
+from ltl_stack.spec import load_spec
+from ltl_stack.spec.model import Spec
+
+CHECK_KEYS = ("E1", "E2", "E3", "C1", "C2")
+FORMS = ("english", "ltl", "slugsin")
+FORM_TITLES = {"english": "Structured English", "ltl": "LTL", "slugsin": ".slugsin"}
+CONFLICT_COLOR = "red"
+PROPOSITION_COLOR = "blue"
+
+
+def names(text: str) -> list[str]:
+    """``a, b ,c`` -> ``['a', 'b', 'c']`` (the Robots and topics-to-ignore fields)."""
+    return [t.strip() for t in text.replace(";", ",").split(",") if t.strip()]
+
+
+@dataclass
+class Table:
+    """Rows of one check's table; ``finding[i]`` is the index of the finding row ``i`` shows."""
+
+    key: str
+    header: list[str]
+    rows: list[list[str]] = field(default_factory=list)
+    finding: list[int] = field(default_factory=list)
+
+    def rows_of(self, index: int) -> list[int]:
+        """The rows of finding ``index`` (an E2 topic's rows, an E3/C1 finding's rows)."""
+        return [i for i, f in enumerate(self.finding) if f == index]
+
+
+@dataclass
+class AnalysisResult:
+    spec: Spec
+    analysis: Analysis
+    suggestions: list[MutualExclusion]
+    warnings: list[str]
+    snapshot: Snapshot
+
+    def tables(self) -> dict[str, Table]:
+        """The five tables, laid out like thesis Figs. 3.6, 3.7/3.8, 3.9, 3.14 and 3.15."""
+        a = self.analysis
+        t = {key: Table(key, header) for key, header in (
+            ("E1", ["Output", "Input", "Output-to-input chain"]),
+            ("E2", ["Topic", "Output", "Output-to-topic chain"]),
+            ("E3", ["Output", "Topic", "Node", "One existing chain"]),
+            ("C1", ["Output", "Topic", "Robot", "One existing chain"]),
+            ("C2", ["Robot", "Topics the other robots get"]))}
+        for i, f in enumerate(a.e1):
+            _add(t["E1"], i, [f.output, f.input, f.witness.text])
+        for i, g in enumerate(a.e2):
+            for k, w in enumerate(g.witnesses):
+                _add(t["E2"], i, [_channel(g.channel, g.kind) if k == 0 else "", w.proposition, w.text])
+        for i, f in enumerate(a.e3):
+            for k, w in enumerate(f.witnesses):
+                _add(t["E3"], i, [f.output if k == 0 else "", _channel(f.channel, f.kind) if k == 0 else "",
+                                  w.node, w.text])
+        for i, f in enumerate(a.c1):
+            cells = [(r, w.text) for r, w in f.present] + [(r, "— (missing)") for r in f.missing]
+            for k, (robot, chain) in enumerate(cells):
+                _add(t["C1"], i, [f.output if k == 0 else "", f.suffix if k == 0 else "", robot, chain])
+        for i, f in enumerate(a.c2):
+            _add(t["C2"], i, [f.robot, ", ".join(f.suffixes) or "—"])
+        return t
+
+    def counts(self) -> dict[str, int]:
+        a = self.analysis
+        return {"E1": len(a.e1), "E2": len(a.e2), "E3": len(a.e3), "C1": len(a.c1), "C2": len(a.c2)}
+
+    def witnesses(self, key: str, index: int) -> tuple[list[Witness], set[str]]:
+        """The chains of finding ``index`` of check ``key`` and the channels/nodes in conflict there."""
+        a = self.analysis
+        if key == "E1":
+            f = a.e1[index]
+            return [f.witness], {f.input_node}
+        if key == "E2":
+            g = a.e2[index]
+            return list(g.witnesses), {g.channel}
+        if key == "E3":
+            f = a.e3[index]
+            return list(f.witnesses), {f.channel}
+        if key == "C1":
+            f = a.c1[index]
+            return [w for _r, w in f.present], {w.path[-1][1] for _r, w in f.present}
+        return [], set()
+
+    def summary(self) -> str:
+        g = self.analysis.graph
+        c = self.counts()
+        found = ", ".join(f"{k} {v}" for k, v in c.items() if k in ("E1", "E2", "E3") or self.analysis.robots)
+        return (f"{len(g.nodes)} nodes, {len(g.channels)} topics/actions, {g.edge_count} edges; "
+                f"findings: {found}; {len(self.suggestions)} suggestion(s)")
+
+
+def _add(table: Table, finding: int, row: list[str]) -> None:
+    table.rows.append(row)
+    table.finding.append(finding)
+
+
+def _channel(name: str, kind: str) -> str:
+    return f"({name})" if kind == "action" else f"[{name}]"
+
+
+def run_analysis(spec_path: str, mapping_path: str, *, snapshot: Snapshot | None = None,
+                 snapshot_path: str | None = None, robots: Sequence[str] = (), ignore_topics: Sequence[str] = (),
+                 progress: Callable[[str], None] | None = None) -> AnalysisResult:
+    """Load spec and mapping, take ``snapshot`` (or load ``snapshot_path``), run every check.
+
+    Raises the loaders' ``UserError``s; a mapping that does not fit the spec is one too (the first
+    error of ``check_mapping``), as in ``analyze_graph``.
+    """
+    say = progress or (lambda _text: None)
+    spec = load_spec(spec_path)
+    mapping = load_mapping(mapping_path)
+    issues = check_mapping(mapping, spec.inputs, spec.outputs)
+    bad = [i for i in issues if i.severity == "error"]
+    if bad:
+        raise MappingError(bad[0].file, bad[0].line, bad[0].message + (f" (and {len(bad) - 1} more errors)"
+                                                                        if len(bad) > 1 else ""))
+    if snapshot is None:
+        if not snapshot_path:
+            raise ValueError("no snapshot: take one of the live graph or name a snapshot file")
+        say(f"loading {snapshot_path}")
+        snapshot = Snapshot.load(snapshot_path)
+    say("building the graph")
+    graph = ComputationGraph(snapshot, list(DEFAULT_IGNORED_TOPICS))
+    analysis = analyze(graph, mapping, spec.inputs, spec.outputs, robots=list(robots),
+                       robot_topics_to_ignore=list(ignore_topics), progress=say)
+    suggestions = mutual_exclusions(e2_groups(analysis), spec.outputs)
+    say("done")
+    return AnalysisResult(spec, analysis, suggestions, [str(i) for i in issues], snapshot)
+
+
+def suggestion_text(suggestions: Sequence[MutualExclusion], form: str) -> str:
+    """Every suggestion in one of ``FORMS``: Structured English, LTL ``G(...)`` or ``.slugsin`` lines."""
+    if not suggestions:
+        return "No suggestions: no two outputs compete on a topic or action."
+    out = []
+    for i, s in enumerate(suggestions, 1):
+        forms = report.suggestion_forms(s)
+        out.append(f"{i}. {s.sentence()}" + (f"   (shared: {', '.join(s.topics[:4])}"
+                                               f"{', …' if len(s.topics) > 4 else ''})" if s.topics else ""))
+        if form == "english":
+            out.append(f"   always {forms['english_expanded'].removeprefix('always ')}")
+        elif form == "ltl":
+            out.append(f"   {forms['ltl']}")
+        else:
+            out.extend(f"   [{section}] {line}" for section, line in forms["slugsin"].items())
+        out.append("")
+    return "\n".join(out).rstrip() + "\n"
+
+
+def conflict_graph(result: AnalysisResult, key: str, index: int) -> DotGraph:
+    """The subgraph of the finding's witness chains (nodes round, topics boxed, actions as 3-D
+    boxes), the conflicting channels red, the proposition nodes blue."""
+    chains, conflict = result.witnesses(key, index)
+    g = DotGraph(name=f"{key}_{index + 1}")
+    for w in chains:
+        previous = None
+        for k, (kind, name) in enumerate(w.path):
+            shape = {"node": "ellipse", "topic": "box"}.get(kind, "box3d")
+            color = CONFLICT_COLOR if name in conflict else PROPOSITION_COLOR if k == 0 else "black"
+            g.add_node((kind, name), name, shape=shape, color=color,
+                       tooltip=f"{kind} {name}" + (f" (node of {w.proposition})" if k == 0 else ""))
+            if previous is not None and not any(
+                    e.source == g.key[previous] and e.target == g.key[(kind, name)] for e in g.edges):
+                g.add_edge(previous, (kind, name), w.proposition if k == 1 else "")
+            previous = (kind, name)
+    return g
+
+
+def apply_and_check(result: AnalysisResult, out: str, chosen: Sequence[int] | None = None) -> dict:
+    """Write the spec plus the chosen suggestions (1-based; default all) to ``out``, synthesize it
+    (robotics init semantics) and, when unrealizable, explain it and try the input-exclusion hint of
+    thesis Example 9. The dict is ``analyze_graph --apply``'s; ``text`` is its report."""
+    picked = None if chosen is None else [str(i) for i in chosen]
+    applied = apply_suggestions(result.spec, result.suggestions, out, picked)
+    applied["text"] = apply_text(applied)
+    return applied

@@ -1,0 +1,373 @@
+"""The conflict analysis panel (thesis §3.6.1.2, §3.6.2.2, Figs. 3.6–3.9, 3.13–3.15).
+
+Snapshot the live graph or load a saved snapshot, fill in Robots and Robot topics to ignore, Analyze:
+one table per check (E1, E2 grouped by topic, E3, C1, C2) with the witness chains; selecting a row
+selects every row of its finding (an E2 topic's outputs) and draws the chains' subgraph with the
+conflicting channel in red. The suggested constraints are shown as Structured English, LTL or
+``.slugsin``; "Apply and check" writes the amended spec, synthesizes it and shows whether it is
+realizable, or the explanation and the assume-exclusive hint of thesis Example 9. The snapshot, the
+analysis and the synthesis run off the GUI thread. All logic is in ``analysis_model``.
+"""
+from __future__ import annotations
+
+import os
+from typing import Any
+
+from python_qt_binding.QtCore import QItemSelection, QItemSelectionModel, Qt
+from python_qt_binding.QtWidgets import (
+    QAbstractItemView,
+    QCheckBox,
+    QComboBox,
+    QFileDialog,
+    QGridLayout,
+    QGroupBox,
+    QHBoxLayout,
+    QLabel,
+    QLineEdit,
+    QPlainTextEdit,
+    QProgressBar,
+    QPushButton,
+    QSplitter,
+    QTableView,
+    QTabWidget,
+    QVBoxLayout,
+    QWidget,
+)
+
+from ltl_stack.gui.analysis_model import (
+    CHECK_KEYS,
+    FORM_TITLES,
+    FORMS,
+    AnalysisResult,
+    Table,
+    apply_and_check,
+    conflict_graph,
+    names,
+    run_analysis,
+    suggestion_text,
+)
+from ltl_stack.gui.widgets import GraphView, RowsModel, Task, error_text, restore_controls, save_controls
+
+
+def take_live_snapshot(master_uri: str | None):
+    from ltl_stack.ros.graph_snapshot import take_snapshot
+
+    return take_snapshot(master_uri or None)
+
+
+class AnalysisPanel(QWidget):
+    """The panel; ``result`` is the last ``AnalysisResult``, ``applied`` the last apply-and-check dict."""
+
+    def __init__(self, parent: QWidget | None = None, take_snapshot=take_live_snapshot):
+        super().__init__(parent)
+        self.setObjectName("AnalysisPanel")
+        self.setWindowTitle("Conflict analysis")
+        self.result: AnalysisResult | None = None
+        self.tables: dict[str, Table] = {}
+        self.applied: dict | None = None
+        self.task: Task | None = None
+        self._take_snapshot = take_snapshot
+        self._build()
+
+    # --- layout -----------------------------------------------------------------------------------
+    def _build(self) -> None:
+        grid = QGridLayout()
+        self.spec_line_edit = self._line("spec_line_edit", "spec file")
+        self.mapping_line_edit = self._line("mapping_line_edit", "mapping YAML")
+        self.snapshot_line_edit = self._line("snapshot_line_edit", "saved snapshot (YAML or JSON)")
+        self.live_check_box = QCheckBox("Live graph")
+        self.live_check_box.setObjectName("live_check_box")
+        self.live_check_box.setToolTip("snapshot the running ROS master instead of reading a file")
+        self.master_line_edit = self._line("master_uri_line_edit", "ROS master (empty: $ROS_MASTER_URI)")
+        self.robots_line_edit = self._line("robots_line_edit", "robots, e.g. sphero_wpw, sphero_ggw")
+        self.ignore_line_edit = self._line("ignore_topics_line_edit", "robot topics to ignore, e.g. /odom, /imu")
+        grid.addWidget(QLabel("Spec"), 0, 0)
+        grid.addWidget(self.spec_line_edit, 0, 1)
+        grid.addWidget(self._browse("spec_browse_push_button", self.spec_line_edit), 0, 2)
+        grid.addWidget(QLabel("Mapping"), 1, 0)
+        grid.addWidget(self.mapping_line_edit, 1, 1)
+        grid.addWidget(self._browse("mapping_browse_push_button", self.mapping_line_edit), 1, 2)
+        grid.addWidget(QLabel("Snapshot"), 2, 0)
+        grid.addWidget(self.snapshot_line_edit, 2, 1)
+        grid.addWidget(self._browse("snapshot_browse_push_button", self.snapshot_line_edit), 2, 2)
+        grid.addWidget(self.live_check_box, 2, 3)
+        grid.addWidget(QLabel("Master"), 3, 0)
+        grid.addWidget(self.master_line_edit, 3, 1)
+        grid.addWidget(QLabel("Robots"), 4, 0)
+        grid.addWidget(self.robots_line_edit, 4, 1)
+        grid.addWidget(QLabel("Robot topics to ignore"), 5, 0)
+        grid.addWidget(self.ignore_line_edit, 5, 1)
+        self.analyze_push_button = QPushButton("Analyze")
+        self.analyze_push_button.setObjectName("analyze_push_button")
+        self.analyze_push_button.clicked.connect(self.analyze)
+        grid.addWidget(self.analyze_push_button, 4, 2, 2, 2)
+
+        self.findings_tab_widget = QTabWidget()
+        self.findings_tab_widget.setObjectName("findings_tab_widget")
+        self.models: dict[str, RowsModel] = {}
+        self.views: dict[str, QTableView] = {}
+        for key in CHECK_KEYS:
+            view = QTableView()
+            view.setObjectName(f"{key.lower()}_table_view")
+            view.setSelectionBehavior(QAbstractItemView.SelectRows)
+            view.setSelectionMode(QAbstractItemView.ExtendedSelection)
+            view.setWordWrap(False)
+            view.verticalHeader().setVisible(False)
+            view.horizontalHeader().setStretchLastSection(True)
+            model = RowsModel([], view)
+            view.setModel(model)
+            view.selectionModel().selectionChanged.connect(lambda *_a, k=key: self._on_selection(k))
+            self.models[key], self.views[key] = model, view
+            self.findings_tab_widget.addTab(view, key)
+        self.findings_tab_widget.currentChanged.connect(lambda _i: self._on_selection(self.current_key()))
+        self.graph_view = GraphView()
+        self.graph_view.setObjectName("conflict_graphics_view")
+        middle = QSplitter(Qt.Horizontal)
+        middle.setObjectName("findings_splitter")
+        middle.addWidget(self.findings_tab_widget)
+        middle.addWidget(self.graph_view)
+        middle.setStretchFactor(0, 3)
+        middle.setStretchFactor(1, 2)
+
+        suggest = QGroupBox("Suggested additions to the specification")
+        form_row = QHBoxLayout()
+        self.form_combo_box = QComboBox()
+        self.form_combo_box.setObjectName("suggestion_form_combo_box")
+        self.form_combo_box.addItems([FORM_TITLES[f] for f in FORMS])
+        self.form_combo_box.currentIndexChanged.connect(lambda _i: self._show_suggestions())
+        self.chosen_line_edit = self._line("chosen_suggestions_line_edit", "suggestions to add, e.g. 1,2 (empty: all)")
+        self.amended_line_edit = self._line("amended_spec_line_edit", "amended spec to write (.slugsin)")
+        self.apply_push_button = QPushButton("Apply and check")
+        self.apply_push_button.setObjectName("apply_and_check_push_button")
+        self.apply_push_button.clicked.connect(self.apply)
+        form_row.addWidget(QLabel("Show as"))
+        form_row.addWidget(self.form_combo_box)
+        form_row.addWidget(self.chosen_line_edit, 1)
+        form_row.addWidget(self.amended_line_edit, 2)
+        form_row.addWidget(self.apply_push_button)
+        self.suggestions_text = QPlainTextEdit()
+        self.suggestions_text.setObjectName("suggestions_plain_text_edit")
+        self.suggestions_text.setReadOnly(True)
+        self.verdict_label = QLabel("")
+        self.verdict_label.setObjectName("verdict_label")
+        self.verdict_label.setWordWrap(True)
+        self.apply_text = QPlainTextEdit()
+        self.apply_text.setObjectName("apply_result_plain_text_edit")
+        self.apply_text.setReadOnly(True)
+        texts = QSplitter(Qt.Horizontal)
+        texts.setObjectName("suggestions_splitter")
+        texts.addWidget(self.suggestions_text)
+        right = QWidget()
+        right_layout = QVBoxLayout(right)
+        right_layout.setContentsMargins(0, 0, 0, 0)
+        right_layout.addWidget(self.verdict_label)
+        right_layout.addWidget(self.apply_text, 1)
+        texts.addWidget(right)
+        suggest_layout = QVBoxLayout(suggest)
+        suggest_layout.addLayout(form_row)
+        suggest_layout.addWidget(texts, 1)
+
+        main = QSplitter(Qt.Vertical)
+        main.setObjectName("main_splitter")
+        main.addWidget(middle)
+        main.addWidget(suggest)
+        main.setStretchFactor(0, 3)
+        main.setStretchFactor(1, 2)
+
+        self.progress_bar = QProgressBar()
+        self.progress_bar.setObjectName("progress_bar")
+        self.progress_bar.setRange(0, 0)
+        self.progress_bar.setMaximumWidth(160)
+        self.progress_bar.hide()
+        self.status_label = QLabel("Name a spec, a mapping and a snapshot (or tick Live graph), then Analyze.")
+        self.status_label.setObjectName("status_label")
+        self.status_label.setWordWrap(True)
+        bottom = QHBoxLayout()
+        bottom.addWidget(self.progress_bar)
+        bottom.addWidget(self.status_label, 1)
+        layout = QVBoxLayout(self)
+        layout.addLayout(grid)
+        layout.addWidget(main, 1)
+        layout.addLayout(bottom)
+
+    def _line(self, name: str, placeholder: str) -> QLineEdit:
+        edit = QLineEdit()
+        edit.setObjectName(name)
+        edit.setPlaceholderText(placeholder)
+        return edit
+
+    def _browse(self, name: str, edit: QLineEdit) -> QPushButton:
+        button = QPushButton("Browse…")
+        button.setObjectName(name)
+
+        def pick() -> None:
+            path, _ = QFileDialog.getOpenFileName(self, "Open", edit.text() or os.getcwd())
+            if path:
+                edit.setText(path)
+        button.clicked.connect(pick)
+        return button
+
+    # --- analysis -----------------------------------------------------------------------------------
+    @property
+    def busy(self) -> bool:
+        return self.task is not None and self.task.running
+
+    def analyze(self) -> bool:
+        """Start the analysis off the GUI thread; False if it cannot start (the reason is shown)."""
+        if self.busy:
+            return False
+        spec, mapping = self.spec_line_edit.text().strip(), self.mapping_line_edit.text().strip()
+        snapshot_path = self.snapshot_line_edit.text().strip()
+        live = self.live_check_box.isChecked()
+        if not spec or not mapping or not (live or snapshot_path):
+            self._status("Name a spec, a mapping and a snapshot file (or tick Live graph).", error=True)
+            return False
+        robots, ignore = names(self.robots_line_edit.text()), names(self.ignore_line_edit.text())
+        uri = self.master_line_edit.text().strip() or None
+        take = self._take_snapshot
+
+        def work(progress):
+            snapshot = None
+            if live:
+                progress("taking a snapshot of the ROS master")
+                snapshot = take(uri)
+            return run_analysis(spec, mapping, snapshot=snapshot, snapshot_path=None if live else snapshot_path,
+                                robots=robots, ignore_topics=ignore, progress=progress)
+        self._start(work, self.show_result, "Analyzing…")
+        return True
+
+    def show_result(self, result: AnalysisResult) -> None:
+        """Fill the tables, the suggestions and the picture of the first finding."""
+        self.result = result
+        self.tables = result.tables()
+        counts = result.counts()
+        for i, key in enumerate(CHECK_KEYS):
+            table = self.tables[key]
+            self.models[key].set_rows(table.header, table.rows, [" / ".join(r) for r in table.rows])
+            self.findings_tab_widget.setTabText(i, f"{key} ({counts[key]})")
+            view = self.views[key]
+            if len(table.rows) <= 500:  # measuring every row of a huge table costs more than it helps
+                view.resizeColumnsToContents()
+        self._show_suggestions()
+        if not self.amended_line_edit.text().strip():
+            stem = os.path.splitext(self.spec_line_edit.text().strip())[0]
+            self.amended_line_edit.setText(f"{stem}_with_suggestions.slugsin")
+        first = next((i for i, k in enumerate(CHECK_KEYS) if self.tables[k].rows), None)
+        if first is not None:
+            self.findings_tab_widget.setCurrentIndex(first)
+            self.select_finding(CHECK_KEYS[first], 0)
+        else:
+            self.graph_view.show_message("No findings.")
+        warn = f" Mapping warnings: {len(result.warnings)}." if result.warnings else ""
+        self._status(result.summary() + "." + warn)
+
+    def current_key(self) -> str:
+        return CHECK_KEYS[self.findings_tab_widget.currentIndex()]
+
+    def select_finding(self, key: str, index: int) -> None:
+        """Select every row of finding ``index`` of check ``key`` (and so draw it)."""
+        rows = self.tables[key].rows_of(index)
+        if not rows:
+            return
+        model, view = self.models[key], self.views[key]
+        selection = QItemSelection(model.index(rows[0], 0), model.index(rows[-1], model.columnCount() - 1))
+        view.selectionModel().select(selection, QItemSelectionModel.ClearAndSelect | QItemSelectionModel.Rows)
+        view.scrollTo(model.index(rows[0], 0))
+
+    def selected_rows(self, key: str) -> list[int]:
+        return sorted({i.row() for i in self.views[key].selectionModel().selectedRows()})
+
+    def _on_selection(self, key: str) -> None:
+        if key not in self.tables or self.result is None:
+            return
+        rows = self.selected_rows(key)
+        if not rows:
+            return
+        table = self.tables[key]
+        finding = table.finding[rows[0]]
+        wanted = table.rows_of(finding)
+        if rows != wanted:  # selecting a row of a finding selects the whole finding (an E2 topic)
+            self.select_finding(key, finding)
+            return
+        self._draw(key, finding)
+
+    def _draw(self, key: str, finding: int) -> None:
+        graph = conflict_graph(self.result, key, finding)
+        if not graph.nodes:
+            self.graph_view.show_message(f"{key} {finding + 1}: nothing to draw (see the table).")
+            return
+        try:
+            self.graph_view.draw(graph)
+        except Exception as err:  # noqa: BLE001 - Graphviz missing or failing: say so in the view
+            self.graph_view.show_message(error_text(err))
+
+    # --- suggestions --------------------------------------------------------------------------------
+    def form(self) -> str:
+        return FORMS[max(0, self.form_combo_box.currentIndex())]
+
+    def _show_suggestions(self) -> None:
+        if self.result is not None:
+            self.suggestions_text.setPlainText(suggestion_text(self.result.suggestions, self.form()))
+
+    def apply(self) -> bool:
+        """Write the amended spec and synthesize it off the GUI thread; False if it cannot start."""
+        if self.busy or self.result is None:
+            self._status("Analyze first." if self.result is None else "Busy.", error=self.result is None)
+            return False
+        out = self.amended_line_edit.text().strip()
+        if not out:
+            self._status("Name the amended spec to write.", error=True)
+            return False
+        chosen_text = self.chosen_line_edit.text().strip()
+        try:
+            chosen = [int(t) for t in names(chosen_text)] if chosen_text else None
+        except ValueError:
+            self._status(f"Suggestions to add: {chosen_text!r} is not a list of numbers.", error=True)
+            return False
+        result = self.result
+        self._start(lambda progress: apply_and_check(result, out, chosen), self.show_applied,
+                    f"Writing {out} and synthesizing…")
+        return True
+
+    def show_applied(self, applied: dict) -> None:
+        self.applied = applied
+        self.apply_text.setPlainText(applied["text"])
+        if applied["realizable"]:
+            self.verdict_label.setText(f"Realizable: {applied['output']} can be executed.")
+            self.verdict_label.setStyleSheet("color: #006000; font-weight: bold;")
+        else:
+            hint = applied.get("input_assumption")
+            extra = ""
+            if hint:
+                extra = (" Assuming the inputs " + ", ".join(hint["propositions"]) + " mutually exclusive "
+                         + ("restores realizability." if hint["restores_realizability"] else "is not enough."))
+            self.verdict_label.setText(f"UNREALIZABLE with the suggestions added.{extra}")
+            self.verdict_label.setStyleSheet("color: #a00000; font-weight: bold;")
+        self._status(f"Wrote {applied['output']}.")
+
+    # --- plumbing -------------------------------------------------------------------------------------
+    def _start(self, work, on_done, text: str) -> None:
+        self.task = Task(work, self)
+        self.task.progress.connect(lambda t: self._status(t))
+        self.task.finished.connect(on_done)
+        self.task.failed.connect(lambda t: self._status(t, error=True))
+        self.task.finished.connect(lambda _r: self._busy(False))
+        self.task.failed.connect(lambda _t: self._busy(False))
+        self._busy(True)
+        self._status(text)
+        self.task.start()
+
+    def _busy(self, busy: bool) -> None:
+        self.progress_bar.setVisible(busy)
+        self.analyze_push_button.setEnabled(not busy)
+        self.apply_push_button.setEnabled(not busy)
+
+    def _status(self, text: str, error: bool = False) -> None:
+        self.status_label.setText(text)
+        self.status_label.setStyleSheet("color: #a00000;" if error else "")
+
+    def save_settings(self, settings: Any) -> None:
+        save_controls(self, settings)
+
+    def restore_settings(self, settings: Any) -> None:
+        restore_controls(self, settings)

@@ -1,0 +1,215 @@
+"""What the controller view shows, without Qt or ROS: the explicit automaton of the executor's spec and
+where the executor is in it.
+
+The automaton is synthesized with the options the executor runs with (robotics init semantics and
+the cooperative strategy unless told otherwise) and extracted as ``synthesize --dot/--json`` export it,
+so the ids in the view are the ids of those files. A ``ControllerState`` message is located by its
+valuation and goal (``Automaton.find``: unique in the explicit automaton), not by trusting its
+``state_id``. Small automata are drawn whole; large ones as the neighbourhood of the current state.
+``Latest`` hands the newest message from ROS's thread to the GUI's timer, so a view that redraws
+less often than states arrive never falls behind: it skips to the newest.
+"""
+from __future__ import annotations
+
+import threading
+from collections import deque
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+
+from ltl_stack.gui.dotgraph import DotGraph
+from ltl_stack.spec import load_spec
+from ltl_stack.synthesis import Automaton, synthesize
+
+CURRENT_COLOR = "#ff9a00"
+GOAL_COLOR = "#3a7bd5"
+INITIAL_COLOR = "#2e9e44"
+DEFAULT_FULL_LIMIT = 40
+DEFAULT_RADIUS = 2
+MAX_STATES = 200_000
+
+
+@dataclass(frozen=True)
+class StateUpdate:
+    """One ``ControllerState`` message as the view needs it."""
+
+    state_id: int
+    goal: int
+    inputs: dict[str, bool]
+    outputs: dict[str, bool]
+    running: bool
+    stamp: float = 0.0  # seconds (the message's header stamp)
+
+
+@dataclass
+class ViewOptions:
+    robotics_semantics: bool = True
+    cooperative: bool = True
+    full_limit: int = DEFAULT_FULL_LIMIT  # draw every state up to this many, else a neighbourhood
+    radius: int = DEFAULT_RADIUS
+
+
+@dataclass
+class ControllerModel:
+    """The spec's explicit automaton and the state the executor was last seen in."""
+
+    spec_path: str
+    automaton: Automaton
+    options: ViewOptions = field(default_factory=ViewOptions)
+    current: int | None = None
+    last: StateUpdate | None = None
+    _pred: dict[int, list[int]] = field(default_factory=dict)
+
+    @classmethod
+    def synthesize(cls, spec_path: str, options: ViewOptions | None = None,
+                   progress: Callable[[str], None] | None = None) -> ControllerModel:
+        """Synthesize ``spec_path`` as the executor does and extract the explicit automaton.
+
+        Raises ``SpecError`` for a bad spec, ``ValueError`` when it is unrealizable, ``TooManyStates``
+        beyond ``MAX_STATES``.
+        """
+        options = options or ViewOptions()
+        say = progress or (lambda _t: None)
+        spec = load_spec(spec_path)
+        say(f"synthesizing {spec_path} (robotics semantics {options.robotics_semantics}, "
+            f"cooperative {options.cooperative})")
+        result = synthesize(spec, robotics_semantics=options.robotics_semantics, cooperative=options.cooperative)
+        if not result.realizable:
+            raise ValueError(f"{spec_path}: the specification is unrealizable; the executor cannot run it")
+        say("extracting the explicit automaton")
+        automaton = result.strategy.explicit(max_states=MAX_STATES)
+        say(f"{len(automaton)} states")
+        return cls(str(spec_path), automaton, options)
+
+    def predecessors(self, state: int) -> list[int]:
+        if not self._pred:
+            for s in self.automaton.states:
+                for t in s.successors:
+                    self._pred.setdefault(t, []).append(s.id)
+        return self._pred.get(state, [])
+
+    def locate(self, update: StateUpdate) -> int | None:
+        """The automaton id of the executor's state, or None (before the start, or not in it)."""
+        if update.state_id < 0 or update.goal < 0:
+            return None
+        a = self.automaton
+        if any(n not in update.inputs for n in a.inputs) or any(n not in update.outputs for n in a.outputs):
+            return None
+        state = a.find(update.inputs, update.outputs, update.goal)
+        return None if state is None else state.id
+
+    def follow(self, update: StateUpdate) -> int | None:
+        self.last = update
+        self.current = self.locate(update)
+        return self.current
+
+    @property
+    def whole(self) -> bool:
+        return len(self.automaton) <= self.options.full_limit
+
+    def shown_states(self, center: int | None = None) -> list[int]:
+        """Every state when the automaton is small, else the states within ``radius`` steps of
+        ``center`` (forwards and backwards; the initial states when there is no centre yet)."""
+        a = self.automaton
+        if self.whole:
+            return [s.id for s in a.states]
+        starts = [center] if center is not None else list(a.initial)
+        seen = dict.fromkeys(starts, 0)
+        queue = deque(starts)
+        limit = max(self.options.full_limit, 1)
+        while queue and len(seen) < limit:
+            s = queue.popleft()
+            if seen[s] >= self.options.radius:
+                continue
+            for t in (*a.states[s].successors, *self.predecessors(s)):
+                if t not in seen and len(seen) < limit:
+                    seen[t] = seen[s] + 1
+                    queue.append(t)
+        return sorted(seen)
+
+    def graph(self, center: int | None = None) -> DotGraph:
+        """The states to draw (labels as ``Automaton.to_dot``: id, goal, true outputs; edges: true inputs)."""
+        a = self.automaton
+        shown = self.shown_states(center)
+        inside = set(shown)
+        initial = set(a.initial)
+        g = DotGraph(name="controller", rankdir="LR")
+        for sid in shown:
+            s = a.states[sid]
+            outs = ", ".join(n for n in a.outputs if s.outputs[n]) or "-"
+            cut = sum(t not in inside for t in s.successors) + sum(p not in inside for p in self.predecessors(sid))
+            more = f"\n(+{cut} edges)" if cut else ""
+            g.add_node(sid, f"{sid} (goal {s.goal})\n{outs}{more}", shape="box",
+                       color=INITIAL_COLOR if sid in initial else "black",
+                       tooltip=f"state {sid}, goal {s.goal}; inputs: "
+                               + (", ".join(n for n in a.inputs if s.inputs[n]) or "-") + f"; outputs: {outs}")
+        for sid in shown:
+            for t in a.states[sid].successors:
+                if t in inside:
+                    ins = ", ".join(n for n in a.inputs if a.states[t].inputs[n]) or "-"
+                    g.add_edge(sid, t, ins)
+        return g
+
+    def needs_new_layout(self, drawn: set[int], center: int | None) -> bool:
+        """A neighbourhood view is laid out again only when the current state leaves what is drawn."""
+        if self.whole:
+            return not drawn
+        return not drawn or (center is not None and center not in drawn)
+
+    def lamps(self, update: StateUpdate | None = None) -> tuple[list[tuple[str, bool]], list[tuple[str, bool]]]:
+        """(input, value) and (output, value) pairs in spec order for the lamps."""
+        u = update or self.last
+        a = self.automaton
+        if u is None:
+            return [(n, False) for n in a.inputs], [(n, False) for n in a.outputs]
+        return [(n, bool(u.inputs.get(n, False))) for n in a.inputs], \
+            [(n, bool(u.outputs.get(n, False))) for n in a.outputs]
+
+
+def mode_text(update: StateUpdate | None, violation: str) -> str:
+    """The controller's mode: waiting, running, paused, or holding after an assumption violation."""
+    if update is None:
+        return "no state received yet"
+    if update.state_id < 0:
+        return "waiting for every input to report (ready handshake)"
+    if violation:
+        return "environment assumption violated: " + ("running, " if update.running else "paused, ") + \
+            "waiting for admissible inputs"
+    return "running" if update.running else "paused (every output false)"
+
+
+class Latest:
+    """The newest value put by one thread, taken by another; counts what was put and taken."""
+
+    def __init__(self):
+        self._lock = threading.Lock()
+        self._value = None
+        self._fresh = False
+        self.put_count = 0
+        self.taken_count = 0
+
+    def put(self, value) -> None:
+        with self._lock:
+            self._value, self._fresh = value, True
+            self.put_count += 1
+
+    def take(self):
+        """The newest value if it was not taken yet, else None."""
+        with self._lock:
+            if not self._fresh:
+                return None
+            self._fresh = False
+            self.taken_count += 1
+            return self._value
+
+
+def executor_of(state_topic: str) -> str:
+    """``/ns/controller_executor/state`` -> ``/ns/controller_executor`` (the node that owns ``~state``)."""
+    return state_topic.rstrip("/").rsplit("/", 1)[0] or "/"
+
+
+def options_from_params(params: Mapping[str, object], defaults: ViewOptions | None = None) -> ViewOptions:
+    """The executor's ``~robotics_semantics``/``~cooperative`` parameters, where it has them."""
+    o = defaults or ViewOptions()
+    rs, coop = params.get("robotics_semantics"), params.get("cooperative")
+    return ViewOptions(rs if isinstance(rs, bool) else o.robotics_semantics,
+                       coop if isinstance(coop, bool) else o.cooperative, o.full_limit, o.radius)

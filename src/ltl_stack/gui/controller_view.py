@@ -1,0 +1,477 @@
+"""The live controller view: where a running ``controller_executor`` is in its automaton.
+
+Attach to an executor by its ``~state`` topic (``ltl_stack/ControllerState``) and the spec it runs:
+the automaton is synthesized off the GUI thread with the executor's options and drawn (whole when
+small, the neighbourhood of the current state when large); the current state and its goal are
+highlighted as ``~state`` moves, input and output lamps follow, the last assumption violation (from
+``/diagnostics``) and the mode are shown, and Run/Pause calls ``~set_running``. State ids are those of
+``synthesize --dot/--json`` for the same spec and options. What smach_viewer gives SMACH users.
+
+Messages arrive on rospy's thread and are handed over through ``Latest``; a GUI timer shows the
+newest, so the view keeps up with any rate by skipping what it has not had time to draw.
+"""
+from __future__ import annotations
+
+import os
+import time
+from typing import Any
+
+import rospy
+from python_qt_binding.QtCore import Qt, QTimer, Signal
+from python_qt_binding.QtWidgets import (
+    QCheckBox,
+    QComboBox,
+    QFileDialog,
+    QFormLayout,
+    QGridLayout,
+    QGroupBox,
+    QHBoxLayout,
+    QLabel,
+    QLineEdit,
+    QPlainTextEdit,
+    QProgressBar,
+    QPushButton,
+    QSpinBox,
+    QSplitter,
+    QVBoxLayout,
+    QWidget,
+)
+
+from ltl_stack.gui.controller_model import (
+    CURRENT_COLOR,
+    DEFAULT_FULL_LIMIT,
+    DEFAULT_RADIUS,
+    GOAL_COLOR,
+    ControllerModel,
+    Latest,
+    StateUpdate,
+    ViewOptions,
+    executor_of,
+    mode_text,
+    options_from_params,
+)
+from ltl_stack.gui.widgets import GraphView, Task, error_text, restore_controls, save_controls
+
+STATE_TYPE = "ltl_stack/ControllerState"
+REFRESH_MS = 30
+LAMP_ON, LAMP_OFF = "#34c759", "#d0d0d0"
+
+
+def ensure_node() -> None:
+    """rqt has initialized rospy; a standalone host does it here (anonymous, no signal handlers)."""
+    if not rospy.core.is_initialized():
+        rospy.init_node("ltl_stack_controller_view", anonymous=True, disable_signals=True)
+
+
+def state_topics(master_uri: str | None = None) -> list[str]:
+    """Topics of type ``ltl_stack/ControllerState`` on the master."""
+    import rosgraph.masterapi
+
+    master = rosgraph.masterapi.Master("/ltl_stack_controller_view_list", master_uri=master_uri or None)
+    return sorted(name for name, type_ in master.getTopicTypes() if type_ == STATE_TYPE)
+
+
+def update_of(msg: Any) -> StateUpdate:
+    return StateUpdate(int(msg.state_id), int(msg.goal_index),
+                       dict(zip(msg.inputs.keys, msg.inputs.values, strict=False)),
+                       dict(zip(msg.outputs.keys, msg.outputs.values, strict=False)),
+                       bool(msg.running), msg.header.stamp.to_sec())
+
+
+class RosLink:
+    """Subscribers of one executor's ``~state`` and of ``/diagnostics``, and its ``~set_running``."""
+
+    def __init__(self, state_topic: str, on_state, on_diagnostic):
+        from diagnostic_msgs.msg import DiagnosticArray
+
+        from ltl_stack.msg import ControllerState
+
+        ensure_node()
+        self.state_topic = state_topic
+        self.executor = executor_of(state_topic)
+        self._on_diagnostic = on_diagnostic
+        self.state_sub = rospy.Subscriber(state_topic, ControllerState, lambda m: on_state(update_of(m)),
+                                          queue_size=1000, tcp_nodelay=True)
+        self.diag_sub = rospy.Subscriber("/diagnostics", DiagnosticArray, self._diagnostics, queue_size=100)
+
+    def _diagnostics(self, msg: Any) -> None:
+        for status in msg.status:
+            if status.hardware_id == self.executor and "environment assumptions" in status.name:
+                self._on_diagnostic(int(ord(status.level) if isinstance(status.level, bytes) else status.level),
+                                    status.message)
+
+    def params(self) -> dict[str, object]:
+        """The executor's private parameters that change the synthesis, where it has them."""
+        found = {}
+        for name in ("robotics_semantics", "cooperative"):
+            key = f"{self.executor}/{name}"
+            if rospy.has_param(key):
+                found[name] = rospy.get_param(key)
+        return found
+
+    def set_running(self, running: bool, timeout: float = 10.0) -> str:
+        from std_srvs.srv import SetBool
+
+        service = f"{self.executor}/set_running"
+        rospy.wait_for_service(service, timeout)
+        reply = rospy.ServiceProxy(service, SetBool)(running)
+        return reply.message
+
+    def close(self) -> None:
+        self.state_sub.unregister()
+        self.diag_sub.unregister()
+
+
+class ControllerView(QWidget):
+    """The view; ``model`` is the attached automaton, ``shown`` the last update drawn."""
+
+    diagnostic = Signal(int, str)
+
+    def __init__(self, parent: QWidget | None = None, link_factory=RosLink):
+        super().__init__(parent)
+        self.setObjectName("ControllerView")
+        self.setWindowTitle("Controller view")
+        self.model: ControllerModel | None = None
+        self.link: RosLink | None = None
+        self.latest = Latest()
+        self.shown: StateUpdate | None = None
+        self.shown_count = 0
+        self.lag: list[float] = []  # seconds from a message's stamp to its display, while recording
+        self.record_lag = False
+        self.violation = ""
+        self.task: Task | None = None
+        self.layout_task: Task | None = None
+        self._drawn: set[int] = set()
+        self._link_factory = link_factory
+        self._lamps: dict[tuple[str, str], QLabel] = {}
+        self._build()
+        self.diagnostic.connect(self._on_diagnostic)
+        self.timer = QTimer(self)
+        self.timer.timeout.connect(self.tick)
+        self.timer.start(REFRESH_MS)
+
+    # --- layout ---------------------------------------------------------------------------------------
+    def _build(self) -> None:
+        grid = QGridLayout()
+        self.spec_line_edit = QLineEdit()
+        self.spec_line_edit.setObjectName("spec_line_edit")
+        self.spec_line_edit.setPlaceholderText("the spec the executor runs")
+        browse = QPushButton("Browse…")
+        browse.setObjectName("spec_browse_push_button")
+        browse.clicked.connect(self._browse)
+        self.topic_combo_box = QComboBox()
+        self.topic_combo_box.setObjectName("state_topic_combo_box")
+        self.topic_combo_box.setEditable(True)
+        self.topic_combo_box.setMinimumWidth(320)
+        self.topic_combo_box.lineEdit().setPlaceholderText("/<ns>/controller_executor/state")
+        self.refresh_push_button = QPushButton("Refresh")
+        self.refresh_push_button.setObjectName("refresh_topics_push_button")
+        self.refresh_push_button.clicked.connect(self.refresh_topics)
+        self.robotics_check_box = QCheckBox("Robotics semantics")
+        self.robotics_check_box.setObjectName("robotics_semantics_check_box")
+        self.robotics_check_box.setChecked(True)
+        self.cooperative_check_box = QCheckBox("Cooperative")
+        self.cooperative_check_box.setObjectName("cooperative_check_box")
+        self.cooperative_check_box.setChecked(True)
+        self.full_spin_box = QSpinBox()
+        self.full_spin_box.setObjectName("full_limit_spin_box")
+        self.full_spin_box.setRange(1, 100_000)
+        self.full_spin_box.setValue(DEFAULT_FULL_LIMIT)
+        self.full_spin_box.setToolTip("draw the whole automaton up to this many states, else a neighbourhood")
+        self.radius_spin_box = QSpinBox()
+        self.radius_spin_box.setObjectName("radius_spin_box")
+        self.radius_spin_box.setRange(1, 20)
+        self.radius_spin_box.setValue(DEFAULT_RADIUS)
+        self.attach_push_button = QPushButton("Attach")
+        self.attach_push_button.setObjectName("attach_push_button")
+        self.attach_push_button.clicked.connect(self.attach)
+        grid.addWidget(QLabel("Spec"), 0, 0)
+        grid.addWidget(self.spec_line_edit, 0, 1, 1, 4)
+        grid.addWidget(browse, 0, 5)
+        grid.addWidget(QLabel("State topic"), 1, 0)
+        grid.addWidget(self.topic_combo_box, 1, 1, 1, 4)
+        grid.addWidget(self.refresh_push_button, 1, 5)
+        options = QHBoxLayout()
+        options.addWidget(self.robotics_check_box)
+        options.addWidget(self.cooperative_check_box)
+        options.addWidget(QLabel("whole graph up to"))
+        options.addWidget(self.full_spin_box)
+        options.addWidget(QLabel("states, else radius"))
+        options.addWidget(self.radius_spin_box)
+        options.addStretch(1)
+        options.addWidget(self.attach_push_button)
+        grid.addLayout(options, 2, 0, 1, 6)
+
+        self.graph_view = GraphView()
+        self.graph_view.setObjectName("automaton_graphics_view")
+        side = QWidget()
+        side_layout = QVBoxLayout(side)
+        side_layout.setContentsMargins(0, 0, 0, 0)
+        self.state_label = QLabel("state: —")
+        self.state_label.setObjectName("state_label")
+        self.state_label.setStyleSheet("font-size: 15px; font-weight: bold;")
+        self.mode_label = QLabel("mode: not attached")
+        self.mode_label.setObjectName("mode_label")
+        self.mode_label.setWordWrap(True)
+        self.run_pause_push_button = QPushButton("Pause")
+        self.run_pause_push_button.setObjectName("run_pause_push_button")
+        self.run_pause_push_button.setEnabled(False)
+        self.run_pause_push_button.clicked.connect(self.toggle_running)
+        self.inputs_box = QGroupBox("Inputs")
+        self.outputs_box = QGroupBox("Outputs")
+        QFormLayout(self.inputs_box)
+        QFormLayout(self.outputs_box)
+        self.violation_text = QPlainTextEdit()
+        self.violation_text.setObjectName("violation_plain_text_edit")
+        self.violation_text.setReadOnly(True)
+        self.violation_text.setPlaceholderText("no environment-assumption violation reported")
+        self.violation_text.setMaximumHeight(90)
+        side_layout.addWidget(self.state_label)
+        side_layout.addWidget(self.mode_label)
+        side_layout.addWidget(self.run_pause_push_button)
+        side_layout.addWidget(self.inputs_box)
+        side_layout.addWidget(self.outputs_box)
+        side_layout.addWidget(QLabel("Last violation"))
+        side_layout.addWidget(self.violation_text)
+        side_layout.addStretch(1)
+        middle = QSplitter(Qt.Horizontal)
+        middle.setObjectName("view_splitter")
+        middle.addWidget(self.graph_view)
+        middle.addWidget(side)
+        middle.setStretchFactor(0, 4)
+        middle.setStretchFactor(1, 1)
+
+        self.progress_bar = QProgressBar()
+        self.progress_bar.setObjectName("progress_bar")
+        self.progress_bar.setRange(0, 0)
+        self.progress_bar.setMaximumWidth(160)
+        self.progress_bar.hide()
+        self.status_label = QLabel("Name the spec and the executor's state topic, then Attach.")
+        self.status_label.setObjectName("status_label")
+        self.status_label.setWordWrap(True)
+        bottom = QHBoxLayout()
+        bottom.addWidget(self.progress_bar)
+        bottom.addWidget(self.status_label, 1)
+        layout = QVBoxLayout(self)
+        layout.addLayout(grid)
+        layout.addWidget(middle, 1)
+        layout.addLayout(bottom)
+
+    def _browse(self) -> None:
+        path, _ = QFileDialog.getOpenFileName(self, "Spec", self.spec_line_edit.text() or os.getcwd())
+        if path:
+            self.spec_line_edit.setText(path)
+
+    def _fill_lamps(self) -> None:
+        self._lamps = {}
+        for box, names in ((self.inputs_box, self.model.automaton.inputs),
+                           (self.outputs_box, self.model.automaton.outputs)):
+            form = box.layout()
+            while form.rowCount():
+                form.removeRow(0)
+            for name in names:
+                lamp = QLabel()
+                lamp.setObjectName(f"{name}_lamp_label")
+                lamp.setFixedSize(14, 14)
+                form.addRow(lamp, QLabel(name))
+                self._lamps[(box.title(), name)] = lamp
+        self._set_lamps()
+
+    # --- attaching ------------------------------------------------------------------------------------
+    def refresh_topics(self) -> None:
+        try:
+            topics = state_topics()
+        except Exception as err:  # noqa: BLE001 - no master: say so
+            self._status(f"Cannot list the state topics: {error_text(err)}", error=True)
+            return
+        current = self.topic_combo_box.currentText()
+        self.topic_combo_box.clear()
+        self.topic_combo_box.addItems(topics)
+        if current:
+            self.topic_combo_box.setEditText(current)
+        elif topics:
+            self.topic_combo_box.setCurrentIndex(0)
+        self._status(f"{len(topics)} executor state topic(s) on the master.")
+
+    def options(self) -> ViewOptions:
+        return ViewOptions(self.robotics_check_box.isChecked(), self.cooperative_check_box.isChecked(),
+                           self.full_spin_box.value(), self.radius_spin_box.value())
+
+    def attach(self) -> bool:
+        """Subscribe to the state topic, read the executor's options, synthesize (off the GUI thread)."""
+        if self.task is not None and self.task.running:
+            return False
+        spec, topic = self.spec_line_edit.text().strip(), self.topic_combo_box.currentText().strip()
+        if not spec or not topic:
+            self._status("Name the spec and the executor's state topic.", error=True)
+            return False
+        self.detach()
+        try:
+            self.link = self._link_factory(topic, self.latest.put, self.diagnostic.emit)
+        except Exception as err:  # noqa: BLE001 - no master, bad topic name
+            self._status(f"Cannot attach to {topic}: {error_text(err)}", error=True)
+            return False
+        wanted = self.options()
+        link = self.link
+
+        def work(progress):
+            options = options_from_params(link.params(), wanted)
+            return ControllerModel.synthesize(spec, options, progress)
+        self.task = Task(work, self)
+        self.task.progress.connect(self._status)
+        self.task.finished.connect(self._on_model)
+        self.task.failed.connect(lambda text: (self._busy(False), self._status(text, error=True)))
+        self._busy(True)
+        self._status(f"Attached to {topic}; synthesizing {spec}…")
+        self.task.start()
+        return True
+
+    def detach(self) -> None:
+        if self.link is not None:
+            self.link.close()
+            self.link = None
+        self.model, self.shown, self._drawn = None, None, set()
+
+    def _on_model(self, model: ControllerModel) -> None:
+        self._busy(False)
+        self.model = model
+        self.robotics_check_box.setChecked(model.options.robotics_semantics)
+        self.cooperative_check_box.setChecked(model.options.cooperative)
+        self._fill_lamps()
+        self.run_pause_push_button.setEnabled(True)
+        how = "whole" if model.whole else f"neighbourhood of the current state (radius {model.options.radius})"
+        self._status(f"{len(model.automaton)} states, {model.automaton.goals} goals; drawing the {how}. "
+                     f"Ids as in synthesize --dot/--json (robotics semantics {model.options.robotics_semantics}, "
+                     f"cooperative {model.options.cooperative}).")
+        self.shown = None
+        self._relayout(None)  # the latched state that arrived meanwhile is still in ``latest``
+
+    # --- following --------------------------------------------------------------------------------------
+    def tick(self) -> None:
+        """Show the newest state (GUI timer); everything older that arrived meanwhile is skipped."""
+        if self.model is None:
+            return
+        update = self.latest.take()
+        if update is None:
+            return
+        self.show_update(update)
+
+    def show_update(self, update: StateUpdate) -> None:
+        model = self.model
+        current = model.follow(update)
+        self.shown = update
+        self.shown_count += 1
+        if self.record_lag and update.stamp:
+            self.lag.append(time.time() - update.stamp)
+        if current is None:
+            text = "waiting for the inputs" if update.state_id < 0 else \
+                f"not in the automaton (executor's id {update.state_id})"
+            self.state_label.setText(f"state: {text}")
+        else:
+            self.state_label.setText(f"state {current} (goal {update.goal})")
+        self.mode_label.setText("mode: " + mode_text(update, self.violation))
+        self.run_pause_push_button.setText("Pause" if update.running else "Run")
+        self._set_lamps()
+        if model.needs_new_layout(self._drawn, current):
+            self._relayout(current)
+        else:
+            self._mark()
+
+    def current_node_id(self) -> str | None:
+        """The graph's node id of the highlighted state (None when it is not drawn)."""
+        graph = self.graph_view.graph
+        if graph is None or self.model is None or self.model.current is None:
+            return None
+        return graph.key.get(self.model.current)
+
+    def _mark(self) -> None:
+        graph = self.graph_view.graph
+        if graph is None or self.model is None:
+            return
+        marks = {}
+        current = self.model.current
+        if current is not None and current in graph.key:
+            marks[graph.key[current]] = CURRENT_COLOR
+            for t in self.model.automaton.states[current].successors:  # where it can go next
+                if t in graph.key and t != current:
+                    marks.setdefault(graph.key[t], GOAL_COLOR)
+        self.graph_view.highlight(marks)
+        if current is not None and current in graph.key:
+            self.graph_view.center_on_node(graph.key[current])
+
+    def _relayout(self, center: int | None) -> None:
+        """Lay the graph out off the GUI thread; one layout at a time, the newest centre wins."""
+        if self.layout_task is not None and self.layout_task.running:
+            return
+        model = self.model
+        view = self.graph_view
+        graph = model.graph(center)
+        self.layout_task = Task(lambda _p: (graph, view.layout_for(graph)), self)
+        self.layout_task.finished.connect(self._on_layout)
+        self.layout_task.failed.connect(lambda text: view.show_message(text))
+        self.layout_task.start()
+
+    def _on_layout(self, done: tuple) -> None:
+        graph, laid_out = done
+        if self.model is None:
+            return
+        self.graph_view.draw(graph, laid_out)
+        self._drawn = set(k for k in graph.key if isinstance(k, int))
+        self._mark()
+        if self.model.current is not None and self.model.needs_new_layout(self._drawn, self.model.current):
+            self._relayout(self.model.current)
+
+    def _set_lamps(self) -> None:
+        if self.model is None:
+            return
+        ins, outs = self.model.lamps(self.shown)
+        for title, pairs in (("Inputs", ins), ("Outputs", outs)):
+            for name, value in pairs:
+                lamp = self._lamps.get((title, name))
+                if lamp is not None:
+                    lamp.setStyleSheet(f"background: {LAMP_ON if value else LAMP_OFF}; border-radius: 7px;")
+                    lamp.setToolTip(f"{name}: {'true' if value else 'false'}")
+
+    def lamp_values(self) -> dict[str, bool]:
+        """What the lamps show (for tests): name -> lit."""
+        return {name: LAMP_ON in lamp.styleSheet() for (_t, name), lamp in self._lamps.items()}
+
+    def _on_diagnostic(self, level: int, message: str) -> None:
+        if level >= 2:
+            self.violation = message
+            self.violation_text.setPlainText(message)
+        elif self.violation:
+            self.violation = ""
+            self.violation_text.setPlainText(self.violation_text.toPlainText() + f"\n(cleared: {message})")
+        self.mode_label.setText("mode: " + mode_text(self.shown, self.violation))
+
+    # --- run / pause ------------------------------------------------------------------------------------
+    def toggle_running(self) -> None:
+        if self.link is None:
+            return
+        running = not (self.shown.running if self.shown is not None else True)
+        link = self.link
+        task = Task(lambda _p: link.set_running(running), self)
+        task.finished.connect(lambda message: self._status(f"{'Run' if running else 'Pause'}: {message or 'done'}"))
+        task.failed.connect(lambda text: self._status(f"set_running failed: {text}", error=True))
+        self._service_task = task
+        task.start()
+
+    # --- plumbing -----------------------------------------------------------------------------------------
+    def _busy(self, busy: bool) -> None:
+        self.progress_bar.setVisible(busy)
+        self.attach_push_button.setEnabled(not busy)
+
+    def _status(self, text: str, error: bool = False) -> None:
+        self.status_label.setText(text)
+        self.status_label.setStyleSheet("color: #a00000;" if error else "")
+
+    def save_settings(self, settings: Any) -> None:
+        save_controls(self, settings)
+
+    def restore_settings(self, settings: Any) -> None:
+        restore_controls(self, settings)
+
+    def shutdown(self) -> None:
+        self.timer.stop()
+        self.detach()

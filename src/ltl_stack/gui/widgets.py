@@ -1,0 +1,354 @@
+"""Qt pieces the three panels share: a background task, a table model, a graph view, settings.
+
+Only ``python_qt_binding`` is imported here. The graph view draws with ``qt_dotgraph`` (as rqt_graph
+does) when it is importable and with its own items from Graphviz's ``-Tplain`` layout otherwise; both
+draw the same ``DotGraph`` and can highlight its nodes without a new layout.
+"""
+from __future__ import annotations
+
+import math
+import threading
+import traceback
+from collections.abc import Callable, Sequence
+from typing import Any
+
+from python_qt_binding.QtCore import QAbstractTableModel, QModelIndex, QObject, QPointF, QRectF, Qt, Signal
+from python_qt_binding.QtGui import QBrush, QColor, QFont, QPainter, QPainterPath, QPen, QPolygonF
+from python_qt_binding.QtWidgets import (
+    QAbstractButton,
+    QAbstractItemView,
+    QCheckBox,
+    QComboBox,
+    QGraphicsEllipseItem,
+    QGraphicsPathItem,
+    QGraphicsPolygonItem,
+    QGraphicsRectItem,
+    QGraphicsScene,
+    QGraphicsSimpleTextItem,
+    QGraphicsView,
+    QLineEdit,
+    QPlainTextEdit,
+    QSpinBox,
+    QSplitter,
+    QTabWidget,
+    QWidget,
+)
+
+from ltl_stack.errors import UserError
+from ltl_stack.gui.dotgraph import DotGraph, GraphvizError, layout_dot, layout_plain
+
+try:  # the renderer rqt_graph uses; absent where rqt is not installed
+    from qt_dotgraph.dot_to_qt import DotToQtGenerator
+except ImportError:
+    DotToQtGenerator = None
+
+
+def error_text(err: BaseException) -> str:
+    """One line for the user: a ``UserError``'s message, else the exception's type and message."""
+    if isinstance(err, UserError | OSError | GraphvizError):
+        return str(err)
+    return f"{type(err).__name__}: {err}"
+
+
+class Task(QObject):
+    """Run ``work(progress)`` on a Python thread; its signals arrive on the GUI thread (queued).
+
+    ``progress(text)`` may be called from the work; ``finished`` carries the result, ``failed`` the
+    error text. Keep a reference to the task until it has finished.
+    """
+
+    progress = Signal(str)
+    finished = Signal(object)
+    failed = Signal(str)
+
+    def __init__(self, work: Callable[[Callable[[str], None]], Any], parent: QObject | None = None):
+        super().__init__(parent)
+        self._work = work
+        self.thread: threading.Thread | None = None
+
+    def start(self) -> None:
+        self.thread = threading.Thread(target=self._run, name="ltl_stack_gui_task", daemon=True)
+        self.thread.start()
+
+    def _run(self) -> None:
+        try:
+            result = self._work(self.progress.emit)
+        except Exception as err:  # noqa: BLE001 - every failure is shown in the panel, none kills it
+            if not isinstance(err, UserError | OSError | GraphvizError):
+                traceback.print_exc()
+            self.failed.emit(error_text(err))
+            return
+        self.finished.emit(result)
+
+    @property
+    def running(self) -> bool:
+        return self.thread is not None and self.thread.is_alive()
+
+
+class RowsModel(QAbstractTableModel):
+    """A read-only table over a list of string rows; ``backgrounds`` colours whole rows."""
+
+    def __init__(self, header: Sequence[str] = (), parent: QObject | None = None):
+        super().__init__(parent)
+        self.header = list(header)
+        self.rows: list[Sequence[str]] = []
+        self.tooltips: list[str] = []
+        self.backgrounds: dict[int, QColor] = {}
+
+    def set_rows(self, header: Sequence[str], rows: Sequence[Sequence[str]], tooltips: Sequence[str] = ()) -> None:
+        self.beginResetModel()
+        self.header = list(header)
+        self.rows = list(rows)
+        self.tooltips = list(tooltips)
+        self.backgrounds = {}
+        self.endResetModel()
+
+    def rowCount(self, parent: QModelIndex = QModelIndex()) -> int:  # noqa: B008, N802 - Qt's signature
+        return 0 if parent.isValid() else len(self.rows)
+
+    def columnCount(self, parent: QModelIndex = QModelIndex()) -> int:  # noqa: B008, N802
+        return 0 if parent.isValid() else len(self.header)
+
+    def data(self, index: QModelIndex, role: int = Qt.DisplayRole) -> Any:
+        if not index.isValid():
+            return None
+        if role == Qt.DisplayRole:
+            row = self.rows[index.row()]
+            return row[index.column()] if index.column() < len(row) else ""
+        if role == Qt.ToolTipRole:
+            if index.row() < len(self.tooltips) and self.tooltips[index.row()]:
+                return self.tooltips[index.row()]
+            return self.rows[index.row()][index.column()]
+        if role == Qt.BackgroundRole and index.row() in self.backgrounds:
+            return QBrush(self.backgrounds[index.row()])
+        return None
+
+    def headerData(self, section: int, orientation: int, role: int = Qt.DisplayRole) -> Any:  # noqa: N802
+        if role == Qt.DisplayRole and orientation == Qt.Horizontal and section < len(self.header):
+            return self.header[section]
+        return None
+
+
+class GraphView(QGraphicsView):
+    """Draws a ``DotGraph``; ``highlight`` fills chosen nodes without laying the graph out again."""
+
+    def __init__(self, parent: QWidget | None = None):
+        super().__init__(parent)
+        self.setScene(QGraphicsScene(self))
+        self.setRenderHints(QPainter.Antialiasing | QPainter.TextAntialiasing)
+        self.setDragMode(QGraphicsView.ScrollHandDrag)
+        self.renderer = "qt_dotgraph" if DotToQtGenerator is not None else "plain"
+        self.graph: DotGraph | None = None
+        self.items: dict[str, Any] = {}  # node id -> the item drawn for it
+        self._marks: list[QGraphicsRectItem] = []
+
+    def show_message(self, text: str) -> None:
+        self.scene().clear()
+        self.items, self._marks, self.graph = {}, [], None
+        item = self.scene().addSimpleText(text)
+        item.setBrush(QBrush(QColor("dimgray")))
+        self.scene().setSceneRect(item.boundingRect())
+
+    def draw(self, graph: DotGraph, laid_out: Any = None) -> None:
+        """Draw ``graph``; ``laid_out`` is a layout made off the GUI thread by ``layout_for``."""
+        if laid_out is None:
+            laid_out = self.layout_for(graph)
+        scene = self.scene()
+        scene.clear()
+        self.items, self._marks, self.graph = {}, [], graph
+        if self.renderer == "qt_dotgraph":
+            nodes, _edges = DotToQtGenerator().dotcode_to_qt_items(laid_out, 1, scene=scene)
+            self.items = {name.strip('"'): item for name, item in nodes.items()}
+        else:
+            self.items = _draw_plain(scene, laid_out)
+        scene.setSceneRect(scene.itemsBoundingRect().adjusted(-10, -10, 10, 10))
+        self.fit()
+
+    def layout_for(self, graph: DotGraph) -> Any:
+        """The layout this view's renderer draws (runs Graphviz; safe on any thread)."""
+        text = graph.to_dot()
+        return layout_dot(text) if self.renderer == "qt_dotgraph" else layout_plain(text)
+
+    def fit(self) -> None:
+        rect = self.scene().sceneRect()
+        if rect.width() > 0 and rect.height() > 0:
+            self.fitInView(rect, Qt.KeepAspectRatio)
+            if self.transform().m11() > 1.5:  # do not blow small graphs up
+                self.resetTransform()
+                self.scale(1.5, 1.5)
+
+    def highlight(self, marks: dict[str, str]) -> None:
+        """Fill the nodes with these ids (``{id: colour}``) behind their outline; others plain."""
+        for mark in self._marks:
+            self.scene().removeItem(mark)
+        self._marks = []
+        for node_id, color in marks.items():
+            item = self.items.get(node_id)
+            if item is None:
+                continue
+            rect = item.sceneBoundingRect().adjusted(-3, -3, 3, 3)
+            mark = self.scene().addRect(rect, QPen(QColor(color), 2), QBrush(QColor(color).lighter(160)))
+            mark.setZValue(-1)
+            self._marks.append(mark)
+
+    def center_on_node(self, node_id: str) -> None:
+        item = self.items.get(node_id)
+        if item is not None:
+            self.ensureVisible(item.sceneBoundingRect(), 40, 40)
+
+    def wheelEvent(self, event) -> None:  # noqa: N802 - Qt's name
+        factor = 1.15 if event.angleDelta().y() > 0 else 1 / 1.15
+        self.scale(factor, factor)
+
+
+_DPI = 72.0
+
+
+def _draw_plain(scene: QGraphicsScene, layout) -> dict[str, Any]:
+    """Items for Graphviz's plain layout (inches, y up) in points with y down, as qt_dotgraph draws."""
+    items = {}
+    font = QFont("Helvetica", 9)
+
+    def pt(x: float, y: float) -> QPointF:
+        return QPointF(x * _DPI, (layout.height - y) * _DPI)
+
+    for node in layout.nodes.values():
+        w, h = node.width * _DPI, node.height * _DPI
+        c = pt(node.x, node.y)
+        rect = QRectF(c.x() - w / 2, c.y() - h / 2, w, h)
+        shape = QGraphicsEllipseItem(rect) if node.shape in ("ellipse", "oval", "circle") else QGraphicsRectItem(rect)
+        shape.setPen(QPen(QColor(node.color if node.color != "black" else "#000000")))
+        scene.addItem(shape)
+        text = QGraphicsSimpleTextItem(node.label.replace("\\n", "\n"))
+        text.setFont(font)
+        text.setBrush(QBrush(QColor(node.color)))
+        br = text.boundingRect()
+        text.setPos(c.x() - br.width() / 2, c.y() - br.height() / 2)
+        scene.addItem(text)
+        items[node.id] = shape
+    for edge in layout.edges:
+        if len(edge.points) < 2:
+            continue
+        pts = [pt(x, y) for x, y in edge.points]
+        path = QPainterPath(pts[0])
+        for i in range(1, len(pts) - 2, 3):  # a B-spline: the start, then three points per segment
+            path.cubicTo(pts[i], pts[i + 1], pts[i + 2])
+        pen = QPen(QColor(edge.color))
+        scene.addItem(_path_item(path, pen))
+        scene.addItem(_arrow(pts[-2], pts[-1], QColor(edge.color)))
+        if edge.label and edge.label_pos:
+            label = QGraphicsSimpleTextItem(edge.label)
+            label.setFont(QFont("Helvetica", 8))
+            p = pt(*edge.label_pos)
+            br = label.boundingRect()
+            label.setPos(p.x() - br.width() / 2, p.y() - br.height() / 2)
+            scene.addItem(label)
+    return items
+
+
+def _path_item(path: QPainterPath, pen: QPen) -> QGraphicsPathItem:
+    item = QGraphicsPathItem(path)
+    item.setPen(pen)
+    return item
+
+
+def _arrow(before: QPointF, tip: QPointF, color: QColor) -> QGraphicsPolygonItem:
+    angle = math.atan2(tip.y() - before.y(), tip.x() - before.x())
+    size = 7.0
+    left = QPointF(tip.x() - size * math.cos(angle - 0.4), tip.y() - size * math.sin(angle - 0.4))
+    right = QPointF(tip.x() - size * math.cos(angle + 0.4), tip.y() - size * math.sin(angle + 0.4))
+    item = QGraphicsPolygonItem(QPolygonF([tip, left, right]))
+    item.setBrush(QBrush(color))
+    item.setPen(QPen(color))
+    return item
+
+
+# --- settings -------------------------------------------------------------------------------------
+
+def _truth(value: Any) -> bool:
+    return value is True or str(value).lower() in ("true", "1")
+
+
+def save_controls(root: QWidget, settings: Any) -> None:
+    """Every named control's state into rqt's ``Settings`` (or ``QSettingsAdapter``): line edits,
+    check boxes, combo boxes (text), spin boxes, tab widgets, splitters."""
+    for w in root.findChildren(QWidget):
+        name = w.objectName()
+        if not name or name.startswith("qt_") or not _own(root, w):
+            continue
+        if isinstance(w, QLineEdit):
+            settings.set_value(name, w.text())
+        elif isinstance(w, QCheckBox) or (isinstance(w, QAbstractButton) and w.isCheckable()):
+            settings.set_value(name, w.isChecked())
+        elif isinstance(w, QComboBox):
+            settings.set_value(name, w.currentText())
+        elif isinstance(w, QSpinBox):
+            settings.set_value(name, w.value())
+        elif isinstance(w, QTabWidget):
+            settings.set_value(name, w.currentIndex())
+        elif isinstance(w, QSplitter):
+            settings.set_value(name, [int(s) for s in w.sizes()])
+        elif isinstance(w, QPlainTextEdit) and not w.isReadOnly():
+            settings.set_value(name, w.toPlainText())
+
+
+def restore_controls(root: QWidget, settings: Any) -> None:
+    """The reverse of ``save_controls``; keys that are absent leave the control as it is."""
+    for w in root.findChildren(QWidget):
+        name = w.objectName()
+        if not name or name.startswith("qt_") or not _own(root, w):
+            continue
+        value = settings.value(name, None)
+        if value is None:
+            continue
+        try:
+            if isinstance(w, QLineEdit):
+                w.setText(str(value))
+            elif isinstance(w, QCheckBox) or (isinstance(w, QAbstractButton) and w.isCheckable()):
+                w.setChecked(_truth(value))
+            elif isinstance(w, QComboBox):
+                text = str(value)
+                if w.findText(text) < 0 and text:
+                    if not w.isEditable():
+                        w.addItem(text)
+                    else:
+                        w.setEditText(text)
+                        continue
+                w.setCurrentIndex(w.findText(text))
+            elif isinstance(w, QSpinBox):
+                w.setValue(int(value))
+            elif isinstance(w, QTabWidget):
+                w.setCurrentIndex(int(value))
+            elif isinstance(w, QSplitter):
+                sizes = [int(s) for s in (value if isinstance(value, list | tuple) else [value])]
+                if len(sizes) == w.count():
+                    w.setSizes(sizes)
+            elif isinstance(w, QPlainTextEdit) and not w.isReadOnly():
+                w.setPlainText(str(value))
+        except (TypeError, ValueError):
+            continue
+
+
+def _own(root: QWidget, w: QWidget) -> bool:
+    """The panel's own controls: not the insides of a combo or spin box, not the cells of a table
+    (rows made from a loaded file, which the file restores)."""
+    parent = w.parentWidget()
+    while parent is not None and parent is not root:
+        if isinstance(parent, QComboBox | QSpinBox | QAbstractItemView):
+            return False
+        parent = parent.parentWidget()
+    return True
+
+
+class QSettingsAdapter:
+    """rqt's ``Settings`` interface (``value``/``set_value``) over a ``QSettings`` group, for the
+    standalone hosts."""
+
+    def __init__(self, qsettings: Any, group: str):
+        self.qsettings, self.group = qsettings, group
+
+    def set_value(self, key: str, value: Any) -> None:
+        self.qsettings.setValue(f"{self.group}/{key}", value)
+
+    def value(self, key: str, default: Any = None) -> Any:
+        return self.qsettings.value(f"{self.group}/{key}", default)

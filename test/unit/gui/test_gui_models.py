@@ -1,0 +1,282 @@
+"""The panels' Qt-free logic: DOT and layout, mapping document and validation, analysis tables and
+suggestions, the controller model (ids, neighbourhood, hand-over between threads)."""
+from __future__ import annotations
+
+import shutil
+import threading
+
+import pytest
+from gui_data import CLEAN_MAPPING, CLEAN_SPEC, SIMPLE_MAPPING, SIMPLE_SPEC, simple_snapshot
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from ltl_stack.analysis.snapshot import Snapshot
+from ltl_stack.gui.analysis_model import apply_and_check, conflict_graph, names, run_analysis, suggestion_text
+from ltl_stack.gui.controller_model import (
+    ControllerModel,
+    Latest,
+    StateUpdate,
+    ViewOptions,
+    executor_of,
+    mode_text,
+)
+from ltl_stack.gui.dotgraph import DotGraph, layout_dot, layout_plain, parse_plain
+from ltl_stack.gui.mapping_model import INPUT, OUTPUT, LiveGraph, MappingDocument
+from ltl_stack.runtime.mapping import load_mapping, parse_mapping
+from ltl_stack.synthesis import Automaton
+
+needs_dot = pytest.mark.skipif(shutil.which("dot") is None, reason="Graphviz 'dot' is not installed")
+
+
+# --- DOT ------------------------------------------------------------------------------------------
+
+def test_dot_graph_gives_safe_ids_and_quotes_labels():
+    g = DotGraph()
+    a = g.add_node(("topic", "/cmd_vel"), 'say "hi"\nthere')
+    assert g.add_node(("topic", "/cmd_vel"), "again") == a == "n0"
+    g.add_node(7, "seven")
+    g.add_edge(("topic", "/cmd_vel"), 7, "x")
+    text = g.to_dot()
+    assert 'n0 [label="say \\"hi\\"\\nthere"' in text and "n0 -> n1" in text
+
+
+@needs_dot
+def test_layouts_keep_the_node_ids():
+    g = DotGraph()
+    g.add_node("a", "12 (goal 1)\nmove", shape="box")
+    g.add_node("b", "[/cmd_vel]", shape="ellipse", color="red")
+    g.add_edge("a", "b", "person")
+    plain = layout_plain(g.to_dot())
+    assert set(plain.nodes) == {"n0", "n1"} and plain.nodes["n1"].color == "red"
+    assert plain.edges[0].label == "person" and len(plain.edges[0].points) >= 4
+    laid = layout_dot(g.to_dot())
+    assert "pos=" in laid and "n1" in laid
+
+
+def test_parse_plain_edges_with_and_without_labels():
+    text = ("graph 1 3 0.5\nnode n0 0.5 0.25 1 0.5 \"a b\" solid box black lightgrey\n"
+            "node n1 2.5 0.25 1 0.5 b solid ellipse red red\n"
+            "edge n0 n1 4 1 0.25 1.3 0.25 1.6 0.25 1.9 0.25 \"x y\" 1.5 0.3 solid black\n"
+            "edge n1 n0 4 2 0.2 1.8 0.2 1.5 0.2 1.2 0.2 solid blue\nstop\n")
+    p = parse_plain(text)
+    assert p.nodes["n0"].label == "a b" and p.nodes["n1"].shape == "ellipse"
+    assert (p.edges[0].label, p.edges[0].label_pos) == ("x y", (1.5, 0.3))
+    assert (p.edges[1].label, p.edges[1].color) == ("", "blue")
+
+
+# --- mapping ----------------------------------------------------------------------------------------
+
+def clean_graph() -> LiveGraph:
+    """The clean-and-patrol proposition nodes as the generated launch file starts them."""
+    pubs, subs, types = [], [], []
+    doc = MappingDocument.load(str(CLEAN_SPEC), str(CLEAN_MAPPING))
+    ns = "clean_and_patrol"
+    for prop in doc.inputs:
+        topic = f"/{ns}/inputs/{prop}"
+        node = f"/{ns}/outputs/{prop[:-3]}" if prop in ("pickup_ac", "drop_ac") else f"/{ns}/inputs/{prop}"
+        pubs.append((topic, [node]))
+        types.append((topic, "std_msgs/Bool"))
+    for prop in doc.outputs:
+        topic = f"/{ns}/outputs/{prop}"
+        subs.append((topic, [f"/{ns}/outputs/{prop}"]))
+        pubs.append((topic, [f"/{ns}/controller_executor"]))
+        types.append((topic, "std_msgs/Bool"))
+    pubs.append(("/cmd_vel", [f"/{ns}/outputs/stop", "/navigation"]))
+    types.append(("/cmd_vel", "geometry_msgs/Twist"))
+    return LiveGraph(Snapshot.from_system_state(pubs, subs, [], types))
+
+
+def test_loading_lists_the_spec_propositions_and_the_mapping_rows():
+    doc = MappingDocument.load(str(CLEAN_SPEC), str(CLEAN_MAPPING))
+    assert doc.inputs[0] == "object" and "rightGround" in doc.outputs
+    row = doc.row(INPUT, "object")
+    assert (row.node, row.topic, row.base.filename) == ("object", "/clean_and_patrol/inputs/object",
+                                                        "topic_threshold_sensor")
+    assert doc.scenario_namespace() == "clean_and_patrol"
+
+
+def test_the_clean_and_patrol_mapping_is_clean_on_its_own_graph():
+    doc = MappingDocument.load(str(CLEAN_SPEC), str(CLEAN_MAPPING))
+    assert doc.validate(clean_graph()) == []
+
+
+def test_save_round_trips_and_keeps_pkg_filename_parameters(tmp_path):
+    doc = MappingDocument.load(str(CLEAN_SPEC), str(CLEAN_MAPPING))
+    doc.set_node(INPUT, "object", 0, "/camera_object")
+    i = doc.add_row("stop")
+    doc.set_node(OUTPUT, "stop", i, "/brake")
+    out = tmp_path / "edited.yaml"
+    doc.save(str(out))
+    again = load_mapping(out)
+    original = load_mapping(CLEAN_MAPPING)
+    obj = again.inputs["object"][0]
+    assert (obj.node, obj.pkg, obj.filename, obj.parameters) == (
+        "/camera_object", "ltl_stack", "topic_threshold_sensor", original.inputs["object"][0].parameters)
+    assert [e.node for e in again.outputs["stop"]] == ["stop", "/brake"]
+    assert again.outputs["stop"][1].topic == "/clean_and_patrol/outputs/stop"
+    assert again.outputs["topLane"][0].parameters == original.outputs["topLane"][0].parameters
+    reloaded = MappingDocument.load(str(CLEAN_SPEC), str(out))
+    assert reloaded.text() == doc.text()
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.lists(st.tuples(st.sampled_from(["node", "add", "delete"]), st.integers(0, 10),
+                          st.sampled_from(["", "a", "/b/c", "rel_node"])), max_size=12))
+def test_any_edit_sequence_saves_what_reloads(edits):
+    doc = MappingDocument.load(str(SIMPLE_SPEC), str(SIMPLE_MAPPING))
+    for op, k, name in edits:
+        kind, prop = (INPUT, "person") if k % 3 == 0 else (OUTPUT, ["move", "stop"][k % 2])
+        rows = doc.rows[(kind, prop)]
+        if op == "add" and kind == OUTPUT:
+            doc.add_row(prop)
+        elif op == "delete" and rows:
+            doc.delete_row(kind, prop, k % len(rows))
+        elif rows:
+            doc.set_node(kind, prop, k % len(rows), name)
+    text = doc.text()
+    back = parse_mapping(text, "x.yaml")
+    mine = doc.to_mapping()
+    for kind, section in ((INPUT, mine.inputs), (OUTPUT, mine.outputs)):
+        other = back.inputs if kind == INPUT else back.outputs
+        assert [(p, [(e.node, e.topic, e.parameters) for e in es]) for p, es in section.items()] == \
+            [(p, [(e.node, e.topic, e.parameters) for e in es]) for p, es in other.items()]
+    assert len(doc.rows[(INPUT, "person")]) >= 1
+
+
+def test_validation_reports_unmapped_missing_nodes_extra_publishers_and_wrong_types():
+    doc = MappingDocument.load(str(SIMPLE_SPEC), str(SIMPLE_MAPPING))
+    graph = LiveGraph(simple_snapshot())
+    assert doc.validate(graph) == []
+    doc.delete_row(OUTPUT, "stop", 0)
+    msgs = [f.message for f in doc.validate(graph)]
+    assert any("'stop' is not mapped" in m for m in msgs), msgs
+    doc = MappingDocument.load(str(SIMPLE_SPEC), str(SIMPLE_MAPPING))
+    doc.set_node(INPUT, "person", 0, "/gone")
+    doc.set_topic(INPUT, "person", 0, "/cmd_vel")
+    found = {(f.severity, f.message.split(":")[0]) for f in doc.validate(graph)}
+    text = " | ".join(f.message for f in doc.validate(graph))
+    assert "node /gone is not on the master" in text
+    assert "other publishers (/simple/outputs/move, /simple/outputs/stop)" in text
+    assert "type geometry_msgs/Twist" in text
+    assert ("error", "input 'person'") in found
+
+
+def test_the_input_of_an_output_node_resolves_in_the_outputs_group():
+    doc = MappingDocument.load(str(CLEAN_SPEC), str(CLEAN_MAPPING))
+    graph = clean_graph()
+    assert doc.resolved_node(INPUT, "pickup", graph) == "/clean_and_patrol/outputs/pickup"
+    assert doc.resolved_node(INPUT, "pickup") == "/clean_and_patrol/inputs/pickup"
+    assert graph.topics_for(INPUT, "/clean_and_patrol/outputs/pickup") == ["/clean_and_patrol/inputs/pickup_ac"]
+
+
+# --- analysis -----------------------------------------------------------------------------------------
+
+def simple_result(tmp_path):
+    path = tmp_path / "simple_graph.json"
+    simple_snapshot().save(path)
+    return run_analysis(str(SIMPLE_SPEC), str(SIMPLE_MAPPING), snapshot_path=str(path))
+
+
+def test_simple_scenario_tables_and_suggestion_forms(tmp_path):
+    result = simple_result(tmp_path)
+    tables = result.tables()
+    assert tables["E2"].rows == [
+        ["[/cmd_vel]", "move", "(/simple/outputs/move) -> [/cmd_vel]"],
+        ["", "stop", "(/simple/outputs/stop) -> [/cmd_vel]"]]
+    assert tables["E2"].rows_of(0) == [0, 1] and tables["E1"].rows == []
+    assert "move and stop are mutually exclusive" in suggestion_text(result.suggestions, "english")
+    assert "G((move & !stop) | (!move & stop) | (!move & !stop))" in suggestion_text(result.suggestions, "ltl")
+    slugsin = suggestion_text(result.suggestions, "slugsin")
+    assert "[SYS_TRANS]" in slugsin and "[SYS_INIT]" in slugsin
+    g = conflict_graph(result, "E2", 0)
+    labels = {n.label: n.color for n in g.nodes}
+    assert labels == {"/simple/outputs/move": "blue", "/cmd_vel": "red", "/simple/outputs/stop": "blue"}
+
+
+def test_apply_and_check_shows_example_7_unrealizable(tmp_path):
+    result = simple_result(tmp_path)
+    out = tmp_path / "simple_amended.slugsin"
+    applied = apply_and_check(result, str(out))
+    assert out.is_file() and applied["realizable_before"] and not applied["realizable"]
+    assert "UNREALIZABLE" in applied["text"] and "simple.structuredslugs" in applied["text"]
+    assert "| & move' ! stop' | & ! move' stop' & ! move' ! stop'" in out.read_text()
+    assert "move and stop are mutually exclusive" in applied["text"]
+
+
+def test_names_field():
+    assert names(" a, b ;c,, ") == ["a", "b", "c"]
+
+
+# --- controller -------------------------------------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def clean_model():
+    return ControllerModel.synthesize(str(CLEAN_SPEC), ViewOptions())
+
+
+def test_state_ids_are_those_of_the_exported_automaton(clean_model, tmp_path):
+    from ltl_stack.synthesis.cli import main as synthesize_main
+
+    out = tmp_path / "clean.json"
+    assert synthesize_main([str(CLEAN_SPEC), "--robotics-semantics", "--cooperative", "--json", str(out),
+                            "--quiet"]) == 0
+    exported = Automaton.load(out)
+    assert len(exported) == len(clean_model.automaton)
+    for s in exported.states:
+        update = StateUpdate(123456, s.goal, s.inputs, s.outputs, True)
+        assert clean_model.locate(update) == s.id
+
+
+def test_neighbourhood_of_a_large_automaton(clean_model):
+    model = ControllerModel(clean_model.spec_path, clean_model.automaton, ViewOptions(full_limit=10, radius=1))
+    assert not model.whole
+    center = model.automaton.initial[0]
+    shown = model.shown_states(center)
+    near = {center, *model.automaton.states[center].successors, *model.predecessors(center)}
+    assert center in shown and set(shown) <= near and len(shown) <= 10
+    g = model.graph(center)
+    assert center in g.key and all(isinstance(k, int) for k in g.key)
+    whole = ControllerModel(clean_model.spec_path, clean_model.automaton, ViewOptions(full_limit=1000))
+    assert len(whole.graph().nodes) == len(clean_model.automaton)
+    assert whole.needs_new_layout(set(), None) and not whole.needs_new_layout({1}, 5)
+    assert model.needs_new_layout(set(shown), 10**6) and not model.needs_new_layout(set(shown), center)
+
+
+def test_before_the_start_and_foreign_states_are_not_located(clean_model):
+    a = clean_model.automaton
+    s = a.states[0]
+    assert clean_model.locate(StateUpdate(-1, -1, s.inputs, s.outputs, True)) is None
+    assert clean_model.locate(StateUpdate(5, s.goal, {}, s.outputs, True)) is None
+    flipped = {**s.outputs, "pickup": True, "drop": True}
+    assert clean_model.locate(StateUpdate(5, s.goal, s.inputs, flipped, True)) is None
+
+
+def test_mode_and_executor_name():
+    assert executor_of("/clean_and_patrol/controller_executor/state") == "/clean_and_patrol/controller_executor"
+    u = StateUpdate(3, 0, {}, {}, False)
+    assert mode_text(u, "").startswith("paused") and "violated" in mode_text(u, "x")
+    assert "ready handshake" in mode_text(StateUpdate(-1, -1, {}, {}, True), "")
+
+
+def test_latest_hands_over_only_the_newest_value():
+    latest = Latest()
+    assert latest.take() is None
+    done = threading.Event()
+
+    def put_many():
+        for i in range(5000):
+            latest.put(i)
+        done.set()
+    t = threading.Thread(target=put_many)
+    t.start()
+    taken = []
+    while not done.is_set():
+        v = latest.take()
+        if v is not None:
+            taken.append(v)
+    t.join()
+    v = latest.take()
+    if v is not None:
+        taken.append(v)
+    assert taken and taken[-1] == 4999 and taken == sorted(taken)
+    assert latest.put_count == 5000 and latest.take() is None
