@@ -19,6 +19,7 @@ from ltl_stack.analysis.cli import apply_suggestions, apply_text
 from ltl_stack.analysis.graph import DEFAULT_IGNORED_TOPICS, ComputationGraph
 from ltl_stack.analysis.snapshot import Snapshot
 from ltl_stack.analysis.suggest import MutualExclusion, mutual_exclusions
+from ltl_stack.cli import check_outputs, write_output
 from ltl_stack.gui.dotgraph import DotGraph
 from ltl_stack.runtime.mapping import MappingError, check_mapping, load_mapping
 from ltl_stack.spec import load_spec
@@ -57,6 +58,9 @@ class AnalysisResult:
     suggestions: list[MutualExclusion]
     warnings: list[str]
     snapshot: Snapshot
+    spec_path: str = ""
+    mapping_path: str = ""
+    snapshot_path: str | None = None
 
     def tables(self) -> dict[str, Table]:
         """The five tables, laid out like thesis Figs. 3.6, 3.7/3.8, 3.9, 3.14 and 3.15."""
@@ -149,7 +153,8 @@ def run_analysis(spec_path: str, mapping_path: str, *, snapshot: Snapshot | None
                        robot_topics_to_ignore=list(ignore_topics), progress=say)
     suggestions = mutual_exclusions(e2_groups(analysis), spec.outputs)
     say("done")
-    return AnalysisResult(spec, analysis, suggestions, [str(i) for i in issues], snapshot)
+    return AnalysisResult(spec, analysis, suggestions, [str(i) for i in issues], snapshot, str(spec_path),
+                          str(mapping_path), snapshot_path)
 
 
 def suggestion_text(suggestions: Sequence[MutualExclusion], form: str) -> str:
@@ -193,8 +198,11 @@ def conflict_graph(result: AnalysisResult, key: str, index: int) -> DotGraph:
 def apply_and_check(result: AnalysisResult, out: str, chosen: Sequence[int] | None = None) -> dict:
     """Write the spec plus the chosen suggestions (1-based; default all) to ``out``, synthesize it
     (robotics init semantics) and, when unrealizable, explain it and try the input-exclusion hint of
-    thesis Example 9. The dict is ``analyze_graph --apply``'s; ``text`` is its report."""
+    thesis Example 9. The dict is ``analyze_graph --apply``'s; ``text`` is its report. ``out`` naming
+    one of the inputs is refused (``UserError``) before anything is written."""
     picked = None if chosen is None else [str(i) for i in chosen]
-    applied = apply_suggestions(result.spec, result.suggestions, out, picked)
+    check_outputs([result.spec_path, result.mapping_path, result.snapshot_path], [out])  # never over an input
+    applied, text = apply_suggestions(result.spec, result.suggestions, out, picked)
+    write_output(out, text, "amended spec")
     applied["text"] = apply_text(applied)
     return applied

@@ -13,7 +13,7 @@ import os
 from dataclasses import dataclass, field, replace
 
 from ltl_stack.analysis.snapshot import Snapshot
-from ltl_stack.fileio import write_atomic
+from ltl_stack.cli import check_outputs, write_output
 from ltl_stack.ros.launch_gen import generate_launch
 from ltl_stack.runtime.mapping import (
     INPUT,
@@ -186,8 +186,10 @@ class MappingDocument:
         return format_mapping(self.to_mapping())
 
     def save(self, path: str) -> None:
-        """Write atomically (nothing half-written on failure; raises OSError)."""
-        write_atomic(path, self.text())
+        """Write atomically (nothing half-written on failure). Raises ``UserError`` when ``path`` is the
+        spec, ``OutputError`` when it cannot be written."""
+        check_outputs([self.spec_path], [path])
+        write_output(path, self.text(), "mapping")
         self.mapping_path = str(path)
 
     def resolved_node(self, kind: str, node: str, graph: LiveGraph | None = None) -> str:
@@ -249,12 +251,14 @@ def launch_file(doc: MappingDocument, out: str) -> list[str]:
     """Write the launch file of the saved mapping (``generate_launch``) atomically; returns its warnings.
 
     The launch file names the mapping by its path, so the document must have been saved.
-    Raises ``LaunchError`` when the mapping does not fit the spec, OSError when ``out`` cannot be written.
+    Raises ``LaunchError`` when the mapping does not fit the spec, ``UserError`` when ``out`` is an input
+    or cannot be written.
     """
     if not doc.mapping_path:
         raise ValueError("save the mapping first: the launch file names it by its path")
+    check_outputs([doc.spec_path, doc.mapping_path], [out])
     mapping = doc.to_mapping(doc.mapping_path)
     result = generate_launch(mapping, spec_path=os.path.abspath(doc.spec_path), namespace=doc.scenario_namespace(),
                              propositions=(doc.inputs, doc.outputs))
-    write_atomic(out, result.xml)
+    write_output(out, result.xml, "launch file")
     return result.warnings

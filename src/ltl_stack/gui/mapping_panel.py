@@ -203,8 +203,8 @@ class MappingPanel(QWidget):
                 return False
         try:
             self.doc.save(path)
-        except OSError as err:
-            self._status(f"{path}: cannot write: {err.strerror or err}", error=True)
+        except Exception as err:  # noqa: BLE001 - the spec named as output, a folder that cannot be written
+            self._status(error_text(err), error=True)
             return False
         self.mapping_line_edit.setText(path)
         self._status(f"Saved {path}.")

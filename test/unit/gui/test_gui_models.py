@@ -119,6 +119,17 @@ def test_save_round_trips_and_keeps_pkg_filename_parameters(tmp_path):
     assert reloaded.text() == doc.text()
 
 
+def test_saving_over_the_spec_is_refused(tmp_path):
+    from ltl_stack.errors import UserError
+
+    spec = tmp_path / "s.structuredslugs"
+    spec.write_text(SIMPLE_SPEC.read_text())
+    doc = MappingDocument.load(str(spec), str(SIMPLE_MAPPING))
+    with pytest.raises(UserError):
+        doc.save(str(spec))
+    assert spec.read_text() == SIMPLE_SPEC.read_text()
+
+
 @settings(max_examples=25, deadline=None)
 @given(st.lists(st.tuples(st.sampled_from(["node", "add", "delete"]), st.integers(0, 10),
                           st.sampled_from(["", "a", "/b/c", "rel_node"])), max_size=12))
@@ -201,6 +212,16 @@ def test_apply_and_check_shows_example_7_unrealizable(tmp_path):
     assert "UNREALIZABLE" in applied["text"] and "simple.structuredslugs" in applied["text"]
     assert "| & move' ! stop' | & ! move' stop' & ! move' ! stop'" in out.read_text()
     assert "move and stop are mutually exclusive" in applied["text"]
+
+
+def test_apply_and_check_never_writes_over_an_input(tmp_path):
+    from ltl_stack.errors import UserError
+
+    result = simple_result(tmp_path)
+    before = SIMPLE_SPEC.read_text()
+    with pytest.raises(UserError):
+        apply_and_check(result, str(SIMPLE_SPEC))
+    assert SIMPLE_SPEC.read_text() == before
 
 
 def test_names_field():
