@@ -1,0 +1,193 @@
+"""Bad input to the ROS tools, through the real scripts (``rosrun ltl_stack …``) against a real master.
+
+Command-line tools (``set_propositions``, ``proposition_monitor``, ``send_proposition_goal``,
+``controller_trace``): exactly one ``<tool>: error:`` line naming the argument or file, the exit
+code of the one table (2 bad input, 3 no master), no traceback. Nodes (``timed_proposition_server``,
+``scripted_environment``, ``region_sensor``): exactly one ``[FATAL]`` line naming the parameter or
+file (and line), exit 2. No file is created or changed.
+"""
+from __future__ import annotations
+
+import subprocess
+from pathlib import Path
+
+import pytest
+from helpers import RosMaster, free_port
+
+from ltl_stack.errors import Exit
+
+pytestmark = pytest.mark.ros
+
+DEEP = 100000
+LONG = "7" * 5000
+GOOD_SCHEDULE = "events:\n  - {at: 0.5, topic: /env/person, value: true}\n"
+GOOD_REGIONS = ('Regions: # name\n[{"name": "boundary", "type": "rect", "position": [0, 0], "size": [10, 10]},\n'
+                ' {"name": "left", "type": "rect", "position": [0, 0], "size": [5, 10]}]\n')
+UNREACHABLE = f"http://127.0.0.1:{free_port()}/"
+
+# case: (command after `rosrun ltl_stack`, files {name: bytes}, exit code, expected text of the error line)
+# {d} is the case's folder.
+TOOLS = {
+    "set_propositions illegal topic": (["set_propositions", "bad topic!", "a=1"], {}, Exit.BAD_INPUT,
+                                       "argument topic: 'bad topic!' is not a legal ROS name"),
+    "proposition_monitor illegal topic": (["proposition_monitor", "1abc"], {}, Exit.BAD_INPUT,
+                                          "argument topic: '1abc' is not a legal ROS name"),
+    "send_proposition_goal illegal action": (["send_proposition_goal", "my action"], {}, Exit.BAD_INPUT,
+                                             "argument action: 'my action' is not a legal ROS name"),
+    "controller_trace illegal topic": (["controller_trace", "a//b"], {}, Exit.BAD_INPUT,
+                                       "argument topic: 'a//b' is not a legal ROS name"),
+    "set_propositions malformed master URI": (["set_propositions", "/x", "a=1", "--master-uri", "garbage"], {},
+                                              Exit.BAD_INPUT, "--master-uri 'garbage' is not a ROS master URI"),
+    "proposition_monitor master port out of range": (
+        ["proposition_monitor", "/x", "--master-uri", "http://127.0.0.1:99999/"], {}, Exit.BAD_INPUT,
+        "--master-uri 'http://127.0.0.1:99999/' is not a ROS master URI"),
+    "send_proposition_goal master URI scheme": (["send_proposition_goal", "/a", "--master-uri", "ftp://h:1/"], {},
+                                                Exit.BAD_INPUT, "--master-uri 'ftp://h:1/' is not a ROS master URI"),
+    "controller_trace malformed __master": (["controller_trace", "__master:=localhost"], {}, Exit.BAD_INPUT,
+                                            "__master:= 'localhost' is not a ROS master URI"),
+    "set_propositions unreachable master": (["set_propositions", "/x", "a=1", "--master-uri", UNREACHABLE,
+                                             "--timeout", "1"], {}, Exit.NO_ROS, f"no ROS master at {UNREACHABLE}"),
+    "proposition_monitor unreachable master": (["proposition_monitor", "/x", "--master-uri", UNREACHABLE,
+                                                "--timeout", "1"], {}, Exit.NO_ROS, f"no ROS master at {UNREACHABLE}"),
+    "send_proposition_goal unreachable master": (["send_proposition_goal", "/a", "--master-uri", UNREACHABLE,
+                                                  "--timeout", "1"], {}, Exit.NO_ROS,
+                                                 f"no ROS master at {UNREACHABLE}"),
+    "send_proposition_goal no server": (["send_proposition_goal", "/nobody", "--timeout", "1"], {}, Exit.NO_ROS,
+                                        "no action server at /nobody"),
+    "set_propositions rate nan": (["set_propositions", "/x", "a=1", "--rate", "nan"], {}, Exit.BAD_INPUT,
+                                  "argument --rate: 'nan' is not a number >= 0"),
+    "set_propositions rate negative": (["set_propositions", "/x", "a=1", "--rate", "-5"], {}, Exit.BAD_INPUT,
+                                       "argument --rate: '-5' is not a number >= 0"),
+    "set_propositions long count": (["set_propositions", "/x", "a=1", "--wait-subscribers", LONG], {},
+                                    Exit.BAD_INPUT, "argument --wait-subscribers: '7777777777"),
+    "proposition_monitor negative count": (["proposition_monitor", "/x", "--count", "-1"], {}, Exit.BAD_INPUT,
+                                           "argument --count: '-1' is not an integer >= 0"),
+    "proposition_monitor timeout inf": (["proposition_monitor", "/x", "--timeout", "inf"], {}, Exit.BAD_INPUT,
+                                        "argument --timeout: 'inf' is not a number > 0"),
+    "send_proposition_goal timeout 0": (["send_proposition_goal", "/a", "--timeout", "0"], {}, Exit.BAD_INPUT,
+                                        "argument --timeout: '0' is not a number > 0"),
+    "send_proposition_goal cancel-after nan": (["send_proposition_goal", "/a", "--cancel-after", "nan"], {},
+                                               Exit.BAD_INPUT, "argument --cancel-after: 'nan' is not a number"),
+    "controller_trace long cycles": (["controller_trace", "--cycles", LONG], {}, Exit.BAD_INPUT,
+                                     "has 5000 digits"),
+    "controller_trace negative timeout": (["controller_trace", "--timeout", "-1"], {}, Exit.BAD_INPUT,
+                                          "argument --timeout: '-1' is not a number >= 0"),
+    "controller_trace binary spec": (["controller_trace", "--spec", "{d}/s.slugsin"],
+                                     {"s.slugsin": b"[INPUT]\na\n\x00"}, Exit.BAD_INPUT,
+                                     "{d}/s.slugsin:3: not a text spec file: it holds a NUL byte"),
+    "controller_trace non-UTF-8 spec": (["controller_trace", "--spec", "{d}/s.slugsin"],
+                                        {"s.slugsin": b"[INPUT]\n\xe9\n"}, Exit.BAD_INPUT,
+                                        "{d}/s.slugsin:2: not a text spec file: not UTF-8"),
+}
+
+NODES = {
+    "timed_proposition_server duration nan": (["timed_proposition_server", "_duration:=nan"], {},
+                                              "parameter ~duration must be a number of seconds >= 0"),
+    "timed_proposition_server rate 0": (["timed_proposition_server", "_feedback_rate:=0"], {},
+                                        "parameter ~feedback_rate must be a number > 0"),
+    "timed_proposition_server illegal action": (["timed_proposition_server", "_action:=bad-name"], {},
+                                                "parameter ~action 'bad-name' is not a legal ROS name"),
+    "scripted_environment binary schedule": (["scripted_environment", "_schedule:={d}/env.yaml"],
+                                             {"env.yaml": GOOD_SCHEDULE.encode() + b"\x00"},
+                                             "{d}/env.yaml:3: not a text schedule: it holds a NUL byte"),
+    "scripted_environment non-UTF-8 schedule": (["scripted_environment", "_schedule:={d}/env.yaml"],
+                                                {"env.yaml": b"events:\n  - {at: 1, topic: /caf\xe9, value: 1}\n"},
+                                                "{d}/env.yaml:2: not a text schedule: not UTF-8"),
+    "scripted_environment key 5": (["scripted_environment", "_schedule:={d}/env.yaml"],
+                                   {"env.yaml": GOOD_SCHEDULE.encode() + b"5: x\n"},
+                                   "{d}/env.yaml:3: key '5' is not a string"),
+    "scripted_environment key yes": (["scripted_environment", "_schedule:={d}/env.yaml"],
+                                     {"env.yaml": b"yes: 1\n" + GOOD_SCHEDULE.encode()},
+                                     "{d}/env.yaml:1: key 'yes' is not a string"),
+    "scripted_environment key ~": (["scripted_environment", "_schedule:={d}/env.yaml"],
+                                   {"env.yaml": b"~: 1\n" + GOOD_SCHEDULE.encode()},
+                                   "{d}/env.yaml:1: key '~' is not a string"),
+    "scripted_environment deep schedule": (["scripted_environment", "_schedule:={d}/env.yaml"],
+                                           {"env.yaml": b"events: " + b"[" * DEEP},
+                                           "{d}/env.yaml:1: nested more than 100 levels deep"),
+    "scripted_environment long integer": (["scripted_environment", "_schedule:={d}/env.yaml"],
+                                          {"env.yaml": GOOD_SCHEDULE.replace("0.5", LONG).encode()},
+                                          "{d}/env.yaml:2: integer of 5000 digits"),
+    "scripted_environment illegal event topic": (["scripted_environment", "_schedule:={d}/env.yaml"],
+                                                 {"env.yaml": GOOD_SCHEDULE.replace("/env/person", "'a b'").encode()},
+                                                 "{d}/env.yaml:2: event #0: 'topic' must be a ROS topic name"),
+    "scripted_environment rate nan": (["scripted_environment", "_schedule:={d}/env.yaml", "_rate:=nan"],
+                                      {"env.yaml": GOOD_SCHEDULE.encode()}, "parameter ~rate must be a number > 0"),
+    "scripted_environment time_scale 0": (["scripted_environment", "_schedule:={d}/env.yaml", "_time_scale:=0"],
+                                          {"env.yaml": GOOD_SCHEDULE.encode()},
+                                          "parameter ~time_scale must be a number > 0"),
+    "region_sensor binary region map": (["region_sensor", "_region:=left", "_regions_file:={d}/map.regions"],
+                                        {"map.regions": GOOD_REGIONS.encode() + b"\x00"},
+                                        "{d}/map.regions:4: not a text regions file: it holds a NUL byte"),
+    "region_sensor non-UTF-8 region map": (["region_sensor", "_region:=left", "_regions_file:={d}/map.regions"],
+                                           {"map.regions": b"Regions: # \xe9\n[]\n"},
+                                           "{d}/map.regions:1: not a text regions file: not UTF-8"),
+    "region_sensor deep region map": (["region_sensor", "_region:=left", "_regions_file:={d}/map.regions"],
+                                      {"map.regions": b"Regions:\n" + b"[" * DEEP + b"\n"},
+                                      "{d}/map.regions:2: Regions section: nested more than 100 levels deep"),
+    "region_sensor long integer region map": (
+        ["region_sensor", "_region:=left", "_regions_file:={d}/map.regions"],
+        {"map.regions": GOOD_REGIONS.replace('"size": [5, 10]', f'"size": [{LONG}, 10]').encode()},
+        "{d}/map.regions: Regions section: invalid JSON value"),
+}
+
+
+@pytest.fixture(scope="module")
+def master(tmp_path_factory):
+    """One real master for the whole table (each case is a short-lived process)."""
+    ros = RosMaster(tmp_path_factory.mktemp("master"))
+    try:
+        yield ros
+    finally:
+        ros.shutdown()
+
+
+def _files(folder: Path) -> dict[str, bytes]:
+    return {p.name: p.read_bytes() for p in sorted(folder.iterdir())}
+
+
+def _run(master: RosMaster, folder: Path, command: list[str], files: dict[str, bytes]) -> tuple:
+    for name, data in files.items():
+        (folder / name).write_bytes(data)
+    before = _files(folder)
+    args = [a.format(d=folder) for a in command]
+    done = subprocess.run(["rosrun", "ltl_stack", *args], env=master.env, capture_output=True, text=True,
+                          timeout=120, cwd=folder)
+    return done, before
+
+
+@pytest.mark.parametrize("case", list(TOOLS))
+def test_tool_bad_input_one_error_and_exit_code(master, tmp_path, case):
+    command, files, code, message = TOOLS[case]
+    done, before = _run(master, tmp_path, command, files)
+    tool = command[0]
+    assert done.returncode == code, (done.returncode, done.stdout[-1000:], done.stderr[-2000:])
+    errors = [line for line in (done.stdout + done.stderr).splitlines() if "error:" in line.lower()]
+    assert len(errors) == 1, done.stderr[-2000:]
+    assert errors[0].startswith(f"{tool}: error: ") and message.format(d=tmp_path) in errors[0], errors
+    assert "Traceback" not in done.stderr + done.stdout, done.stderr[-3000:]
+    assert _files(tmp_path) == before
+
+
+@pytest.mark.parametrize("case", list(NODES))
+def test_node_bad_parameter_or_file_one_fatal_and_exit_2(master, tmp_path, case):
+    command, files, message = NODES[case]
+    # a node name of its own: the master keeps private parameters (_x:=…) after the node is gone
+    name = f"__name:=case{list(NODES).index(case)}"
+    done, before = _run(master, tmp_path, [*command, name], files)
+    assert done.returncode == Exit.BAD_INPUT, (done.returncode, done.stdout[-1000:], done.stderr[-2000:])
+    out = done.stdout + done.stderr
+    fatal = [line for line in out.splitlines() if "[FATAL]" in line]
+    assert len(fatal) == 1 and message.format(d=tmp_path) in fatal[0], out[-2000:]
+    assert "Traceback" not in out, out[-3000:]
+    assert _files(tmp_path) == before
+
+
+@pytest.mark.parametrize("tool", ["timed_proposition_server", "scripted_environment", "set_propositions",
+                                  "proposition_monitor", "send_proposition_goal", "controller_trace"])
+def test_help_prints_help_and_starts_nothing(master, tool):
+    done = subprocess.run(["rosrun", "ltl_stack", tool, "--help"], env=master.env, capture_output=True, text=True,
+                          timeout=60)
+    assert done.returncode == 0 and "usage:" in done.stdout and "exit codes:" in done.stdout, done
+    nodes = {n for _, who in master.system_state()[0] for n in who}
+    assert not any(tool in n for n in nodes), nodes
