@@ -16,8 +16,8 @@ from pathlib import Path
 
 import yaml
 
-from ltl_stack.cli import ToolParser, check_outputs, print_json, run, say, warn, write_output
-from ltl_stack.errors import Exit
+from ltl_stack.cli import ToolParser, check_outputs, print_json, run, say, warn, write_output, write_outputs
+from ltl_stack.errors import Exit, OutputError
 from ltl_stack.inputs import read_text
 
 from .channels import load_listing
@@ -164,13 +164,14 @@ def _transfer(args, list_live: LiveLister | None) -> int:
     report = result.report
     report.output_file = args.output
     report.seconds = time.perf_counter() - started
-    write_output(args.output, result.text, "target program", mode=os.stat(args.source).st_mode & 0o777)
+    outputs = [(args.output, result.text, "target program")]
     if args.json_report:
-        try:
-            write_output(args.json_report, report.to_json(), "JSON report")
-        except BaseException:
-            Path(args.output).unlink(missing_ok=True)  # any error leaves no output behind
-            raise
+        outputs.append((args.json_report, report.to_json(), "JSON report"))
+    write_outputs(outputs)   # all or none: a failed report leaves the program (and any old one) as it was
+    try:
+        os.chmod(args.output, os.stat(args.source).st_mode & 0o777)   # executable if the source was
+    except OSError as e:
+        raise OutputError(f"{args.output}: cannot set its permissions: {e.strerror or e}", Exit.WRITE_FAILED) from None
     if args.json:
         print_json(json.loads(report.to_json()))
     else:

@@ -292,6 +292,23 @@ def test_a_failed_report_write_leaves_no_program(tmp_path, capsys):
     err = capsys.readouterr().err
     assert code == Exit.WRITE_FAILED and "cannot write the JSON report" in err, err
     assert not (tmp_path / "out.py").exists()
+    # an older program at -o stays as it was
+    (tmp_path / "out.py").write_text("old\n")
+    (tmp_path / "report_dir").mkdir()
+    code = main(args(tmp_path, "keyboard_jackal.py", "jackal", "turtlebot", "--non-interactive",
+                     "--json-report", str(tmp_path / "report_dir")))
+    assert code == Exit.WRITE_FAILED, capsys.readouterr().err
+    assert (tmp_path / "out.py").read_text() == "old\n" and list((tmp_path / "report_dir").iterdir()) == []
+
+
+def test_the_target_program_keeps_the_source_mode(tmp_path, capsys):
+    source = tmp_path / "kb.py"
+    source.write_bytes((DATA / "keyboard_jackal.py").read_bytes())
+    source.chmod(0o750)
+    argv = args(tmp_path, "keyboard_jackal.py", "jackal", "turtlebot", "--non-interactive")
+    argv[0] = str(source)
+    assert main(argv) == Exit.NEGATIVE, capsys.readouterr().err
+    assert (tmp_path / "out.py").stat().st_mode & 0o777 == 0o750
 
 
 def test_mine_channels_through_the_real_script_refuses_output_over_a_program(tmp_path):
