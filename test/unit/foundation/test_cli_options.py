@@ -1,0 +1,69 @@
+"""The toolkit's number option types and the all-or-none writing of several outputs."""
+from __future__ import annotations
+
+import argparse
+import math
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from ltl_stack import cli
+from ltl_stack.errors import Exit, OutputError
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.floats(allow_nan=True, allow_infinity=True))
+def test_float_options_take_exactly_the_finite_numbers_in_range(x):
+    text = repr(x)
+    for parse, ok in ((cli.positive_float, math.isfinite(x) and x > 0),
+                      (cli.non_negative_float, math.isfinite(x) and x >= 0)):
+        if ok:
+            assert parse(text) == x
+        else:
+            with pytest.raises(argparse.ArgumentTypeError):
+                parse(text)
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.integers(min_value=-10**30, max_value=10**30))
+def test_int_options_take_integers_in_range_of_at_most_18_digits(n):
+    for parse, low in ((cli.non_negative_int, 0), (cli.positive_int, 1)):
+        if low <= n < 10**18:
+            assert parse(str(n)) == n
+        else:
+            with pytest.raises(argparse.ArgumentTypeError):
+                parse(str(n))
+
+
+@pytest.mark.parametrize("text", ["nan", "inf", "-inf", "1e999", "abc", "", "7" * 5000, "-1"])
+def test_bad_numbers_are_one_short_usage_error(text, capsys):
+    parser = cli.ToolParser("t", "d")
+    parser.add_argument("--rate", type=cli.positive_float)
+    parser.add_argument("--count", type=cli.non_negative_int)
+    for option in ("--rate", "--count"):
+        with pytest.raises(SystemExit) as done:
+            parser.parse_args([option, text])
+        assert done.value.code == Exit.BAD_INPUT
+        err = capsys.readouterr().err
+        errors = [line for line in err.splitlines() if "error:" in line]
+        assert len(errors) == 1 and errors[0].startswith(f"t: error: argument {option}: ") and len(errors[0]) < 120, err
+
+
+def test_write_outputs_writes_all_or_none(tmp_path):
+    a, b = tmp_path / "a.txt", tmp_path / "b.txt"
+    cli.write_outputs([(a, "one", "first"), (b, b"two", "second")])
+    assert (a.read_text(), b.read_text()) == ("one", "two")
+    with pytest.raises(OutputError) as err:
+        cli.write_outputs([(a, "NEW", "first"), (tmp_path / "no" / "such" / "c.txt", "three", "second")])
+    assert err.value.code == Exit.WRITE_FAILED and "c.txt: cannot write the second" in str(err.value)
+    assert a.read_text() == "one", "the first output must stay as it was when the second cannot be written"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.txt", "b.txt"], "no temporary file left"
+
+
+def test_write_outputs_refuses_a_folder_and_leaves_no_temporary_file(tmp_path):
+    a = tmp_path / "a.txt"
+    with pytest.raises(OutputError, match="it is a directory") as err:
+        cli.write_outputs([(a, "one", "first"), (tmp_path, "x", "second")])
+    assert err.value.code == Exit.WRITE_FAILED
+    assert list(tmp_path.iterdir()) == []
