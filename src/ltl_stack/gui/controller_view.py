@@ -63,12 +63,10 @@ def ensure_node() -> None:
         rospy.init_node("ltl_stack_controller_view", anonymous=True, disable_signals=True)
 
 
-def state_topics(master_uri: str | None = None) -> list[str]:
-    """Topics of type ``ltl_stack/ControllerState`` on the master."""
-    import rosgraph.masterapi
-
-    master = rosgraph.masterapi.Master("/ltl_stack_controller_view_list", master_uri=master_uri or None)
-    return sorted(name for name, type_ in master.getTopicTypes() if type_ == STATE_TYPE)
+def state_topics() -> list[str]:
+    """Topics of type ``ltl_stack/ControllerState`` on the master this process's rospy talks to."""
+    ensure_node()
+    return sorted(name for name, type_ in rospy.get_published_topics() if type_ == STATE_TYPE)
 
 
 def update_of(msg: Any) -> StateUpdate:

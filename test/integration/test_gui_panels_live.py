@@ -1,0 +1,171 @@
+"""The three panels offscreen (pytest-qt) against a real master running the clean-and-patrol scenario
+(launch/clean_and_patrol.launch: simulated robot, proposition nodes, executor), and thesis Example 7's
+apply-and-check on the simple scenario's live graph."""
+from __future__ import annotations
+
+import os
+
+import pytest
+from helpers import REPO_ROOT
+from test_nodes_probe import shared_master
+
+os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
+pytest.importorskip("pytestqt")
+
+from ltl_stack.gui.analysis_panel import AnalysisPanel  # noqa: E402
+from ltl_stack.gui.controller_view import ControllerView  # noqa: E402
+from ltl_stack.gui.mapping_model import INPUT, OUTPUT  # noqa: E402
+from ltl_stack.gui.mapping_panel import MappingPanel  # noqa: E402
+from ltl_stack.runtime.mapping import load_mapping  # noqa: E402
+
+pytestmark = [pytest.mark.ros, pytest.mark.slow]
+
+CONFIG = REPO_ROOT / "config"
+SPEC = CONFIG / "clean_and_patrol" / "clean_and_patrol.structuredslugs"
+MAPPING = CONFIG / "clean_and_patrol" / "clean_and_patrol.yaml"
+STATE = "/clean_and_patrol/controller_executor/state"
+REGIONS = ["topLane", "rightLane", "bottomLane", "leftLane", "leftGround", "rightGround"]
+WAIT = 90_000  # ms
+
+
+@pytest.fixture(scope="module")
+def scenario():
+    """clean_and_patrol.launch on the process's shared master, up to the executor's first state."""
+    master = shared_master()
+    launch = master.run(["roslaunch", "ltl_stack", "clean_and_patrol.launch"], name="gui_clean_and_patrol")
+    try:
+        master.wait_for_publisher(STATE, timeout=120)
+        for prop in ("object", "rightGround_rc"):
+            master.wait_for_publisher(f"/clean_and_patrol/inputs/{prop}", timeout=60)
+        master.wait_for_subscriber("/clean_and_patrol/outputs/rightGround", timeout=60)
+        master.wait_for_subscriber("/cmd_vel", timeout=60)
+    except AssertionError as err:
+        launch.stop()
+        raise AssertionError(f"{err}\n{launch.output()[-4000:]}") from None
+    yield master
+    launch.stop()
+
+
+def master_nodes(master) -> list[str]:
+    pubs, subs, services = master.system_state()
+    return sorted({n for _name, nodes in (*pubs, *subs, *services) for n in nodes})
+
+
+def test_mapping_panel_on_the_live_scenario(scenario, qtbot, tmp_path):
+    panel = MappingPanel()
+    qtbot.addWidget(panel)
+    panel.spec_line_edit.setText(str(SPEC))
+    panel.mapping_line_edit.setText(str(MAPPING))
+    panel.master_line_edit.setText(scenario.uri)
+    panel.load_push_button.click()
+    assert panel.doc is not None, panel.status_label.text()
+    panel.refresh_push_button.click()
+    qtbot.waitUntil(lambda: panel.graph is not None, timeout=WAIT)
+    combo = panel.combo(INPUT, "object", 0, "node")
+    assert [combo.itemText(i) for i in range(combo.count())] == master_nodes(scenario)
+    pubs = scenario.system_state()[0]
+    published = sorted(t for t, nodes in pubs if "/clean_and_patrol/inputs/object" in nodes)
+    topic = panel.combo(INPUT, "object", 0, "topic")
+    assert [topic.itemText(i) for i in range(topic.count())] == published
+    out_topic = panel.combo(OUTPUT, "rightGround", 0, "topic")
+    assert "/clean_and_patrol/outputs/rightGround" in [out_topic.itemText(i) for i in range(out_topic.count())]
+    assert [f for f in panel.findings if f.severity == "error"] == [], [str(f) for f in panel.findings]
+    # edit: an input on the camera's Float64 topic is wrong twice over
+    combo.setEditText("/camera")
+    topic.setEditText("/camera/object_distance")
+    qtbot.waitUntil(lambda: any("std_msgs/Float64" in f.message for f in panel.findings), timeout=WAIT)
+    combo.setEditText("/clean_and_patrol/inputs/object")
+    topic.setEditText("/clean_and_patrol/inputs/object")
+    panel.findChild(type(panel.refresh_push_button), "stop_add_push_button").click()
+    panel.combo(OUTPUT, "stop", 1, "node").setEditText("/sim_robot")
+    qtbot.waitUntil(lambda: not any(f.severity == "error" for f in panel.findings), timeout=WAIT)
+    out = tmp_path / "edited.yaml"
+    assert panel.save(str(out)), panel.status_label.text()
+    saved, original = load_mapping(out), load_mapping(MAPPING)
+    assert saved.inputs["object"][0].node == "/clean_and_patrol/inputs/object"
+    assert (saved.inputs["object"][0].parameters, saved.inputs["object"][0].filename) == (
+        original.inputs["object"][0].parameters, original.inputs["object"][0].filename)
+    assert [e.node for e in saved.outputs["stop"]] == ["stop", "/sim_robot"]
+    panel.load_push_button.click()
+    assert panel.combo(OUTPUT, "stop", 1, "node").currentText() == "/sim_robot"
+    assert panel.combo(INPUT, "object", 0, "node").currentText() == "/clean_and_patrol/inputs/object"
+
+
+def test_analysis_panel_on_the_live_scenario(scenario, qtbot):
+    panel = AnalysisPanel()
+    qtbot.addWidget(panel)
+    panel.spec_line_edit.setText(str(SPEC))
+    panel.mapping_line_edit.setText(str(MAPPING))
+    panel.live_check_box.setChecked(True)
+    panel.master_line_edit.setText(scenario.uri)
+    panel.analyze_push_button.click()
+    qtbot.waitUntil(lambda: panel.result is not None or "rror" in panel.status_label.text(), timeout=WAIT)
+    assert panel.result is not None, panel.status_label.text()
+    e2 = panel.tables["E2"]
+    first = [row for row, f in zip(e2.rows, e2.finding, strict=True) if f == 0]
+    assert first[0][0] == "[/cmd_vel]" and {r[1] for r in first} == {"stop", *REGIONS}
+    assert panel.selected_rows("E2") == e2.rows_of(0) or panel.current_key() == "E1"
+    text = panel.suggestions_text.toPlainText()
+    assert "stop, topLane, rightLane, bottomLane, leftLane, leftGround and rightGround are mutually exclusive" in text
+    assert panel.graph_view.graph is not None and panel.graph_view.items
+
+
+def test_apply_and_check_shows_example_7_unrealizable_on_the_live_simple_graph(ros_master, qtbot, tmp_path):
+    launch = ros_master.run(["roslaunch", "ltl_stack", "simple.launch", "start_executor:=false"], name="simple")
+    for topic in ("/simple/outputs/move", "/simple/outputs/stop"):
+        ros_master.wait_for_subscriber(topic, timeout=60)
+    ros_master.wait_for_publisher("/cmd_vel", timeout=60)
+    ros_master.wait_for_publisher("/simple/inputs/person", timeout=60)
+    panel = AnalysisPanel()
+    qtbot.addWidget(panel)
+    panel.spec_line_edit.setText(str(CONFIG / "simple" / "simple.structuredslugs"))
+    panel.mapping_line_edit.setText(str(CONFIG / "simple" / "simple.yaml"))
+    panel.live_check_box.setChecked(True)
+    panel.master_line_edit.setText(ros_master.uri)
+    panel.analyze()
+    qtbot.waitUntil(lambda: panel.result is not None or "rror" in panel.status_label.text(), timeout=WAIT)
+    assert panel.result is not None, panel.status_label.text() + launch.output()[-2000:]
+    assert [r[1] for r in panel.tables["E2"].rows[:2]] == ["move", "stop"]
+    panel.amended_line_edit.setText(str(tmp_path / "simple_amended.slugsin"))
+    panel.apply_push_button.click()
+    qtbot.waitUntil(lambda: panel.applied is not None, timeout=WAIT)
+    assert panel.verdict_label.text().startswith("UNREALIZABLE")
+    text = panel.apply_text.toPlainText()
+    assert "simple.structuredslugs:" in text and "move'" in text and "person' -> stop'" in text
+
+
+def test_controller_view_follows_the_executor_and_pauses_it(scenario, qtbot, monkeypatch):
+    monkeypatch.setenv("ROS_MASTER_URI", scenario.uri)  # rospy's service lookups read it, as in a real host
+    view = ControllerView()
+    qtbot.addWidget(view)
+    view.spec_line_edit.setText(str(SPEC))
+    view.refresh_push_button.click()
+    assert view.topic_combo_box.findText(STATE) >= 0, view.status_label.text()
+    view.topic_combo_box.setEditText(STATE)
+    assert view.attach()
+    qtbot.waitUntil(lambda: view.model is not None and view.model.current is not None, timeout=WAIT)
+    seen, lost = [], []
+
+    def moved_three_times():
+        current = view.model.current
+        if view.shown is not None and view.shown.state_id >= 0 and current is None:
+            lost.append(view.shown)
+        if current is not None and (not seen or seen[-1] != current):
+            seen.append(current)
+        return len(seen) >= 4
+    qtbot.waitUntil(moved_three_times, timeout=WAIT)
+    assert lost == [], f"executor states not found in the automaton: {lost[:3]}"
+    qtbot.waitUntil(lambda: view.current_node_id() is not None and bool(view.graph_view._marks), timeout=WAIT)
+    state = view.model.automaton.states[view.model.current]
+    assert view.state_label.text().startswith(f"state {state.id} ")
+    # pause through ~set_running: the executor reports itself paused with every output false
+    assert view.run_pause_push_button.text() == "Pause"
+    view.run_pause_push_button.click()
+    qtbot.waitUntil(lambda: view.shown is not None and not view.shown.running
+                    and not any(view.shown.outputs.values()), timeout=WAIT)
+    assert view.run_pause_push_button.text() == "Run" and "paused" in view.mode_label.text()
+    assert not any(v for name, v in view.lamp_values().items() if name in view.model.automaton.outputs)
+    view.run_pause_push_button.click()
+    qtbot.waitUntil(lambda: view.shown is not None and view.shown.running, timeout=WAIT)
+    assert view.run_pause_push_button.text() == "Pause"
+    view.shutdown()
