@@ -6,6 +6,10 @@
   ``from_slugs_json``;
 - Graphviz DOT (``to_dot``) and PNG through the ``dot`` program (``write_png``).
 
+Recovery transitions (thesis §4.6, ``explicit(recovery=True)``) are ordinary successors that are
+also listed in ``AutomatonState.recovery``: key ``recovery`` of a state (our JSON) or node (slugs
+layout; slugs' own tools ignore it), dashed edges in DOT.
+
 ``Automaton.load(path)`` reads either JSON layout. Files are written atomically (``write_atomic``).
 """
 from __future__ import annotations
@@ -30,6 +34,8 @@ class AutomatonState:
     outputs: dict[str, bool]
     goal: int
     successors: list[int] = field(default_factory=list)
+    #: the successors reached by recovery transitions (a subset of ``successors``)
+    recovery: list[int] = field(default_factory=list)
 
 
 @dataclass
@@ -60,6 +66,14 @@ class Automaton:
 
     # --- our JSON ------------------------------------------------------------------------
     def to_json(self) -> dict:
+        def state(s: AutomatonState) -> dict:
+            data = {"id": s.id, "goal": s.goal,
+                    "inputs": {n: bool(s.inputs[n]) for n in self.inputs},
+                    "outputs": {n: bool(s.outputs[n]) for n in self.outputs},
+                    "successors": list(s.successors)}
+            if s.recovery:
+                data["recovery"] = list(s.recovery)
+            return data
         return {
             "format": FORMAT,
             "version": VERSION,
@@ -68,13 +82,7 @@ class Automaton:
             "goals": self.goals,
             "initial": list(self.initial),
             "metadata": dict(self.metadata),
-            "states": [
-                {"id": s.id, "goal": s.goal,
-                 "inputs": {n: bool(s.inputs[n]) for n in self.inputs},
-                 "outputs": {n: bool(s.outputs[n]) for n in self.outputs},
-                 "successors": list(s.successors)}
-                for s in self.states
-            ],
+            "states": [state(s) for s in self.states],
         }
 
     @classmethod
@@ -84,7 +92,8 @@ class Automaton:
         if data.get("version") != VERSION:
             raise ValueError(f"unsupported {FORMAT} version {data.get('version')!r}; expected {VERSION}")
         states = [AutomatonState(int(s["id"]), dict(s["inputs"]), dict(s["outputs"]), int(s["goal"]),
-                                 [int(t) for t in s["successors"]]) for s in data["states"]]
+                                 [int(t) for t in s["successors"]], [int(t) for t in s.get("recovery", [])])
+                  for s in data["states"]]
         return cls(list(data["inputs"]), list(data["outputs"]), states, [int(i) for i in data["initial"]],
                    int(data.get("goals", 1)), dict(data.get("metadata", {})))
 
@@ -96,6 +105,8 @@ class Automaton:
             bits = [int(bool(s.inputs[n])) for n in self.inputs] + \
                 [int(bool(s.outputs[n])) for n in self.outputs]
             nodes[str(s.id)] = {"rank": s.goal, "state": bits, "trans": list(s.successors)}
+            if s.recovery:
+                nodes[str(s.id)]["recovery"] = list(s.recovery)
         return {"version": 0, "slugs": "0.0.1", "variables": names, "nodes": nodes}
 
     @classmethod
@@ -113,7 +124,8 @@ class Automaton:
             succ = [int(t) for t in node["trans"]]
             targets.update(succ)
             states.append(AutomatonState(int(key), {n: values[n] for n in inputs},
-                                         {n: values[n] for n in outputs}, int(node["rank"]), succ))
+                                         {n: values[n] for n in outputs}, int(node["rank"]), succ,
+                                         [int(t) for t in node.get("recovery", [])]))
         initial = [s.id for s in states if s.id not in targets] or ([states[0].id] if states else [])
         goals = max((s.goal for s in states), default=0) + 1
         return cls(inputs, outputs, states, initial, goals, {"source_format": "slugs"})
@@ -130,7 +142,7 @@ class Automaton:
     # --- Graphviz -------------------------------------------------------------------------
     def to_dot(self, name: str = "strategy") -> str:
         """States labelled with their id, goal and true outputs; edges with the true inputs that
-        lead there (the thesis' Fig. 3.1 convention)."""
+        lead there (the thesis' Fig. 3.1 convention); recovery edges dashed."""
         lines = [f"digraph {_dot_id(name)} {{", "  rankdir=LR;", "  node [shape=box, fontname=Helvetica];",
                  "  edge [fontname=Helvetica, fontsize=10];"]
         initial = set(self.initial)
@@ -140,9 +152,11 @@ class Automaton:
             lines.append(f'  s{s.id} [label="{s.id} (goal {s.goal})\\n{_esc(outs)}"{style}];')
         by_id = {s.id: s for s in self.states}
         for s in self.states:
+            recovery = set(s.recovery)
             for t in s.successors:
                 ins = ", ".join(n for n in self.inputs if by_id[t].inputs[n]) or "-"
-                lines.append(f'  s{s.id} -> s{t} [label="{_esc(ins)}"];')
+                style = ", style=dashed" if t in recovery else ""
+                lines.append(f'  s{s.id} -> s{t} [label="{_esc(ins)}"{style}];')
         lines.append("}")
         return "\n".join(lines) + "\n"
 

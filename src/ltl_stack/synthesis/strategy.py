@@ -19,8 +19,9 @@ environment no admissible input (``synthesize`` falls back to the ordinary game,
 moves only as a last resort, when that one loses) and, among equally good moves, prefers those that
 let the environment reach the liveness assumption the strategy is waiting for soonest.
 
-Recovery (Alg. 1 lines 19-25) plugs in at ``SymbolicStrategy._move``: when the goal relation has no
-move for (x, y, x'), a recovery relation would be consulted there.
+Recovery (thesis §4.6, Alg. 1 lines 19-25; ``ltl_stack.synthesis.recovery``): with
+``strategy.recovery = True`` (or ``step_result``), inputs that break env safety, and positions outside
+W, still get a move that keeps sys safety; see ``step_result`` and ``explicit(recovery=True)``.
 """
 from __future__ import annotations
 
@@ -30,6 +31,13 @@ from dataclasses import dataclass, field
 from ltl_stack.synthesis.errors import AssumptionViolation, NoInitialState, SynthesisError
 from ltl_stack.synthesis.fixpoint import Solution, initial_positions
 from ltl_stack.synthesis.game import Game
+from ltl_stack.synthesis.recovery import (
+    RecoveryRelations,
+    StepKind,
+    StepResult,
+    UnsafeStep,
+    unkeepable_clauses,
+)
 
 
 @dataclass(frozen=True, eq=False)
@@ -68,7 +76,8 @@ class State:
 class SymbolicStrategy:
     """Execute the winning strategy of a realizable game without enumerating it."""
 
-    def __init__(self, game: Game, solution: Solution, *, cooperative: bool = False) -> None:
+    def __init__(self, game: Game, solution: Solution, *, cooperative: bool = False,
+                 recovery: bool = False) -> None:
         if not solution.realizable:
             raise SynthesisError("cannot build a strategy: the specification is unrealizable")
         self.game = game
@@ -84,6 +93,10 @@ class SymbolicStrategy:
         W_next = game.prime(solution.winning)
         self.reached = [g & W_next for g in game.sys_goals]
         self.relations = [self._goal_relation(j) for j in range(len(game.sys_goals))]
+        #: recovery mode: ``step`` answers violating inputs (and positions outside W) with
+        #: ``step_result``'s safe moves instead of raising ``AssumptionViolation``
+        self.recovery = recovery
+        self._recovery: RecoveryRelations | None = None
 
     # --- construction ---------------------------------------------------------------------
     def _goal_relation(self, j: int):
@@ -233,7 +246,15 @@ class SymbolicStrategy:
         return f"no winning initial state with {shown}"
 
     def step(self, state: State, inputs: Mapping[str, bool]) -> State:
-        """The successor of ``state`` for the new ``inputs`` (raises ``AssumptionViolation``)."""
+        """The successor of ``state`` for the new ``inputs`` (raises ``AssumptionViolation``).
+
+        In recovery mode (``self.recovery``) the successor of ``step_result``; only when no move
+        keeps sys safety it raises ``UnsafeStep`` (an ``AssumptionViolation``)."""
+        if self.recovery:
+            result = self.step_result(state, inputs)
+            if result.kind is StepKind.UNSAFE:
+                raise UnsafeStep(result.violated, self._full(inputs, self.inputs, "inputs"), result.unsafe)
+            return result.state
         game = self.game
         bdd = game.bdd
         new_inputs = self._full(inputs, self.inputs, "inputs")
@@ -252,10 +273,48 @@ class SymbolicStrategy:
         bdd = game.bdd
         u = bdd.let(assign, self.relations[state.goal])
         if u == bdd.false:
-            return None  # Alg. 1 lines 19-25 (recovery) would go here.
+            return None  # recovery mode answers in ``step_result`` (Alg. 1 lines 19-25)
         prefer = {game.outputs_next[k]: state.outputs[n] for k, n in enumerate(self.outputs)}
         picked = self._pick(u, game.outputs_next, prefer)
         return {n: picked[game.outputs_next[k]] for k, n in enumerate(self.outputs)}
+
+    # --- recovery (thesis §4.6) ----------------------------------------------------------------
+    def recovery_relations(self) -> RecoveryRelations:
+        """The prioritized recovery relations (built on first use)."""
+        if self._recovery is None:
+            self._recovery = RecoveryRelations(self.game, self.solution, self.relations)
+        return self._recovery
+
+    def step_result(self, state: State, inputs: Mapping[str, bool]) -> StepResult:
+        """One step in recovery mode: the successor and which rule produced it (``StepKind``).
+
+        From a winning position with admissible inputs this is exactly ``step`` (NORMAL). Otherwise
+        every move satisfies sys safety: into W (RECOVER_TO_W), else into the recoverable region
+        (RECOVER_TOWARDS_W), else anywhere safe (SAFE_ONLY); when no move is safe the result is
+        UNSAFE with ``state=None`` and the sys-safety clauses that cannot be kept.
+        """
+        game = self.game
+        bdd = game.bdd
+        new_inputs = self._full(inputs, self.inputs, "inputs")
+        assign = game.assignment(state.valuation, new_inputs)
+        admissible = bdd.let(assign, game.env_trans) != bdd.false
+        violated = [] if admissible else game.violated("env_safety", state.valuation, new_inputs)
+        here_winning = bdd.let(game.assignment(state.valuation), self.winning) == bdd.true
+        if admissible and here_winning:
+            outputs = self._move(state, new_inputs, assign)
+            if outputs is not None:
+                nxt = self._successor(state, new_inputs, outputs)
+                return StepResult(nxt, StepKind.NORMAL, [], [], True, True)
+        rec = self.recovery_relations()
+        u = bdd.let(assign, rec.relation(state.goal))
+        if u == bdd.false:
+            return StepResult(None, StepKind.UNSAFE, violated, unkeepable_clauses(game, assign))
+        prefer = {game.outputs_next[k]: state.outputs[n] for k, n in enumerate(self.outputs)}
+        picked = self._pick(u, game.outputs_next, prefer)
+        outputs = {n: picked[game.outputs_next[k]] for k, n in enumerate(self.outputs)}
+        in_w, in_r = rec.classify(game.assignment({**new_inputs, **outputs}))
+        kind = StepKind.RECOVER_TO_W if in_w else StepKind.RECOVER_TOWARDS_W if in_r else StepKind.SAFE_ONLY
+        return StepResult(self._successor(state, new_inputs, outputs), kind, violated, [], in_w, in_r)
 
     def _successor(self, state: State, new_inputs: dict[str, bool], outputs: dict[str, bool]) -> State:
         game = self.game
@@ -294,8 +353,9 @@ class SymbolicStrategy:
         result.sort(key=lambda d: sum(int(v) << k for k, v in enumerate(d.values())))
         return result
 
-    def explicit(self, max_states: int | None = None, progress=None):
-        """The explicit automaton (thesis Alg. 1 lines 1-18); see ``ltl_stack.synthesis.explicit``."""
+    def explicit(self, max_states: int | None = None, progress=None, recovery: bool = False):
+        """The explicit automaton (thesis Alg. 1 lines 1-18, with ``recovery`` lines 19-25 too);
+        see ``ltl_stack.synthesis.explicit``."""
         from ltl_stack.synthesis.explicit import extract
 
-        return extract(self, max_states=max_states, progress=progress)
+        return extract(self, max_states=max_states, progress=progress, recovery=recovery)
