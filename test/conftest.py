@@ -1,14 +1,78 @@
-"""Shared fixtures. Test file names must be unique across test/ (pytest's default import mode)."""
+"""Shared fixtures and suite-wide rules. Test file names must be unique across test/ (pytest's default
+import mode).
+
+- Hypothesis runs derandomized (profile ``suite``): every run checks the same examples, so a rare random
+  case cannot turn one CI run red; ``--hypothesis-profile explore`` searches at random with more examples.
+- Nothing a test starts talks to a master it did not start, nor logs into ``~/.ros``: ROS_MASTER_URI
+  points at a closed port and ROS_HOME/ROS_LOG_DIR at a temporary folder of this pytest process
+  (``ros_master`` gives each test its own).
+- ``test/unit`` needs no ROS master and no catkin workspace: a unit test that starts a master fails,
+  and in unit tests ROS_PACKAGE_PATH is empty, so ``rosrun``/``roslaunch`` cannot find the package.
+"""
 from __future__ import annotations
 
+import os
+import socket
 import sys
 from pathlib import Path
 
 import pytest
+from hypothesis import HealthCheck, settings
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
+import helpers  # noqa: E402
 from helpers import RosMaster  # noqa: E402
+
+pytest_plugins = ["pytester"]
+
+UNIT = Path(__file__).resolve().parent / "unit"
+
+settings.register_profile("suite", derandomize=True, database=None, deadline=None, print_blob=True)
+settings.register_profile("explore", max_examples=1000, deadline=None,
+                          suppress_health_check=[HealthCheck.too_slow])
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "suite"))
+
+
+def _closed_port() -> int:
+    """A loopback port nothing listens on (bound and released: nothing can be connected to it)."""
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _private_ros_environment(tmp_path_factory):
+    home = tmp_path_factory.mktemp("ros_home")
+    saved = {k: os.environ.get(k) for k in ("ROS_MASTER_URI", "ROS_HOME", "ROS_LOG_DIR")}
+    os.environ.update(ROS_MASTER_URI=f"http://127.0.0.1:{_closed_port()}/", ROS_HOME=str(home),
+                      ROS_LOG_DIR=str(home / "log"))
+    yield
+    for key, value in saved.items():
+        if value is None:
+            os.environ.pop(key, None)
+        else:
+            os.environ[key] = value
+
+
+def is_unit_test(item: pytest.Item) -> bool:
+    return Path(item.path).resolve().is_relative_to(UNIT)
+
+
+@pytest.fixture(autouse=True)
+def _unit_tests_need_no_ros(request, monkeypatch):
+    """Autouse fixtures run before the ones a test asks for: a unit test fails before a master starts."""
+    if not is_unit_test(request.node):
+        return
+    if "ros_master" in request.fixturenames:
+        pytest.fail("a test under test/unit uses the ros_master fixture: move it to test/integration",
+                    pytrace=False)
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("a test under test/unit starts a ROS master: move it to test/integration")
+
+    monkeypatch.setattr(helpers.RosMaster, "__init__", refuse)
+    monkeypatch.setenv("ROS_PACKAGE_PATH", "")
 
 
 @pytest.fixture

@@ -1,14 +1,20 @@
 """Helpers for tests that run real ROS processes: free ports, waiting, starting nodes, shared data."""
 from __future__ import annotations
 
+import http.client
+import os
+import random
+import signal
+import socket
 import subprocess
 import time
+import xmlrpc.client
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 
 import pytest
 
-from ltl_stack.sim.session import await_master, free_port, master_command, master_env, stop_process
+from ltl_stack.sim.session import free_port, master_command, master_env, stop_process  # noqa: F401 - free_port for tests
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
 
@@ -30,7 +36,12 @@ def require_shared(*parts: str) -> Path:
     return path
 
 
-def wait_for(predicate: Callable[[], object], timeout: float = 10.0, what: str = "a condition",
+# How long a test waits for something that must happen. Generous: on a busy 2-core machine a node
+# can take many seconds to start. A test never asserts how fast something happens (benchmarks do).
+WAIT = 30.0
+
+
+def wait_for(predicate: Callable[[], object], timeout: float = WAIT, what: str = "a condition",
              interval: float = 0.02) -> object:
     """Poll ``predicate`` until it returns something truthy; fail the test after ``timeout`` s."""
     deadline = time.monotonic() + timeout
@@ -58,7 +69,7 @@ class RosProcess:
         """Everything the process printed so far."""
         return self.log_path.read_text(errors="replace")
 
-    def wait_output(self, text: str, timeout: float = 10.0) -> str:
+    def wait_output(self, text: str, timeout: float = WAIT) -> str:
         """Wait until ``text`` appears in the output; fails with the output shown."""
         try:
             wait_for(lambda: text in self.output(), timeout, f"{text!r} in the output of {self.args}")
@@ -76,17 +87,69 @@ class RosProcess:
         return self.popen.returncode
 
 
-class RosMaster:
-    """A real rosmaster on a free loopback port, and the processes started against it."""
+def _port_range() -> range:
+    """Ports for test masters: below the kernel's ephemeral range, where every node binds its own
+    servers (port 0), so no node can take a master's port; one slice per pytest-xdist worker."""
+    try:
+        low = int(Path("/proc/sys/net/ipv4/ip_local_port_range").read_text().split()[0])
+    except (OSError, ValueError, IndexError):
+        low = 32768
+    low = max(low, 12000)
+    worker = os.environ.get("PYTEST_XDIST_WORKER", "gw0")[2:]
+    slices = 8
+    index = int(worker) % slices if worker.isdigit() else 0
+    width = (low - 10000) // slices
+    start = 10000 + index * width
+    return range(start, start + width)
 
-    def __init__(self, workdir: Path):
-        self.port = free_port()
+
+def _port_is_free(port: int) -> bool:
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
+        try:
+            s.bind(("127.0.0.1", port))
+        except OSError:
+            return False
+    return port != 11311
+
+
+class RosMaster:
+    """A real rosmaster on a free loopback port, and the processes started against it.
+
+    Several suites and pytest-xdist workers start masters at once: a port is taken from this worker's
+    slice, and the master counts as up only when the process that answers on it is ours (``getPid``);
+    otherwise (another master or node won the port) it is stopped and another port is tried.
+    """
+
+    def __init__(self, workdir: Path, attempts: int = 20, timeout: float = 60.0):
         self.workdir = workdir
-        self.env = master_env(self.port, workdir)
-        self.uri = self.env["ROS_MASTER_URI"]
         self.processes: list[RosProcess] = []
-        self._master = RosProcess(master_command(self.port), self.env, workdir / "rosmaster.log")
-        await_master(self.uri, self._master.popen, self._master.log_path, f"pytest-{self.port}")
+        ports = _port_range()
+        for attempt in range(attempts):
+            port = random.choice(ports)
+            if not _port_is_free(port):
+                continue
+            env = master_env(port, workdir)
+            master = RosProcess(master_command(port), env, workdir / f"rosmaster-{attempt}.log")
+            if self._answers(master, env["ROS_MASTER_URI"], timeout):
+                break
+            master.stop()
+        else:
+            raise RuntimeError(f"no rosmaster came up in {attempts} attempts; logs in {workdir}")
+        self.port, self.env, self.uri, self._master = port, env, env["ROS_MASTER_URI"], master
+        self.proxy().setParam("/pytest", "/run_id", f"pytest-{port}")  # roslaunch expects it, as from roscore
+
+    @staticmethod
+    def _answers(master: RosProcess, uri: str, timeout: float) -> bool:
+        """True once the master at ``uri`` answers and is ``master``; False if that cannot happen."""
+        proxy = xmlrpc.client.ServerProxy(uri)
+        deadline = time.monotonic() + timeout
+        while master.running() and time.monotonic() < deadline:
+            try:
+                code, _, pid = proxy.getPid("/pytest")
+                return code == 1 and pid == master.popen.pid
+            except (OSError, http.client.HTTPException, xmlrpc.client.Error):
+                time.sleep(0.05)
+        return False
 
     def proxy(self):
         import xmlrpc.client
@@ -105,10 +168,10 @@ class RosMaster:
     def subscribers(self, topic: str) -> list[str]:
         return next((nodes for name, nodes in self.system_state()[1] if name == topic), [])
 
-    def wait_for_publisher(self, topic: str, timeout: float = 15.0) -> list[str]:
+    def wait_for_publisher(self, topic: str, timeout: float = WAIT) -> list[str]:
         return wait_for(lambda: self.publishers(topic), timeout, f"a publisher on {topic}")
 
-    def wait_for_subscriber(self, topic: str, timeout: float = 15.0) -> list[str]:
+    def wait_for_subscriber(self, topic: str, timeout: float = WAIT) -> list[str]:
         return wait_for(lambda: self.subscribers(topic), timeout, f"a subscriber on {topic}")
 
     def run(self, args: Sequence[str], name: str | None = None, cwd: Path | None = None) -> RosProcess:
@@ -120,9 +183,27 @@ class RosMaster:
         return proc
 
     def shutdown(self) -> None:
-        for proc in reversed(self.processes):
-            proc.stop()
+        stop_all(self.processes)
         self._master.stop()
+
+
+def stop_all(processes: Sequence[RosProcess], timeout: float = 5.0) -> None:
+    """Stop every process as ``RosProcess.stop`` does, all at once (a scenario has dozens of nodes)."""
+    for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGKILL):
+        alive = [p for p in processes if p.running()]
+        for proc in alive:
+            try:
+                os.killpg(proc.popen.pid, sig)
+            except ProcessLookupError:
+                pass
+        deadline = time.monotonic() + timeout
+        for proc in alive:
+            try:
+                proc.popen.wait(max(0.0, deadline - time.monotonic()))
+            except subprocess.TimeoutExpired:
+                pass
+    for proc in processes:
+        proc.stop()  # closes the log; the process is gone already
 
 
 def start_node(master: RosMaster, args: Sequence[str], name: str | None = None) -> RosProcess:

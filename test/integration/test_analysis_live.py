@@ -232,5 +232,5 @@ def test_live_spheros_fig_3_14_and_3_15(spheros):
 def test_unreachable_master_is_one_clear_error():
     uri = f"http://127.0.0.1:{free_port()}/"
     with pytest.raises(SnapshotError, match=f"cannot read the graph from the ROS master at {uri}") as err:
-        take_snapshot(uri, timeout=2.0)
+        take_snapshot(uri, timeout=2.0)  # gives up (pytest-timeout fails a hang), however slow the machine
     assert err.value.code == Exit.NO_ROS

@@ -93,14 +93,14 @@ def test_navigation_goal_from_params_reaches_the_region(ros):
     ros.master.wait_for_subscriber(ros.topic("navigate/result"))
     region.wait_last(lambda s: s.data == "left_ground", what="the robot in left_ground")
     ros.set_bool(ros.topic("outputs/rightGround"), True)
-    completion.wait_last(lambda b: b.data is True, timeout=20, what="navigation completed")
+    completion.wait_last(lambda b: b.data is True, timeout=60, what="navigation completed")
     assert region.last().data == "right_ground", region.last()
 
 
 def test_bad_goal_for_the_action_type_is_one_clear_error(ros):
     node = ros.run("action_proposition", "_action:=/navigate", "_action_type:=ltl_stack/Navigate",
                    "_goal:={room: kitchen}")
-    wait_for(lambda: not node.running(), 15, "the node to exit")
+    wait_for(lambda: not node.running(), 30, "the node to exit")
     out = node.output()
     assert node.popen.returncode == 2, out
     assert "~goal {'room': 'kitchen'} does not fit ltl_stack/NavigateGoal" in out, out

@@ -14,7 +14,7 @@ import time
 from pathlib import Path
 
 import pytest
-from helpers import RosMaster, wait_for
+from helpers import WAIT, RosMaster, wait_for
 
 _MASTER: RosMaster | None = None
 
@@ -73,11 +73,11 @@ class Recorder:
         with self._lock:
             return self.messages[-1] if self.messages else None
 
-    def wait(self, predicate, timeout: float = 10.0, what: str = "a message"):
+    def wait(self, predicate, timeout: float = WAIT, what: str = "a message"):
         """Wait until ``predicate(messages)`` is truthy; return its value."""
         return wait_for(lambda: predicate(self.snapshot()), timeout, f"{what} on {self.topic}")
 
-    def wait_last(self, predicate, timeout: float = 10.0, what: str = "a message"):
+    def wait_last(self, predicate, timeout: float = WAIT, what: str = "a message"):
         """Wait until the latest message satisfies ``predicate``; return that message."""
         def check():
             msg = self.last()
@@ -112,7 +112,7 @@ class Session:
         self._recorders.append(rec)
         return rec
 
-    def publish(self, topic: str, msg, latch: bool = True, subscribers: int = 1, timeout: float = 10.0):
+    def publish(self, topic: str, msg, latch: bool = True, subscribers: int = 1, timeout: float = WAIT):
         """Publish ``msg`` (latched) once ``subscribers`` nodes listen to ``topic``."""
         import rospy
 
@@ -128,7 +128,7 @@ class Session:
 
         self.publish(topic, Bool(data=value), subscribers=subscribers)
 
-    def action_client(self, name: str, action_type: type, timeout: float = 15.0):
+    def action_client(self, name: str, action_type: type, timeout: float = WAIT):
         """A real actionlib SimpleActionClient, connected to its server."""
         import actionlib
         import rospy

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import subprocess
 from pathlib import Path
 
 import pytest
@@ -89,16 +88,3 @@ def test_cli_flags_win_over_private_params():
         _merge_options(args, lambda name, default: -1.0 if name == "~rate" else default)
     with pytest.raises(ExecutorError, match="on_violation must be one of"):
         _merge_options(args, lambda name, default: "explode" if name == "~on_violation" else default)
-
-
-def test_check_with_saved_strategy_on_the_command_line(saved, tmp_path):
-    _, path = saved
-    spec_file = tmp_path / "lock.slugsin"
-    spec_file.write_text(LOCK)
-    proc = subprocess.run(["rosrun", "ltl_stack", "controller_executor", str(spec_file), "--check", "--json",
-                           "--strategy", str(path), "--init-props", "a=0,lock=1"],
-                          capture_output=True, text=True, timeout=60)
-    assert proc.returncode == 0, proc.stderr
-    summary = json.loads(proc.stdout)
-    assert summary["initial_state"]["outputs"] == {"out": False, "busy": True}, summary
-    assert summary["inputs"] == {"a": "/lock/inputs/a", "lock": "/lock/inputs/lock"}, summary

@@ -1,5 +1,4 @@
 """B.3 joint retargeting: kinematics against yourdfpy, the gradient, thesis Example 3 (UR5 -> Jaco)."""
-import time
 from pathlib import Path
 
 import numpy as np
@@ -73,10 +72,8 @@ def test_target_chain_rules():
 def example_3(target, ask=None, live=None):
     robots = require_shared("robots")
     text = (DATA / "follow_trajectory_ur5.py").read_text()
-    started = time.perf_counter()
-    result = transfer_program(text, load_profile(robots, "ur5"), load_profile(robots, target),
-                              TransferOptions(ask=ask, live=live))
-    return result, time.perf_counter() - started
+    return transfer_program(text, load_profile(robots, "ur5"), load_profile(robots, target),
+                            TransferOptions(ask=ask, live=live))
 
 
 @pytest.mark.parametrize("target, dof", [("j2n6s300", 6), ("j2s7s300", 7)])
@@ -90,8 +87,7 @@ def test_example_3_ur5_to_jaco(target, dof):
         asked.append((word, original, list(options)))
         return options.index("/effort_joint_traj_controller/follow_joint_traj")
 
-    result, seconds = example_3(target, ask, live)
-    assert seconds < 3.0, seconds
+    result = example_3(target, ask, live)  # its time (goal: under 3 s) is in test/benchmarks/bench_transfer.py
     assert asked == [("action", "/arm_controller/follow_joint_trajectory",
                       ["/effort_finger_traj_controller/follow_joint_traj",
                        "/effort_joint_traj_controller/follow_joint_traj"])], asked

@@ -1,13 +1,12 @@
-"""Goal building and action-type lookup of action_proposition (no master needed)."""
+"""Goal building and action-type lookup of action_proposition (no master needed, but the package's
+generated messages, which only a built catkin workspace has: hence not a unit test)."""
 from __future__ import annotations
 
 import pytest
 
-pytest.importorskip("genpy")
-msg = pytest.importorskip("ltl_stack.msg")
-
-from ltl_stack.ros.action_proposition import action_classes, build_goal, normalize_action_type  # noqa: E402
-from ltl_stack.ros.proposition_node import NodeConfigError  # noqa: E402
+from ltl_stack import msg
+from ltl_stack.ros.action_proposition import action_classes, build_goal, normalize_action_type
+from ltl_stack.ros.proposition_node import NodeConfigError
 
 
 @pytest.mark.parametrize("text", ["ltl_stack/Navigate", "ltl_stack/NavigateAction", "ltl_stack.msg.NavigateAction"])

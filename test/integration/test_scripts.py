@@ -1,0 +1,71 @@
+"""The package's scripts and the repository's tools as a user runs them: ``rosrun`` from the devel space,
+``--help`` of every one, ``./tools/test --help`` and ``./tools/demo --help``."""
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+
+import pytest
+from helpers import REPO_ROOT, free_port
+
+from ltl_stack.spec import parse_slugsin
+from ltl_stack.synthesis import synthesize
+
+SCRIPTS = sorted(p.name for p in (REPO_ROOT / "scripts").iterdir() if p.is_file())
+LOCK = (REPO_ROOT / "test" / "unit" / "runtime" / "lock.slugsin").read_text()
+
+
+def no_master_env() -> dict[str, str]:
+    """This environment with ROS_MASTER_URI at a closed port: a node that ignores --help and starts
+    fails or hangs (and the subprocess timeout ends the test) instead of finding a master."""
+    return dict(os.environ, ROS_MASTER_URI=f"http://127.0.0.1:{free_port()}/")
+
+
+def test_scripts_folder_is_what_the_suite_checks():
+    assert len(SCRIPTS) >= 20 and "synthesize" in SCRIPTS and "controller_executor" in SCRIPTS, SCRIPTS
+
+
+@pytest.mark.parametrize("script", SCRIPTS)
+def test_every_script_prints_its_help_and_exits(script):
+    proc = subprocess.run(["rosrun", "ltl_stack", script, "--help"], env=no_master_env(), capture_output=True,
+                          text=True, timeout=60, stdin=subprocess.DEVNULL)
+    out = proc.stdout + proc.stderr
+    assert proc.returncode == 0, out
+    assert "usage:" in proc.stdout.lower(), out
+    assert "Traceback" not in out, out
+
+
+def test_controller_executor_checks_a_saved_strategy_from_the_command_line(tmp_path):
+    spec_file = tmp_path / "lock.slugsin"
+    spec_file.write_text(LOCK)
+    strategy = tmp_path / "lock.json"
+    strategy.write_text(json.dumps(synthesize(parse_slugsin(LOCK, str(spec_file))).strategy.explicit().to_json()))
+    proc = subprocess.run(["rosrun", "ltl_stack", "controller_executor", str(spec_file), "--check", "--json",
+                           "--strategy", str(strategy), "--init-props", "a=0,lock=1"],
+                          capture_output=True, text=True, timeout=60, env=no_master_env())
+    assert proc.returncode == 0, proc.stderr
+    summary = json.loads(proc.stdout)
+    assert summary["initial_state"]["outputs"] == {"out": False, "busy": True}, summary
+    assert summary["inputs"] == {"a": "/lock/inputs/a", "lock": "/lock/inputs/lock"}, summary
+
+
+def run_tool(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([str(REPO_ROOT / "tools" / args[0]), *args[1:]], capture_output=True, text=True,
+                          timeout=600, env=no_master_env(), stdin=subprocess.DEVNULL, cwd="/")
+
+
+def test_tools_test_help_says_what_it_runs_without_running_it():
+    proc = run_tool("test", "--help")
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert proc.stdout.startswith("usage: ./tools/test [PYTEST ARGUMENTS...]"), proc.stdout
+    assert "Every argument goes to pytest" in proc.stdout and "ruff" in proc.stdout, proc.stdout
+    assert "[test]" not in proc.stderr, proc.stderr  # neither ruff nor pytest ran
+
+
+def test_tools_demo_help_lists_the_demo_options():
+    proc = run_tool("demo", "--help")
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert proc.stdout.startswith("usage:"), proc.stdout
+    for option in ("--scenario", "--json", "--cycles", "--timeout"):
+        assert option in proc.stdout, proc.stdout
