@@ -16,6 +16,8 @@ import pytest
 from helpers import REPO_ROOT, wait_for
 from test_nodes_probe import Recorder, shared_master
 
+from ltl_stack.errors import Exit
+
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
 
 LANES = ["topLane", "rightLane", "bottomLane", "leftLane"]
@@ -168,7 +170,7 @@ def _find_key(value, key):
 def test_live_analysis_of_the_simple_scenario_finds_move_and_stop_on_the_velocity_topic(tmp_path):
     """Thesis Example 7 / Fig. 3.1: move and stop command /cmd_vel together (E2). With the suggested
     mutual exclusion added, "always move" and "if person then stop" cannot both hold: the report says
-    the spec became unrealizable (exit 3) and names exactly the clauses that clash, with file:line."""
+    the spec became unrealizable (exit 10, Exit.UNREALIZABLE) and names exactly the clauses that clash, with file:line."""
     master = shared_master()
     launch = master.run(["roslaunch", "ltl_stack", "simple.launch", "start_executor:=false"], name="simple")
     try:
@@ -181,7 +183,7 @@ def test_live_analysis_of_the_simple_scenario_finds_move_and_stop_on_the_velocit
         proc = subprocess.run(["rosrun", "ltl_stack", "analyze_graph", "--spec", str(config / "simple.structuredslugs"),
                                "--mapping", str(config / "simple.yaml"), "--live", "--json", "--apply", str(out)],
                               env=master.env, capture_output=True, text=True, timeout=120)
-        assert proc.returncode == 3, proc.stdout[-3000:] + proc.stderr[-3000:]
+        assert proc.returncode == Exit.UNREALIZABLE, proc.stdout[-3000:] + proc.stderr[-3000:]
         text = proc.stdout
         assert '"/cmd_vel"' in text, text[:2000]
         core = _find_key(json.loads(text), "core")
