@@ -72,7 +72,7 @@ class Bdds:
             return ~left | right
         if isinstance(f, Iff):
             return left.equiv(right)
-        return left ^ right
+        return ~left.equiv(right)
 
     def section(self, spec: Spec, name: str):
         out = self.bdd.true

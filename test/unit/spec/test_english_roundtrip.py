@@ -14,7 +14,7 @@ from ltl_stack.analysis.suggest import MutualExclusion
 from ltl_stack.spec.english_reader import parse_english, read_english
 from ltl_stack.spec.english_writer import append_sentences, clause_to_sentence, sentences_for, spec_sentences
 from ltl_stack.spec.errors import SpecError
-from ltl_stack.spec.formula import And, Formula, Not, Or, Var
+from ltl_stack.spec.formula import FALSE, TRUE, And, Const, Formula, Iff, Implies, Not, Or, Var, Xor
 from ltl_stack.spec.model import Clause
 
 FILES = [DATA / "thesis_spec1.spec", DATA / "thesis_spec2.spec", DATA / "thesis_spec3.spec",
@@ -66,25 +66,31 @@ BDDS = Bdds(INPUTS + OUTPUTS)
 
 
 def formulas(names: list[str], primes: bool) -> st.SearchStrategy[Formula]:
-    leaf = st.builds(Var, st.sampled_from(names), st.booleans() if primes else st.just(False))
+    leaf = st.one_of(st.builds(Var, st.sampled_from(names), st.booleans() if primes else st.just(False)),
+                     st.sampled_from([TRUE, FALSE]))
     return st.recursive(leaf, lambda inner: st.one_of(
         st.builds(Not, inner),
         st.builds(lambda xs: And(tuple(xs)), st.lists(inner, min_size=2, max_size=3)),
         st.builds(lambda xs: Or(tuple(xs)), st.lists(inner, min_size=2, max_size=3)),
+        st.builds(Implies, inner, inner), st.builds(Iff, inner, inner), st.builds(Xor, inner, inner),
     ), max_leaves=8)
 
 
 def _section_formulas():
-    everything = INPUTS + OUTPUTS
+    primed = formulas(INPUTS + OUTPUTS, True)
     robot_next = st.builds(Var, st.sampled_from(OUTPUTS), st.just(True))
-    env_names = INPUTS + OUTPUTS  # robot only unprimed in an assumption: filtered below
     return st.one_of(
-        st.tuples(st.just("sys_safety"), st.builds(lambda f, g: Or((f, g)), formulas(everything, True), robot_next)),
-        st.tuples(st.just("env_safety"), formulas(env_names, True).filter(
+        st.tuples(st.just("sys_safety"), st.builds(lambda f, g: Or((f, g)), primed, robot_next)),
+        st.tuples(st.just("sys_safety"), st.builds(Iff, robot_next, primed)),
+        st.tuples(st.just("sys_safety"), st.builds(Implies, primed, robot_next)),
+        st.tuples(st.just("env_safety"), primed.filter(  # the robot appears unprimed in an assumption
             lambda f: not any(isinstance(v, Var) and v.primed and v.name in OUTPUTS for v in _vars(f)))),
         st.tuples(st.sampled_from(["sys_liveness", "env_liveness", "sys_init", "env_init"]),
-                  formulas(everything, False)),
+                  formulas(INPUTS + OUTPUTS, False)),
     )
+
+
+SECTION_FORMULAS = _section_formulas()
 
 
 def _vars(f: Formula):
@@ -97,10 +103,12 @@ def _vars(f: Formula):
             stack.append(node.arg)
         elif isinstance(node, (And, Or)):
             stack.extend(node.args)
+        elif not isinstance(node, Const):
+            stack.extend((node.left, node.right))
 
 
-@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(_section_formulas())
+@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(SECTION_FORMULAS)
 def test_any_clause_becomes_a_sentence_that_reads_back_in_its_section(case):
     section, formula = case
     sentence = clause_to_sentence(Clause(formula), section, SPEC)
