@@ -1,18 +1,11 @@
-"""Python package setup for catkin (catkin_python_setup reads this)."""
+"""Python package setup for catkin (catkin_python_setup reads this).
+
+Every package under src/ is installed (a new subpackage cannot be forgotten in a list here).
+"""
 from catkin_pkg.python_setup import generate_distutils_setup
-from setuptools import setup
+from setuptools import find_packages, setup
 
 setup(**generate_distutils_setup(
-    packages=[
-        "ltl_stack",
-        "ltl_stack.spec",
-        "ltl_stack.synthesis",
-        "ltl_stack.runtime",
-        "ltl_stack.analysis",
-        "ltl_stack.transfer",
-        "ltl_stack.ros",
-        "ltl_stack.sim",
-        "ltl_stack.gui",
-    ],
+    packages=find_packages("src"),
     package_dir={"": "src"},
 ))
