@@ -33,6 +33,7 @@ from ltl_stack.spec import formula_to_slugsin, load_spec, write_slugsin
 from ltl_stack.spec.model import SLUGSIN_SECTIONS, Spec
 from ltl_stack.synthesis import is_realizable
 from ltl_stack.synthesis.explain import explain
+from ltl_stack.synthesis.explain_render import explanation_dict, explanation_text
 
 PROG = "analyze_graph"
 EXIT_CODES = (Exit.OK, Exit.NEGATIVE, Exit.BAD_INPUT, Exit.NO_ROS, Exit.WRITE_FAILED, Exit.UNREALIZABLE)
@@ -164,8 +165,8 @@ def apply_suggestions(spec: Spec, suggestions: list[MutualExclusion], out: str,
         return result, text
     progress("unrealizable: explaining")
     explanation = explain(new_spec, robotics_semantics=True)
-    result["explanation"] = explanation.to_dict()
-    result["explanation_text"] = explanation.to_text()
+    result["explanation"] = explanation_dict(explanation)
+    result["explanation_text"] = explanation_text(explanation)
     outputs = [p for i in picked for p in suggestions[i - 1].propositions]
     assumption = input_exclusion_for(new_spec, outputs)
     if assumption is not None:

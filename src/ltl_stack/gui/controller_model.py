@@ -2,7 +2,7 @@
 where the executor is in it.
 
 The automaton is synthesized with the options the executor runs with (robotics init semantics and
-the cooperative strategy unless told otherwise) and extracted as ``synthesize --dot/--json`` export it,
+the cooperative strategy unless told otherwise) and extracted as ``synthesize --dot/--strategy-json`` export it,
 so the ids in the view are the ids of those files. A ``ControllerState`` message is located by its
 valuation and goal (``Automaton.find``: unique in the explicit automaton), not by trusting its
 ``state_id``. Small automata are drawn whole; large ones as the neighbourhood of the current state.

@@ -5,7 +5,7 @@ the automaton is synthesized off the GUI thread with the executor's options and 
 small, the neighbourhood of the current state when large); the current state and its goal are
 highlighted as ``~state`` moves, input and output lamps follow, the last assumption violation (from
 ``/diagnostics``) and the mode are shown, and Run/Pause calls ``~set_running``. State ids are those of
-``synthesize --dot/--json`` for the same spec and options. What smach_viewer gives SMACH users.
+``synthesize --dot/--strategy-json`` for the same spec and options. What smach_viewer gives SMACH users.
 
 Messages arrive on rospy's thread and are handed over through ``Latest``; a GUI timer shows the
 newest, so the view keeps up with any rate by skipping what it has not had time to draw.
@@ -339,7 +339,7 @@ class ControllerView(QWidget):
         self.run_pause_push_button.setEnabled(True)
         how = "whole" if model.whole else f"neighbourhood of the current state (radius {model.options.radius})"
         self._status(f"{len(model.automaton)} states, {model.automaton.goals} goals; drawing the {how}. "
-                     f"Ids as in synthesize --dot/--json (robotics semantics {model.options.robotics_semantics}, "
+                     f"Ids as in synthesize --dot/--strategy-json (robotics semantics {model.options.robotics_semantics}, "
                      f"cooperative {model.options.cooperative}).")
         self.shown = None
         self._relayout(None)  # the latched state that arrived meanwhile is still in ``latest``

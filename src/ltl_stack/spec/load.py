@@ -9,6 +9,7 @@ from ltl_stack.spec.english_reader import ENGLISH_SUFFIXES, has_section_headers,
 from ltl_stack.spec.errors import SpecError
 from ltl_stack.spec.model import Spec
 from ltl_stack.spec.slugsin import parse_slugsin
+from ltl_stack.spec.structured import parse_structured
 
 STRUCTURED_SUFFIXES = (".structuredslugs", ".ltl")
 
@@ -28,8 +29,6 @@ def load_spec(path: str | Path) -> Spec:
         text = read_text(path, "spec file")  # a byte-order mark is tolerated
     except InputError as e:  # missing, a folder, binary (NUL byte), not UTF-8: one line naming file[:line]
         raise SpecError(file, e.line, 0, e.message) from None
-    from ltl_stack.spec.structured import parse_structured
-
     suffix = path.suffix.lower()
     if suffix == ".slugsin":
         return parse_slugsin(text, file)

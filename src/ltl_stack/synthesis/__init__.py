@@ -1,10 +1,18 @@
 """GR(1) synthesis on BDDs (dd): realizability, strategies, explanations, export.
 
-    synthesize(spec, robotics_semantics=True, cooperative=True) -> SynthesisResult
-    is_realizable(spec, robotics_semantics=False) -> bool
+    synthesize(spec, robotics_semantics=True, cooperative=True, timeout=None, max_memory=None)
+        -> SynthesisResult
+    is_realizable(spec, robotics_semantics=True) -> bool
 
-See ``game`` (the BDD game), ``fixpoint`` (thesis Eq. 4.2), ``strategy`` (symbolic strategy and
-``step``), ``explicit`` (thesis Alg. 1) and ``automaton`` (JSON / slugs JSON / DOT export).
+The defaults are the one set every tool shares (``options.SynthesisOptions``: robotics init
+semantics, cooperative strategy); ``result.options.describe()`` says which were used. A ``timeout``
+(or a shared ``Deadline``) ends the work with ``TimeLimitReached`` and the memory cap with
+``MemoryLimitReached`` (both ``Exit.LIMIT``).
+
+Modules, bottom up: ``options`` (defaults, limits), ``game`` (the BDD game), ``fixpoint`` (thesis
+Eq. 4.2), ``automaton`` (explicit automaton and its JSON / slugs JSON / DOT files, checked against
+a spec on load), ``explicit`` (thesis Alg. 1), ``strategy`` (symbolic strategy and ``step``),
+``explain`` (why a spec is unrealizable) and ``explain_render`` (its text / dict / DOT), ``cli``.
 """
 from __future__ import annotations
 
@@ -13,15 +21,26 @@ from dataclasses import dataclass
 
 from ltl_stack.spec.model import Spec
 from ltl_stack.synthesis.automaton import Automaton, AutomatonState
-from ltl_stack.synthesis.errors import AssumptionViolation, NoInitialState, SynthesisError, UnrealizableError
+from ltl_stack.synthesis.errors import (
+    AssumptionViolation,
+    LimitReached,
+    MemoryLimitReached,
+    NoInitialState,
+    StrategyFileError,
+    SynthesisError,
+    TimeLimitReached,
+    UnrealizableError,
+)
 from ltl_stack.synthesis.fixpoint import Options, Progress, Solution, solve
-from ltl_stack.synthesis.game import BACKEND, Game
+from ltl_stack.synthesis.game import BACKEND, Game, memory_guard
+from ltl_stack.synthesis.options import DEFAULT_OPTIONS, Deadline, SynthesisOptions
 from ltl_stack.synthesis.strategy import State, SymbolicStrategy
 
 __all__ = [
-    "BACKEND", "Automaton", "AutomatonState", "AssumptionViolation", "Game", "NoInitialState", "Options",
-    "Solution", "State", "SymbolicStrategy", "SynthesisError", "SynthesisResult", "UnrealizableError",
-    "is_realizable", "synthesize",
+    "BACKEND", "DEFAULT_OPTIONS", "Automaton", "AutomatonState", "AssumptionViolation", "Deadline", "Game",
+    "LimitReached", "MemoryLimitReached", "NoInitialState", "Options", "Solution", "State", "StrategyFileError",
+    "SymbolicStrategy", "SynthesisError", "SynthesisOptions", "SynthesisResult", "TimeLimitReached",
+    "UnrealizableError", "is_realizable", "synthesize",
 ]
 
 
@@ -32,30 +51,43 @@ class SynthesisResult:
     seconds: float
     game: Game
     solution: Solution
+    #: the init semantics and strategy kind used (``options.describe()`` for a log line)
+    options: SynthesisOptions = DEFAULT_OPTIONS
 
 
-def synthesize(spec: Spec, *, robotics_semantics: bool = True, cooperative: bool = True,
-               progress: Progress | None = None, options: Options | None = None) -> SynthesisResult:
+def synthesize(spec: Spec, *, robotics_semantics: bool = DEFAULT_OPTIONS.robotics_semantics,
+               cooperative: bool = DEFAULT_OPTIONS.cooperative, progress: Progress | None = None,
+               options: Options | None = None, timeout: float | None = None, deadline: Deadline | None = None,
+               max_memory: int | None = None) -> SynthesisResult:
     """Solve the game of ``spec`` and, when realizable, build its symbolic strategy.
 
     The verdict is the spec's (cooperation never changes it). With ``cooperative`` the game is first
     solved without moves that leave the environment no admissible input; only if that loses is the
     ordinary game solved, and its strategy then avoids such moves wherever it can
     (``strategy.fully_cooperative`` is False).
+
+    ``timeout`` seconds (or ``deadline``, to share one across calls) and ``max_memory`` bytes bound
+    the run (``TimeLimitReached``, ``MemoryLimitReached``); ``options`` are the performance switches.
     """
     start = time.perf_counter()
-    game = Game(spec)
-    solution = solve(game, robotics_semantics=robotics_semantics, cooperative=cooperative,
-                     options=options, progress=progress)
-    if cooperative and not solution.realizable:
-        if progress:
-            progress("no strategy avoids trapping the environment; solving the ordinary game")
-        solution = solve(game, robotics_semantics=robotics_semantics, options=options, progress=progress)
-    strategy = SymbolicStrategy(game, solution, cooperative=cooperative) if solution.realizable else None
-    return SynthesisResult(solution.realizable, strategy, time.perf_counter() - start, game, solution)
+    limit = deadline if deadline is not None else Deadline(timeout)
+    game = Game(spec, max_memory=max_memory, deadline=limit)
+    with memory_guard(game.max_memory):
+        solution = solve(game, robotics_semantics=robotics_semantics, cooperative=cooperative,
+                         options=options, progress=progress)
+        if cooperative and not solution.realizable:
+            if progress:
+                progress("no strategy avoids trapping the environment; solving the ordinary game")
+            solution = solve(game, robotics_semantics=robotics_semantics, options=options, progress=progress)
+        strategy = SymbolicStrategy(game, solution, cooperative=cooperative) if solution.realizable else None
+    return SynthesisResult(solution.realizable, strategy, time.perf_counter() - start, game, solution,
+                           SynthesisOptions(robotics_semantics, cooperative))
 
 
-def is_realizable(spec: Spec, *, robotics_semantics: bool = False, options: Options | None = None) -> bool:
+def is_realizable(spec: Spec, *, robotics_semantics: bool = DEFAULT_OPTIONS.robotics_semantics,
+                  options: Options | None = None, timeout: float | None = None,
+                  max_memory: int | None = None) -> bool:
     """Realizability only (stops as soon as the answer is known to be "no")."""
-    game = Game(spec)
-    return solve(game, robotics_semantics=robotics_semantics, early_exit=True, options=options).realizable
+    game = Game(spec, max_memory=max_memory, deadline=Deadline(timeout))
+    with memory_guard(game.max_memory):
+        return solve(game, robotics_semantics=robotics_semantics, early_exit=True, options=options).realizable

@@ -160,7 +160,7 @@ class Automaton:
         lines.append("}")
         return "\n".join(lines) + "\n"
 
-    def write_png(self, path: str | Path, timeout: float = 120.0) -> None:
+    def to_png(self, timeout: float = 120.0) -> bytes:
         """Render with Graphviz (raises ``RuntimeError`` when it is missing, fails or times out).
 
         ``dot`` lays out small automata; beyond ``DOT_LAYOUT_LIMIT`` states it takes minutes, so
@@ -178,7 +178,11 @@ class Automaton:
                                "write --dot and render a part of it") from None
         if data.returncode != 0:
             raise RuntimeError(f"{program} failed: {data.stderr.decode(errors='replace').strip()}")
-        write_atomic(path, data.stdout)
+        return data.stdout
+
+    def write_png(self, path: str | Path, timeout: float = 120.0) -> None:
+        """``to_png`` written atomically to ``path``."""
+        write_atomic(path, self.to_png(timeout))
 
 
 def _esc(text: str) -> str:

@@ -1,156 +1,211 @@
 """``synthesize``: GR(1) realizability and strategy export from the command line.
 
-Exit codes: 0 realizable, 10 unrealizable, 2 bad input (spec error, unreadable file, bad option),
-3 the explicit strategy exceeds ``--max-states``, 4 an export failed (e.g. no Graphviz for --png).
+The defaults are every tool's defaults (``options.SynthesisOptions``: robotics init semantics,
+cooperative strategy); the text and ``--json`` output say which were used. ``--json`` prints the
+summary on stdout; the strategy files are written with ``--strategy-json``, ``--slugs-json``,
+``--dot``, ``--png`` and ``--counterstrategy``: all of them or none (each is rendered first, then
+every file is written through a temporary file and renamed at the end), never over an input.
+
+Exit codes (``ltl_stack.errors.Exit``): 0 realizable, 10 unrealizable, 2 bad input, 4 an export
+could not be written, 5 a limit was reached (``--timeout``, ``--max-memory``, ``--max-states``).
 """
 from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
+import threading
 import time
 
-EXIT_REALIZABLE = 0
-EXIT_UNREALIZABLE = 10
-EXIT_BAD_INPUT = 2
-EXIT_TOO_LARGE = 3
-EXIT_EXPORT_FAILED = 4
+from ltl_stack import cli
+from ltl_stack.errors import Exit, OutputError
+from ltl_stack.spec.load import load_spec
+from ltl_stack.spec.model import Spec
+from ltl_stack.synthesis import synthesize
+from ltl_stack.synthesis.automaton import Automaton
+from ltl_stack.synthesis.explain import explain
+from ltl_stack.synthesis.explain_render import (
+    counterstrategy_dot,
+    counterstrategy_json,
+    explanation_dict,
+    explanation_text,
+)
+from ltl_stack.synthesis.options import (
+    DEFAULT_MAX_MEMORY,
+    Deadline,
+    add_option_flags,
+    options_from,
+    parse_size,
+)
+
+PROG = "synthesize"
+EXIT_CODES = (Exit.OK, Exit.UNREALIZABLE, Exit.BAD_INPUT, Exit.WRITE_FAILED, Exit.LIMIT)
+#: how long after ``--timeout`` a BDD operation that does not return in time is cut off hard
+HARD_STOP_GRACE = 2.0
 
 
-def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(
-        prog="synthesize",
-        description="Check a GR(1) specification (.slugsin or structured) for realizability and "
-                    "export its strategy.",
-        epilog="exit codes: 0 realizable, 10 unrealizable, 2 bad input, 3 explicit strategy larger "
-               "than --max-states, 4 export failed")
+def _size(text: str) -> int:
+    try:
+        return parse_size(text)
+    except ValueError as e:
+        raise argparse.ArgumentTypeError(str(e)) from None
+
+
+def build_parser() -> cli.ToolParser:
+    p = cli.ToolParser(
+        PROG, "Check a GR(1) specification (.slugsin or structured) for realizability and export its strategy.",
+        exit_codes=EXIT_CODES)
     p.add_argument("spec", help="specification file (.slugsin, .structuredslugs, .ltl)")
-    p.add_argument("--robotics-semantics", action="store_true",
-                   help="every position satisfying env_init and sys_init must be winning "
-                        "(slugs' --sysInitRoboticsSemantics); default: slugs' default semantics")
-    p.add_argument("--cooperative", action="store_true",
-                   help="never force the environment to violate its assumptions and help it reach its "
-                        "liveness goals (slugs' --cooperativeGR1Strategy)")
-    p.add_argument("--json", metavar="OUT", help="write the explicit strategy in our JSON schema")
+    add_option_flags(p)
+    p.add_json("the summary (verdict, options, times, sizes, explanation)")
+    p.add_argument("--json-summary", dest="json", action="store_true", help=argparse.SUPPRESS)
+    p.add_argument("--strategy-json", metavar="OUT",
+                   help="write the explicit strategy in our JSON schema (docs/strategy_json.md)")
     p.add_argument("--slugs-json", metavar="OUT",
                    help="write the explicit strategy in slugs' --explicitStrategy --jsonOutput layout")
     p.add_argument("--dot", metavar="OUT", help="write the explicit strategy as Graphviz DOT")
     p.add_argument("--png", metavar="OUT", help="render the explicit strategy to PNG (needs Graphviz)")
-    p.add_argument("--max-states", type=int, default=200_000, metavar="N",
-                   help="give up the explicit strategy beyond N states (default 200000)")
-    p.add_argument("--explain", action="store_true",
-                   help="when unrealizable, explain why (ltl_stack.synthesis.explain)")
+    p.add_argument("--max-states", type=cli.positive_int, default=200_000, metavar="N",
+                   help="give up the explicit strategy beyond N states (default 200000; exit 5)")
+    p.add_argument("--timeout", type=cli.positive_float, metavar="S",
+                   help="give up after S seconds of work (exit 5); default: no limit")
+    p.add_argument("--max-memory", type=_size, metavar="SIZE", default=None,
+                   help=f"cap the BDD manager's memory, e.g. 512M or 8G (default {DEFAULT_MAX_MEMORY // 2**30}G, "
+                        "lowered to fit an address-space limit such as ulimit -v; exit 5 when reached)")
+    p.add_argument("--explain", action="store_true", help="when unrealizable, explain why")
     p.add_argument("--counterstrategy", metavar="OUT",
-                   help="when unrealizable, write the environment's counterstrategy (JSON; Graphviz DOT when OUT ends in .dot)")
-    p.add_argument("--quiet", action="store_true", help="print nothing but errors")
-    p.add_argument("--json-summary", action="store_true",
-                   help="print a JSON summary (verdict, times, sizes) on stdout instead of text")
+                   help="when unrealizable, write the environment's counterstrategy "
+                        "(JSON; Graphviz DOT when OUT ends in .dot)")
+    p.add_argument("--quiet", action="store_true", help="print nothing but errors (and the --json summary)")
     return p
 
 
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
-    from ltl_stack.fileio import write_atomic
-    from ltl_stack.spec import SpecError, load_spec
-    from ltl_stack.synthesis import synthesize
-    from ltl_stack.synthesis.explicit import TooManyStates
+    return cli.run(PROG, lambda: _synthesize(args))
 
+
+def _synthesize(args: argparse.Namespace) -> int:
+    outputs = [args.strategy_json, args.slugs_json, args.dot, args.png, args.counterstrategy]
+    cli.check_outputs([args.spec], outputs)
     start = time.perf_counter()
+    deadline = Deadline(args.timeout)
+    stop = _hard_stop(args.timeout)
 
     def progress(message: str) -> None:
         if not args.quiet and time.perf_counter() - start > 1.0:
-            print(f"synthesize: {message}", file=sys.stderr, flush=True)
+            cli.say(PROG, message)
 
     try:
         spec = load_spec(args.spec)
-    except SpecError as e:
-        print(str(e), file=sys.stderr)
-        return EXIT_BAD_INPUT
-    except OSError as e:
-        print(f"{args.spec}: {e.strerror or e}", file=sys.stderr)
-        return EXIT_BAD_INPUT
-    parsed = time.perf_counter()
-    result = synthesize(spec, robotics_semantics=args.robotics_semantics, cooperative=args.cooperative,
-                        progress=progress)
-    summary = {
-        "spec": args.spec,
-        "realizable": result.realizable,
-        "robotics_semantics": args.robotics_semantics,
-        "cooperative": args.cooperative,
-        "inputs": len(spec.inputs),
-        "outputs": len(spec.outputs),
-        "parse_seconds": round(parsed - start, 6),
-        "synthesis_seconds": round(result.seconds, 6),
-        "z_iterations": result.solution.z_iterations,
-    }
-    code = EXIT_REALIZABLE if result.realizable else EXIT_UNREALIZABLE
-    wants_explicit = any([args.json, args.slugs_json, args.dot, args.png])
-    if result.realizable and wants_explicit:
-        t = time.perf_counter()
-        try:
+        parsed = time.perf_counter()
+        options = options_from(args.robotics_semantics, args.cooperative)
+        result = synthesize(spec, robotics_semantics=options.robotics_semantics, cooperative=options.cooperative,
+                            progress=progress, deadline=deadline, max_memory=args.max_memory)
+        summary = {
+            "spec": args.spec,
+            "realizable": result.realizable,
+            **options.to_dict(),
+            "options": options.describe(),
+            "inputs": len(spec.inputs),
+            "outputs": len(spec.outputs),
+            "parse_seconds": round(parsed - start, 6),
+            "synthesis_seconds": round(result.seconds, 6),
+            "z_iterations": result.solution.z_iterations,
+        }
+        files: list[tuple[str, str | bytes, str]] = []
+        if result.realizable and any([args.strategy_json, args.slugs_json, args.dot, args.png]):
+            t = time.perf_counter()
             automaton = result.strategy.explicit(max_states=args.max_states, progress=progress)
-        except TooManyStates as e:
-            print(f"synthesize: {e}; raise --max-states or use the symbolic strategy", file=sys.stderr)
-            return EXIT_TOO_LARGE
-        summary["explicit_seconds"] = round(time.perf_counter() - t, 6)
-        summary["states"] = len(automaton)
-        try:
-            if args.json:
-                write_atomic(args.json, json.dumps(automaton.to_json(), indent=1) + "\n")
-            if args.slugs_json:
-                write_atomic(args.slugs_json, json.dumps(automaton.to_slugs_json(), indent=1) + "\n")
-            if args.dot:
-                write_atomic(args.dot, automaton.to_dot())
-            if args.png:
-                automaton.write_png(args.png)
-        except (OSError, RuntimeError) as e:
-            print(f"synthesize: export failed: {e}", file=sys.stderr)
-            return EXIT_EXPORT_FAILED
-    elif wants_explicit and not args.quiet:
-        print("synthesize: unrealizable, no strategy to export", file=sys.stderr)
-    if not result.realizable and (args.explain or args.counterstrategy):
-        explained = _explain(spec, args, summary)
-        if explained is not None:
-            return explained
-    explanation_text = summary.pop("explanation_text", None)
-    if args.json_summary:
-        print(json.dumps(summary, indent=1))
+            summary["explicit_seconds"] = round(time.perf_counter() - t, 6)
+            summary["states"] = len(automaton)
+            files = _strategy_files(automaton, args, deadline)
+        elif not result.realizable and any([args.strategy_json, args.slugs_json, args.dot, args.png]):
+            if not args.quiet:
+                cli.warn(PROG, "unrealizable, no strategy to export")
+        text = None
+        if not result.realizable and (args.explain or args.counterstrategy):
+            text, files = _explain(spec, args, summary, deadline)
+        elif args.counterstrategy and not args.quiet:
+            cli.warn(PROG, "no counterstrategy: the spec is realizable")
+    finally:
+        stop.cancel()
+    cli.write_outputs(files)
+    if args.json:
+        cli.print_json(summary)
     elif not args.quiet:
         verdict = "REALIZABLE" if result.realizable else "UNREALIZABLE"
         extra = f", {summary['states']} states" if "states" in summary else ""
-        print(f"{verdict} ({result.seconds:.3f} s{extra})")
-        if explanation_text:
-            print(explanation_text)
-    return code
+        print(f"{verdict} ({result.seconds:.3f} s{extra}; {options.describe()})")
+        if text:
+            print(text, end="")
+    return Exit.OK if result.realizable else Exit.UNREALIZABLE
 
 
-def _explain(spec, args, summary: dict) -> int | None:
-    """Explain why the spec is unrealizable and, with --counterstrategy, write the environment's
-    counterstrategy (JSON; DOT too when OUT ends in .dot). Returns an exit code only when writing failed."""
-    from ltl_stack.fileio import write_atomic
-    from ltl_stack.synthesis.explain import explain
+def _strategy_files(automaton: Automaton, args: argparse.Namespace,
+                    deadline: Deadline) -> list[tuple[str, str | bytes, str]]:
+    """The export files, rendered in memory (nothing is written yet)."""
+    files: list[tuple[str, str | bytes, str]] = []
+    if args.strategy_json:
+        files.append((args.strategy_json, json.dumps(automaton.to_json(), indent=1) + "\n", "strategy JSON"))
+    if args.slugs_json:
+        files.append((args.slugs_json, json.dumps(automaton.to_slugs_json(), indent=1) + "\n", "slugs JSON"))
+    if args.dot:
+        files.append((args.dot, automaton.to_dot(), "DOT file"))
+    if args.png:
+        remaining = deadline.remaining()
+        try:
+            png = automaton.to_png(timeout=120.0 if remaining is None else max(remaining, 0.1))
+        except RuntimeError as e:
+            raise OutputError(f"{args.png}: cannot render the PNG: {e}", Exit.WRITE_FAILED) from None
+        files.append((args.png, png, "PNG"))
+    return files
 
+
+def _explain(spec: Spec, args: argparse.Namespace, summary: dict,
+             deadline: Deadline) -> tuple[str | None, list[tuple[str, str | bytes, str]]]:
+    """Explain why the spec is unrealizable (``summary["explanation"]``, the text) and render the
+    environment's counterstrategy file when asked (JSON; DOT when OUT ends in .dot)."""
     def progress(text: str) -> None:
         if not args.quiet:
-            print(f"synthesize: {text}", file=sys.stderr, flush=True)
+            cli.say(PROG, text)
 
-    explanation = explain(spec, robotics_semantics=args.robotics_semantics,
-                          counterstrategy=bool(args.counterstrategy), progress=progress)
+    explanation = explain(spec, robotics_semantics=summary["robotics_semantics"],
+                          counterstrategy=bool(args.counterstrategy), progress=progress,
+                          deadline=deadline, max_memory=args.max_memory)
+    text = None
     if args.explain:
-        summary["explanation"] = explanation.to_dict()
-        summary["explanation_text"] = explanation.to_text()
-    if args.counterstrategy:
-        counter = explanation.counterstrategy
-        if counter is None:
-            print("synthesize: no counterstrategy: the spec is realizable", file=sys.stderr)
-            return None
-        text = counter.to_dot() if args.counterstrategy.endswith(".dot") else json.dumps(counter.to_json(), indent=1) + "\n"
-        try:
-            write_atomic(args.counterstrategy, text)
-        except OSError as e:
-            print(f"synthesize: cannot write {args.counterstrategy}: {e}", file=sys.stderr)
-            return EXIT_EXPORT_FAILED
-    return None
+        summary["explanation"] = explanation_dict(explanation)
+        text = explanation_text(explanation)
+    files: list[tuple[str, str | bytes, str]] = []
+    counter = explanation.counterstrategy
+    if args.counterstrategy and counter is not None:
+        data = counterstrategy_dot(counter) if args.counterstrategy.endswith(".dot") else \
+            json.dumps(counterstrategy_json(counter), indent=1) + "\n"
+        files.append((args.counterstrategy, data, "counterstrategy"))
+    return text, files
+
+
+class _NoStop:
+    def cancel(self) -> None:
+        pass
+
+
+def _hard_stop(timeout: float | None) -> threading.Timer | _NoStop:
+    """Cut the process off when one BDD operation runs far past ``--timeout`` (the deadline is
+    only checked between operations): the same one line and exit code, no output written."""
+    if timeout is None:
+        return _NoStop()
+
+    def stop() -> None:
+        cli.error(PROG, f"gave up after {timeout:g} s (the time limit, --timeout)")
+        os._exit(int(Exit.LIMIT))
+
+    timer = threading.Timer(timeout + max(HARD_STOP_GRACE, timeout / 4), stop)
+    timer.daemon = True
+    timer.start()
+    return timer
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -1,6 +1,7 @@
 """Errors raised by synthesis and by executing a strategy."""
 from __future__ import annotations
 
+from ltl_stack.errors import Exit, UserError
 from ltl_stack.spec.model import Clause
 
 
@@ -14,6 +15,24 @@ class UnrealizableError(SynthesisError):
 
 class NoInitialState(SynthesisError):
     """No winning initial position matches the requested (partial) valuation."""
+
+
+class LimitReached(SynthesisError, UserError):
+    """Work stopped at a limit the caller set (time, memory, states); exit code ``Exit.LIMIT``."""
+
+    code = Exit.LIMIT
+
+
+class TimeLimitReached(LimitReached):
+    """The deadline passed (``synthesize --timeout``, ``Deadline``)."""
+
+
+class MemoryLimitReached(LimitReached):
+    """The BDD manager reached its memory cap (``synthesize --max-memory``)."""
+
+
+class StrategyFileError(UserError):
+    """A saved strategy that cannot be used with its spec; ``str()`` names file, state or edge, and clause."""
 
 
 class AssumptionViolation(SynthesisError):

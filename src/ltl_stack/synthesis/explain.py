@@ -18,62 +18,34 @@
 
 Deletion only works because the questions are monotone: dropping a system clause can only make a
 spec easier to realize, and dropping an assumption can only make a cooperative run easier to find.
-All checks reuse one BDD manager (``Game``) with the clause BDDs built once.
+All checks reuse one BDD manager (``Game``) with the clause BDDs built once, and every loop checks
+the game's deadline. This module computes; ``explain_render`` turns the results into text, JSON
+data and DOT.
 """
 from __future__ import annotations
 
 import copy
-from collections.abc import Callable, Mapping
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from enum import StrEnum
 
 from ltl_stack.spec.model import Clause, Spec
 from ltl_stack.synthesis.fixpoint import init_ok, solve
-from ltl_stack.synthesis.game import Game
+from ltl_stack.synthesis.game import Game, memory_guard
+from ltl_stack.synthesis.options import Deadline
 
 Progress = Callable[[str], None]
 
-INIT, DEADLOCK, LIVELOCK = "init", "deadlock", "livelock"
+
+class Kind(StrEnum):
+    """What fails in an unrealizable spec (a ``str``, so it compares and serialises as its value)."""
+
+    INIT = "init"
+    DEADLOCK = "deadlock"
+    LIVELOCK = "livelock"
 
 
-def english(clause: Clause) -> str:
-    """Structured English of a clause when the spec package provides it, else ``""``."""
-    try:
-        from ltl_stack.spec.english import clause_to_english
-    except ImportError:
-        return ""
-    try:
-        return clause_to_english(clause)
-    except Exception:  # an unusual formula must not break the explanation
-        return ""
-
-
-MAX_TEXT = 160
-
-
-def _shorten(text: str) -> str:
-    return text if len(text) <= MAX_TEXT else text[:MAX_TEXT - 3] + "..."
-
-
-def clause_line(clause: Clause, section: str | None = None) -> str:
-    """``file:line: text`` (plus the Structured English in parentheses when it says more); long
-    clauses (generated specs) are shortened, ``to_dict`` keeps them whole."""
-    text = _shorten(clause.text or "(no text)")
-    words = _shorten(english(clause))
-    tag = f"[{section}] " if section else ""
-    line = f"{clause.location}: {tag}{text}"
-    if words and words.strip() != text.strip():
-        line += f"    ({words})"
-    return line
-
-
-def clause_dict(clause: Clause, section: str) -> dict:
-    return {"section": section, "file": clause.file, "line": clause.line, "text": clause.text,
-            "english": english(clause)}
-
-
-def _true_names(valuation: Mapping[str, bool]) -> str:
-    names = [k for k, v in valuation.items() if v]
-    return "{" + ", ".join(names) + "}"
+INIT, DEADLOCK, LIVELOCK = Kind.INIT, Kind.DEADLOCK, Kind.LIVELOCK
 
 
 # --- game variants sharing one BDD manager ------------------------------------------------------
@@ -135,6 +107,7 @@ def cooperative_winning(game: Game):
             reach = goal & game.prime(z)
             y = bdd.false
             while True:
+                game.deadline.check()
                 new_y = epre(reach | game.prime(y))
                 if new_y == y:
                     break
@@ -186,34 +159,8 @@ class Counterstrategy:
     outputs: list[str]
     states: list[CounterState]
     initial: list[int]
-    goals: list[str]           # "file:line: text" of the system goals (index = blocked_goal)
+    goals: list[Clause]        # the system goals (index = blocked_goal); none: the trivial goal true
     truncated: bool = False
-
-    def to_json(self) -> dict:
-        return {"inputs": self.inputs, "outputs": self.outputs, "initial": self.initial,
-                "goals": self.goals, "truncated": self.truncated,
-                "states": [{"id": s.id, "inputs": s.inputs, "outputs": s.outputs,
-                            "blocked_goal": s.blocked_goal, "env_goal": s.env_goal,
-                            "env_move": s.env_move, "robot_stuck": s.robot_stuck,
-                            "successors": s.successors} for s in self.states]}
-
-    def to_dot(self, name: str = "counterstrategy") -> str:
-        lines = [f"digraph {name} {{", "  rankdir=LR;", '  node [shape=box, fontname="monospace"];']
-        for s in self.states:
-            label = f"{s.id}: in {_true_names(s.inputs)}\\nout {_true_names(s.outputs)}\\n" \
-                    f"blocks goal {s.blocked_goal}"
-            if s.env_move is not None:
-                label += f"\\nenv plays {_true_names(s.env_move)}"
-            style = ", style=filled, fillcolor=\"#f4cccc\"" if s.robot_stuck else ""
-            shape = ", peripheries=2" if s.id in self.initial else ""
-            lines.append(f'  n{s.id} [label="{label}"{style}{shape}];')
-            if s.robot_stuck:
-                lines.append(f'  stuck{s.id} [label="robot has no safe move", shape=plaintext];')
-                lines.append(f"  n{s.id} -> stuck{s.id};")
-            for t in s.successors:
-                lines.append(f"  n{s.id} -> n{t};")
-        lines.append("}")
-        return "\n".join(lines) + "\n"
 
 
 class _EnvFixpoint:
@@ -238,6 +185,7 @@ class _EnvFixpoint:
                         x = bdd.false
                         ranks = [x]
                         while True:
+                            game.deadline.check()
                             new_x = x | game.cpre_env(base & game.prime(y) & (asm | game.prime(x)))
                             if new_x == x:
                                 break
@@ -285,8 +233,8 @@ def build_counterstrategy(game: Game, robotics_semantics: bool, max_states: int 
     env = _EnvFixpoint(game)
     if winning is not None and env.losing != ~winning:  # pragma: no cover - would be an engine bug
         raise AssertionError("the environment's winning region is not the complement of W")
-    goals_text = [clause_line(c) for c, _ in game.clauses("sys_liveness")] or ["(no goal: true)"]
-    result = Counterstrategy(list(game.inputs), list(game.outputs), [], [], goals_text)
+    goals = [c for c, _ in game.clauses("sys_liveness")]
+    result = Counterstrategy(list(game.inputs), list(game.outputs), [], [], goals)
     starts = _losing_starts(game, env.losing, robotics_semantics)
     if not starts:
         return None
@@ -308,6 +256,7 @@ def build_counterstrategy(game: Game, robotics_semantics: bool, max_states: int 
         if mode is not None:
             result.initial.append(node(valuation, mode[0], mode[1], 0))
     while todo:
+        game.deadline.check()
         if len(result.states) >= max_states:
             result.truncated = True
             break
@@ -372,12 +321,13 @@ def _losing_starts(game: Game, losing, robotics_semantics: bool) -> list[dict[st
 
 @dataclass
 class Explanation:
-    """The result of ``explain``; ``to_text()`` for people, ``to_dict()`` for tools (JSON-able)."""
+    """The result of ``explain``; ``explain_render.explanation_text`` for people, ``explanation_dict``
+    for tools (JSON-able)."""
 
     source: str
     realizable: bool
     robotics_semantics: bool
-    kind: str | None = None                      # INIT, DEADLOCK or LIVELOCK when unrealizable
+    kind: Kind | None = None                     # when unrealizable
     losing_initial: dict[str, bool] | None = None
     init_clauses: list[Clause] = field(default_factory=list)
     realizable_with_default_init: bool | None = None
@@ -390,93 +340,21 @@ class Explanation:
     checks: int = 0
     counterstrategy: Counterstrategy | None = None
 
-    def to_dict(self) -> dict:
-        return {
-            "source": self.source,
-            "realizable": self.realizable,
-            "robotics_semantics": self.robotics_semantics,
-            "kind": self.kind,
-            "losing_initial": self.losing_initial,
-            "init_clauses": [clause_dict(c, "sys_init") for c in self.init_clauses],
-            "realizable_with_default_init": self.realizable_with_default_init,
-            "deadlock": None if self.deadlock is None else {
-                **{k: v for k, v in self.deadlock.items() if k != "clauses"},
-                "clauses": [clause_dict(c, "sys_safety") for c in self.deadlock["clauses"]]},
-            "failing_goals": [clause_dict(c, "sys_liveness") for c in self.failing_goals],
-            "core": [clause_dict(c, s) for s, c in self.core],
-            "core_candidates": self.core_candidates,
-            "cooperative_possible": self.cooperative_possible,
-            "assumption_core": [clause_dict(c, s) for s, c in self.assumption_core],
-            "checks": self.checks,
-            "counterstrategy": None if self.counterstrategy is None else self.counterstrategy.to_json(),
-        }
-
-    def to_text(self) -> str:
-        semantics = "robotics init semantics" if self.robotics_semantics else "slugs' default init semantics"
-        if self.realizable:
-            return f"{self.source}: realizable ({semantics}); nothing to explain.\n"
-        out = [f"{self.source}: unrealizable ({semantics})."]
-        if self.kind == INIT:
-            out.append(f"Initial condition: for the initial inputs {_true_names(self.losing_initial or {})} "
-                       "no initial output satisfies the system's initial condition:")
-            out += [f"  {clause_line(c, 'sys_init')}" for c in self.init_clauses]
-        elif self.kind == DEADLOCK:
-            out.append("Deadlock: the environment can force the robot into a position where every move "
-                       "violates its safety requirements.")
-        else:
-            out.append("Livelock: the robot can always stay safe, but the environment, while meeting all of "
-                       "its assumptions, can keep it from reaching a goal forever.")
-        if self.losing_initial is not None and self.kind != INIT:
-            where = "position" if self.robotics_semantics else "inputs"
-            out.append(f"The environment wins from the initial {where} {_true_names(self.losing_initial)} "
-                       "(true propositions listed).")
-        if self.realizable_with_default_init:
-            out.append("It is realizable with slugs' default init semantics: some initial positions allowed by "
-                       "sys_init are losing; restricting sys_init to the winning ones fixes it.")
-        if self.deadlock is not None:
-            d = self.deadlock
-            if d["steps"]:
-                moves = "; ".join(f"env {_true_names(m['inputs_next'])}, robot {_true_names(m['outputs_next'])}"
-                                  for m in d["path"][:6])
-                more = " ..." if d["steps"] > 6 else ""
-                out.append(f"From {_true_names(d['start'])} the environment forces it within {d['steps']} "
-                           f"move(s), whatever the robot answers; e.g. {moves}{more}.")
-            out.append(f"At {_true_names(d['position'])}, when the environment plays "
-                       f"{_true_names(d['inputs_next'])}, every next output breaks one of:")
-            out += [f"  {clause_line(c, 'sys_safety')}" for c in d["clauses"]]
-        if self.failing_goals:
-            out.append("Goals the robot cannot ensure even on their own (with all safety requirements):")
-            out += [f"  {clause_line(c, 'sys_liveness')}" for c in self.failing_goals]
-        elif self.kind == LIVELOCK:
-            out.append("Each goal can be ensured on its own; the goals fail together.")
-        out.append(f"Minimal unrealizable subset of the robot's requirements ({len(self.core)} of "
-                   f"{self.core_candidates} safety/goal clauses; removing any one makes it realizable):")
-        if self.core:
-            out += [f"  {clause_line(c, s)}" for s, c in self.core]
-        else:
-            out.append("  (none: the initial condition alone is unrealizable)")
-        if self.cooperative_possible is False:
-            out.append("Even a cooperative environment cannot let the robot meet its requirements: they conflict "
-                       "with these assumptions (a minimal subset; weakening one of them matters):")
-            out += [f"  {clause_line(c, s)}" for s, c in self.assumption_core] or [
-                "  (none: the robot's requirements conflict among themselves)"]
-        elif self.cooperative_possible:
-            out.append("A cooperative environment would let the robot meet its requirements: the environment "
-                       "can prevent it. Stronger assumptions that rule out the counterstrategy's behaviour "
-                       "are a way to make it realizable.")
-        if self.counterstrategy is not None:
-            cs = self.counterstrategy
-            stuck = sum(s.robot_stuck for s in cs.states)
-            out.append(f"Environment counterstrategy: {len(cs.states)} states, {stuck} where the robot has no "
-                       f"safe move{' (truncated)' if cs.truncated else ''}.")
-        out.append(f"({self.checks} realizability checks)")
-        return "\n".join(out) + "\n"
-
 
 def explain(spec: Spec, *, robotics_semantics: bool = True, counterstrategy: bool = False,
-            progress: Progress | None = None, max_counterstrategy_states: int = 2000) -> Explanation:
-    """Explain why ``spec`` is unrealizable (see the module docstring); cheap when it is realizable."""
-    game = Game(spec)
+            progress: Progress | None = None, max_counterstrategy_states: int = 2000,
+            deadline: Deadline | None = None, max_memory: int | None = None) -> Explanation:
+    """Explain why ``spec`` is unrealizable (see the module docstring); cheap when it is realizable.
+
+    ``deadline`` and ``max_memory`` bound the work as in ``synthesize`` (``Exit.LIMIT`` errors).
+    """
+    game = Game(spec, max_memory=max_memory, deadline=deadline or Deadline())
+    with memory_guard(game.max_memory):
+        return _explain(game, spec, robotics_semantics, counterstrategy, progress, max_counterstrategy_states)
+
+
+def _explain(game: Game, spec: Spec, robotics_semantics: bool, counterstrategy: bool, progress: Progress | None,
+             max_counterstrategy_states: int) -> Explanation:
     variants = _Variants(game, robotics_semantics, progress)
     full = solve(game, robotics_semantics=robotics_semantics)
     variants.checks += 1
@@ -560,6 +438,7 @@ def _deadlock_example(game: Game, robotics_semantics: bool) -> dict | None:
     stuck_moves = game.env_trans & bdd.forall(game.outputs_next, ~game.sys_trans)
     layers = [bdd.exist(game.inputs_next, stuck_moves)]
     while True:
+        game.deadline.check()
         wider = layers[-1] | game.cpre_env(game.prime(layers[-1]))
         if wider == layers[-1]:
             break
@@ -609,4 +488,6 @@ def _deadlock_example(game: Game, robotics_semantics: bool) -> dict | None:
 def counterstrategy(spec: Spec, *, robotics_semantics: bool = True,
                     max_states: int = 2000) -> Counterstrategy | None:
     """The environment's counterstrategy for ``spec`` (None when the spec is realizable)."""
-    return build_counterstrategy(Game(spec), robotics_semantics, max_states)
+    game = Game(spec)
+    with memory_guard(game.max_memory):
+        return build_counterstrategy(game, robotics_semantics, max_states)

@@ -17,15 +17,39 @@ strategy needs only ``SymbolicStrategy.step``.
 from __future__ import annotations
 
 from collections import deque
+from collections.abc import Callable
+from typing import Any, Protocol
 
 from ltl_stack.synthesis.automaton import Automaton, AutomatonState
-from ltl_stack.synthesis.errors import SynthesisError
+from ltl_stack.synthesis.errors import LimitReached
 from ltl_stack.synthesis.game import BACKEND
-from ltl_stack.synthesis.strategy import State, SymbolicStrategy
+from ltl_stack.synthesis.state import State
+
+Progress = Callable[[str], None]
 
 
-class TooManyStates(SynthesisError):
-    """The explicit automaton exceeds ``max_states``."""
+class TooManyStates(LimitReached):
+    """The explicit automaton exceeds ``max_states`` (``Exit.LIMIT``)."""
+
+
+class SymbolicStrategy(Protocol):
+    """What extraction needs of ``strategy.SymbolicStrategy`` (which imports this module)."""
+
+    game: Any
+    solution: Any
+    cooperative: bool
+    initial: Any
+    winning: Any
+    relations: list
+    reached: list
+
+    def start_state(self, inputs: dict[str, bool], outputs: dict[str, bool]) -> State: ...
+
+    def deterministic(self, j: int) -> Any: ...
+
+    def recovery_relations(self) -> Any: ...
+
+    def _skip_satisfied(self, inputs: dict[str, bool], outputs: dict[str, bool], goal: int) -> int: ...
 
 
 def _bits_of(values: tuple[bool, ...]) -> int:
@@ -44,8 +68,10 @@ def initial_states(strategy: SymbolicStrategy) -> list[State]:
     return result
 
 
-def extract(strategy: SymbolicStrategy, *, max_states: int | None = None, progress=None,
+def extract(strategy: SymbolicStrategy, *, max_states: int | None = None, progress: Progress | None = None,
             recovery: bool = False) -> Automaton:
+    """The explicit automaton of ``strategy`` (with recovery edges when ``recovery``);
+    ``TooManyStates`` past ``max_states``."""
     if recovery:
         return _extract_with_recovery(strategy, max_states, progress)
     game = strategy.game
@@ -83,7 +109,9 @@ def extract(strategy: SymbolicStrategy, *, max_states: int | None = None, progre
     initial = [number(tuple(s.valuation.values()), s.goal) for s in initial_states(strategy)]
     moves_of = [strategy.deterministic(j) & game.env_trans for j in range(goals)]
     care = set(nxt_names)
+    check = game.deadline.check
     while todo:
+        check()
         values, goal, n = todo.popleft()
         here = dict(zip(names, values, strict=True))
         moves = bdd.let(here, moves_of[goal])
@@ -152,7 +180,8 @@ def _codes(bdd, u, bit_of: dict[str, int]) -> list[int]:
         memo.clear()  # the recursive closure is a reference cycle: drop its BDD nodes now
 
 
-def _extract_with_recovery(strategy: SymbolicStrategy, max_states: int | None, progress) -> Automaton:
+def _extract_with_recovery(strategy: SymbolicStrategy, max_states: int | None,
+                           progress: Progress | None) -> Automaton:
     """``extract`` with Alg. 1 lines 19-25: positions are coded as integers (input k is bit k,
     output k bit n_in + k) because recovery automata answer every input of every state."""
     game = strategy.game
@@ -206,7 +235,9 @@ def _extract_with_recovery(strategy: SymbolicStrategy, max_states: int | None, p
     ordinary = strategy.winning & game.env_trans
     moves_of = [(ordinary & strategy.deterministic(j) & game.env_trans) | (~ordinary & rec.deterministic(j))
                 for j in range(goals)]
+    check = game.deadline.check
     while todo:
+        check()
         n = todo.popleft()
         goal = states[n].goal
         here = valuation(codes[n])

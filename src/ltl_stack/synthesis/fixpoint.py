@@ -51,8 +51,6 @@ class Options:
     #: games lose more to sifting than they gain)
     reorder: bool = True
     reorder_threshold: int = REORDER_THRESHOLD
-    #: CUDD's memory limit in bytes (the machine is shared: fail rather than swap); 0 = no limit
-    max_memory: int = 4 * 2**30
     early_exit: bool = False
     #: None: state-based iterates when no liveness formula mentions next-state variables
     state_based: bool | None = None
@@ -114,6 +112,7 @@ def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = Fa
 
     ``cooperative`` solves the game where the system may only use moves after which the
     environment still has an admissible input (it never forces a violation of the assumptions).
+    Every controllable-predecessor call checks ``game.deadline`` (``TimeLimitReached``).
     """
     opts = options or Options()
     early_exit = early_exit or opts.early_exit
@@ -136,10 +135,10 @@ def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = Fa
 
     if BACKEND == "cudd":
         bdd.configure(reordering=False)
-        if opts.max_memory:
-            bdd.configure(max_memory=opts.max_memory)
+    check = game.deadline.check
 
     def cpre(target):
+        check()
         maybe_reorder()
         return game.cpre_sys(target, sys_trans)
     sys_trans = game.deadlock_free_sys_trans() if cooperative else game.sys_trans

@@ -28,7 +28,9 @@ Stable API (other modules, ``explain.py`` and the differential tests rely on it)
 - ``deadlock_free_sys_trans()``   ``sys_trans`` restricted to moves after which the environment
                                   still has an admissible input (used by the cooperative strategy)
 - ``to_bdd(formula)``             any ``ltl_stack.spec.formula`` node to a BDD
-- ``is_realizable(robotics_semantics=False)``  realizability (see ``ltl_stack.synthesis.fixpoint``)
+- ``deadline``, ``max_memory``    the limits of the run (``ltl_stack.synthesis.options``): the memory
+                                  cap is set on the manager before the first clause is built, and
+                                  every loop over BDD operations calls ``deadline.check()``
 
 Semantics follow slugs: the system moves after seeing the environment's next input, and wins if
 the environment breaks its safety assumptions first, so
@@ -36,10 +38,13 @@ the environment breaks its safety assumptions first, so
 """
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Iterator, Mapping
+from contextlib import contextmanager
 
 from ltl_stack.spec.formula import And, Const, Formula, Iff, Implies, Not, Or, Var, Xor
 from ltl_stack.spec.model import SECTIONS, Clause, Spec
+from ltl_stack.synthesis.errors import MemoryLimitReached
+from ltl_stack.synthesis.options import MANAGER_ESTIMATE, NO_DEADLINE, Deadline, memory_cap
 
 try:  # pragma: no cover - which branch runs depends on the installation
     from dd import cudd as _backend
@@ -75,11 +80,30 @@ class _BlockOrderWins(Exception):
     """Raised inside ``Game`` construction when the block variable order won the order race."""
 
 
-def _new_manager():
-    """A BDD manager; CUDD starts with a small cache (it grows on demand) to start fast."""
-    if BACKEND == "cudd":
-        return _backend.BDD(initial_cache_size=2**16)
-    return _backend.BDD()  # pragma: no cover
+def new_manager(max_memory: int):
+    """A BDD manager whose memory cap is ``max_memory`` bytes from its first node on.
+
+    CUDD starts with a small cache (it grows on demand) to start fast; past the cap an operation
+    fails and ``memory_guard`` turns that into ``MemoryLimitReached``.
+    """
+    if BACKEND != "cudd":  # pragma: no cover
+        return _backend.BDD()
+    with memory_guard(max_memory):
+        bdd = _backend.BDD(memory_estimate=min(max_memory, MANAGER_ESTIMATE), initial_cache_size=2**16)
+        bdd.configure(max_memory=max_memory)
+    return bdd
+
+
+@contextmanager
+def memory_guard(max_memory: int | None) -> Iterator[None]:
+    """Turn CUDD's failure at the memory cap (a NULL node, ``MemoryError``) into ``MemoryLimitReached``."""
+    try:
+        yield
+    except (ValueError, RuntimeError, MemoryError) as e:
+        if not isinstance(e, MemoryError) and "NULL" not in str(e) and "CUDD" not in str(e):
+            raise
+        cap = "its memory cap" if max_memory is None else f"the memory cap of {max_memory / 2**20:.0f} MiB"
+        raise MemoryLimitReached(f"the BDDs outgrew {cap} (raise it with --max-memory)") from None
 
 
 def prime_name(name: str) -> str:
@@ -91,21 +115,26 @@ class Game:
     """The BDD game of a ``Spec``. Build one per spec; all BDDs share ``self.bdd``."""
 
     def __init__(self, spec: Spec, *, bdd=None, interleave: bool | None = None,
-                 fused: bool = True) -> None:
+                 fused: bool = True, max_memory: int | None = None, deadline: Deadline = NO_DEADLINE) -> None:
         """``interleave=None`` chooses the variable order (see ``_conjoin``): interleaved unless the
         safety conjunctions are much smaller with all current variables before all next ones.
         ``True``/``False`` force one order and ``fused=False`` quantifies after conjoining; those
-        exist to measure the techniques."""
+        exist to measure the techniques. ``max_memory`` caps the manager (``options.memory_cap``;
+        a manager passed as ``bdd`` keeps its own settings); ``deadline`` bounds the time of this
+        and every later computation on the game."""
+        self.max_memory = memory_cap(max_memory)
+        self.deadline = deadline
         race = interleave is None and bdd is None and BACKEND == "cudd"
-        try:
-            self._build(spec, bdd, interleave is not False, fused, race)
-        except _BlockOrderWins:
-            self._build(spec, None, False, fused, False)
+        with memory_guard(self.max_memory):
+            try:
+                self._build(spec, bdd, interleave is not False, fused, race)
+            except _BlockOrderWins:
+                self._build(spec, None, False, fused, False)
 
     def _setup(self, spec: Spec, bdd, interleave: bool) -> None:
         self.spec = spec
         self.interleave = interleave
-        self.bdd = bdd if bdd is not None else _new_manager()
+        self.bdd = bdd if bdd is not None else new_manager(self.max_memory)
         self.inputs: list[str] = list(spec.inputs)
         self.outputs: list[str] = list(spec.outputs)
         self.inputs_next = [prime_name(v) for v in self.inputs]
@@ -167,6 +196,7 @@ class Game:
     def to_bdd(self, formula: Formula):
         """The BDD of a formula (iterative: slugsin formulas can nest thousands deep)."""
         bdd = self.bdd
+        check = self.deadline.check
         done: dict[int, object] = {}
         stack: list[tuple[Formula, bool]] = [(formula, False)]
         while stack:
@@ -174,6 +204,7 @@ class Game:
             key = id(node)
             if key in done:
                 continue
+            check()
             if isinstance(node, Var):
                 name = prime_name(node.name) if node.primed else node.name
                 if node.name not in self._to_next:
@@ -230,9 +261,11 @@ class Game:
         streak = 0
         clauses = self._clauses[section]
         for k, (_, u) in enumerate(clauses):
+            self.deadline.check()
             acc &= u
             if self._race and section == RACE_SECTION and rival is None and len(acc) > RACE_START:
                 rival = Game.__new__(Game)
+                rival.max_memory, rival.deadline = self.max_memory, self.deadline
                 rival._setup(self.spec, None, False)
                 rival_acc = rival.bdd.true
                 started = k
@@ -311,13 +344,7 @@ class Game:
         alive = self.bdd.exist(self.variables_next, self.env_trans)
         return self.sys_trans & self.prime(alive)
 
-    # --- realizability ------------------------------------------------------------------------
-    def is_realizable(self, robotics_semantics: bool = False) -> bool:
-        """Whether the system wins from the initial positions (early exit when it cannot)."""
-        from ltl_stack.synthesis.fixpoint import solve
-
-        return solve(self, robotics_semantics=robotics_semantics, early_exit=True).realizable
-
+    # --- counting ----------------------------------------------------------------------------
     def count(self, u, *, next_too: bool = False) -> int:
         """Number of valuations of ``u`` over the current (and optionally next) variables."""
         nvars = len(self.variables) * (2 if next_too else 1)

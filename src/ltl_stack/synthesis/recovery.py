@@ -115,6 +115,7 @@ def rings(game: Game, base) -> list:
     seen = base
     frontier = base
     while True:
+        game.deadline.check()
         new = existential_pre(game, frontier) & ~seen
         if new == bdd.false:
             return result
@@ -131,6 +132,7 @@ def safety_levels(game: Game, limit: int = MAX_SAFETY_LEVELS) -> list:
     levels = []
     S = bdd.true
     for _ in range(limit):
+        game.deadline.check()
         keep = bdd.forall(game.inputs_next, bdd.exist(game.outputs_next, game.sys_trans & game.prime(S)))
         S_next = S & keep
         if S_next == S:

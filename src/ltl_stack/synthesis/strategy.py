@@ -26,11 +26,12 @@ W, still get a move that keeps sys safety; see ``step_result`` and ``explicit(re
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field
 
+from ltl_stack.synthesis.automaton import Automaton
 from ltl_stack.synthesis.errors import AssumptionViolation, NoInitialState, SynthesisError
-from ltl_stack.synthesis.fixpoint import Solution, initial_positions
-from ltl_stack.synthesis.game import Game
+from ltl_stack.synthesis.explicit import extract
+from ltl_stack.synthesis.fixpoint import Progress, Solution, initial_positions
+from ltl_stack.synthesis.game import Game, memory_guard
 from ltl_stack.synthesis.recovery import (
     RecoveryRelations,
     StepKind,
@@ -38,39 +39,9 @@ from ltl_stack.synthesis.recovery import (
     UnsafeStep,
     unkeepable_clauses,
 )
+from ltl_stack.synthesis.state import State
 
-
-@dataclass(frozen=True, eq=False)
-class State:
-    """A position of the game with the index of the system goal being pursued.
-
-    ``id`` is stable across runs: the valuation bits (inputs then outputs, spec order, first
-    proposition is the least significant bit) plus ``goal`` times 2^(number of propositions).
-    """
-
-    inputs: dict[str, bool]
-    outputs: dict[str, bool]
-    goal: int
-    id: int = field(default=-1)
-
-    def __post_init__(self) -> None:
-        if self.id < 0:
-            bits = 0
-            for k, v in enumerate([*self.inputs.values(), *self.outputs.values()]):
-                bits |= int(bool(v)) << k
-            n = len(self.inputs) + len(self.outputs)
-            object.__setattr__(self, "id", bits + (self.goal << n))
-
-    def __eq__(self, other: object) -> bool:
-        return isinstance(other, State) and other.id == self.id and \
-            other.inputs == self.inputs and other.outputs == self.outputs
-
-    def __hash__(self) -> int:
-        return hash(self.id)
-
-    @property
-    def valuation(self) -> dict[str, bool]:
-        return {**self.inputs, **self.outputs}
+__all__ = ["State", "SymbolicStrategy"]
 
 
 class SymbolicStrategy:
@@ -112,6 +83,7 @@ class SymbolicStrategy:
         for Yc, Xs in zip(layers.Y, layers.X, strict=True):
             below = Yc  # Y[c] and the X sets of the assumptions before i in round c
             for i, X in enumerate(Xs):
+                game.deadline.check()
                 paths = trans & (self.reached[j] | game.prime(below) | (game.prime(X) & not_asm[i]))
                 below = below | X
                 new = bdd.exist(game.outputs_next, paths) & ~covered
@@ -165,6 +137,7 @@ class SymbolicStrategy:
         near = bdd.exist(game.variables_next, joint & game.env_goals[i])
         seen = near
         while near != bdd.false:
+            game.deadline.check()
             layers.append(game.prime(near))
             step_back = bdd.exist(game.variables_next, joint & game.prime(near))
             near = step_back & ~seen
@@ -353,9 +326,9 @@ class SymbolicStrategy:
         result.sort(key=lambda d: sum(int(v) << k for k, v in enumerate(d.values())))
         return result
 
-    def explicit(self, max_states: int | None = None, progress=None, recovery: bool = False):
+    def explicit(self, max_states: int | None = None, progress: Progress | None = None,
+                 recovery: bool = False) -> Automaton:
         """The explicit automaton (thesis Alg. 1 lines 1-18, with ``recovery`` lines 19-25 too);
         see ``ltl_stack.synthesis.explicit``."""
-        from ltl_stack.synthesis.explicit import extract
-
-        return extract(self, max_states=max_states, progress=progress, recovery=recovery)
+        with memory_guard(self.game.max_memory):
+            return extract(self, max_states=max_states, progress=progress, recovery=recovery)

@@ -239,7 +239,7 @@ def test_state_ids_are_those_of_the_exported_automaton(clean_model, tmp_path):
     from ltl_stack.synthesis.cli import main as synthesize_main
 
     out = tmp_path / "clean.json"
-    assert synthesize_main([str(CLEAN_SPEC), "--robotics-semantics", "--cooperative", "--json", str(out),
+    assert synthesize_main([str(CLEAN_SPEC), "--robotics-semantics", "--cooperative", "--strategy-json", str(out),
                             "--quiet"]) == 0
     exported = Automaton.load(out)
     assert len(exported) == len(clean_model.automaton)

@@ -21,19 +21,14 @@ from test_differential_reference import CASES
 
 from ltl_stack.spec.formula import Var
 from ltl_stack.spec.model import Clause
+from ltl_stack.synthesis import is_realizable
 
 SEEDS = range(300)
 SEMANTICS = (False, True)
 
 
 def engine_is_realizable(spec, robotics_semantics: bool) -> bool:
-    """The engine's public verdict (``ltl_stack.synthesis.is_realizable``, else ``Game.is_realizable``)."""
-    try:
-        from ltl_stack.synthesis import is_realizable
-    except ImportError:
-        from ltl_stack.synthesis.game import Game
-
-        return Game(spec).is_realizable(robotics_semantics=robotics_semantics)
+    """The engine's public verdict (``ltl_stack.synthesis.is_realizable``)."""
     return is_realizable(spec, robotics_semantics=robotics_semantics)
 
 

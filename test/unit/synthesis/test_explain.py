@@ -16,6 +16,7 @@ from random_specs import make_spec, random_spec
 
 from ltl_stack.spec.formula import evaluate
 from ltl_stack.synthesis.explain import DEADLOCK, INIT, LIVELOCK, explain
+from ltl_stack.synthesis.explain_render import counterstrategy_dot, explanation_dict, explanation_text
 
 
 def with_core(spec, core):
@@ -184,7 +185,7 @@ def test_deadlock(robotics):
     check_assumption_core(spec, e)
     check_counterstrategy(spec, e.counterstrategy, robotics)
     assert all(s.robot_stuck for s in e.counterstrategy.states)
-    text = e.to_text()
+    text = explanation_text(e)
     assert "Deadlock" in text and "deadlock.slugsin:3: [sys_safety] ! i'" in text, text
 
 
@@ -196,7 +197,7 @@ def test_livelock_names_the_goal_that_fails():
     assert e.cooperative_possible is False and e.assumption_core == []
     check_core(spec, e, True)
     check_counterstrategy(spec, e.counterstrategy, True)
-    text = e.to_text()
+    text = explanation_text(e)
     assert "livelock.slugsin:3: [sys_liveness] o\n" in text, text
     assert "conflict among themselves" in text, text
 
@@ -208,7 +209,7 @@ def test_livelock_caused_by_the_environment(robotics):
     assert e.kind == LIVELOCK and e.cooperative_possible is True, (e.kind, e.cooperative_possible)
     assert [c.text for c in e.failing_goals] == ["& o i'"], e.failing_goals
     check_counterstrategy(spec, e.counterstrategy, robotics)
-    assert "environment can prevent it" in e.to_text()
+    assert "environment can prevent it" in explanation_text(e)
 
 
 def test_init_failure_default_semantics():
@@ -216,7 +217,7 @@ def test_init_failure_default_semantics():
     e = explain(spec, robotics_semantics=False)
     assert (e.kind, e.losing_initial, e.core) == (INIT, {"i": True}, []), (e.kind, e.losing_initial, e.core)
     assert [c.text for c in e.init_clauses] == ["& o ! o"]
-    assert "init.slugsin:2: [sys_init] & o ! o" in e.to_text()
+    assert "init.slugsin:2: [sys_init] & o ! o" in explanation_text(e)
     # robotics semantics: no position satisfies both init conditions, so nothing has to be won
     assert explain(spec, robotics_semantics=True).realizable
 
@@ -226,7 +227,7 @@ def test_robotics_init_failure_says_default_semantics_would_do():
     e = explain(spec, robotics_semantics=True, counterstrategy=True)
     assert e.losing_initial == {"i": e.losing_initial["i"], "o": True}, e.losing_initial
     assert e.realizable_with_default_init is True
-    assert "restricting sys_init" in e.to_text()
+    assert "restricting sys_init" in explanation_text(e)
     check_counterstrategy(spec, e.counterstrategy, True)
 
 
@@ -235,7 +236,7 @@ def test_assumption_core_names_the_conflicting_assumption():
     e = explain(spec)
     assert e.cooperative_possible is False
     assert [(s, c.text) for s, c in e.assumption_core] == [("env_safety", "| ! i i'")], e.assumption_core
-    assert "weakening one of them matters" in e.to_text()
+    assert "weakening one of them matters" in explanation_text(e)
     check_assumption_core(spec, e)
 
 
@@ -243,15 +244,15 @@ def test_realizable_spec_has_nothing_to_explain():
     spec = make_spec(["i"], ["o"], sys_safety=["! ^ o' i'"], sys_liveness=["o"], env_liveness=["i"])
     e = explain(spec, counterstrategy=True)
     assert e.realizable and e.kind is None and e.counterstrategy is None
-    assert "realizable" in e.to_text()
+    assert "realizable" in explanation_text(e)
 
 
 def test_to_dict_is_json_and_counterstrategy_exports():
     e = explain(hand_spec("env livelock"), counterstrategy=True)
-    data = json.loads(json.dumps(e.to_dict()))
+    data = json.loads(json.dumps(explanation_dict(e)))
     assert data["kind"] == LIVELOCK and data["failing_goals"][0]["line"] == 2, data
     assert data["counterstrategy"]["states"], data
-    dot = e.counterstrategy.to_dot()
+    dot = counterstrategy_dot(e.counterstrategy)
     assert dot.startswith("digraph") and dot.count("->") >= len(e.counterstrategy.states), dot
 
 
@@ -313,7 +314,7 @@ def test_slugs_unrealizable_examples(name):
         if cooperative is not None:
             assert e.cooperative_possible is cooperative
         for _, clause in e.core:
-            assert f"{clause.location}: " in e.to_text()
+            assert f"{clause.location}: " in explanation_text(e)
     if name == "section_3_2_errorneous_spec":
         assert e.core_candidates == 3 and len(e.core) == 3, e.core
 
@@ -373,5 +374,5 @@ def test_deadlock_path_shows_how_the_environment_forces_it(robotics):
     d = e.deadlock
     assert (e.kind, d["steps"], d["start"]["o"], d["position"]["o"]) == (DEADLOCK, 1, False, True), d
     check_deadlock_path(spec, d)
-    assert "forces it within 1 move(s)" in e.to_text(), e.to_text()
-    json.dumps(e.to_dict())
+    assert "forces it within 1 move(s)" in explanation_text(e), explanation_text(e)
+    json.dumps(explanation_dict(e))

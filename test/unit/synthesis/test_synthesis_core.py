@@ -15,7 +15,7 @@ from ltl_stack.synthesis.fixpoint import solve
 
 def verdicts(spec):
     """(default init semantics, robotics init semantics)."""
-    return (is_realizable(spec), is_realizable(spec, robotics_semantics=True))
+    return (is_realizable(spec, robotics_semantics=False), is_realizable(spec, robotics_semantics=True))
 
 
 def winning_valuations(game: Game, winning) -> set[tuple[int, ...]]:
