@@ -61,9 +61,28 @@ class AnalysisResult:
     spec_path: str = ""
     mapping_path: str = ""
     snapshot_path: str | None = None
+    _tables: dict[str, Table] | None = None
+    _texts: dict[str, str] = field(default_factory=dict)
+
+    def prepare(self) -> AnalysisResult:
+        """Build the tables and the suggestion texts now (on the worker thread, not the GUI's)."""
+        self.tables()
+        for form in FORMS:
+            self.suggestion_text(form)
+        return self
+
+    def suggestion_text(self, form: str) -> str:
+        if form not in self._texts:
+            self._texts[form] = suggestion_text(self.suggestions, form)
+        return self._texts[form]
 
     def tables(self) -> dict[str, Table]:
-        """The five tables, laid out like thesis Figs. 3.6, 3.7/3.8, 3.9, 3.14 and 3.15."""
+        """The five tables, laid out like thesis Figs. 3.6, 3.7/3.8, 3.9, 3.14 and 3.15 (built once)."""
+        if self._tables is None:
+            self._tables = self._build_tables()
+        return self._tables
+
+    def _build_tables(self) -> dict[str, Table]:
         a = self.analysis
         t = {key: Table(key, header) for key, header in (
             ("E1", ["Output", "Input", "Output-to-input chain"]),
@@ -153,8 +172,9 @@ def run_analysis(spec_path: str, mapping_path: str, *, snapshot: Snapshot | None
                        robot_topics_to_ignore=list(ignore_topics), progress=say)
     suggestions = mutual_exclusions(e2_groups(analysis), spec.outputs)
     say("done")
+    say("laying out the tables")
     return AnalysisResult(spec, analysis, suggestions, [str(i) for i in issues], snapshot, str(spec_path),
-                          str(mapping_path), snapshot_path)
+                          str(mapping_path), snapshot_path).prepare()
 
 
 def suggestion_text(suggestions: Sequence[MutualExclusion], form: str) -> str:
@@ -177,14 +197,14 @@ def suggestion_text(suggestions: Sequence[MutualExclusion], form: str) -> str:
 
 
 def conflict_graph(result: AnalysisResult, key: str, index: int) -> DotGraph:
-    """The subgraph of the finding's witness chains (nodes round, topics boxed, actions as 3-D
-    boxes), the conflicting channels red, the proposition nodes blue."""
+    """The subgraph of the finding's witness chains (nodes round, topics and actions boxed, as
+    rqt_graph draws them), the conflicting channels red, the proposition nodes blue."""
     chains, conflict = result.witnesses(key, index)
     g = DotGraph(name=f"{key}_{index + 1}")
     for w in chains:
         previous = None
         for k, (kind, name) in enumerate(w.path):
-            shape = {"node": "ellipse", "topic": "box"}.get(kind, "box3d")
+            shape = "ellipse" if kind == "node" else "box"  # qt_dotgraph's box3d fails on PyQt5 5.15
             color = CONFLICT_COLOR if name in conflict else PROPOSITION_COLOR if k == 0 else "black"
             g.add_node((kind, name), name, shape=shape, color=color,
                        tooltip=f"{kind} {name}" + (f" (node of {w.proposition})" if k == 0 else ""))

@@ -44,7 +44,6 @@ from ltl_stack.gui.analysis_model import (
     conflict_graph,
     names,
     run_analysis,
-    suggestion_text,
 )
 from ltl_stack.gui.widgets import GraphView, RowsModel, Task, error_text, restore_controls, save_controls
 
@@ -122,12 +121,6 @@ class AnalysisPanel(QWidget):
         self.findings_tab_widget.currentChanged.connect(lambda _i: self._on_selection(self.current_key()))
         self.graph_view = GraphView()
         self.graph_view.setObjectName("conflict_graphics_view")
-        middle = QSplitter(Qt.Horizontal)
-        middle.setObjectName("findings_splitter")
-        middle.addWidget(self.findings_tab_widget)
-        middle.addWidget(self.graph_view)
-        middle.setStretchFactor(0, 3)
-        middle.setStretchFactor(1, 2)
 
         suggest = QGroupBox("Suggested additions to the specification")
         form_row = QHBoxLayout()
@@ -135,16 +128,17 @@ class AnalysisPanel(QWidget):
         self.form_combo_box.setObjectName("suggestion_form_combo_box")
         self.form_combo_box.addItems([FORM_TITLES[f] for f in FORMS])
         self.form_combo_box.currentIndexChanged.connect(lambda _i: self._show_suggestions())
-        self.chosen_line_edit = self._line("chosen_suggestions_line_edit", "suggestions to add, e.g. 1,2 (empty: all)")
+        self.chosen_line_edit = self._line("chosen_suggestions_line_edit", "add which, e.g. 1,2 (empty: all)")
+        form_row.addWidget(QLabel("Show as"))
+        form_row.addWidget(self.form_combo_box)
+        form_row.addWidget(self.chosen_line_edit, 1)
+        apply_row = QHBoxLayout()
         self.amended_line_edit = self._line("amended_spec_line_edit", "amended spec to write (.slugsin)")
         self.apply_push_button = QPushButton("Apply and check")
         self.apply_push_button.setObjectName("apply_and_check_push_button")
         self.apply_push_button.clicked.connect(self.apply)
-        form_row.addWidget(QLabel("Show as"))
-        form_row.addWidget(self.form_combo_box)
-        form_row.addWidget(self.chosen_line_edit, 1)
-        form_row.addWidget(self.amended_line_edit, 2)
-        form_row.addWidget(self.apply_push_button)
+        apply_row.addWidget(self.amended_line_edit, 1)
+        apply_row.addWidget(self.apply_push_button)
         self.suggestions_text = QPlainTextEdit()
         self.suggestions_text.setObjectName("suggestions_plain_text_edit")
         self.suggestions_text.setReadOnly(True)
@@ -154,25 +148,24 @@ class AnalysisPanel(QWidget):
         self.apply_text = QPlainTextEdit()
         self.apply_text.setObjectName("apply_result_plain_text_edit")
         self.apply_text.setReadOnly(True)
-        texts = QSplitter(Qt.Horizontal)
-        texts.setObjectName("suggestions_splitter")
-        texts.addWidget(self.suggestions_text)
-        right = QWidget()
-        right_layout = QVBoxLayout(right)
-        right_layout.setContentsMargins(0, 0, 0, 0)
-        right_layout.addWidget(self.verdict_label)
-        right_layout.addWidget(self.apply_text, 1)
-        texts.addWidget(right)
+        self.apply_text.setPlaceholderText("Apply and check: the amended spec's synthesis result")
         suggest_layout = QVBoxLayout(suggest)
         suggest_layout.addLayout(form_row)
-        suggest_layout.addWidget(texts, 1)
+        suggest_layout.addWidget(self.suggestions_text, 3)
+        suggest_layout.addLayout(apply_row)
+        suggest_layout.addWidget(self.verdict_label)
+        suggest_layout.addWidget(self.apply_text, 2)
 
+        bottom_splitter = QSplitter(Qt.Horizontal)
+        bottom_splitter.setObjectName("picture_splitter")
+        bottom_splitter.addWidget(self.graph_view)
+        bottom_splitter.addWidget(suggest)
+        bottom_splitter.setSizes([700, 700])
         main = QSplitter(Qt.Vertical)
         main.setObjectName("main_splitter")
-        main.addWidget(middle)
-        main.addWidget(suggest)
-        main.setStretchFactor(0, 3)
-        main.setStretchFactor(1, 2)
+        main.addWidget(self.findings_tab_widget)
+        main.addWidget(bottom_splitter)
+        main.setSizes([330, 420])
 
         self.progress_bar = QProgressBar()
         self.progress_bar.setObjectName("progress_bar")
@@ -243,7 +236,7 @@ class AnalysisPanel(QWidget):
         counts = result.counts()
         for i, key in enumerate(CHECK_KEYS):
             table = self.tables[key]
-            self.models[key].set_rows(table.header, table.rows, [" / ".join(r) for r in table.rows])
+            self.models[key].set_rows(table.header, table.rows)
             self.findings_tab_widget.setTabText(i, f"{key} ({counts[key]})")
             view = self.views[key]
             if len(table.rows) <= 500:  # measuring every row of a huge table costs more than it helps
@@ -307,7 +300,7 @@ class AnalysisPanel(QWidget):
 
     def _show_suggestions(self) -> None:
         if self.result is not None:
-            self.suggestions_text.setPlainText(suggestion_text(self.result.suggestions, self.form()))
+            self.suggestions_text.setPlainText(self.result.suggestion_text(self.form()))
 
     def apply(self) -> bool:
         """Write the amended spec and synthesize it off the GUI thread; False if it cannot start."""

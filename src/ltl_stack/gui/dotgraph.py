@@ -63,13 +63,13 @@ class DotGraph:
 
     def to_dot(self) -> str:
         lines = [f"digraph {quote(self.name)} {{", f"  rankdir={self.rankdir};",
-                 '  node [fontname="Helvetica", fontsize=11];', '  edge [fontname="Helvetica", fontsize=9];']
+                 '  node [fontname="Helvetica", fontsize=11];']  # no "edge [...]": qt_dotgraph draws it as a node
         for n in self.nodes:
             extra = f", tooltip={quote(n.tooltip)}" if n.tooltip else ""
             lines.append(f"  {n.id} [label={quote(n.label)}, shape={n.shape}, color={quote(n.color)}{extra}];")
         for e in self.edges:
             label = f"label={quote(e.label)}, " if e.label else ""
-            lines.append(f"  {e.source} -> {e.target} [{label}color={quote(e.color)}];")
+            lines.append(f"  {e.source} -> {e.target} [{label}color={quote(e.color)}, fontname=Helvetica, fontsize=9];")
         lines.append("}")
         return "\n".join(lines) + "\n"
 

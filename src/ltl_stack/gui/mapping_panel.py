@@ -100,8 +100,9 @@ class MappingPanel(QWidget):
         inputs_box, outputs_box = QGroupBox("Inputs"), QGroupBox("Outputs")
         QVBoxLayout(inputs_box).addWidget(self.inputs_table_widget)
         QVBoxLayout(outputs_box).addWidget(self.outputs_table_widget)
-        tables = QSplitter(Qt.Horizontal)
+        tables = QSplitter(Qt.Vertical)
         tables.setObjectName("tables_splitter")
+        self.tables_splitter = tables
         tables.addWidget(inputs_box)
         tables.addWidget(outputs_box)
 
@@ -111,10 +112,12 @@ class MappingPanel(QWidget):
         QVBoxLayout(findings_box).addWidget(self.findings_list_widget)
         main = QSplitter(Qt.Vertical)
         main.setObjectName("main_splitter")
+        self.main_splitter = main
         main.addWidget(tables)
         main.addWidget(findings_box)
         main.setStretchFactor(0, 4)
         main.setStretchFactor(1, 1)
+        main.setSizes([700, 120])
 
         self.status_label = QLabel("Load a spec to start.")
         self.status_label.setObjectName("status_label")
@@ -141,7 +144,7 @@ class MappingPanel(QWidget):
         table.setObjectName(name)
         table.setHorizontalHeaderLabels(header)
         table.verticalHeader().setVisible(False)
-        table.horizontalHeader().setSectionResizeMode(QHeaderView.Interactive)
+        table.verticalHeader().setDefaultSectionSize(28)
         table.horizontalHeader().setStretchLastSection(False)
         return table
 
@@ -260,9 +263,12 @@ class MappingPanel(QWidget):
                     add.setToolTip(f"add a node for {prop}")
                     add.clicked.connect(lambda _=False, p=prop: self.add_row(p))
                     table.setCellWidget(r, 4, add)
-        table.resizeColumnsToContents()
-        for column in (1, 2):
-            table.setColumnWidth(column, max(table.columnWidth(column), 260))
+        header = table.horizontalHeader()
+        for column in range(table.columnCount()):
+            header.setSectionResizeMode(column, QHeaderView.Stretch if column == 2
+                                        else QHeaderView.ResizeToContents)
+        header.setSectionResizeMode(1, QHeaderView.Interactive)
+        table.setColumnWidth(1, 320)
 
     def _row_widgets(self, table: QTableWidget, r: int, kind: str, prop: str, i: int) -> None:
         row = self.doc.rows[(kind, prop)][i]

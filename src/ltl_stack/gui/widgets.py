@@ -12,7 +12,16 @@ import traceback
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from python_qt_binding.QtCore import QAbstractTableModel, QModelIndex, QObject, QPointF, QRectF, Qt, Signal
+from python_qt_binding.QtCore import (
+    QAbstractTableModel,
+    QModelIndex,
+    QObject,
+    QPointF,
+    QRectF,
+    QSize,
+    Qt,
+    Signal,
+)
 from python_qt_binding.QtGui import QBrush, QColor, QFont, QPainter, QPainterPath, QPen, QPolygonF
 from python_qt_binding.QtWidgets import (
     QAbstractButton,
@@ -115,10 +124,10 @@ class RowsModel(QAbstractTableModel):
         if role == Qt.DisplayRole:
             row = self.rows[index.row()]
             return row[index.column()] if index.column() < len(row) else ""
-        if role == Qt.ToolTipRole:
+        if role == Qt.ToolTipRole:  # made when asked: a table may have tens of thousands of rows
             if index.row() < len(self.tooltips) and self.tooltips[index.row()]:
                 return self.tooltips[index.row()]
-            return self.rows[index.row()][index.column()]
+            return " / ".join(c for c in self.rows[index.row()] if c)
         if role == Qt.BackgroundRole and index.row() in self.backgrounds:
             return QBrush(self.backgrounds[index.row()])
         return None
@@ -141,6 +150,9 @@ class GraphView(QGraphicsView):
         self.graph: DotGraph | None = None
         self.items: dict[str, Any] = {}  # node id -> the item drawn for it
         self._marks: list[QGraphicsRectItem] = []
+
+    def sizeHint(self) -> QSize:  # noqa: N802 - Qt's name; without it splitters squeeze the picture
+        return QSize(640, 420)
 
     def show_message(self, text: str) -> None:
         self.scene().clear()
