@@ -3,9 +3,10 @@ where the executor is in it.
 
 The automaton is synthesized with the options the executor runs with (robotics init semantics and
 the cooperative strategy unless told otherwise) and extracted as ``synthesize --dot/--strategy-json`` export it,
-so the ids in the view are the ids of those files. A ``ControllerState`` message is located by its
-valuation and goal (``Automaton.find``: unique in the explicit automaton), not by trusting its
-``state_id``. Small automata are drawn whole; large ones as the neighbourhood of the current state.
+so the ids in the view are the ids of those files. A ``ControllerState`` message is located in that
+automaton by its ``state_id`` (an explicit id, or a symbolic ``State.id`` decoded to its valuation and
+goal) and, failing that, by its valuation and goal (``Automaton.find``: unique in the automaton).
+Small automata are drawn whole; large ones as the neighbourhood of the current state.
 ``Latest`` hands the newest message from ROS's thread to the GUI's timer, so a view that redraws
 less often than states arrive never falls behind: it skips to the newest.
 """
@@ -88,11 +89,31 @@ class ControllerModel:
         return self._pred.get(state, [])
 
     def locate(self, update: StateUpdate) -> int | None:
-        """The automaton id of the executor's state, or None (before the start, or not in it)."""
+        """The automaton id of the executor's state, or None (before the start, or not in it).
+
+        The message's inputs are the executor's current readings, which differ from its state's while
+        a change is on its way (leaving one region before entering the next) or while it is paused, so
+        the state is found from ``state_id`` first: an id of the explicit automaton (what the executor
+        publishes when it has extracted it) with the same goal and, while running, the same outputs;
+        else a symbolic ``State.id`` (valuation bits plus goal), decoded; else the message's valuation.
+        """
         if update.state_id < 0 or update.goal < 0:
             return None
         a = self.automaton
-        if any(n not in update.inputs for n in a.inputs) or any(n not in update.outputs for n in a.outputs):
+        sid = update.state_id
+        if sid < len(a):
+            s = a.states[sid]
+            if s.goal == update.goal and (not update.running or all(
+                    bool(update.outputs.get(n, False)) == s.outputs[n] for n in a.outputs)):
+                return sid
+        n = len(a.inputs) + len(a.outputs)
+        if sid >> n == update.goal:
+            bits = [bool(sid >> k & 1) for k in range(n)]
+            found = a.find(dict(zip(a.inputs, bits, strict=False)),
+                           dict(zip(a.outputs, bits[len(a.inputs):], strict=False)), update.goal)
+            if found is not None:
+                return found.id
+        if any(p not in update.inputs for p in a.inputs) or any(p not in update.outputs for p in a.outputs):
             return None
         state = a.find(update.inputs, update.outputs, update.goal)
         return None if state is None else state.id

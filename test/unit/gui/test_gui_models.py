@@ -248,6 +248,22 @@ def test_state_ids_are_those_of_the_exported_automaton(clean_model, tmp_path):
         assert clean_model.locate(update) == s.id
 
 
+def test_states_are_located_by_their_id_while_the_readings_are_in_between(clean_model):
+    """The executor publishes its readings, which may be inadmissible for a moment (two regions at once)."""
+    from ltl_stack.synthesis.strategy import State
+
+    a = clean_model.automaton
+    s = a.states[a.states[a.initial[0]].successors[0]]
+    between = {**s.inputs, "topLane_rc": True, "rightLane_rc": True}
+    assert clean_model.locate(StateUpdate(s.id, s.goal, between, s.outputs, True)) == s.id  # explicit id
+    symbolic = State(dict(s.inputs), dict(s.outputs), s.goal).id
+    assert symbolic >= len(a)
+    assert clean_model.locate(StateUpdate(symbolic, s.goal, between, s.outputs, True)) == s.id
+    paused = {n: False for n in a.outputs}
+    assert clean_model.locate(StateUpdate(symbolic, s.goal, between, paused, False)) == s.id
+    assert clean_model.locate(StateUpdate(s.id, s.goal, between, paused, False)) == s.id
+
+
 def test_neighbourhood_of_a_large_automaton(clean_model):
     model = ControllerModel(clean_model.spec_path, clean_model.automaton, ViewOptions(full_limit=10, radius=1))
     assert not model.whole
