@@ -174,6 +174,13 @@ class RosMaster:
     def wait_for_subscriber(self, topic: str, timeout: float = WAIT) -> list[str]:
         return wait_for(lambda: self.subscribers(topic), timeout, f"a subscriber on {topic}")
 
+    def restart_master(self) -> None:
+        """Stop the master and start a new, empty one on the same port; the nodes keep running."""
+        self._master.stop()
+        restarts = len(list(self.workdir.glob("rosmaster*.log")))
+        self._master = RosProcess(master_command(self.port), self.env, self.workdir / f"rosmaster-{restarts}.log")
+        await_master(self.uri, self._master.popen, self._master.log_path, f"pytest-{self.port}-{restarts}")
+
     def run(self, args: Sequence[str], name: str | None = None, cwd: Path | None = None) -> RosProcess:
         """Start a process (e.g. ``['rosrun', 'ltl_stack', 'proposition_monitor', ...]``) on this master."""
         label = name or Path(args[2] if args[0] in ("rosrun", "roslaunch") and len(args) > 2 else args[0]).name

@@ -8,7 +8,7 @@ import pytest
 from helpers import require_shared, wait_for
 from test_executor_node import LOCK_SPEC, Probe
 
-from ltl_stack.runtime.mapping import load_mapping, resolve_name
+from ltl_stack.runtime.mapping import load_mapping, resolve_node_name
 
 pytestmark = pytest.mark.ros
 
@@ -24,13 +24,13 @@ def test_roslaunch_reads_the_generated_file(scenario, tmp_path):
     assert listed.returncode == 0, listed.stderr
     m = load_mapping(mapping)
     ns = m.scenario_namespace()
-    expected = {resolve_name(e.node, ns, e.kind) for e in m.entries() if e.node} | {f"/{ns}/controller_executor"}
+    expected = {resolve_node_name(e.node, ns) for e in m.entries() if e.node and e.pkg} | {f"/{ns}/controller_executor"}
     assert set(listed.stdout.split()) == expected, listed.stdout
     params = subprocess.run(["roslaunch", "--dump-params", str(launch)], capture_output=True, text=True, timeout=60)
     assert params.returncode == 0, params.stderr
     first = m.entries()[-1]
     for key in first.parameters:
-        assert f"{resolve_name(first.node, ns, first.kind)}/{key}:" in params.stdout, (key, params.stdout)
+        assert f"{resolve_node_name(first.node, ns)}/{key}:" in params.stdout, (key, params.stdout)
 
 
 def test_generated_launch_runs_nodes_and_executor(ros_master, tmp_path):
@@ -82,8 +82,20 @@ def test_generated_launch_runs_nodes_and_executor(ros_master, tmp_path):
                  "set_velocity subscribed to /lock/outputs/out")
         wait_for(lambda: "/lock/outputs/out" in ros_master.publishers("/robot/cmd_vel"), 20,
                  "set_velocity publishing /robot/cmd_vel")
-        assert ros_master.publishers("/lock/inputs/a") == ["/lock/inputs/a_sensor"]
+        assert ros_master.publishers("/lock/inputs/a") == ["/lock/a_sensor"]
         assert "/lock/controller_executor" in ros_master.subscribers("/lock/inputs/lock")
         assert roslaunch.running(), roslaunch.output()
     finally:
         probe.stop()
+
+
+def test_the_launch_stops_when_the_executor_exits(ros_master, tmp_path):
+    """The executor is required: an unrealizable spec ends the whole scenario, robots included."""
+    spec = tmp_path / "never.slugsin"
+    spec.write_text("[INPUT]\nperson\n\n[OUTPUT]\nmove\nstop\n\n[SYS_TRANS]\n& move' ! move'\n")
+    roslaunch = ros_master.run(["roslaunch", "ltl_stack", "simple.launch", f"spec:={spec}"], name="roslaunch")
+    wait_for(lambda: not roslaunch.running(), 90, "roslaunch to stop after the executor exited")
+    out = roslaunch.output()
+    assert "unrealizable" in out and "required process" in out.lower(), out[-3000:]
+    wait_for(lambda: not [n for _, ns in ros_master.system_state()[0] for n in ns if n.startswith("/simple/")], 30,
+             "every node of the scenario gone")

@@ -48,7 +48,7 @@ PROBE = textwrap.dedent('''\
         emit(kind="bool", topic=topic, value=msg.data)
 
     def on_state(msg, topic):
-        emit(kind="state", state=msg.state_id, goal=msg.goal_index, running=msg.running,
+        emit(kind="state", topic=topic, state=msg.state_id, goal=msg.goal_index, running=msg.running,
              inputs=valuation(msg.inputs), outputs=valuation(msg.outputs))
 
     def on_diag(msg, topic):

@@ -135,7 +135,7 @@ def test_negative_stale_after_is_one_clear_error(ros):
                    "_stale_after:=-1")
     wait_for(lambda: not node.running(), 30, "the sensor to exit")
     assert node.popen.returncode == 2, node.output()
-    assert "~stale_after must be >= 0" in node.output(), node.output()
+    assert "~stale_after must be a number >= 0" in node.output(), node.output()
     assert "Traceback" not in node.output(), node.output()
 
 
@@ -165,7 +165,7 @@ def test_region_sensor_with_a_real_regions_file(ros):
     from geometry_msgs.msg import PoseStamped
     from std_msgs.msg import Bool
 
-    from ltl_stack.ros.regions import RegionMap
+    from ltl_stack.runtime.regions import RegionMap
 
     path = require_shared("specs", "move_group_and_move_base", "lab_loop.regions")
     regions = RegionMap.load(path, scale=0.005)

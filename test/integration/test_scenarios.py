@@ -93,8 +93,8 @@ def test_pause_stops_the_robot_within_one_step_and_resume_moves_it_again():
 
     master = shared_master()
     state = Recorder("/clean_and_patrol/controller_executor/state", ControllerState)
-    odom = Recorder("/odom", Odometry)
-    commands = Recorder("/cmd_vel", Twist)
+    odom = Recorder("/clean_and_patrol/odom", Odometry)
+    commands = Recorder("/clean_and_patrol/cmd_vel", Twist)
     launch = master.run(["roslaunch", "ltl_stack", "clean_and_patrol.launch"], name="clean_and_patrol")
     try:
         try:
@@ -168,7 +168,7 @@ def _find_key(value, key):
 
 
 def test_live_analysis_of_the_simple_scenario_finds_move_and_stop_on_the_velocity_topic(tmp_path):
-    """Thesis Example 7 / Fig. 3.1: move and stop command /cmd_vel together (E2). With the suggested
+    """Thesis Example 7 / Fig. 3.1: move and stop command /simple/cmd_vel together (E2). With the suggested
     mutual exclusion added, "always move" and "if person then stop" cannot both hold: the report says
     the spec became unrealizable (exit 10, Exit.UNREALIZABLE) and names exactly the clauses that clash, with file:line."""
     master = shared_master()
@@ -177,7 +177,7 @@ def test_live_analysis_of_the_simple_scenario_finds_move_and_stop_on_the_velocit
         for topic in ("/simple/outputs/move", "/simple/outputs/stop"):
             master.wait_for_subscriber(topic, timeout=60)
         master.wait_for_publisher("/simple/inputs/person", timeout=60)
-        master.wait_for_publisher("/cmd_vel", timeout=60)
+        master.wait_for_publisher("/simple/cmd_vel", timeout=60)
         config = REPO_ROOT / "config" / "simple"
         out = tmp_path / "simple_with_suggestion.slugsin"
         proc = subprocess.run(["rosrun", "ltl_stack", "analyze_graph", "--spec", str(config / "simple.structuredslugs"),
@@ -185,7 +185,7 @@ def test_live_analysis_of_the_simple_scenario_finds_move_and_stop_on_the_velocit
                               env=master.env, capture_output=True, text=True, timeout=120)
         assert proc.returncode == Exit.UNREALIZABLE, proc.stdout[-3000:] + proc.stderr[-3000:]
         text = proc.stdout
-        assert '"/cmd_vel"' in text, text[:2000]
+        assert '"/simple/cmd_vel"' in text, text[:2000]
         core = _find_key(json.loads(text), "core")
         assert core is not None, text[:3000]
         got = {(Path(c["file"]).name, c["text"]) for c in core}

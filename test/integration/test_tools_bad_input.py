@@ -82,11 +82,11 @@ TOOLS = {
 
 NODES = {
     "timed_proposition_server duration nan": (["timed_proposition_server", "_duration:=nan"], {},
-                                              "parameter ~duration must be a number of seconds >= 0"),
+                                              "parameter ~duration must be a number >= 0"),
     "timed_proposition_server rate 0": (["timed_proposition_server", "_feedback_rate:=0"], {},
                                         "parameter ~feedback_rate must be a number > 0"),
     "timed_proposition_server illegal action": (["timed_proposition_server", "_action:=bad-name"], {},
-                                                "parameter ~action 'bad-name' is not a legal ROS name"),
+                                                "parameter ~action must be a legal ROS name"),
     "scripted_environment binary schedule": (["scripted_environment", "_schedule:={d}/env.yaml"],
                                              {"env.yaml": GOOD_SCHEDULE.encode() + b"\x00"},
                                              "{d}/env.yaml:3: not a text schedule: it holds a NUL byte"),

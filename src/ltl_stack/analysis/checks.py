@@ -20,7 +20,7 @@ from fnmatch import fnmatchcase
 from ltl_stack.analysis.conflicts import conflict_pairs
 from ltl_stack.analysis.graph import ACTION, ComputationGraph
 from ltl_stack.analysis.reach import PUBLISH, SUBSCRIBE, Reach, reach
-from ltl_stack.runtime.mapping import INPUT, OUTPUT, Mapping, resolve_name, resolve_topics
+from ltl_stack.runtime.mapping import INPUT, OUTPUT, Mapping, resolve_node_name, resolve_topics
 
 
 @dataclass(frozen=True)
@@ -188,7 +188,7 @@ def analyze(graph: ComputationGraph, mapping: Mapping, inputs: Sequence[str], ou
                 continue
             present = []
             for entry in named:
-                node = resolve_name(entry.node, namespace, kind)
+                node = resolve_node_name(entry.node, namespace)
                 if node in graph.node_index:
                     if node not in present:
                         present.append(node)

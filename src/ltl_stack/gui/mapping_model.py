@@ -14,7 +14,7 @@ from dataclasses import dataclass, field, replace
 
 from ltl_stack.analysis.snapshot import Snapshot
 from ltl_stack.cli import check_outputs, write_output
-from ltl_stack.ros.launch_gen import generate_launch
+from ltl_stack.runtime.launch import generate_launch
 from ltl_stack.runtime.mapping import (
     INPUT,
     OUTPUT,
@@ -25,6 +25,7 @@ from ltl_stack.runtime.mapping import (
     format_mapping,
     load_mapping,
     resolve_name,
+    resolve_node_name,
 )
 from ltl_stack.spec import load_spec
 
@@ -193,18 +194,10 @@ class MappingDocument:
         self.mapping_path = str(path)
 
     def resolved_node(self, kind: str, node: str, graph: LiveGraph | None = None) -> str:
-        """The global node name; relative names live in the ``<ns>/inputs`` or ``<ns>/outputs`` group.
-
-        With ``graph``, a relative name not found in its own group is looked up in the other one: a
-        completion input (thesis §4.3) is published by its output's node (``pickup_ac`` by ``pickup``).
-        """
-        ns = self.scenario_namespace()
-        name = resolve_name(node, ns, kind)
-        if graph is not None and name not in graph.snapshot.nodes and not node.startswith("/"):
-            other = resolve_name(node, ns, OUTPUT if kind == INPUT else INPUT)
-            if other in graph.snapshot.nodes:
-                return other
-        return name
+        """The global node name: relative node names live in the scenario namespace ``/<ns>``, where
+        generated launch files start them (``runtime.mapping.resolve_node_name``), so a completion input
+        (thesis §4.3) and its output name the same node (``pickup_ac`` and ``pickup``: ``/<ns>/pickup``)."""
+        return resolve_node_name(node, self.scenario_namespace())
 
     def resolved_topic(self, kind: str, prop: str, row: Row) -> str:
         ns = self.scenario_namespace()

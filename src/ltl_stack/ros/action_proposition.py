@@ -15,8 +15,13 @@ the server is not up, is sent as soon as it is.
 """
 from __future__ import annotations
 
+import time
 from collections import deque
 from typing import Any
+
+import actionlib
+import rospy
+from actionlib_msgs.msg import GoalStatus
 
 from ltl_stack.ros.proposition_node import (
     OUTPUT_PARAMS,
@@ -29,7 +34,7 @@ from ltl_stack.ros.proposition_node import (
     message_class,
     run_node,
 )
-from ltl_stack.ros.sensors import extract_field, parse_field_path
+from ltl_stack.runtime.sensing import check_field_path, extract_field, parse_field_path
 
 #: Result field that says "completed" for the action types ltl_stack knows.
 DEFAULT_RESULT_FIELDS = {"ltl_stack/Proposition": "completed", "ltl_stack/Navigate": "reached"}
@@ -46,11 +51,12 @@ ACTION_PROPOSITION = NodeSpec(
                 "publish the completion proposition when it succeeds, cancel and reset on the falling edge.",
     params=[
         *OUTPUT_PARAMS,
-        Param("action", "", "action server name, e.g. /pick or /navigate", kind=str, required=True),
+        Param("action", "", "action server name, e.g. /pick or /navigate", kind=str, required=True, ros_name=True),
         Param("action_type", "ltl_stack/Proposition", "action type, e.g. ltl_stack/Navigate, "
               "move_base_msgs/MoveBase (the 'Action' suffix is optional)"),
         Param("goal", {}, "goal fields, e.g. {region: kitchen} (default for Proposition: {activate: true})"),
-        Param("completion_topic", "completion", "topic of the completion proposition (std_msgs/Bool)"),
+        Param("completion_topic", "completion", "topic of the completion proposition (std_msgs/Bool)",
+              required=True, ros_name=True),
         Param("result_field", "", "result field that must also be true (default: completed for "
               "ltl_stack/Proposition, reached for ltl_stack/Navigate, none otherwise)"),
         Param("retry_delay", 1.0, "resend an aborted or rejected goal after this long while activated "
@@ -86,18 +92,17 @@ def build_goal(goal_cls: type, fields: dict[str, Any]) -> Any:
 
 class ActionProposition(OutputPropositionNode):
     def __init__(self, config: dict[str, Any]) -> None:
-        import actionlib
-        import rospy
-
         name = rospy.get_name()
         try:
-            action_cls, goal_cls, _ = action_classes(config["action_type"])
+            action_cls, goal_cls, result_cls = action_classes(config["action_type"])
             kind = normalize_action_type(config["action_type"])
             fields = config["goal"] or DEFAULT_GOALS.get(kind, {})
             self.goal = build_goal(goal_cls, fields)
             result_field = config["result_field"] or DEFAULT_RESULT_FIELDS.get(kind, "")
             self.result_steps = parse_field_path(result_field) if result_field else []
-        except (NodeConfigError, ValueError) as error:
+            if self.result_steps:
+                check_field_path(result_cls(), self.result_steps, result_cls._type)
+        except (NodeConfigError, ValueError, LookupError) as error:
             raise NodeConfigError(f"{name}: {error}") from None
         self.client = actionlib.SimpleActionClient(config["action"], action_cls)
         self.completion = PropositionPublisher(rospy.resolve_name(config["completion_topic"]),
@@ -116,8 +121,6 @@ class ActionProposition(OutputPropositionNode):
         self._send_if_ready()
 
     def while_true(self) -> None:
-        import time
-
         while self.done:
             self._on_done(*self.done.popleft())
         if self.in_flight or self.completion.value:
@@ -127,8 +130,6 @@ class ActionProposition(OutputPropositionNode):
         self._send_if_ready()
 
     def on_falling(self) -> None:
-        import rospy
-
         self.generation += 1
         if self.in_flight:
             rospy.loginfo("%s: cancelling the goal on %s", rospy.get_name(), self.config["action"])
@@ -138,8 +139,6 @@ class ActionProposition(OutputPropositionNode):
             self.completion.set(False)
 
     def _send_if_ready(self) -> None:
-        import rospy
-
         if self.in_flight or not self.client.wait_for_server(rospy.Duration(0.01)):
             return
         generation = self.generation
@@ -152,11 +151,6 @@ class ActionProposition(OutputPropositionNode):
             (generation, state, result, self.client.get_goal_status_text())))
 
     def _on_done(self, generation: int, state: int, result: Any, text: str) -> None:
-        import time
-
-        import rospy
-        from actionlib_msgs.msg import GoalStatus
-
         if generation != self.generation:
             return  # a goal of an earlier activation
         self.in_flight = False

@@ -8,6 +8,10 @@ from __future__ import annotations
 
 from typing import Any
 
+import rospy
+from geometry_msgs.msg import Twist, Vector3
+from std_msgs.msg import ColorRGBA
+
 from ltl_stack.ros.proposition_node import (
     OUTPUT_PARAMS,
     NodeSpec,
@@ -25,7 +29,8 @@ SET_VELOCITY = NodeSpec(
                 "publish one zero Twist on the falling edge and on shutdown.",
     params=[
         *OUTPUT_PARAMS,
-        Param("topic", "cmd_vel", "velocity command topic (geometry_msgs/Twist)", aliases=("publish_topic",)),
+        Param("topic", "cmd_vel", "velocity command topic (geometry_msgs/Twist)", aliases=("publish_topic",),
+              required=True, ros_name=True),
         Param("vx", 0.0, "linear x velocity (m/s)"),
         Param("vy", 0.0, "linear y velocity (m/s)"),
         Param("vz", 0.0, "linear z velocity (m/s)"),
@@ -45,9 +50,6 @@ class SetVelocity(OutputPropositionNode):
     """Publish a constant Twist while true; one zero Twist when the proposition falls."""
 
     def __init__(self, config: dict[str, Any]) -> None:
-        import rospy
-        from geometry_msgs.msg import Twist, Vector3
-
         linear, angular = twist_values(config)
         self.command = Twist(linear=Vector3(*linear), angular=Vector3(*angular))
         self.zero = Twist()
@@ -71,7 +73,8 @@ SET_COLOR = NodeSpec(
                 "optionally publish black on the falling edge.",
     params=[
         *OUTPUT_PARAMS,
-        Param("topic", "set_color", "colour topic (std_msgs/ColorRGBA)", aliases=("publish_topic",)),
+        Param("topic", "set_color", "colour topic (std_msgs/ColorRGBA)", aliases=("publish_topic",),
+              required=True, ros_name=True),
         Param("r", 0.0, "red, published as given (the Sphero driver reads 0..1)"),
         Param("g", 0.0, "green"),
         Param("b", 0.0, "blue"),
@@ -86,9 +89,6 @@ class SetColor(OutputPropositionNode):
     """Set a colour when the proposition rises; optionally switch it off when it falls."""
 
     def __init__(self, config: dict[str, Any]) -> None:
-        import rospy
-        from std_msgs.msg import ColorRGBA
-
         self.color = ColorRGBA(r=config["r"], g=config["g"], b=config["b"], a=config["a"])
         self.black = ColorRGBA(r=0.0, g=0.0, b=0.0, a=config["a"])
         self.pub = rospy.Publisher(config["topic"], ColorRGBA, queue_size=10, latch=True)
@@ -113,7 +113,8 @@ PUBLISH_ON_EDGE = NodeSpec(
                 "falling edge (~on_false); with no ~topic it only logs the edges (a dummy actuator).",
     params=[
         *OUTPUT_PARAMS,
-        Param("topic", "", "topic to publish on (empty: only log the edges)", aliases=("publish_topic",)),
+        Param("topic", "", "topic to publish on (empty: only log the edges)", aliases=("publish_topic",),
+              ros_name=True),
         Param("type", "std_msgs/Bool", "its message type"),
         Param("on_true", {"data": True}, "message fields published on the rising edge"),
         Param("on_false", {}, "message fields published on the falling edge (empty: nothing)"),
@@ -127,8 +128,6 @@ class PublishOnEdge(OutputPropositionNode):
     """Publish one configured message when the proposition rises and another when it falls."""
 
     def __init__(self, config: dict[str, Any]) -> None:
-        import rospy
-
         self.pub = self.on_true = self.on_false = None
         if config["topic"]:
             cls = message_class(config["type"])

@@ -4,21 +4,18 @@ It synthesizes the spec (or loads a saved strategy JSON), subscribes to every in
 ``std_msgs/Bool`` topic and publishes every output proposition's topic (latched), plus ``~valuation``
 (``ltl_stack/PropositionValuation``, inputs then outputs) and ``~state`` (``ltl_stack/ControllerState``).
 
-The ROS-free logic is ``ltl_stack.runtime.controller.Controller``; this module only wires it:
+The ROS-free parts are ``ltl_stack.runtime.controller.Controller`` (stepping, pause, violation
+policy) and ``ltl_stack.runtime.executor_setup`` (options, spec, mapping, topics, strategy); this
+module only wires them:
 
 * stepping happens in the subscriber callback that changed the input valuation (under the
-  controller's lock), and the changed outputs are published from there at once;
+  controller's lock); each step's falling outputs are written before its rising ones;
 * optional fixed-rate stepping (``--rate``) for specs that progress without input changes;
-* the ready handshake: the timer ``--ready-timeout`` reports (log + ``/diagnostics``) the inputs that
-  have never reported, and keeps waiting;
+* the ready handshake: the timer ``--ready-timeout`` reports the inputs that have never reported;
 * run/pause: service ``~set_running`` (``std_srvs/SetBool``) and topic ``~running`` (``std_msgs/Bool``);
-  pausing drives every output false;
-* an environment-assumption violation is logged with the broken env-safety clauses (text, file:line),
-  published on ``/diagnostics``, and outputs are held or driven false (``--on-violation``);
-* a warning when an input topic has more than one publisher (one input node per input topic).
-
-Exit codes: 0 shut down normally (or ``--check`` passed), 2 bad spec/mapping/strategy/arguments,
-3 the spec is unrealizable.
+* violations are confirmed after ``--violation-grace`` by one worker thread, whatever the input rate;
+* ``/diagnostics``: the node's statuses once a second, and at once when one changes;
+* a master restart is detected and every topic, service and parameter is registered again.
 """
 from __future__ import annotations
 
@@ -27,78 +24,69 @@ import json
 import sys
 import threading
 import time
+import warnings
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
+import rosgraph
+import rospy
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from std_msgs.msg import Bool
+from std_srvs.srv import SetBool, SetBoolResponse
+
+from ltl_stack import cli
+from ltl_stack.errors import Exit, UserError
+from ltl_stack.msg import ControllerState, PropositionValuation
+from ltl_stack.ros.master_watch import MasterWatch
+from ltl_stack.ros.valuation import valuation_to_msg
 from ltl_stack.runtime.controller import HOLD, VIOLATION_POLICIES, Controller, Update
-from ltl_stack.runtime.mapping import (
-    INPUT,
-    OUTPUT,
-    MappingError,
-    check_mapping,
-    load_mapping,
-    resolve_topics,
+from ltl_stack.runtime.executor_setup import (
+    NODE_NAME,
+    ExecutorError,
+    Options,
+    Prepared,
+    build_strategy,
+    check_summary,
+    load_inputs,
+    make_controller,
+    merge_options,
+    parse_init_props,
+    prepare,
+    scenario_namespace,
 )
-from ltl_stack.runtime.mapping import (
-    Mapping as PropositionMapping,
-)
+from ltl_stack.runtime.mapping import resolve_topics
+from ltl_stack.spec.english import clause_to_english
+from ltl_stack.spec.valuation import format_valuation
 
-EXIT_OK = 0
-EXIT_BAD_INPUT = 2
-EXIT_UNREALIZABLE = 3
-NODE_NAME = "controller_executor"
-
-
-class ExecutorError(Exception):
-    """A problem the user can fix (bad file, bad argument); ``code`` is the exit code."""
-
-    def __init__(self, message: str, code: int = EXIT_BAD_INPUT):
-        super().__init__(message)
-        self.code = code
+PROG = "controller_executor"
+#: How often the node's statuses are published on /diagnostics (rqt_robot_monitor marks older ones stale).
+DIAGNOSTICS_PERIOD = 1.0
+#: Pause between a step's falling and rising output edges, so that listeners (one thread per topic in
+#: rospy) have handled the falling ones before a rising one arrives.
+EDGE_GAP = 0.005
+OK, WARN, ERROR = DiagnosticStatus.OK, DiagnosticStatus.WARN, DiagnosticStatus.ERROR
 
 
-@dataclass
-class Options:
-    """Settings of the node: a CLI flag wins over the ``~param`` of the same name, then the default."""
-
-    namespace: str | None = None
-    robotics_semantics: bool = True
-    cooperative: bool = True
-    strategy: str | None = None
-    init_props: str = ""
-    rate: float = 0.0
-    ready_timeout: float = 10.0
-    on_violation: str = HOLD
-    start_paused: bool = False
-    publisher_check_period: float = 2.0
-    violation_grace: float = 0.2
-    settle_steps: int = 16
-
-
-PARAM_DEFAULTS = Options()
-
-
-def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
-        prog="controller_executor",
+def build_parser() -> cli.ToolParser:
+    parser = cli.ToolParser(
+        prog=PROG,
         description="Run a synthesized GR(1) controller as a ROS node (thesis 3.5.1): input propositions "
                     "arrive as std_msgs/Bool topics, output propositions leave as latched std_msgs/Bool topics.",
         epilog="Every option also reads the private parameter of the same name (~rate, ~on_violation, ...); "
-               "a flag on the command line wins. Exit codes: 0 normal shutdown or --check passed; 2 bad spec, "
-               "mapping, strategy file or argument; 3 unrealizable spec.")
+               "a flag on the command line wins. Every value is checked at start-up.",
+        exit_codes=(Exit.OK, Exit.BAD_INPUT, Exit.LIMIT, Exit.UNREALIZABLE))
     parser.add_argument("spec", help="specification (.slugsin or structured)")
     parser.add_argument("mapping", nargs="?", help="proposition mapping YAML (default: every proposition on its "
-                                                   "default topic /<ns>/inputs/<p>, /<ns>/outputs/<p>)")
-    parser.add_argument("--namespace", help="scenario namespace of the proposition topics "
-                                            "(default: from the mapping's topics, else the spec's file name)")
+                                                   "default topic <ns>/inputs/<p>, <ns>/outputs/<p>)")
+    parser.add_argument("--namespace", help="scenario namespace of the proposition topics (relative names resolve "
+                                            "in the node's namespace; default: the node's namespace when it is "
+                                            "not /, else the mapping's, else the spec's file name)")
     parser.add_argument("--robotics-semantics", dest="robotics_semantics", action="store_true", default=None,
-                        help="every position satisfying env_init & sys_init must be winning (default)")
+                        help="every position satisfying env_init & sys_init must be winning")
     parser.add_argument("--no-robotics-semantics", dest="robotics_semantics", action="store_false",
-                        help="slugs' default initial-state semantics")
+                        help="slugs' initial-state semantics")
     parser.add_argument("--cooperative", dest="cooperative", action="store_true", default=None,
-                        help="cooperative strategy: prefer moves that help the environment meet its goals (default)")
+                        help="cooperative strategy: prefer moves that help the environment meet its goals")
     parser.add_argument("--no-cooperative", dest="cooperative", action="store_false")
     parser.add_argument("--strategy", metavar="FILE", help="load a saved strategy JSON instead of synthesizing")
     parser.add_argument("--init-props", metavar="a=1,b=0", help="initial values of inputs (used until their "
@@ -120,122 +108,74 @@ def build_parser() -> argparse.ArgumentParser:
                         help="report a violation only when the inputs stay inadmissible this long (default 0.2): "
                              "one sensor change often arrives as several topic messages, e.g. leaving one region "
                              "and entering the next; the output policy applies at once either way")
+    parser.add_argument("--max-explicit-states", type=int, metavar="N",
+                        help="run the explicit automaton, whose state ids and goals are those of synthesize "
+                             "--json/--dot, when it has at most N states (default 20000; 0: always symbolic)")
     parser.add_argument("--check", action="store_true", help="load, validate and synthesize, print a summary "
                         "and exit without ROS")
-    parser.add_argument("--json", action="store_true", help="machine-readable output: the --check summary, or "
-                        "one JSON line per state change on stdout")
+    parser.add_argument("--json", action="store_true", help="the --check summary as JSON on stdout; running: "
+                        "one JSON line per start/step/violation on stdout")
     return parser
 
 
-# --- ROS-free preparation ---------------------------------------------------------------------
+class ViolationConfirmer:
+    """One worker thread that reports a violation once the inputs stayed inadmissible for ``grace``
+    seconds. A newer violation replaces a pending one, so bursts of inputs never add threads."""
 
-@dataclass
-class Prepared:
-    spec: Any
-    mapping: PropositionMapping | None
-    namespace: str
-    input_topics: dict[str, str]
-    output_topics: dict[str, list[str]]
-    warnings: list[str] = field(default_factory=list)
+    def __init__(self, grace: float, confirm) -> None:
+        self.grace = grace
+        self.confirm = confirm
+        self._pending: tuple[float, Update, tuple] | None = None
+        self._cond = threading.Condition()
+        self._thread = threading.Thread(target=self._run, name="violation_grace", daemon=True)
+        self._thread.start()
 
+    def schedule(self, update: Update, key: tuple) -> None:
+        with self._cond:
+            self._pending = (time.monotonic() + self.grace, update, key)
+            self._cond.notify()
 
-def prepare(spec_path: str, mapping_path: str | None, namespace: str | None) -> Prepared:
-    """Load and cross-check the spec and mapping; raises ExecutorError naming what is wrong."""
-    from ltl_stack.spec import load_spec
-    from ltl_stack.spec.errors import SpecError
+    def _run(self) -> None:
+        while not rospy.is_shutdown():
+            with self._cond:
+                if self._pending is None:
+                    self._cond.wait(0.5)
+                    continue
+                due, update, key = self._pending
+                left = due - time.monotonic()
+                if left > 0:
+                    self._cond.wait(left)
+                    continue
+                self._pending = None
+            self.confirm(update, key)
 
-    try:
-        spec = load_spec(spec_path)
-    except SpecError as err:
-        raise ExecutorError(str(err)) from None
-    except OSError as err:
-        raise ExecutorError(f"{spec_path}: cannot read spec: {err.strerror or err}") from None
-    mapping = None
-    warnings: list[str] = []
-    if mapping_path:
-        try:
-            mapping = load_mapping(mapping_path)
-        except MappingError as err:
-            raise ExecutorError(str(err)) from None
-        issues = check_mapping(mapping, spec.inputs, spec.outputs)
-        errors = [str(i) for i in issues if i.severity == "error"]
-        if errors:
-            raise ExecutorError("the mapping does not fit the spec:\n  " + "\n  ".join(errors))
-        warnings = [str(i) for i in issues if i.severity != "error"]
-    ns = (namespace or (mapping.scenario_namespace() if mapping else None) or Path(spec_path).stem).strip("/")
-    in_topics, out_topics = resolve_topics(mapping, spec.inputs, spec.outputs, ns)
-    return Prepared(spec, mapping, ns, in_topics, out_topics, warnings)
-
-
-def parse_init_props(text: str, spec: Any) -> dict[str, bool]:
-    from ltl_stack.spec.valuation import parse_valuation
-
-    try:
-        return parse_valuation(text or "", known=list(spec.propositions))
-    except ValueError as err:
-        raise ExecutorError(f"--init-props: {err}") from None
-
-
-def build_strategy(spec: Any, options: Options, log=print) -> Any:
-    """Synthesize (or load) the strategy the controller steps."""
-    if options.strategy:
-        from ltl_stack.runtime.explicit import AutomatonStrategy
-        from ltl_stack.synthesis import Automaton
-
-        try:
-            automaton = Automaton.load(options.strategy, inputs=list(spec.inputs))
-        except (OSError, ValueError, KeyError, TypeError) as err:
-            raise ExecutorError(f"{options.strategy}: cannot load strategy: {err}") from None
-        if set(automaton.inputs) != set(spec.inputs) or set(automaton.outputs) != set(spec.outputs):
-            raise ExecutorError(f"{options.strategy}: the strategy's propositions (inputs {automaton.inputs}, "
-                                f"outputs {automaton.outputs}) differ from the spec's (inputs {spec.inputs}, "
-                                f"outputs {spec.outputs})")
-        log(f"loaded strategy {options.strategy}: {len(automaton.states)} states")
-        return AutomatonStrategy(automaton, spec)
-    from ltl_stack.synthesis import synthesize
-
-    log(f"synthesizing {spec.source} (robotics semantics: {options.robotics_semantics}, "
-        f"cooperative: {options.cooperative}) ...")
-    result = synthesize(spec, robotics_semantics=options.robotics_semantics, cooperative=options.cooperative)
-    if not result.realizable:
-        raise ExecutorError(f"{spec.source}: the specification is unrealizable"
-                            f"{' with robotics semantics' if options.robotics_semantics else ''}; "
-                            "nothing to execute (python -m ltl_stack.synthesis.explain tells why)",
-                            EXIT_UNREALIZABLE)
-    log(f"synthesized in {result.seconds:.3f} s")
-    return result.strategy
-
-
-# --- the node ---------------------------------------------------------------------------------
 
 class ExecutorNode:
     """The ROS wiring around a Controller. Create after ``rospy.init_node``."""
 
-    def __init__(self, controller: Controller, prepared: Prepared, options: Options, json_lines: bool = False):
-        import rospy
-        from diagnostic_msgs.msg import DiagnosticArray
-        from std_msgs.msg import Bool
-        from std_srvs.srv import SetBool
-
-        from ltl_stack.msg import ControllerState, PropositionValuation
-
-        self.rospy = rospy
+    def __init__(self, controller: Controller, prepared: Prepared, options: Options, json_lines: bool = False,
+                 watch_master: bool = True):
         self.controller = controller
         self.prepared = prepared
         self.options = options
         self.json_lines = json_lines
-        self.Bool = Bool
         self.name = rospy.get_name()
         self._last_violation_key: tuple | None = None
         self._warned_publishers: dict[str, tuple[str, ...]] = {}
         self._started_at = time.monotonic()
-        self.output_pubs = {prop: [rospy.Publisher(t, Bool, queue_size=10, latch=True, tcp_nodelay=True)
-                                   for t in topics]
-                            for prop, topics in prepared.output_topics.items()}
+        self._statuses: dict[str, DiagnosticStatus] = {}
+        self._status_lock = threading.Lock()
+        with warnings.catch_warnings():
+            # queue_size=None: publish() writes to the sockets in this thread, in call order (see _publish).
+            warnings.simplefilter("ignore")
+            self.output_pubs = {prop: [rospy.Publisher(t, Bool, queue_size=None, latch=True, tcp_nodelay=True)
+                                       for t in topics]
+                                for prop, topics in prepared.output_topics.items()}
         self.state_pub = rospy.Publisher("~state", ControllerState, queue_size=10, latch=True)
         self.valuation_pub = rospy.Publisher("~valuation", PropositionValuation, queue_size=10, latch=True)
         self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=10)
-        self.ControllerState = ControllerState
+        self.confirmer = ViolationConfirmer(options.violation_grace, self._confirm_violation) \
+            if options.violation_grace > 0 else None
         with controller.lock:
             self._publish(controller.set_running(not options.start_paused), force_outputs=True)
         self.subscribers = [rospy.Subscriber(topic, Bool, self._on_input, callback_args=prop, queue_size=10,
@@ -251,6 +191,11 @@ class ExecutorNode:
         if options.publisher_check_period > 0:
             self.publisher_timer = rospy.Timer(rospy.Duration(options.publisher_check_period),
                                                lambda _event: self.check_publishers())
+        self._set_status(OK, "environment assumptions", "no violation", [], publish=False)
+        self._set_status(OK, "input publishers", "one publisher or none per input topic", [], publish=False)
+        self._update_health(publish=False)
+        self.diagnostics_timer = rospy.Timer(rospy.Duration(DIAGNOSTICS_PERIOD), lambda _e: self.publish_diagnostics())
+        self.master_watch = MasterWatch(on_restart=self._on_master_restart) if watch_master else None
         rospy.on_shutdown(self._on_shutdown)
         rospy.loginfo("%s: %d inputs (%s), %d outputs (%s); %s", self.name, len(prepared.input_topics),
                       ", ".join(prepared.input_topics.values()) or "none", len(prepared.output_topics),
@@ -259,29 +204,28 @@ class ExecutorNode:
         if controller.ready:
             with controller.lock:
                 self._publish(controller.advance())
+        self.publish_diagnostics()
 
     # callbacks (each runs in a rospy thread; the controller's lock orders steps and publications)
-    def _on_input(self, msg, prop: str) -> None:
+    def _on_input(self, msg: Bool, prop: str) -> None:
         with self.controller.lock:
             was_ready = self.controller.ready
             update = self.controller.report(prop, msg.data)
             self._publish(update)
             if not was_ready and self.controller.ready:
-                self.rospy.loginfo("%s: every input has reported", self.name)
+                rospy.loginfo("%s: every input has reported", self.name)
                 if self.ready_timer is not None:
                     self.ready_timer.shutdown()
 
-    def _on_tick(self, _event) -> None:
+    def _on_tick(self, _event: Any) -> None:
         with self.controller.lock:
             self._publish(self.controller.tick())
 
-    def _on_set_running(self, request):
-        from std_srvs.srv import SetBoolResponse
-
+    def _on_set_running(self, request: Any) -> SetBoolResponse:
         self.set_running(request.data)
         return SetBoolResponse(success=True, message="running" if request.data else "paused")
 
-    def _on_running_topic(self, msg) -> None:
+    def _on_running_topic(self, msg: Bool) -> None:
         self.set_running(msg.data)
 
     def set_running(self, running: bool) -> None:
@@ -289,9 +233,9 @@ class ExecutorNode:
             changed = running != self.controller.running
             self._publish(self.controller.set_running(running), force_state=changed)
         if changed:
-            self.rospy.loginfo("%s: %s", self.name, "running" if running else "paused: every output is false")
+            rospy.loginfo("%s: %s", self.name, "running" if running else "paused: every output is false")
 
-    def _on_ready_timeout(self, _event) -> None:
+    def _on_ready_timeout(self, _event: Any) -> None:
         missing = self.controller.missing_inputs()
         if not missing:
             return
@@ -299,73 +243,91 @@ class ExecutorNode:
         topics = ", ".join(f"{p} ({self.prepared.input_topics[p]})" for p in missing)
         text = (f"no message after {waited:.0f} s from input(s) {topics}; not stepping until every input "
                 "has reported once — is each input proposition node running?")
-        self.rospy.logerr("%s: %s", self.name, text)
-        self._diagnose(1, "inputs", text, [("silent_inputs", " ".join(missing))])
+        rospy.logerr("%s: %s", self.name, text)
+        self._update_health()
+
+    def _on_master_restart(self) -> None:
+        with self.controller.lock:
+            # Latched values live in this node, but republish the state for listeners that lost it.
+            self._publish_state(Update(outputs=self.controller.current_outputs(), state=self.controller.state))
+        self.publish_diagnostics()
 
     def _on_shutdown(self) -> None:
         # Leave the robot idle: drive every output false on the way out.
         for pubs in self.output_pubs.values():
             for pub in pubs:
                 try:
-                    pub.publish(self.Bool(False))
+                    pub.publish(Bool(False))
                 except Exception:  # noqa: BLE001 - shutting down; nothing left to report to
                     pass
 
     def check_publishers(self) -> list[str]:
         """Warn about input topics with more than one publisher; returns the warnings issued now."""
-        import rosgraph
-
         try:
             publishers, _, _ = rosgraph.Master(self.name).getSystemState()
         except Exception as err:  # noqa: BLE001 - the master may be going away
-            self.rospy.logdebug("%s: cannot ask the master for publishers: %s", self.name, err)
+            rospy.logdebug("%s: cannot ask the master for publishers: %s", self.name, err)
             return []
         by_topic = {topic: tuple(sorted(nodes)) for topic, nodes in publishers}
         issued = []
+        crowded = []
         for prop, topic in self.prepared.input_topics.items():
             nodes = by_topic.get(topic, ())
+            if len(nodes) > 1:
+                crowded.append((prop, topic, nodes))
             if len(nodes) > 1 and self._warned_publishers.get(topic) != nodes:
                 text = (f"input {prop!r}: topic {topic} has {len(nodes)} publishers ({', '.join(nodes)}); "
                         "an input topic should have exactly one input proposition node (thesis 3.5.1)")
-                self.rospy.logwarn("%s: %s", self.name, text)
-                self._diagnose(1, "input publishers", text, [("topic", topic), ("publishers", " ".join(nodes))])
+                rospy.logwarn("%s: %s", self.name, text)
                 issued.append(text)
             self._warned_publishers[topic] = nodes
+        if crowded:
+            text = "; ".join(f"{t} has {len(n)} publishers ({', '.join(n)})" for _, t, n in crowded)
+            self._set_status(WARN, "input publishers", text, [("topic", t) for _, t, _ in crowded],
+                             publish=bool(issued))
+        else:
+            self._set_status(OK, "input publishers", "one publisher or none per input topic", [], publish=False)
         return issued
 
     # publishing
     def _publish(self, update: Update, force_outputs: bool = False, force_state: bool = False) -> None:
         changed = update.outputs if force_outputs else update.changed_outputs
-        for prop, value in changed.items():
-            msg = self.Bool(value)
+        # Falling edges first, then (after EDGE_GAP) the rising ones: a listener that merges the output
+        # topics in arrival order never sees more true outputs than a state of the strategy has
+        # (docs/executor.md; ~valuation is the atomic view).
+        falling = [p for p, v in changed.items() if not v]
+        rising = [p for p, v in changed.items() if v]
+        for prop in falling:
             for pub in self.output_pubs[prop]:
-                pub.publish(msg)
+                pub.publish(Bool(False))
+        if falling and rising and EDGE_GAP > 0:
+            time.sleep(EDGE_GAP)
+        for prop in rising:
+            for pub in self.output_pubs[prop]:
+                pub.publish(Bool(True))
         if changed or update.stepped or force_state or force_outputs or update.violation is not None:
             self._publish_state(update)
         if update.stepped:
             self._report_step(update)
         if update.violation is not None:
-            if self.options.violation_grace > 0:
-                timer = threading.Timer(self.options.violation_grace, self._confirm_violation,
-                                        args=(update, _key(self.controller.readings)))
-                timer.daemon = True
-                timer.start()
+            if self.confirmer is not None:
+                self.confirmer.schedule(update, _key(self.controller.readings))
             else:
                 self._report_violation(update)
         elif self._last_violation_key is not None and self.controller.violation is None:
             self._last_violation_key = None
-            self.rospy.loginfo("%s: inputs admissible again; continuing", self.name)
-            self._diagnose(0, "environment assumptions", "inputs admissible again", [])
+            rospy.loginfo("%s: inputs admissible again; continuing", self.name)
+            self._set_status(OK, "environment assumptions", "inputs admissible again", [])
         if update.error:
-            self.rospy.logerr("%s: %s (waiting for the inputs to change)", self.name, update.error)
+            rospy.logerr("%s: %s (waiting for the inputs to change)", self.name, update.error)
+        if update.stepped or update.error or force_state:
+            self._update_health()
 
     def _publish_state(self, update: Update) -> None:
-        from ltl_stack.ros.valuation import valuation_to_msg
-
-        stamp = self.rospy.Time.now()
+        stamp = rospy.Time.now()
         readings = self.controller.readings
         inputs = {p: readings.get(p, False) for p in self.controller.inputs}
-        msg = self.ControllerState()
+        msg = ControllerState()
         msg.header.stamp = stamp
         state = update.state
         msg.state_id = state.id if state is not None else -1
@@ -377,12 +339,10 @@ class ExecutorNode:
         self.valuation_pub.publish(valuation_to_msg({**inputs, **update.outputs}, stamp))
 
     def _report_step(self, update: Update) -> None:
-        from ltl_stack.spec.valuation import format_valuation
-
         state = update.state
-        self.rospy.loginfo("%s: %s state %d (goal %d): inputs %s -> outputs %s", self.name,
-                           "initial" if update.started else "step to", state.id, state.goal,
-                           format_valuation(state.inputs), format_valuation(update.outputs))
+        rospy.loginfo("%s: %s state %d (goal %d): inputs %s -> outputs %s", self.name,
+                      "initial" if update.started else "step to", state.id, state.goal,
+                      format_valuation(state.inputs), format_valuation(update.outputs))
         if self.json_lines:
             print(json.dumps({"event": "start" if update.started else "step", "state": state.id, "goal": state.goal,
                               "inputs": dict(state.inputs), "outputs": update.outputs}), flush=True)
@@ -394,8 +354,6 @@ class ExecutorNode:
                 self._report_violation(update)
 
     def _report_violation(self, update: Update) -> None:
-        from ltl_stack.spec.valuation import format_valuation
-
         violation = update.violation
         readings = self.controller.readings
         key = _key(readings)
@@ -408,23 +366,61 @@ class ExecutorNode:
         policy = "holding the last safe outputs" if self.options.on_violation == HOLD else "all outputs false"
         text = (f"environment assumption violated by inputs {format_valuation(readings)} from state "
                 f"{update.state.id}: {'; '.join(shown)}; {policy}, waiting for admissible inputs")
-        self.rospy.logerr("%s: %s", self.name, text)
+        rospy.logerr("%s: %s", self.name, text)
         values = [("clause", c) for c in clauses] + [("meaning", m) for m in meanings if m] + [
             ("inputs", format_valuation(readings)), ("state", str(update.state.id)),
-            ("policy", self.options.on_violation)]
-        self._diagnose(2, "environment assumptions", text, values)
+            ("policy", self.options.on_violation.value)]
+        self._set_status(ERROR, "environment assumptions", text, values)
         if self.json_lines:
             print(json.dumps({"event": "violation", "state": update.state.id, "inputs": readings,
                               "clauses": clauses, "outputs": update.outputs}), flush=True)
 
-    def _diagnose(self, level: int, what: str, message: str, values: Sequence[tuple[str, str]]) -> None:
-        from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+    # diagnostics: one status per concern, all republished every DIAGNOSTICS_PERIOD
+    def _update_health(self, publish: bool = True) -> None:
+        controller = self.controller
+        missing = controller.missing_inputs()
+        if missing:
+            waited = time.monotonic() - self._started_at
+            late = self.options.ready_timeout > 0 and waited >= self.options.ready_timeout
+            topics = ", ".join(self.prepared.input_topics[p] for p in missing)
+            self._set_status(WARN if late else OK, "inputs", f"waiting for input(s) {', '.join(missing)}",
+                             [("silent_inputs", " ".join(missing)), ("topics", topics)], publish)
+        else:
+            self._set_status(OK, "inputs", "every input has reported", [], publish=False)
+        if controller.init_error:
+            self._set_status(ERROR, "controller", f"no initial state: {controller.init_error}", [], publish)
+        elif not controller.running:
+            self._set_status(OK, "controller", "paused: every output is false", [], publish)
+        elif controller.state is None:
+            self._set_status(OK, "controller", "waiting for every input to report", [], publish)
+        else:
+            state = controller.state
+            self._set_status(OK, "controller", f"running: state {state.id}, goal {state.goal}",
+                             [("state", str(state.id)), ("goal", str(state.goal))], publish=False)
 
+    def _set_status(self, level: int, what: str, message: str, values: Sequence[tuple[str, str]],
+                    publish: bool = True) -> None:
         status = DiagnosticStatus(level=level, name=f"{self.name}: {what}", message=message, hardware_id=self.name,
                                   values=[KeyValue(k, v) for k, v in values])
-        array = DiagnosticArray(status=[status])
-        array.header.stamp = self.rospy.Time.now()
-        self.diag_pub.publish(array)
+        with self._status_lock:
+            old = self._statuses.get(what)
+            self._statuses[what] = status
+        if publish and (old is None or (old.level, old.message) != (level, message)):
+            self._send([status])
+
+    def publish_diagnostics(self) -> None:
+        """Every status of the node, as rqt_robot_monitor expects them: at least once a second."""
+        with self._status_lock:
+            statuses = list(self._statuses.values())
+        self._send(statuses)
+
+    def _send(self, statuses: list[DiagnosticStatus]) -> None:
+        array = DiagnosticArray(status=statuses)
+        array.header.stamp = rospy.Time.now()
+        try:
+            self.diag_pub.publish(array)
+        except rospy.ROSException:
+            pass  # shutting down
 
 
 def _key(readings: Mapping[str, bool]) -> tuple:
@@ -434,91 +430,66 @@ def _key(readings: Mapping[str, bool]) -> tuple:
 def _english(clause: Any) -> str:
     """The clause in Structured English, or "" when it cannot be rendered."""
     try:
-        from ltl_stack.spec.english import clause_to_english
-
         return clause_to_english(clause, "env_safety")
     except Exception:  # noqa: BLE001 - a rendering problem must not hide the violation itself
         return ""
 
 
-def _merge_options(args: argparse.Namespace, get_param) -> Options:
-    """CLI flag if given, else ``~param``, else the default."""
-    values = {}
-    for name, default in vars(PARAM_DEFAULTS).items():
-        cli = getattr(args, name, None)
-        values[name] = cli if cli is not None else get_param(f"~{name}", default)
-    if isinstance(values["init_props"], Mapping):
-        values["init_props"] = ",".join(f"{k}={int(bool(v))}" for k, v in values["init_props"].items())
-    options = Options(**values)
-    if options.on_violation not in VIOLATION_POLICIES:
-        raise ExecutorError(f"on_violation must be one of {', '.join(VIOLATION_POLICIES)}, got {options.on_violation!r}")
-    for name in ("rate", "ready_timeout", "publisher_check_period", "violation_grace", "settle_steps"):
-        value = getattr(options, name)
-        if not isinstance(value, int | float) or value < 0:
-            raise ExecutorError(f"{name} must be a number >= 0, got {value!r}")
-    return options
+def _cli_values(args: argparse.Namespace) -> dict[str, Any]:
+    return {name: value for name, value in vars(args).items() if name not in ("spec", "mapping", "check", "json")}
 
 
 def _check(args: argparse.Namespace) -> int:
     """``--check``: everything up to the strategy, no ROS."""
-    prepared = prepare(args.spec, args.mapping, args.namespace)
-    options = _merge_options(args, lambda _name, default: default)
-    init = parse_init_props(options.init_props, prepared.spec)
+    options = merge_options(_cli_values(args))
+    prepared = prepare(args.spec, args.mapping, options.namespace, rosgraph.names.get_ros_namespace())
     for warning in prepared.warnings:
-        print(warning, file=sys.stderr)
-    strategy = build_strategy(prepared.spec, options, log=lambda text: print(text, file=sys.stderr))
-    controller = Controller(strategy, on_violation=options.on_violation, init_props=init,
-                            settle_steps=options.settle_steps)
-    summary = {"spec": str(args.spec), "mapping": args.mapping, "namespace": prepared.namespace,
-               "inputs": prepared.input_topics, "outputs": prepared.output_topics,
-               "warnings": prepared.warnings, "init_props": init, "ready": controller.ready}
-    if controller.ready:
-        update = controller.advance()
-        summary["initial_state"] = None if update.state is None else {
-            "id": update.state.id, "goal": update.state.goal, "inputs": dict(update.state.inputs),
-            "outputs": dict(update.state.outputs)}
-        if update.error:
-            summary["error"] = update.error
+        cli.warn(PROG, warning)
+    summary = check_summary(args.spec, args.mapping, prepared, options, log=lambda text: cli.say(PROG, text))
     if args.json:
-        print(json.dumps(summary, indent=2))
+        cli.print_json(summary)
     if summary.get("error"):
         raise ExecutorError(f"--init-props: {summary['error']}")
     if not args.json:
         ins = ", ".join(f"{p} <- {t}" for p, t in prepared.input_topics.items()) or "none"
         outs = ", ".join(f"{p} -> {' '.join(ts)}" for p, ts in prepared.output_topics.items()) or "none"
-        print(f"ok: namespace /{prepared.namespace}; inputs: {ins}; outputs: {outs}")
-    return EXIT_OK
+        print(f"ok: namespace {prepared.namespace}; inputs: {ins}; outputs: {outs}")
+    return Exit.OK
+
+
+def _param_lookup(name: str) -> tuple[bool, Any]:
+    key = "~" + name
+    return (True, rospy.get_param(key)) if rospy.has_param(key) else (False, None)
+
+
+def _run(args: argparse.Namespace) -> int:
+    """Load the files (errors before touching ROS), then start the node; errors after ``init_node``
+    end in one ``[FATAL]`` line."""
+    spec, mapping, warnings_ = load_inputs(args.spec, args.mapping)
+    for warning in warnings_:
+        cli.warn(PROG, warning)
+    rospy.init_node(NODE_NAME)
+    try:
+        options = merge_options(_cli_values(args), _param_lookup)
+        namespace = scenario_namespace(options.namespace, rospy.get_namespace(), mapping, args.spec)
+        in_topics, out_topics = resolve_topics(mapping, spec.inputs, spec.outputs, namespace.strip("/"))
+        prepared = Prepared(spec, mapping, namespace, in_topics, out_topics, warnings_)
+        init = parse_init_props(options.init_props, spec)
+        strategy = build_strategy(spec, options, log=lambda text: rospy.loginfo("%s: %s", rospy.get_name(), text))
+        controller = make_controller(strategy, options, init)
+    except UserError as err:
+        rospy.logfatal("%s", err)
+        rospy.signal_shutdown("bad configuration")
+        return int(err.code)
+    ExecutorNode(controller, prepared, options, json_lines=args.json)
+    rospy.spin()
+    return Exit.OK
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    import rospy
-
-    raw = list(sys.argv if argv is None else ["controller_executor", *argv])
+    raw = list(sys.argv if argv is None else [PROG, *argv])
     args = build_parser().parse_args(rospy.myargv(raw)[1:])
-    try:
-        if args.check:
-            return _check(args)
-        prepared = prepare(args.spec, args.mapping, args.namespace)
-    except ExecutorError as err:
-        print(f"controller_executor: error: {err}", file=sys.stderr)
-        return err.code
-    for warning in prepared.warnings:
-        print(f"controller_executor: warning: {warning}", file=sys.stderr)
-    rospy.init_node(NODE_NAME)
-    try:
-        options = _merge_options(args, rospy.get_param)
-        init = parse_init_props(options.init_props, prepared.spec)
-        strategy = build_strategy(prepared.spec, options, log=lambda text: rospy.loginfo("%s: %s", rospy.get_name(), text))
-        controller = Controller(strategy, on_violation=options.on_violation, init_props=init,
-                                running=True, settle_steps=options.settle_steps)
-    except ExecutorError as err:
-        print(f"controller_executor: error: {err}", file=sys.stderr)
-        rospy.signal_shutdown("bad configuration")
-        return err.code
-    ExecutorNode(controller, prepared, options, json_lines=args.json)
-    rospy.spin()
-    return EXIT_OK
+    return cli.run(PROG, lambda: _check(args) if args.check else _run(args))
 
 
-__all__ = ["ExecutorError", "ExecutorNode", "Options", "build_parser", "build_strategy", "main", "prepare",
-           "INPUT", "OUTPUT"]
+__all__ = ["ExecutorError", "ExecutorNode", "Options", "ViolationConfirmer", "build_parser", "main"]

@@ -9,20 +9,19 @@ readable example of a SimpleActionServer.
 from __future__ import annotations
 
 import json
-import math
 import sys
 import threading
 from typing import Any
 
 import actionlib
-import rosgraph.names
 import rospy
 
 from ltl_stack import cli
 from ltl_stack.errors import Exit, UserError
 from ltl_stack.msg import PropositionAction, PropositionFeedback, PropositionGoal, PropositionResult
 from ltl_stack.ros.master import master_uri, ros_name, wait_for_master
-from ltl_stack.ros.proposition_node import NodeConfigError, NodeSpec, Param, run_node
+from ltl_stack.ros.proposition_node import NodeSpec, Param, run_node
+from ltl_stack.runtime.node_params import Bound
 
 TIMED_PROPOSITION_SERVER = NodeSpec(
     name="timed_proposition_server",
@@ -32,9 +31,9 @@ TIMED_PROPOSITION_SERVER = NodeSpec(
                 "pattern without a robot.",
     params=[
         Param("action", "proposition", "the action name (relative names resolve in the node's namespace)",
-              kind=str),
-        Param("duration", 1.0, "seconds from activation to completion (>= 0)"),
-        Param("feedback_rate", 10.0, "feedback messages per second while a goal runs (> 0)"),
+              kind=str, required=True, ros_name=True),
+        Param("duration", 1.0, "seconds from activation to completion", bound=Bound.NON_NEGATIVE),
+        Param("feedback_rate", 10.0, "feedback messages per second while a goal runs", bound=Bound.POSITIVE),
     ],
 )
 
@@ -69,15 +68,9 @@ class TimedPropositionServer:
 
 
 def _build_server(config: dict[str, Any]) -> TimedPropositionServer:
-    """Check the parameters (``NodeConfigError`` → one [FATAL] line, exit 2) and start the server."""
+    """Start the server (``run_node`` has checked the parameters against their ``Param``)."""
     name = rospy.get_name()
     action, duration, rate = config["action"], config["duration"], config["feedback_rate"]
-    if not action or not rosgraph.names.is_legal_name(action):
-        raise NodeConfigError(f"{name}: parameter ~action {action!r} is not a legal ROS name")
-    if not math.isfinite(duration) or duration < 0:
-        raise NodeConfigError(f"{name}: parameter ~duration must be a number of seconds >= 0, got {duration!r}")
-    if not math.isfinite(rate) or rate <= 0:
-        raise NodeConfigError(f"{name}: parameter ~feedback_rate must be a number > 0, got {rate!r}")
     server = TimedPropositionServer(action, duration, rate)
     rospy.loginfo("%s: action %s ready (%.2f s per goal)", name, rospy.resolve_name(action), duration)
     return server

@@ -28,13 +28,23 @@ from __future__ import annotations
 import threading
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
+from enum import StrEnum
 from typing import Any, Protocol
 
 from ltl_stack.synthesis.errors import AssumptionViolation, NoInitialState
 
-HOLD = "hold"
-ALL_FALSE = "all-false"
-VIOLATION_POLICIES = (HOLD, ALL_FALSE)
+
+class ViolationPolicy(StrEnum):
+    """What the outputs do after an environment-assumption violation."""
+
+    HOLD = "hold"            # keep the last safe outputs
+    ALL_FALSE = "all-false"  # drive every output false
+
+
+HOLD = ViolationPolicy.HOLD
+ALL_FALSE = ViolationPolicy.ALL_FALSE
+#: the policies' names, as flags and parameters spell them
+VIOLATION_POLICIES = tuple(p.value for p in ViolationPolicy)
 
 
 class StateLike(Protocol):
@@ -78,11 +88,12 @@ class Update:
 class Controller:
     """Steps a strategy on input changes, with the ready handshake, pause and violation policy."""
 
-    def __init__(self, strategy: StrategyLike, *, on_violation: str = HOLD,
+    def __init__(self, strategy: StrategyLike, *, on_violation: ViolationPolicy | str = HOLD,
                  init_props: Mapping[str, bool] | None = None, running: bool = True,
                  recovery: Recovery | None = None, settle_steps: int = 16) -> None:
         if on_violation not in VIOLATION_POLICIES:
             raise ValueError(f"on_violation must be one of {', '.join(VIOLATION_POLICIES)}, got {on_violation!r}")
+        on_violation = ViolationPolicy(on_violation)
         self.strategy = strategy
         self.inputs = list(strategy.inputs)
         self.outputs = list(strategy.outputs)
@@ -93,8 +104,8 @@ class Controller:
                              f"(inputs: {', '.join(self.inputs) or 'none'}; outputs: {', '.join(self.outputs) or 'none'})")
         self.on_violation = on_violation
         self.recovery = recovery
-        if settle_steps < 0:
-            raise ValueError(f"settle_steps must be >= 0, got {settle_steps}")
+        if not isinstance(settle_steps, int) or isinstance(settle_steps, bool) or settle_steps < 0:
+            raise ValueError(f"settle_steps must be an integer >= 0, got {settle_steps!r}")
         self.settle_steps = settle_steps
         self.lock = threading.RLock()
         self.state: Any = None

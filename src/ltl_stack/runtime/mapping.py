@@ -301,6 +301,15 @@ def default_topic(namespace: str, kind: str, prop: str) -> str:
     return posixpath.join("/", namespace.strip("/"), group, prop)
 
 
+def resolve_node_name(name: str, namespace: str) -> str:
+    """A mapping node name made global: relative node names live in the scenario namespace ``/<ns>``,
+    where ``generate_launch`` starts them (beside the executor and the robot's nodes, so their relative
+    topic parameters reach the robot's topics)."""
+    if name.startswith("/"):
+        return posixpath.normpath(name)
+    return posixpath.normpath(posixpath.join("/", namespace.strip("/"), name))
+
+
 def resolve_name(name: str, namespace: str, kind: str) -> str:
     """A mapping name made global: relative names live in the ``<ns>/inputs`` or ``<ns>/outputs`` group."""
     if name.startswith("/"):

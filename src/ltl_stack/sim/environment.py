@@ -7,7 +7,6 @@ published on ``~fired`` (std_msgs/String) when it fires.
 """
 from __future__ import annotations
 
-import math
 import time
 from typing import Any
 
@@ -19,6 +18,7 @@ from ltl_stack.ros.proposition_node import (
     message_class,
     run_node,
 )
+from ltl_stack.runtime.node_params import Bound
 from ltl_stack.sim.schedule import ScheduleError, Scheduler, load_schedule
 
 SCRIPTED_ENVIRONMENT = NodeSpec(
@@ -28,24 +28,12 @@ SCRIPTED_ENVIRONMENT = NodeSpec(
     params=[
         Param("schedule", "", "YAML schedule file (events: [{at, topic, value, type, name}])",
               aliases=("file",), kind=str, required=True),
-        Param("time_scale", 1.0, "simulated seconds per wall-clock second (> 0)"),
-        Param("wait_for_subscribers", 0.0, "wait up to this long (s, >= 0) for every topic to have a "
-              "subscriber before the clock starts (0: start at once)"),
-        Param("rate", 50.0, "how often (Hz, > 0) to check for due events"),
+        Param("time_scale", 1.0, "simulated seconds per wall-clock second", bound=Bound.POSITIVE),
+        Param("wait_for_subscribers", 0.0, "wait up to this long (s) for every topic to have a "
+              "subscriber before the clock starts (0: start at once)", bound=Bound.NON_NEGATIVE),
+        Param("rate", 50.0, "how often (Hz) to check for due events", bound=Bound.POSITIVE),
     ],
 )
-
-
-def check_config(config: dict[str, Any], name: str) -> None:
-    """``NodeConfigError`` naming the parameter for a rate or time scale that is not a finite number
-    > 0 (``nan``, ``inf``, 0, negative) or a negative/non-finite ``~wait_for_subscribers``."""
-    for key in ("time_scale", "rate"):
-        if not math.isfinite(config[key]) or config[key] <= 0:
-            raise NodeConfigError(f"{name}: parameter ~{key} must be a number > 0, got {config[key]!r}")
-    wait = config["wait_for_subscribers"]
-    if not math.isfinite(wait) or wait < 0:
-        raise NodeConfigError(f"{name}: parameter ~wait_for_subscribers must be a number of seconds >= 0, "
-                              f"got {wait!r}")
 
 
 class ScriptedEnvironment:
@@ -54,7 +42,6 @@ class ScriptedEnvironment:
         from std_msgs.msg import String
 
         name = rospy.get_name()
-        check_config(config, name)
         try:
             self.schedule = load_schedule(config["schedule"])
         except ScheduleError as error:

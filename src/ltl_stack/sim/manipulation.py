@@ -12,7 +12,13 @@ import threading
 import time
 from typing import Any
 
+import actionlib
+import rospy
+from std_msgs.msg import Bool
+
+from ltl_stack.msg import PropositionAction, PropositionFeedback, PropositionResult
 from ltl_stack.ros.proposition_node import NodeConfigError, NodeSpec, Param, run_node
+from ltl_stack.runtime.node_params import Bound
 
 MANIPULATION_SERVER = NodeSpec(
     name="sim_manipulation_server",
@@ -20,11 +26,11 @@ MANIPULATION_SERVER = NodeSpec(
     description="Simulated manipulation: ltl_stack/Proposition action servers (pick, drop) that take "
                 "~duration and report progress; publishes holding (std_msgs/Bool).",
     params=[
-        Param("actions", ["pick", "drop"], "action names to serve", kind=list),
-        Param("duration", 1.0, "simulated seconds each action takes"),
-        Param("time_scale", 1.0, "simulated seconds per wall-clock second"),
-        Param("fail", [], "action names that abort instead of completing", kind=list),
-        Param("feedback_rate", 10.0, "progress feedback rate (Hz)"),
+        Param("actions", ["pick", "drop"], "action names to serve", kind=list, ros_name=True),
+        Param("duration", 1.0, "simulated seconds each action takes", bound=Bound.NON_NEGATIVE),
+        Param("time_scale", 1.0, "simulated seconds per wall-clock second", bound=Bound.POSITIVE),
+        Param("fail", [], "action names that abort instead of completing", kind=list, ros_name=True),
+        Param("feedback_rate", 10.0, "progress feedback rate (Hz)", bound=Bound.POSITIVE),
     ],
 )
 
@@ -34,15 +40,6 @@ HOLDING_AFTER = {"pick": True, "drop": False}
 
 class ManipulationServer:
     def __init__(self, config: dict[str, Any]) -> None:
-        import actionlib
-        import rospy
-        from std_msgs.msg import Bool
-
-        from ltl_stack.msg import PropositionAction
-
-        if config["duration"] < 0 or config["time_scale"] <= 0 or config["feedback_rate"] <= 0:
-            raise NodeConfigError(f"{rospy.get_name()}: ~duration must be >= 0, ~time_scale and "
-                                  "~feedback_rate > 0")
         unknown = set(config["fail"]) - set(config["actions"])
         if unknown:
             raise NodeConfigError(f"{rospy.get_name()}: ~fail names actions not in ~actions: "
@@ -50,7 +47,6 @@ class ManipulationServer:
         self.config = config
         self.holding = False
         self._lock = threading.Lock()
-        self._bool = Bool
         self.holding_pub = rospy.Publisher("holding", Bool, queue_size=1, latch=True)
         self.holding_pub.publish(Bool(data=False))
         self.servers = {}
@@ -63,10 +59,6 @@ class ManipulationServer:
         rospy.loginfo("%s: actions %s ready", rospy.get_name(), ", ".join(map(str, config["actions"])))
 
     def execute(self, name: str, goal: Any) -> None:
-        import rospy
-
-        from ltl_stack.msg import PropositionFeedback, PropositionResult
-
         server = self.servers[name]
         if not goal.activate:
             server.set_succeeded(PropositionResult(completed=False), "not activated")
@@ -96,12 +88,10 @@ class ManipulationServer:
         if name in HOLDING_AFTER:
             with self._lock:
                 self.holding = HOLDING_AFTER[name]
-                self.holding_pub.publish(self._bool(data=self.holding))
+                self.holding_pub.publish(Bool(data=self.holding))
         server.set_succeeded(PropositionResult(completed=True), f"{name} completed")
 
     def spin(self) -> None:
-        import rospy
-
         rospy.spin()
 
 

@@ -14,8 +14,15 @@ import threading
 import time
 from typing import Any
 
-from ltl_stack.ros.proposition_node import NodeConfigError, NodeSpec, Param, run_node
-from ltl_stack.ros.regions import RegionsError
+import actionlib
+import rospy
+from geometry_msgs.msg import Twist
+from nav_msgs.msg import Odometry
+
+from ltl_stack.msg import NavigateAction, NavigateFeedback, NavigateResult
+from ltl_stack.ros.proposition_node import NodeSpec, Param, run_node
+from ltl_stack.runtime.node_params import Bound
+from ltl_stack.runtime.regions import RegionsError
 from ltl_stack.sim.kinematics import MODES, Pose2D, go_to_point
 from ltl_stack.sim.robot import REGION_PARAMS, load_regions
 
@@ -25,13 +32,13 @@ NAVIGATION_SERVER = NodeSpec(
     description="Simulated navigation action server (ltl_stack/Navigate): drives the robot on "
                 "cmd_vel to a region or point using odom; cancellable.",
     params=[
-        Param("action", "navigate", "action name"),
-        Param("mode", "diff", f"drive of the robot: {' or '.join(MODES)}"),
-        Param("rate", 20.0, "control rate (Hz)"),
-        Param("max_linear", 0.5, "speed limit (m/s)"),
-        Param("max_angular", 1.5, "turn-rate limit (rad/s)"),
-        Param("goal_tolerance", 0.05, "success radius around the target (m)"),
-        Param("odom_timeout", 5.0, "abort a goal when no odometry came for this long (s)"),
+        Param("action", "navigate", "action name", required=True, ros_name=True),
+        Param("mode", "diff", f"drive of the robot: {' or '.join(MODES)}", choices=tuple(MODES)),
+        Param("rate", 20.0, "control rate (Hz)", bound=Bound.POSITIVE),
+        Param("max_linear", 0.5, "speed limit (m/s)", bound=Bound.POSITIVE),
+        Param("max_angular", 1.5, "turn-rate limit (rad/s)", bound=Bound.POSITIVE),
+        Param("goal_tolerance", 0.05, "success radius around the target (m)", bound=Bound.POSITIVE),
+        Param("odom_timeout", 5.0, "abort a goal when no odometry came for this long (s)", bound=Bound.POSITIVE),
         *REGION_PARAMS,
     ],
 )
@@ -47,22 +54,11 @@ def odom_pose(msg: Any) -> Pose2D:
 
 class NavigationServer:
     def __init__(self, config: dict[str, Any]) -> None:
-        import actionlib
-        import rospy
-        from geometry_msgs.msg import Twist
-        from nav_msgs.msg import Odometry
-
-        from ltl_stack.msg import NavigateAction
-
-        if config["mode"] not in MODES:
-            raise NodeConfigError(f"{rospy.get_name()}: ~mode must be one of {', '.join(MODES)}, "
-                                  f"got {config['mode']!r}")
         self.config = config
         self.regions = load_regions(config)
         self._lock = threading.Lock()
         self.pose: Pose2D | None = None
         self.pose_time = 0.0
-        self._twist = Twist
         self.cmd_pub = rospy.Publisher("cmd_vel", Twist, queue_size=10)
         rospy.Subscriber("odom", Odometry, self._on_odom, queue_size=10)
         self.server = actionlib.SimpleActionServer(config["action"], NavigateAction,
@@ -95,13 +91,9 @@ class NavigationServer:
         return self.regions.route((start.x, start.y), goal.region)
 
     def stop(self) -> None:
-        self.cmd_pub.publish(self._twist())
+        self.cmd_pub.publish(Twist())
 
     def execute(self, goal: Any) -> None:
-        import rospy
-
-        from ltl_stack.msg import NavigateFeedback, NavigateResult
-
         c = self.config
         wait_until = time.monotonic() + c["odom_timeout"]
         while self.current_pose() is None and time.monotonic() < wait_until and not rospy.is_shutdown():
@@ -140,7 +132,7 @@ class NavigationServer:
                                               "reached")
                     return
                 vx, vy, wz = go_to_point(pose, target, c["mode"], c["max_linear"], c["max_angular"])
-                cmd = self._twist()
+                cmd = Twist()
                 cmd.linear.x, cmd.linear.y, cmd.angular.z = vx, vy, wz
                 self.cmd_pub.publish(cmd)
             try:
@@ -152,8 +144,6 @@ class NavigationServer:
             self.server.set_aborted(NavigateResult(reached=False), "shutting down")
 
     def spin(self) -> None:
-        import rospy
-
         rospy.spin()
 
 

@@ -8,16 +8,24 @@ With ``~regions_file`` it also publishes the name of the region it is in on ``cu
 """
 from __future__ import annotations
 
+import math
 import threading
+import time
 from typing import Any
 
+import rospy
+from geometry_msgs.msg import PoseStamped, Twist
+from nav_msgs.msg import Odometry
+from std_msgs.msg import String
+
 from ltl_stack.ros.proposition_node import NodeConfigError, NodeSpec, Param, run_node
-from ltl_stack.ros.regions import RegionMap, RegionsError
+from ltl_stack.runtime.node_params import Bound
+from ltl_stack.runtime.regions import RegionMap, RegionsError
 from ltl_stack.sim.kinematics import MODES, Pose2D, integrate, limit_command, moving_time
 
 REGION_PARAMS = [
     Param("regions_file", "", "LTLMoP .regions file of the workspace (optional)"),
-    Param("scale", 1.0, "metres per unit of the .regions file"),
+    Param("scale", 1.0, "metres per unit of the .regions file", bound=Bound.POSITIVE),
     Param("x_trans", 0.0, "world x of the file's origin"),
     Param("y_trans", 0.0, "world y of the file's origin"),
     Param("flip_y", False, "negate the file's y (image coordinates point down)"),
@@ -29,17 +37,18 @@ SIM_ROBOT = NodeSpec(
     description="Simulated planar robot: integrates cmd_vel (geometry_msgs/Twist), publishes odom "
                 "(nav_msgs/Odometry) and pose (geometry_msgs/PoseStamped).",
     params=[
-        Param("mode", "diff", f"drive: {' or '.join(MODES)}"),
-        Param("rate", 50.0, "integration and publishing rate (Hz)"),
-        Param("time_scale", 1.0, "simulated seconds per wall-clock second"),
+        Param("mode", "diff", f"drive: {' or '.join(MODES)}", choices=tuple(MODES)),
+        Param("rate", 50.0, "integration and publishing rate (Hz)", bound=Bound.POSITIVE),
+        Param("time_scale", 1.0, "simulated seconds per wall-clock second", bound=Bound.POSITIVE),
         Param("x", 0.0, "initial x (m)"),
         Param("y", 0.0, "initial y (m)"),
         Param("theta", 0.0, "initial heading (rad)"),
-        Param("max_linear", 1.0, "speed limit (m/s)"),
-        Param("max_angular", 2.0, "turn-rate limit (rad/s)"),
-        Param("cmd_timeout", 0.5, "stop when no command came for this long (wall s; 0: never)"),
-        Param("frame_id", "odom", "frame of the published pose"),
-        Param("child_frame_id", "base_link", "the robot's frame"),
+        Param("max_linear", 1.0, "speed limit (m/s)", bound=Bound.POSITIVE),
+        Param("max_angular", 2.0, "turn-rate limit (rad/s)", bound=Bound.POSITIVE),
+        Param("cmd_timeout", 0.5, "stop when no command came for this long (wall s; 0: never)",
+              bound=Bound.NON_NEGATIVE),
+        Param("frame_id", "odom", "frame of the published pose", ros_name=True),
+        Param("child_frame_id", "base_link", "the robot's frame", ros_name=True),
         *REGION_PARAMS,
     ],
 )
@@ -58,16 +67,6 @@ def load_regions(config: dict[str, Any]) -> RegionMap | None:
 
 class SimRobot:
     def __init__(self, config: dict[str, Any]) -> None:
-        import rospy
-        from geometry_msgs.msg import PoseStamped, Twist
-        from nav_msgs.msg import Odometry
-        from std_msgs.msg import String
-
-        if config["mode"] not in MODES:
-            raise NodeConfigError(f"{rospy.get_name()}: ~mode must be one of {', '.join(MODES)}, "
-                                  f"got {config['mode']!r}")
-        if config["rate"] <= 0 or config["time_scale"] <= 0:
-            raise NodeConfigError(f"{rospy.get_name()}: ~rate and ~time_scale must be positive")
         self.config = config
         self.regions = load_regions(config)
         self.pose = Pose2D(config["x"], config["y"], config["theta"])
@@ -78,12 +77,9 @@ class SimRobot:
         self.odom_pub = rospy.Publisher("odom", Odometry, queue_size=10)
         self.pose_pub = rospy.Publisher("pose", PoseStamped, queue_size=10)
         self.region_pub = rospy.Publisher("current_region", String, queue_size=1, latch=True)
-        self._odometry, self._pose_stamped, self._string = Odometry, PoseStamped, String
         rospy.Subscriber("cmd_vel", Twist, self._on_cmd, queue_size=10)
 
     def _on_cmd(self, msg: Any) -> None:
-        import time
-
         c = self.config
         with self._lock:
             self.command = limit_command(msg.linear.x, msg.linear.y, msg.angular.z, c["mode"],
@@ -101,14 +97,10 @@ class SimRobot:
             self.pose = integrate(self.pose, vx, vy, wz, moving * self.config["time_scale"])
 
     def publish(self) -> None:
-        import math
-
-        import rospy
-
         with self._lock:
             pose, (vx, vy, wz) = self.pose, self.command
         stamp = rospy.Time.now()
-        odom = self._odometry()
+        odom = Odometry()
         odom.header.stamp = stamp
         odom.header.frame_id = self.config["frame_id"]
         odom.child_frame_id = self.config["child_frame_id"]
@@ -118,7 +110,7 @@ class SimRobot:
         odom.twist.twist.linear.x, odom.twist.twist.linear.y = vx, vy
         odom.twist.twist.angular.z = wz
         self.odom_pub.publish(odom)
-        stamped = self._pose_stamped()
+        stamped = PoseStamped()
         stamped.header = odom.header
         stamped.pose = p
         self.pose_pub.publish(stamped)
@@ -126,13 +118,9 @@ class SimRobot:
             region = self.regions.region_at(pose.x, pose.y) or ""
             if region != self.region:
                 self.region = region
-                self.region_pub.publish(self._string(data=region))
+                self.region_pub.publish(String(data=region))
 
     def spin(self) -> None:
-        import time
-
-        import rospy
-
         rate = rospy.Rate(self.config["rate"])
         last = time.monotonic()
         while not rospy.is_shutdown():

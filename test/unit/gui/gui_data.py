@@ -25,15 +25,15 @@ scenarios = _scenario_module()
 
 
 def simple_snapshot():
-    """The graph of thesis Example 7 as launch/simple.launch runs it: move and stop both on /cmd_vel."""
+    """The graph of thesis Example 7 as launch/simple.launch runs it: move and stop both on /simple/cmd_vel."""
     from ltl_stack.analysis.snapshot import Snapshot
 
-    pubs = [("/simple/inputs/person", ["/simple/inputs/person"]), ("/cmd_vel", ["/simple/outputs/move",
-            "/simple/outputs/stop"]), ("/camera/person_distance", ["/camera"]),
-            ("/rosout", ["/simple/outputs/move", "/simple/outputs/stop", "/sim_robot"])]
-    subs = [("/simple/outputs/move", ["/simple/outputs/move"]), ("/simple/outputs/stop", ["/simple/outputs/stop"]),
-            ("/cmd_vel", ["/sim_robot"]), ("/camera/person_distance", ["/simple/inputs/person"])]
+    pubs = [("/simple/inputs/person", ["/simple/person"]), ("/simple/cmd_vel", ["/simple/move", "/simple/stop"]),
+            ("/simple/camera/person_distance", ["/simple/camera"]),
+            ("/rosout", ["/simple/move", "/simple/stop", "/simple/sim_robot"])]
+    subs = [("/simple/outputs/move", ["/simple/move"]), ("/simple/outputs/stop", ["/simple/stop"]),
+            ("/simple/cmd_vel", ["/simple/sim_robot"]), ("/simple/camera/person_distance", ["/simple/person"])]
     types = [("/simple/inputs/person", "std_msgs/Bool"), ("/simple/outputs/move", "std_msgs/Bool"),
-             ("/simple/outputs/stop", "std_msgs/Bool"), ("/cmd_vel", "geometry_msgs/Twist"),
-             ("/camera/person_distance", "std_msgs/Float64")]
+             ("/simple/outputs/stop", "std_msgs/Bool"), ("/simple/cmd_vel", "geometry_msgs/Twist"),
+             ("/simple/camera/person_distance", "std_msgs/Float64")]
     return Snapshot.from_system_state(pubs, subs, [], types, master="test")

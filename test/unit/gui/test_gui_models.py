@@ -73,16 +73,16 @@ def clean_graph() -> LiveGraph:
     ns = "clean_and_patrol"
     for prop in doc.inputs:
         topic = f"/{ns}/inputs/{prop}"
-        node = f"/{ns}/outputs/{prop[:-3]}" if prop in ("pickup_ac", "drop_ac") else f"/{ns}/inputs/{prop}"
+        node = f"/{ns}/{prop[:-3]}" if prop in ("pickup_ac", "drop_ac") else f"/{ns}/{prop}"
         pubs.append((topic, [node]))
         types.append((topic, "std_msgs/Bool"))
     for prop in doc.outputs:
         topic = f"/{ns}/outputs/{prop}"
-        subs.append((topic, [f"/{ns}/outputs/{prop}"]))
+        subs.append((topic, [f"/{ns}/{prop}"]))
         pubs.append((topic, [f"/{ns}/controller_executor"]))
         types.append((topic, "std_msgs/Bool"))
-    pubs.append(("/cmd_vel", [f"/{ns}/outputs/stop", "/navigation"]))
-    types.append(("/cmd_vel", "geometry_msgs/Twist"))
+    pubs.append((f"/{ns}/cmd_vel", [f"/{ns}/stop", f"/{ns}/navigation"]))
+    types.append((f"/{ns}/cmd_vel", "geometry_msgs/Twist"))
     return LiveGraph(Snapshot.from_system_state(pubs, subs, [], types))
 
 
@@ -90,8 +90,7 @@ def test_loading_lists_the_spec_propositions_and_the_mapping_rows():
     doc = MappingDocument.load(str(CLEAN_SPEC), str(CLEAN_MAPPING))
     assert doc.inputs[0] == "object" and "rightGround" in doc.outputs
     row = doc.row(INPUT, "object")
-    assert (row.node, row.topic, row.base.filename) == ("object", "/clean_and_patrol/inputs/object",
-                                                        "topic_threshold_sensor")
+    assert (row.node, row.topic, row.base.filename) == ("object", "object", "topic_threshold_sensor")
     assert doc.scenario_namespace() == "clean_and_patrol"
 
 
@@ -163,21 +162,21 @@ def test_validation_reports_unmapped_missing_nodes_extra_publishers_and_wrong_ty
     assert any("'stop' is not mapped" in m for m in msgs), msgs
     doc = MappingDocument.load(str(SIMPLE_SPEC), str(SIMPLE_MAPPING))
     doc.set_node(INPUT, "person", 0, "/gone")
-    doc.set_topic(INPUT, "person", 0, "/cmd_vel")
+    doc.set_topic(INPUT, "person", 0, "/simple/cmd_vel")
     found = {(f.severity, f.message.split(":")[0]) for f in doc.validate(graph)}
     text = " | ".join(f.message for f in doc.validate(graph))
     assert "node /gone is not on the master" in text
-    assert "other publishers (/simple/outputs/move, /simple/outputs/stop)" in text
+    assert "other publishers (/simple/move, /simple/stop)" in text
     assert "type geometry_msgs/Twist" in text
     assert ("error", "input 'person'") in found
 
 
-def test_the_input_of_an_output_node_resolves_in_the_outputs_group():
+def test_the_input_of_an_output_node_is_that_node():
     doc = MappingDocument.load(str(CLEAN_SPEC), str(CLEAN_MAPPING))
     graph = clean_graph()
-    assert doc.resolved_node(INPUT, "pickup", graph) == "/clean_and_patrol/outputs/pickup"
-    assert doc.resolved_node(INPUT, "pickup") == "/clean_and_patrol/inputs/pickup"
-    assert graph.topics_for(INPUT, "/clean_and_patrol/outputs/pickup") == ["/clean_and_patrol/inputs/pickup_ac"]
+    assert doc.resolved_node(INPUT, "pickup", graph) == "/clean_and_patrol/pickup"
+    assert doc.resolved_node(OUTPUT, "pickup") == "/clean_and_patrol/pickup"
+    assert graph.topics_for(INPUT, "/clean_and_patrol/pickup") == ["/clean_and_patrol/inputs/pickup_ac"]
 
 
 # --- analysis -----------------------------------------------------------------------------------------
@@ -192,8 +191,8 @@ def test_simple_scenario_tables_and_suggestion_forms(tmp_path):
     result = simple_result(tmp_path)
     tables = result.tables()
     assert tables["E2"].rows == [
-        ["[/cmd_vel]", "move", "(/simple/outputs/move) -> [/cmd_vel]"],
-        ["", "stop", "(/simple/outputs/stop) -> [/cmd_vel]"]]
+        ["[/simple/cmd_vel]", "move", "(/simple/move) -> [/simple/cmd_vel]"],
+        ["", "stop", "(/simple/stop) -> [/simple/cmd_vel]"]]
     assert tables["E2"].rows_of(0) == [0, 1] and tables["E1"].rows == []
     assert "move and stop are mutually exclusive" in suggestion_text(result.suggestions, "english")
     assert "G((move & !stop) | (!move & stop) | (!move & !stop))" in suggestion_text(result.suggestions, "ltl")
@@ -201,7 +200,7 @@ def test_simple_scenario_tables_and_suggestion_forms(tmp_path):
     assert "[SYS_TRANS]" in slugsin and "[SYS_INIT]" in slugsin
     g = conflict_graph(result, "E2", 0)
     labels = {n.label: n.color for n in g.nodes}
-    assert labels == {"/simple/outputs/move": "blue", "/cmd_vel": "red", "/simple/outputs/stop": "blue"}
+    assert labels == {"/simple/move": "blue", "/simple/cmd_vel": "red", "/simple/stop": "blue"}
 
 
 def test_apply_and_check_shows_example_7_unrealizable(tmp_path):

@@ -75,7 +75,7 @@ def test_mapping_panel_validates_as_the_user_edits(mapping_panel, qtbot):
     # the row is marked with its worst finding: /nobody would be a second publisher of the object topic
     assert "#ffc8c8" in node.styleSheet() and "other publishers" in node.toolTip()
     topic = panel.combo(INPUT, "object", 0, "topic")
-    topic.setEditText("/cmd_vel")
+    topic.setEditText("/clean_and_patrol/cmd_vel")
     qtbot.waitUntil(lambda: any("has type geometry_msgs/Twist" in f.message for f in panel.findings), timeout=WAIT)
     assert any(f.severity == "error" and "other publishers" in f.message for f in panel.findings)
 
@@ -160,8 +160,7 @@ def test_analysis_panel_on_a_snapshot_file_then_apply_and_check(qtbot, tmp_path)
     assert [e2.rows[i][1] for i in range(e2.rowCount())] == ["move", "stop"]
     assert panel.findings_tab_widget.tabText(1) == "E2 (1)"
     assert panel.selected_rows("E2") == [0, 1]  # the first finding is selected, with its topic's rows
-    assert {n.label for n in panel.graph_view.graph.nodes} == {"/simple/outputs/move", "/cmd_vel",
-                                                               "/simple/outputs/stop"}
+    assert {n.label for n in panel.graph_view.graph.nodes} == {"/simple/move", "/simple/cmd_vel", "/simple/stop"}
     assert len(panel.graph_view.items) == 3
     assert "mutually exclusive" in panel.suggestions_text.toPlainText()
     panel.form_combo_box.setCurrentIndex(1)

@@ -5,16 +5,9 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from ltl_stack.ros.proposition_node import (
-    FALLING,
-    RISING,
-    EdgeDetector,
-    NodeConfigError,
-    Param,
-    StaleWatch,
-    coerce_param,
-    describe_params,
-)
+from ltl_stack.errors import Exit
+from ltl_stack.runtime.edges import FALLING, RISING, EdgeDetector, StaleWatch
+from ltl_stack.runtime.node_params import Bound, NodeConfigError, Param, coerce_param, describe_params
 
 
 def test_edges_of_a_hand_written_sequence():
@@ -102,6 +95,40 @@ def test_describe_params_is_what_json_prints():
         {"name": "vx", "default": 0.0, "required": False, "aliases": ["v"], "doc": "linear x"}]}, got
 
 
+@pytest.mark.parametrize("param, raw, message", [
+    (Param("rate", 10.0, bound=Bound.POSITIVE), 0, "~rate must be a number > 0, got 0.0"),
+    (Param("rate", 10.0, bound=Bound.POSITIVE), -5, "~rate must be a number > 0"),
+    (Param("rate", 10.0, bound=Bound.POSITIVE), "nan", "~rate must be a number > 0, got nan"),
+    (Param("rate", 10.0, bound=Bound.NON_NEGATIVE), float("inf"), "~rate must be a number >= 0"),
+    (Param("threshold", 0.0), float("-inf"), "~threshold must be a finite number"),
+    (Param("delay", 1.0, bound=Bound.NON_NEGATIVE), -0.5, "~delay must be a number >= 0"),
+    (Param("steps", 16, bound=Bound.NON_NEGATIVE), 2.5, "~steps must be an integer"),
+    (Param("mode", "diff", choices=("diff", "holonomic")), "tank", "~mode must be one of diff, holonomic"),
+    (Param("topic", "cmd_vel", ros_name=True), "cmd vel", "~topic must be a legal ROS name"),
+    (Param("topic", "cmd_vel", ros_name=True), "see-person", "~topic must be a legal ROS name"),
+    (Param("topic", "cmd_vel", ros_name=True, required=True), "", "~topic must be a legal ROS name"),
+    (Param("actions", [], kind=list, ros_name=True), ["pick", "2drop"], "~actions must be a legal ROS name"),
+    (Param("init", "", kind=(str, dict)), 5, "~init must be a str or dict"),
+    (Param("flag", False), 2, "~flag must be a bool"),
+    (Param("region", "", kind=str, required=True), None, "~region is required"),
+])
+def test_params_out_of_range_are_refused_naming_the_parameter(param, raw, message):
+    with pytest.raises(NodeConfigError) as err:
+        coerce_param(param, raw, "/node")
+    assert message in str(err.value) and err.value.code == Exit.BAD_INPUT, str(err.value)
+
+
+@given(st.floats(allow_nan=True, allow_infinity=True))
+def test_a_checked_positive_number_is_finite_and_positive(value):
+    param = Param("rate", 1.0, bound=Bound.POSITIVE)
+    try:
+        got = coerce_param(param, value)
+    except NodeConfigError:
+        assert not (value > 0 and value < float("inf")), value
+    else:
+        assert 0 < got < float("inf") and got == value
+
+
 def test_node_cli_json_prints_the_parameters_and_exits(capsys):
     import json
 
@@ -124,15 +151,14 @@ def test_node_cli_without_options_returns_so_the_node_runs():
     assert parse_node_cli("n", "input", "d", [Param("x", 1.0)], []) is None
 
 
-def test_node_modules_import_without_ros():
+def test_the_pure_layers_of_the_nodes_import_without_ros():
     import subprocess
     import sys
 
     code = ("import sys\n"
-            "for m in ('rospy', 'actionlib', 'genpy', 'roslib', 'rostopic'): sys.modules[m] = None\n"
-            "import ltl_stack.ros.proposition_node, ltl_stack.ros.sensors, ltl_stack.ros.regions\n"
-            "import ltl_stack.ros.actuators, ltl_stack.ros.action_proposition, ltl_stack.sim.kinematics\n"
-            "import ltl_stack.sim.schedule, ltl_stack.sim.robot, ltl_stack.sim.navigation\n"
-            "import ltl_stack.sim.manipulation, ltl_stack.sim.environment\n")
+            "for m in ('rospy', 'actionlib', 'genpy', 'roslib', 'rostopic', 'rosgraph'): sys.modules[m] = None\n"
+            "import ltl_stack.runtime.node_params, ltl_stack.runtime.edges, ltl_stack.runtime.sensing\n"
+            "import ltl_stack.runtime.executor_setup, ltl_stack.runtime.ros_names, ltl_stack.sim.kinematics\n"
+            "import ltl_stack.sim.schedule\n")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
     assert done.returncode == 0, done.stderr

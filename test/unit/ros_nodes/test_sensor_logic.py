@@ -7,7 +7,13 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from ltl_stack.ros.sensors import ThresholdComparator, extract_field, parse_field_path, pose_xy
+from ltl_stack.runtime.sensing import (
+    ThresholdComparator,
+    check_field_path,
+    extract_field,
+    parse_field_path,
+    pose_xy,
+)
 
 
 @pytest.mark.parametrize("path, expected", [
@@ -73,3 +79,28 @@ def test_pose_xy_reads_the_usual_pose_messages():
     assert pose_xy(NS(x=3.0, y=4.0, theta=0.0)) == (3.0, 4.0)  # Pose2D
     with pytest.raises(LookupError):
         pose_xy(NS(data=True))
+
+
+class _Range:
+    __slots__ = ("header", "range", "ranges")
+
+    def __init__(self):
+        self.header = NS(stamp=NS(secs=0))
+        self.range = 0.0
+        self.ranges = []
+
+
+@pytest.mark.parametrize("path, fragment", [
+    ("nosuch", "has no field nosuch (fields there: header, range, ranges)"),
+    ("header", "field header is a SimpleNamespace, not a number"),
+    ("range[0]", "field range is not an array"),
+])
+def test_field_paths_the_message_type_does_not_have_are_refused(path, fragment):
+    with pytest.raises(LookupError) as err:
+        check_field_path(_Range(), parse_field_path(path), "sensor_msgs/Range")
+    assert fragment in str(err.value), str(err.value)
+
+
+@pytest.mark.parametrize("path", ["range", "ranges[3]", "header.stamp.secs"])
+def test_field_paths_to_numbers_pass(path):
+    check_field_path(_Range(), parse_field_path(path), "sensor_msgs/Range")

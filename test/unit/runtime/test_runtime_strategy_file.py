@@ -4,7 +4,6 @@ Uses the real synthesizer (``ltl_stack.synthesis``) and the executor's ROS-free 
 """
 from __future__ import annotations
 
-import argparse
 import json
 from pathlib import Path
 
@@ -12,8 +11,17 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from ltl_stack.ros.executor import ExecutorError, Options, _merge_options, build_strategy, parse_init_props
-from ltl_stack.runtime.controller import Controller
+from ltl_stack.errors import Exit
+from ltl_stack.runtime.controller import Controller, ViolationPolicy
+from ltl_stack.runtime.executor_setup import (
+    ExecutorError,
+    Options,
+    build_strategy,
+    check_summary,
+    merge_options,
+    parse_init_props,
+    prepare,
+)
 from ltl_stack.runtime.explicit import AutomatonStrategy
 from ltl_stack.spec import parse_slugsin
 from ltl_stack.synthesis import synthesize
@@ -66,25 +74,58 @@ def test_a_strategy_for_other_propositions_is_refused(saved, tmp_path):
         build_strategy(other, Options(strategy=str(broken)), log=quiet)
 
 
-def test_unrealizable_spec_is_exit_3():
+def test_unrealizable_spec_is_exit_10_from_the_one_table():
     spec = parse_slugsin("[INPUT]\nx\n\n[OUTPUT]\ny\n\n[SYS_TRANS]\n& y' ! y'\n", "u.slugsin")
     with pytest.raises(ExecutorError) as info:
         build_strategy(spec, Options(), log=quiet)
-    assert info.value.code == 3 and "unrealizable" in str(info.value), info.value
+    assert info.value.code == Exit.UNREALIZABLE == 10 and "unrealizable" in str(info.value), info.value
 
 
 def test_cli_flags_win_over_private_params():
-    args = argparse.Namespace(namespace=None, robotics_semantics=False, cooperative=None, strategy=None,
-                              init_props=None, rate=None, ready_timeout=2.0, on_violation=None, start_paused=None,
-                              publisher_check_period=None)
-    params = {"~cooperative": False, "~rate": 5.0, "~ready_timeout": 9.0, "~init_props": {"a": True, "lock": 0},
-              "~robotics_semantics": True}
-    options = _merge_options(args, lambda name, default: params.get(name, default))
+    cli = {"robotics_semantics": False, "ready_timeout": 2.0, "rate": None}
+    params = {"cooperative": False, "rate": 5.0, "ready_timeout": 9.0, "init_props": {"a": True, "lock": 0},
+              "robotics_semantics": True}
+    options = merge_options(cli, lambda name: (name in params, params.get(name)))
     assert (options.robotics_semantics, options.cooperative, options.rate, options.ready_timeout) == (
         False, False, 5.0, 2.0), options
+    assert options.sources["rate"] == "~rate" and options.sources["ready_timeout"] == "--ready-timeout"
     spec = parse_slugsin(LOCK, "lock.slugsin")
     assert parse_init_props(options.init_props, spec) == {"a": True, "lock": False}
-    with pytest.raises(ExecutorError, match="rate must be a number >= 0"):
-        _merge_options(args, lambda name, default: -1.0 if name == "~rate" else default)
-    with pytest.raises(ExecutorError, match="on_violation must be one of"):
-        _merge_options(args, lambda name, default: "explode" if name == "~on_violation" else default)
+    assert merge_options({}).on_violation is ViolationPolicy.HOLD
+
+
+@pytest.mark.parametrize("name, value, fragment", [
+    ("rate", -1.0, "parameter ~rate must be a number >= 0"),
+    ("rate", float("nan"), "parameter ~rate must be a number >= 0"),
+    ("ready_timeout", float("inf"), "parameter ~ready_timeout must be a number >= 0"),
+    ("violation_grace", "soon", "parameter ~violation_grace must be a number"),
+    ("settle_steps", 2.5, "parameter ~settle_steps must be an integer"),
+    ("settle_steps", float("inf"), "parameter ~settle_steps must be an integer"),
+    ("settle_steps", -3, "parameter ~settle_steps must be a number >= 0"),
+    ("max_explicit_states", 1e3 + 0.5, "parameter ~max_explicit_states must be an integer"),
+    ("init_props", 5, "parameter ~init_props must be a str or dict"),
+    ("init_props", {"a": "maybe"}, "~init_props: 'a' needs a true/false value"),
+    ("on_violation", "explode", "parameter ~on_violation must be one of hold, all-false"),
+    ("namespace", "bad name", "parameter ~namespace must be a legal ROS name"),
+    ("cooperative", "perhaps", "parameter ~cooperative must be a bool"),
+])
+def test_bad_private_params_are_refused_naming_the_param(name, value, fragment):
+    with pytest.raises(ExecutorError) as info:
+        merge_options({}, lambda n: (n == name, value))
+    assert fragment in str(info.value) and info.value.code == Exit.BAD_INPUT, str(info.value)
+
+
+def test_bad_flag_values_name_the_flag():
+    with pytest.raises(ExecutorError, match="--rate must be a number >= 0"):
+        merge_options({"rate": float("nan")})
+
+
+def test_check_with_saved_strategy(saved, tmp_path):
+    _, path = saved
+    spec_file = tmp_path / "lock.slugsin"
+    spec_file.write_text(LOCK)
+    options = merge_options({"strategy": str(path), "init_props": "a=0,lock=1"})
+    prepared = prepare(str(spec_file), None, options.namespace)
+    summary = check_summary(str(spec_file), None, prepared, options, log=quiet)
+    assert summary["initial_state"]["outputs"] == {"out": False, "busy": True}, summary
+    assert summary["inputs"] == {"a": "/lock/inputs/a", "lock": "/lock/inputs/lock"}, summary

@@ -1,0 +1,100 @@
+"""Survive a master restart: re-register this node's topics, services and parameters.
+
+rospy registers a node's publishers, subscribers and services with the master once; when the master
+dies and a new one comes up on the same URI, the new master knows nothing about the node: new nodes
+never connect to its topics, its services cannot be found, its parameters are gone. ``MasterWatch``
+polls the master's process id (``getPid``) once a period in one daemon thread; when a different
+master answers, it registers everything the node has — through rospy's own topic and service
+managers, so nothing is created twice — sets the node's private parameters again, and connects the
+node's subscribers to the publishers the new master knows.
+"""
+from __future__ import annotations
+
+import threading
+import xmlrpc.client
+from collections.abc import Callable
+from typing import Any
+
+import rosgraph
+import rospy
+from rospy.impl.registration import get_service_manager, get_topic_manager
+
+
+class MasterWatch:
+    """Polls the master's pid every ``period`` seconds and re-registers the node with a new master."""
+
+    def __init__(self, period: float = 1.0, on_restart: Callable[[], None] | None = None) -> None:
+        self.period = period
+        self.on_restart = on_restart
+        self.restarts = 0
+        self.caller_id = rospy.get_name()
+        self.master = rosgraph.Master(self.caller_id)
+        self.params = self._private_params()
+        self.pid = self._master_pid()
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, name="master_watch", daemon=True)
+        self._thread.start()
+        rospy.on_shutdown(self._stop.set)
+
+    def _master_pid(self) -> int | None:
+        try:
+            return int(self.master.getPid())
+        except (OSError, rosgraph.MasterException, xmlrpc.client.Error, ValueError):
+            return None
+
+    def _private_params(self) -> dict[str, Any]:
+        try:
+            value = rospy.get_param("~", {})
+        except (OSError, KeyError, rosgraph.MasterException):
+            return {}
+        return value if isinstance(value, dict) else {}
+
+    def _run(self) -> None:
+        while not self._stop.wait(self.period) and not rospy.is_shutdown():
+            pid = self._master_pid()
+            if pid is None or pid == self.pid:
+                continue  # the master is away (wait for one) or it is the same one
+            if self.pid is not None:
+                try:
+                    self.reregister()
+                except (OSError, rosgraph.MasterException, xmlrpc.client.Error) as err:
+                    rospy.logwarn("%s: re-registering with the new master failed (%s); trying again",
+                                  self.caller_id, err)
+                    continue
+                self.restarts += 1
+                rospy.logwarn("%s: the ROS master restarted (pid %s -> %s); registered topics, services and "
+                              "parameters again", self.caller_id, self.pid, pid)
+                if self.on_restart is not None:
+                    self.on_restart()
+            self.pid = pid
+
+    def reregister(self) -> None:
+        """Register every publisher, subscriber, service and private parameter with the master."""
+        uri = rospy.core.get_node_uri()
+        master = xmlrpc.client.ServerProxy(rosgraph.get_master_uri())
+        tm, sm = get_topic_manager(), get_service_manager()
+        with tm.lock, sm.lock:
+            publications = tm.get_publications()
+            subscriptions = tm.get_subscriptions()
+            services = sm.get_services()
+        if self.params:
+            rospy.set_param("~", self.params)
+        for name, msg_type in publications:
+            _ok(master.registerPublisher(self.caller_id, name, msg_type, uri), name)
+        node = xmlrpc.client.ServerProxy(uri)
+        for name, msg_type in subscriptions:
+            publishers = _ok(master.registerSubscriber(self.caller_id, name, msg_type, uri), name)
+            # Connect to the publishers the new master knows (it tells us about later ones itself).
+            node.publisherUpdate("/master", name, publishers)
+        for name, service_uri in services:
+            _ok(master.registerService(self.caller_id, name, service_uri, uri), name)
+
+
+def _ok(reply: list, name: str) -> Any:
+    code, message, value = reply
+    if code != 1:
+        raise rosgraph.MasterException(f"{name}: {message}")
+    return value
+
+
+__all__ = ["MasterWatch"]

@@ -1,0 +1,267 @@
+"""Everything the controller executor does before ROS: options, spec and mapping, topics, strategy.
+
+ROS-free, so ``controller_executor --check`` and the unit tests run it without a master; the node
+(``ltl_stack.ros.executor``) only adds the wiring. The executor's parameters are one ``Param``
+schema (``EXECUTOR_PARAMS``): a command-line flag wins over the ``~param`` of the same name, which
+wins over the default, and every value is checked (type, range, choices) before anything starts.
+
+Strategy ids: when the explicit automaton of the synthesized strategy has at most
+``max_explicit_states`` states, it is extracted exactly as ``synthesize --json/--dot`` does and
+stepped (``AutomatonStrategy``), so the state ids and goal numbers on ``~state`` are those of the
+exported picture. Beyond the bound the symbolic strategy runs, and its ids are its own
+(valuation bits and goal), not those of an export.
+"""
+from __future__ import annotations
+
+import posixpath
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from ltl_stack.errors import Exit, UserError
+from ltl_stack.runtime.controller import VIOLATION_POLICIES, Controller, ViolationPolicy
+from ltl_stack.runtime.explicit import AutomatonStrategy
+from ltl_stack.runtime.mapping import Mapping as PropositionMapping
+from ltl_stack.runtime.mapping import MappingError, check_mapping, load_mapping, resolve_topics
+from ltl_stack.runtime.node_params import Bound, NodeConfigError, Param, coerce_param
+from ltl_stack.runtime.ros_names import check_proposition_names, is_legal_name
+from ltl_stack.spec import SpecError, load_spec
+from ltl_stack.spec.valuation import parse_valuation
+from ltl_stack.synthesis import Automaton, synthesize
+from ltl_stack.synthesis.explicit import TooManyStates
+
+NODE_NAME = "controller_executor"
+#: The explicit automaton is extracted (and its ids used) up to this many states by default.
+MAX_EXPLICIT_STATES = 20000
+
+
+class ExecutorError(UserError):
+    """A problem the user can fix (bad file, argument or parameter); ``code`` is the exit code."""
+
+
+EXECUTOR_PARAMS = [
+    Param("namespace", "", "scenario namespace of the proposition topics (relative: in the node's namespace; "
+          "default: the node's namespace when it is not /, else the mapping's, else the spec's file name)",
+          ros_name=True),
+    Param("robotics_semantics", None, "init semantics of the synthesis (default: the library's)", kind=bool),
+    Param("cooperative", None, "cooperative strategy (default: the library's)", kind=bool),
+    Param("strategy", "", "run this saved strategy JSON instead of synthesizing"),
+    Param("init_props", "", "initial values a=1,b=0 (string) or {a: true, b: false} (dict)", kind=(str, dict)),
+    Param("rate", 0.0, "also step at this rate (Hz; 0: only on input changes)", bound=Bound.NON_NEGATIVE),
+    Param("ready_timeout", 10.0, "report silent inputs every S seconds (0: never)", bound=Bound.NON_NEGATIVE),
+    Param("on_violation", ViolationPolicy.HOLD.value, "outputs after an assumption violation",
+          choices=VIOLATION_POLICIES),
+    Param("start_paused", False, "start paused"),
+    Param("publisher_check_period", 2.0, "how often to look for extra publishers on input topics (s; 0: never)",
+          bound=Bound.NON_NEGATIVE),
+    Param("violation_grace", 0.2, "report a violation only if it lasts this long (s)", bound=Bound.NON_NEGATIVE),
+    Param("settle_steps", 16, "steps with unchanged inputs after a step, at most", bound=Bound.NON_NEGATIVE),
+    Param("max_explicit_states", MAX_EXPLICIT_STATES, "run the explicit automaton (ids of synthesize --json) "
+          "when it has at most this many states (0: always the symbolic strategy)", bound=Bound.NON_NEGATIVE),
+]
+PARAMS_BY_NAME = {p.name: p for p in EXECUTOR_PARAMS}
+
+
+@dataclass
+class Options:
+    """Settings of the node (see ``EXECUTOR_PARAMS``); None means "the library's default"."""
+
+    namespace: str = ""
+    robotics_semantics: bool | None = None
+    cooperative: bool | None = None
+    strategy: str = ""
+    init_props: str = ""
+    rate: float = 0.0
+    ready_timeout: float = 10.0
+    on_violation: ViolationPolicy = ViolationPolicy.HOLD
+    start_paused: bool = False
+    publisher_check_period: float = 2.0
+    violation_grace: float = 0.2
+    settle_steps: int = 16
+    max_explicit_states: int = MAX_EXPLICIT_STATES
+    #: where each value came from: "--flag", "~param" or "default"
+    sources: dict[str, str] = field(default_factory=dict)
+
+
+#: Looks up a private parameter: (is it set, its value).
+ParamLookup = Callable[[str], tuple[bool, Any]]
+
+
+def no_params(_name: str) -> tuple[bool, Any]:
+    """The lookup of a run without a parameter server (``--check``)."""
+    return False, None
+
+
+def merge_options(cli: Mapping[str, Any], lookup: ParamLookup = no_params) -> Options:
+    """CLI value if given (not None), else the ``~param`` if set, else the default; each checked
+    against its ``Param``. Raises ``ExecutorError`` naming the flag or parameter."""
+    values: dict[str, Any] = {}
+    sources: dict[str, str] = {}
+    for param in EXECUTOR_PARAMS:
+        flag = "--" + param.name.replace("_", "-")
+        if cli.get(param.name) is not None:
+            raw, source = cli[param.name], flag
+        else:
+            found, raw = lookup(param.name)
+            source = f"~{param.name}" if found else "default"
+            if not found:
+                raw = param.default
+        label = flag if source == flag else f"parameter ~{param.name}"
+        try:
+            values[param.name] = coerce_param(param, raw, NODE_NAME, label=label)
+        except NodeConfigError as err:
+            raise ExecutorError(str(err)) from None
+        sources[param.name] = source
+    if isinstance(values["init_props"], Mapping):
+        items = values["init_props"].items()
+        bad = [k for k, v in items if not isinstance(v, bool | int) or not isinstance(k, str)]
+        if bad:
+            raise ExecutorError(f"{NODE_NAME}: parameter ~init_props: {bad[0]!r} needs a true/false value")
+        values["init_props"] = ",".join(f"{k}={int(bool(v))}" for k, v in items)
+    values["on_violation"] = ViolationPolicy(values["on_violation"])
+    return Options(**values, sources=sources)
+
+
+@dataclass
+class Prepared:
+    """A loaded and cross-checked spec and mapping, and the executor's topics."""
+
+    spec: Any
+    mapping: PropositionMapping | None
+    namespace: str
+    input_topics: dict[str, str]
+    output_topics: dict[str, list[str]]
+    warnings: list[str] = field(default_factory=list)
+
+
+def load_inputs(spec_path: str, mapping_path: str | None) -> tuple[Any, PropositionMapping | None, list[str]]:
+    """Load the spec and mapping and check them against each other and against ROS naming rules."""
+    try:
+        spec = load_spec(spec_path)
+    except SpecError as err:
+        raise ExecutorError(str(err)) from None
+    except OSError as err:
+        raise ExecutorError(f"{spec_path}: cannot read spec: {err.strerror or err}") from None
+    check_proposition_names([*spec.inputs, *spec.outputs], spec_path)
+    mapping = None
+    warnings: list[str] = []
+    if mapping_path:
+        try:
+            mapping = load_mapping(mapping_path)
+        except MappingError as err:
+            raise ExecutorError(str(err)) from None
+        check_proposition_names([*mapping.inputs, *mapping.outputs], mapping_path)
+        issues = check_mapping(mapping, spec.inputs, spec.outputs)
+        errors = [str(i) for i in issues if i.severity == "error"]
+        if errors:
+            raise ExecutorError("the mapping does not fit the spec:\n  " + "\n  ".join(errors))
+        warnings = [str(i) for i in issues if i.severity != "error"]
+    return spec, mapping, warnings
+
+
+def scenario_namespace(option: str, node_namespace: str, mapping: PropositionMapping | None, spec_path: str) -> str:
+    """The absolute namespace the proposition topics live in (``/<ns>/inputs/<p>``, ``/<ns>/outputs/<p>``).
+
+    ``option`` (``--namespace``/``~namespace``) if given, resolved like a ROS name in the node's
+    namespace; else the node's namespace when it is not ``/`` (a launch file's group, ``ROS_NAMESPACE``);
+    else the mapping's namespace, else the spec's file name, under ``/``.
+    """
+    node_ns = "/" + node_namespace.strip("/")
+    if option:
+        if not is_legal_name(option) or option.startswith("~"):
+            raise ExecutorError(f"{NODE_NAME}: namespace {option!r} is not a legal ROS namespace")
+        return posixpath.normpath(option if option.startswith("/") else posixpath.join(node_ns, option))
+    if node_ns != "/":
+        return node_ns
+    name = (mapping.scenario_namespace() if mapping else None) or Path(spec_path).stem
+    return posixpath.normpath(posixpath.join("/", name))
+
+
+def prepare(spec_path: str, mapping_path: str | None, namespace: str = "", node_namespace: str = "/") -> Prepared:
+    """Load and cross-check the spec and mapping and resolve the topics; raises ``ExecutorError``."""
+    spec, mapping, warnings = load_inputs(spec_path, mapping_path)
+    ns = scenario_namespace(namespace, node_namespace, mapping, spec_path)
+    in_topics, out_topics = resolve_topics(mapping, spec.inputs, spec.outputs, ns.strip("/"))
+    return Prepared(spec, mapping, ns, in_topics, out_topics, warnings)
+
+
+def parse_init_props(text: str, spec: Any) -> dict[str, bool]:
+    try:
+        return parse_valuation(text or "", known=list(spec.propositions))
+    except ValueError as err:
+        raise ExecutorError(f"--init-props: {err}") from None
+
+
+def build_strategy(spec: Any, options: Options, log: Callable[[str], None] = print) -> Any:
+    """The strategy the controller steps: a saved one, else the synthesized one (see the module doc)."""
+    if options.strategy:
+        try:
+            automaton = Automaton.load(options.strategy, inputs=list(spec.inputs))
+        except (OSError, ValueError, KeyError, TypeError) as err:
+            raise ExecutorError(f"{options.strategy}: cannot load strategy: {err}") from None
+        if set(automaton.inputs) != set(spec.inputs) or set(automaton.outputs) != set(spec.outputs):
+            raise ExecutorError(f"{options.strategy}: the strategy's propositions (inputs {automaton.inputs}, "
+                                f"outputs {automaton.outputs}) differ from the spec's (inputs {spec.inputs}, "
+                                f"outputs {spec.outputs})")
+        log(f"loaded strategy {options.strategy}: {len(automaton.states)} states")
+        return AutomatonStrategy(automaton, spec)
+    chosen = {name: getattr(options, name) for name in ("robotics_semantics", "cooperative")
+              if getattr(options, name) is not None}
+    log(f"synthesizing {spec.source} ...")
+    result = synthesize(spec, **chosen)
+    semantics = result.solution.robotics_semantics if result.solution is not None else chosen.get(
+        "robotics_semantics")
+    if not result.realizable:
+        raise ExecutorError(f"{spec.source}: the specification is unrealizable"
+                            f"{' with robotics semantics' if semantics else ''}; nothing to execute "
+                            f"(synthesize {spec.source} --explain tells why)", Exit.UNREALIZABLE)
+    strategy = result.strategy
+    log(f"synthesized in {result.seconds:.3f} s (robotics semantics: {semantics}, "
+        f"cooperative: {strategy.cooperative})")
+    if options.max_explicit_states > 0:
+        try:
+            automaton = strategy.explicit(max_states=options.max_explicit_states)
+        except TooManyStates:
+            log(f"the explicit strategy has more than {options.max_explicit_states} states: running the symbolic "
+                "strategy; its state ids are not those of synthesize --json/--dot")
+            return strategy
+        log(f"running the explicit strategy ({len(automaton.states)} states; ids and goals as in "
+            "synthesize --json/--dot)")
+        return AutomatonStrategy(automaton, spec)
+    log("running the symbolic strategy (~max_explicit_states is 0); its state ids are not those of an export")
+    return strategy
+
+
+def make_controller(strategy: Any, options: Options, init: Mapping[str, bool]) -> Controller:
+    try:
+        return Controller(strategy, on_violation=options.on_violation, init_props=init,
+                          running=True, settle_steps=options.settle_steps)
+    except ValueError as err:
+        raise ExecutorError(str(err)) from None
+
+
+def check_summary(spec_path: str, mapping_path: str | None, prepared: Prepared, options: Options,
+                  log: Callable[[str], None]) -> dict[str, Any]:
+    """``--check``: everything up to the initial state, no ROS. Raises ``ExecutorError``."""
+    init = parse_init_props(options.init_props, prepared.spec)
+    strategy = build_strategy(prepared.spec, options, log=log)
+    controller = make_controller(strategy, options, init)
+    summary: dict[str, Any] = {
+        "spec": str(spec_path), "mapping": mapping_path, "namespace": prepared.namespace,
+        "inputs": prepared.input_topics, "outputs": prepared.output_topics, "warnings": prepared.warnings,
+        "init_props": init, "ready": controller.ready,
+        "strategy": "explicit" if isinstance(strategy, AutomatonStrategy) else "symbolic"}
+    if controller.ready:
+        update = controller.advance()
+        summary["initial_state"] = None if update.state is None else {
+            "id": update.state.id, "goal": update.state.goal, "inputs": dict(update.state.inputs),
+            "outputs": dict(update.state.outputs)}
+        if update.error:
+            summary["error"] = update.error
+    return summary
+
+
+__all__ = ["EXECUTOR_PARAMS", "ExecutorError", "MAX_EXPLICIT_STATES", "Options", "Prepared", "build_strategy",
+           "check_summary", "load_inputs", "make_controller", "merge_options", "parse_init_props", "prepare",
+           "scenario_namespace"]

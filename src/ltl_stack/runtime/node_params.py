@@ -1,0 +1,191 @@
+"""Parameters of ROS nodes, validated before a node does anything. ROS-free.
+
+Every node of ltl_stack (the controller executor, the proposition nodes, the simulated robot and
+servers) declares its ``~private`` parameters as a list of ``Param``: name, default, meaning, legacy
+aliases, type, and the values that make sense (``Bound``, ``choices``, ``ros_name``). ``check_param``
+turns one raw value (as rospy's parameter server or a command line gives it) into the declared type
+or raises ``NodeConfigError`` naming the parameter: a node with a bad value exits with
+``Exit.BAD_INPUT`` at start-up instead of running with it (``nan`` rates, ``_settle_steps:=2.5``,
+``_init_props:=5``, an illegal topic name ...).
+"""
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from enum import Enum
+from typing import Any
+
+from ltl_stack.errors import Exit, UserError
+from ltl_stack.runtime.ros_names import is_legal_name
+
+
+class NodeConfigError(UserError):
+    """A parameter of a node is missing or wrong; the message names it (exit ``Exit.BAD_INPUT``)."""
+
+    code = Exit.BAD_INPUT
+
+
+class Bound(Enum):
+    """The range a numeric parameter must lie in (numbers are always finite: no nan, no inf)."""
+
+    ANY = "any finite number"
+    NON_NEGATIVE = ">= 0"
+    POSITIVE = "> 0"
+
+
+@dataclass(frozen=True)
+class Param:
+    """One ``~private`` parameter of a node.
+
+    ``kind`` is the expected type (float, int, str, bool, list, dict, or a tuple of them, meaning
+    any one of them exactly); it defaults to the type of ``default``. ``required`` parameters have no
+    default. ``bound`` limits numbers; ``choices`` lists the allowed strings; ``ros_name`` says the
+    value (or, for a list, each item) must be a legal ROS graph name (empty allowed unless required).
+    """
+
+    name: str
+    default: Any = None
+    doc: str = ""
+    aliases: tuple[str, ...] = ()
+    kind: type | tuple[type, ...] | None = None
+    required: bool = False
+    bound: Bound = Bound.ANY
+    choices: tuple[str, ...] = ()
+    ros_name: bool = False
+
+    @property
+    def type(self) -> type | tuple[type, ...] | None:
+        if self.kind is not None:
+            return self.kind
+        return None if self.default is None else type(self.default)
+
+    @property
+    def type_name(self) -> str:
+        want = self.type
+        if isinstance(want, tuple):
+            return " or ".join(t.__name__ for t in want)
+        return want.__name__ if want is not None else "value"
+
+
+def _fail(param: Param, node: str, message: str, label: str | None = None) -> NodeConfigError:
+    return NodeConfigError(f"{node + ': ' if node else ''}{label or 'parameter ~' + param.name} {message}")
+
+
+def coerce_param(param: Param, value: Any, node: str = "", label: str | None = None) -> Any:
+    """Convert a raw value to ``param.type`` and check its range, choices and name; raise
+    ``NodeConfigError`` naming the parameter (or ``label``, e.g. a command-line flag) otherwise."""
+    if label is not None:
+        try:
+            return coerce_param(param, value, node)
+        except NodeConfigError as err:
+            prefix = f"{node}: parameter ~{param.name} " if node else f"parameter ~{param.name} "
+            raise NodeConfigError(_fail(param, node, str(err)[len(prefix):], label).args[0]) from None
+    want = param.type
+    if value is None:
+        if param.required:
+            raise _fail(param, node, "is required")
+        return value
+    if isinstance(want, tuple):
+        if float in want and isinstance(value, int) and not isinstance(value, bool):
+            value = float(value)
+        if not any(type(value) is t for t in want):
+            raise _fail(param, node, f"must be a {param.type_name}, got {value!r}")
+        result = value
+    else:
+        result = _convert(param, want, value, node)
+    _check_value(param, result, node)
+    return result
+
+
+def _convert(param: Param, want: type | None, value: Any, node: str) -> Any:
+    if want is None:
+        return value
+    if want is bool:
+        if isinstance(value, bool):
+            return value
+        if isinstance(value, str) and value.strip().lower() in ("true", "false", "1", "0", "yes", "no"):
+            return value.strip().lower() in ("true", "1", "yes")
+        if isinstance(value, int) and value in (0, 1):
+            return bool(value)
+    elif want in (float, int):
+        if isinstance(value, bool):
+            raise _fail(param, node, f"must be a number, got {value!r}")
+        try:
+            number = float(value)
+        except (TypeError, ValueError, OverflowError):
+            raise _fail(param, node, f"must be a number, got {value!r}") from None
+        if want is int:
+            if not math.isfinite(number):
+                raise _fail(param, node, f"must be an integer, got {value!r}")
+            if number != int(number):
+                raise _fail(param, node, f"must be an integer, got {value!r}")
+            return int(number)
+        return number
+    elif want is str:
+        if isinstance(value, str):
+            return value
+        if isinstance(value, int | float) and not isinstance(value, bool):
+            return str(value)
+    elif want is list:
+        if isinstance(value, list | tuple):
+            return list(value)
+        if isinstance(value, str):
+            return value.split()
+    elif want is dict:
+        if isinstance(value, dict):
+            return value
+    raise _fail(param, node, f"must be a {want.__name__}, got {value!r}")
+
+
+def _check_value(param: Param, value: Any, node: str) -> None:
+    if isinstance(value, int | float) and not isinstance(value, bool):
+        if param.bound is Bound.NON_NEGATIVE and not 0 <= value < math.inf:
+            raise _fail(param, node, f"must be a number >= 0, got {value!r}")
+        if param.bound is Bound.POSITIVE and not 0 < value < math.inf:
+            raise _fail(param, node, f"must be a number > 0, got {value!r}")
+        if not math.isfinite(value):
+            raise _fail(param, node, f"must be a finite number, got {value!r}")
+    if param.choices and value not in param.choices:
+        raise _fail(param, node, f"must be one of {', '.join(param.choices)}, got {value!r}")
+    if param.ros_name:
+        names = value if isinstance(value, list) else [value]
+        for name in names:
+            text = name if isinstance(name, str) else None
+            if text is None or not is_legal_name(text) or (param.required and not text):
+                raise _fail(param, node, f"must be a legal ROS name (letters, digits, _ and /, starting "
+                                         f"with a letter, / or ~), got {name!r}")
+    if param.required and value in ("", [], {}):
+        raise _fail(param, node, "is required (got an empty value)")
+
+
+def describe_params(kind: str, description: str, params: Sequence[Param]) -> dict:
+    """The machine-readable description of a node (what ``--json`` prints)."""
+    return {
+        "kind": kind,
+        "description": description,
+        "params": [
+            {"name": p.name, "default": p.default, "required": p.required,
+             "aliases": list(p.aliases), "doc": p.doc}
+            for p in params
+        ],
+    }
+
+
+def params_help(params: Sequence[Param]) -> str:
+    """The parameter table of a node's ``--help``."""
+    lines = []
+    for p in params:
+        limits = [f"{p.bound.value}"] if p.bound is not Bound.ANY else []
+        if p.choices:
+            limits.append("one of " + ", ".join(p.choices))
+        if p.ros_name:
+            limits.append("a ROS name")
+        lines.append(f"  _{p.name}:=<{p.type_name}>"
+                     f"{'  (required)' if p.required else f'  (default {p.default!r})'}"
+                     f"{'  [' + '; '.join(limits) + ']' if limits else ''}"
+                     f"{'  aliases: ' + ', '.join(p.aliases) if p.aliases else ''}\n      {p.doc}")
+    return "\n".join(lines)
+
+
+__all__ = ["Bound", "NodeConfigError", "Param", "coerce_param", "describe_params", "params_help"]
