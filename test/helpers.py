@@ -179,7 +179,9 @@ class RosMaster:
         self._master.stop()
         restarts = len(list(self.workdir.glob("rosmaster*.log")))
         self._master = RosProcess(master_command(self.port), self.env, self.workdir / f"rosmaster-{restarts}.log")
-        await_master(self.uri, self._master.popen, self._master.log_path, f"pytest-{self.port}-{restarts}")
+        if not self._answers(self._master, self.uri, 60.0):
+            raise RuntimeError(f"no new rosmaster on port {self.port}; logs in {self.workdir}")
+        self.proxy().setParam("/pytest", "/run_id", f"pytest-{self.port}-{restarts}")
 
     def run(self, args: Sequence[str], name: str | None = None, cwd: Path | None = None) -> RosProcess:
         """Start a process (e.g. ``['rosrun', 'ltl_stack', 'proposition_monitor', ...]``) on this master."""

@@ -108,6 +108,8 @@ def build_parser() -> cli.ToolParser:
                         help="report a violation only when the inputs stay inadmissible this long (default 0.2): "
                              "one sensor change often arrives as several topic messages, e.g. leaving one region "
                              "and entering the next; the output policy applies at once either way")
+    parser.add_argument("--timeout", type=float, metavar="S",
+                        help="give up synthesizing after S seconds with exit 5 (default 0: no limit)")
     parser.add_argument("--max-explicit-states", type=int, metavar="N",
                         help="run the explicit automaton, whose state ids and goals are those of synthesize "
                              "--json/--dot, when it has at most N states (default 20000; 0: always symbolic)")

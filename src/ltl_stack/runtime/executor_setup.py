@@ -57,6 +57,8 @@ EXECUTOR_PARAMS = [
           bound=Bound.NON_NEGATIVE),
     Param("violation_grace", 0.2, "report a violation only if it lasts this long (s)", bound=Bound.NON_NEGATIVE),
     Param("settle_steps", 16, "steps with unchanged inputs after a step, at most", bound=Bound.NON_NEGATIVE),
+    Param("timeout", 0.0, "give up synthesizing after S seconds: exit 5, Exit.LIMIT (0: no limit)",
+          bound=Bound.NON_NEGATIVE),
     Param("max_explicit_states", MAX_EXPLICIT_STATES, "run the explicit automaton (ids of synthesize --json) "
           "when it has at most this many states (0: always the symbolic strategy)", bound=Bound.NON_NEGATIVE),
 ]
@@ -79,6 +81,7 @@ class Options:
     publisher_check_period: float = 2.0
     violation_grace: float = 0.2
     settle_steps: int = 16
+    timeout: float = 0.0
     max_explicit_states: int = MAX_EXPLICIT_STATES
     #: where each value came from: "--flag", "~param" or "default"
     sources: dict[str, str] = field(default_factory=dict)
@@ -209,7 +212,7 @@ def build_strategy(spec: Any, options: Options, log: Callable[[str], None] = pri
     chosen = {name: getattr(options, name) for name in ("robotics_semantics", "cooperative")
               if getattr(options, name) is not None}
     log(f"synthesizing {spec.source} ...")
-    result = synthesize(spec, **chosen)
+    result = synthesize(spec, **chosen, timeout=options.timeout or None)
     semantics = result.solution.robotics_semantics if result.solution is not None else chosen.get(
         "robotics_semantics")
     if not result.realizable:

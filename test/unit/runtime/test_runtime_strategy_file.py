@@ -81,6 +81,20 @@ def test_unrealizable_spec_is_exit_10_from_the_one_table():
     assert info.value.code == Exit.UNREALIZABLE == 10 and "unrealizable" in str(info.value), info.value
 
 
+def test_synthesis_timeout_is_exit_5(monkeypatch):
+    from ltl_stack.synthesis import TimeLimitReached
+
+    def never(*_args, **kwargs):
+        assert kwargs["timeout"] == 0.5, kwargs
+        raise TimeLimitReached("synthesis stopped after 0.5 s (--timeout)")
+
+    monkeypatch.setattr("ltl_stack.runtime.executor_setup.synthesize", never)
+    spec = parse_slugsin(LOCK, "lock.slugsin")
+    with pytest.raises(TimeLimitReached) as info:
+        build_strategy(spec, merge_options({"timeout": 0.5}), log=quiet)
+    assert info.value.code == Exit.LIMIT == 5
+
+
 def test_cli_flags_win_over_private_params():
     cli = {"robotics_semantics": False, "ready_timeout": 2.0, "rate": None}
     params = {"cooperative": False, "rate": 5.0, "ready_timeout": 9.0, "init_props": {"a": True, "lock": 0},
