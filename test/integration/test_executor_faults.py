@@ -1,5 +1,5 @@
 """The executor under load and faults, against real masters: input bursts, merged output views,
-/diagnostics while healthy, a master restart, and state ids that match ``synthesize --json``."""
+/diagnostics while healthy, a master restart, and state ids that match ``synthesize --strategy-json``."""
 # ruff: noqa: F811 - the fixtures probes and lock_spec come from test_executor_node
 from __future__ import annotations
 
@@ -197,7 +197,7 @@ def test_after_a_master_restart_new_nodes_reach_the_executor_and_the_nodes(ros_m
 def test_state_ids_on_state_are_those_of_synthesize_json(ros_master, probes, tmp_path, spec_file, steps):
     spec = REPO_ROOT / spec_file
     exported = tmp_path / "strategy.json"
-    synth = subprocess.run(["rosrun", "ltl_stack", "synthesize", str(spec), "--json", str(exported)],
+    synth = subprocess.run(["rosrun", "ltl_stack", "synthesize", str(spec), "--strategy-json", str(exported)],
                            capture_output=True, text=True, timeout=120)
     assert synth.returncode == 0, synth.stderr
     automaton = json.loads(exported.read_text())
@@ -219,4 +219,4 @@ def test_state_ids_on_state_are_those_of_synthesize_json(ros_master, probes, tmp
         assert exported_state is not None, (s, sorted(by_id))
         assert (exported_state["goal"], exported_state["inputs"], exported_state["outputs"]) == (
             s["goal"], s["inputs"], s["outputs"]), (s, exported_state)
-    assert "ids and goals as in synthesize --json/--dot" in executor.output()
+    assert "ids and goals as in synthesize --strategy-json/--dot" in executor.output()

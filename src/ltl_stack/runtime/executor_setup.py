@@ -6,7 +6,7 @@ schema (``EXECUTOR_PARAMS``): a command-line flag wins over the ``~param`` of th
 wins over the default, and every value is checked (type, range, choices) before anything starts.
 
 Strategy ids: when the explicit automaton of the synthesized strategy has at most
-``max_explicit_states`` states, it is extracted exactly as ``synthesize --json/--dot`` does and
+``max_explicit_states`` states, it is extracted exactly as ``synthesize --strategy-json/--dot`` does and
 stepped (``AutomatonStrategy``), so the state ids and goal numbers on ``~state`` are those of the
 exported picture. Beyond the bound the symbolic strategy runs, and its ids are its own
 (valuation bits and goal), not those of an export.
@@ -59,7 +59,7 @@ EXECUTOR_PARAMS = [
     Param("settle_steps", 16, "steps with unchanged inputs after a step, at most", bound=Bound.NON_NEGATIVE),
     Param("timeout", 0.0, "give up synthesizing after S seconds: exit 5, Exit.LIMIT (0: no limit)",
           bound=Bound.NON_NEGATIVE),
-    Param("max_explicit_states", MAX_EXPLICIT_STATES, "run the explicit automaton (ids of synthesize --json) "
+    Param("max_explicit_states", MAX_EXPLICIT_STATES, "run the explicit automaton (ids of synthesize --strategy-json) "
           "when it has at most this many states (0: always the symbolic strategy)", bound=Bound.NON_NEGATIVE),
 ]
 PARAMS_BY_NAME = {p.name: p for p in EXECUTOR_PARAMS}
@@ -227,10 +227,10 @@ def build_strategy(spec: Any, options: Options, log: Callable[[str], None] = pri
             automaton = strategy.explicit(max_states=options.max_explicit_states)
         except TooManyStates:
             log(f"the explicit strategy has more than {options.max_explicit_states} states: running the symbolic "
-                "strategy; its state ids are not those of synthesize --json/--dot")
+                "strategy; its state ids are not those of synthesize --strategy-json/--dot")
             return strategy
         log(f"running the explicit strategy ({len(automaton.states)} states; ids and goals as in "
-            "synthesize --json/--dot)")
+            "synthesize --strategy-json/--dot)")
         return AutomatonStrategy(automaton, spec)
     log("running the symbolic strategy (~max_explicit_states is 0); its state ids are not those of an export")
     return strategy
