@@ -24,8 +24,6 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import helpers  # noqa: E402
 from helpers import RosMaster  # noqa: E402
 
-pytest_plugins = ["pytester"]
-
 UNIT = Path(__file__).resolve().parent / "unit"
 
 settings.register_profile("suite", derandomize=True, database=None, deadline=None, print_blob=True)
