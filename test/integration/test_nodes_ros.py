@@ -7,7 +7,7 @@ import pytest
 from helpers import require_shared, wait_for
 from test_nodes_probe import make_session
 
-pytestmark = [pytest.mark.ros, pytest.mark.timeout(60)]
+pytestmark = [pytest.mark.ros, pytest.mark.timeout(300)]  # a hang guard, far above the waits
 
 # Absence of messages cannot be waited for; we watch for this many seconds (many node periods).
 QUIET_WINDOW = 0.6

@@ -15,7 +15,7 @@ from ltl_stack.transfer.choose import rule_choice
 from ltl_stack.transfer.errors import TransferError
 from ltl_stack.transfer.limits import load_limits
 
-pytestmark = [pytest.mark.ros, pytest.mark.timeout(120)]
+pytestmark = [pytest.mark.ros, pytest.mark.timeout(300)]  # a hang guard, far above the waits
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "transfer"
 TURTLEBOT_TWIST = ["/cmd_vel_mux/input/navi", "/cmd_vel_mux/input/safety_controller", "/cmd_vel_mux/input/switch",
