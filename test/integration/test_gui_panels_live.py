@@ -38,7 +38,7 @@ def scenario():
         for prop in ("object", "rightGround_rc"):
             master.wait_for_publisher(f"/clean_and_patrol/inputs/{prop}", timeout=60)
         master.wait_for_subscriber("/clean_and_patrol/outputs/rightGround", timeout=60)
-        master.wait_for_subscriber("/cmd_vel", timeout=60)
+        master.wait_for_subscriber("/clean_and_patrol/cmd_vel", timeout=60)
     except AssertionError as err:
         launch.stop()
         raise AssertionError(f"{err}\n{launch.output()[-4000:]}") from None
@@ -64,31 +64,31 @@ def test_mapping_panel_on_the_live_scenario(scenario, qtbot, tmp_path):
     combo = panel.combo(INPUT, "object", 0, "node")
     assert [combo.itemText(i) for i in range(combo.count())] == master_nodes(scenario)
     pubs = scenario.system_state()[0]
-    published = sorted(t for t, nodes in pubs if "/clean_and_patrol/inputs/object" in nodes)
+    published = sorted(t for t, nodes in pubs if "/clean_and_patrol/object" in nodes)
     topic = panel.combo(INPUT, "object", 0, "topic")
     assert [topic.itemText(i) for i in range(topic.count())] == published
     out_topic = panel.combo(OUTPUT, "rightGround", 0, "topic")
     assert "/clean_and_patrol/outputs/rightGround" in [out_topic.itemText(i) for i in range(out_topic.count())]
     assert [f for f in panel.findings if f.severity == "error"] == [], [str(f) for f in panel.findings]
     # edit: an input on the camera's Float64 topic is wrong twice over
-    combo.setEditText("/camera")
-    topic.setEditText("/camera/object_distance")
+    combo.setEditText("/clean_and_patrol/camera")
+    topic.setEditText("/clean_and_patrol/camera/object_distance")
     qtbot.waitUntil(lambda: any("std_msgs/Float64" in f.message for f in panel.findings), timeout=WAIT)
-    combo.setEditText("/clean_and_patrol/inputs/object")
+    combo.setEditText("/clean_and_patrol/object")
     topic.setEditText("/clean_and_patrol/inputs/object")
     panel.findChild(type(panel.refresh_push_button), "stop_add_push_button").click()
-    panel.combo(OUTPUT, "stop", 1, "node").setEditText("/sim_robot")
+    panel.combo(OUTPUT, "stop", 1, "node").setEditText("/clean_and_patrol/sim_robot")
     qtbot.waitUntil(lambda: not any(f.severity == "error" for f in panel.findings), timeout=WAIT)
     out = tmp_path / "edited.yaml"
     assert panel.save(str(out)), panel.status_label.text()
     saved, original = load_mapping(out), load_mapping(MAPPING)
-    assert saved.inputs["object"][0].node == "/clean_and_patrol/inputs/object"
+    assert saved.inputs["object"][0].node == "/clean_and_patrol/object"
     assert (saved.inputs["object"][0].parameters, saved.inputs["object"][0].filename) == (
         original.inputs["object"][0].parameters, original.inputs["object"][0].filename)
-    assert [e.node for e in saved.outputs["stop"]] == ["stop", "/sim_robot"]
+    assert [e.node for e in saved.outputs["stop"]] == ["stop", "/clean_and_patrol/sim_robot"]
     panel.load_push_button.click()
-    assert panel.combo(OUTPUT, "stop", 1, "node").currentText() == "/sim_robot"
-    assert panel.combo(INPUT, "object", 0, "node").currentText() == "/clean_and_patrol/inputs/object"
+    assert panel.combo(OUTPUT, "stop", 1, "node").currentText() == "/clean_and_patrol/sim_robot"
+    assert panel.combo(INPUT, "object", 0, "node").currentText() == "/clean_and_patrol/object"
 
 
 def test_analysis_panel_on_the_live_scenario(scenario, qtbot):
@@ -103,7 +103,7 @@ def test_analysis_panel_on_the_live_scenario(scenario, qtbot):
     assert panel.result is not None, panel.status_label.text()
     e2 = panel.tables["E2"]
     first = [row for row, f in zip(e2.rows, e2.finding, strict=True) if f == 0]
-    assert first[0][0] == "[/cmd_vel]" and {r[1] for r in first} == {"stop", *REGIONS}
+    assert first[0][0] == "[/clean_and_patrol/cmd_vel]" and {r[1] for r in first} == {"stop", *REGIONS}
     assert panel.selected_rows("E2") == e2.rows_of(0) or panel.current_key() == "E1"
     text = panel.suggestions_text.toPlainText()
     assert "stop, topLane, rightLane, bottomLane, leftLane, leftGround and rightGround are mutually exclusive" in text
@@ -114,7 +114,7 @@ def test_apply_and_check_shows_example_7_unrealizable_on_the_live_simple_graph(r
     launch = ros_master.run(["roslaunch", "ltl_stack", "simple.launch", "start_executor:=false"], name="simple")
     for topic in ("/simple/outputs/move", "/simple/outputs/stop"):
         ros_master.wait_for_subscriber(topic, timeout=60)
-    ros_master.wait_for_publisher("/cmd_vel", timeout=60)
+    ros_master.wait_for_publisher("/simple/cmd_vel", timeout=60)
     ros_master.wait_for_publisher("/simple/inputs/person", timeout=60)
     panel = AnalysisPanel()
     qtbot.addWidget(panel)
