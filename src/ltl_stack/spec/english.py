@@ -11,20 +11,104 @@ section word in front: ``always`` (safety), ``infinitely often`` (liveness), ``i
 Proposition names are written exactly as declared, so ``not_ready`` stays one word; a name that is
 itself one of the sentence words (``and``, ``next``, …) is quoted. All renderers work bottom-up
 with ``ops.fold`` (no recursion), so deep formulas are fine.
+
+Formulas are DAGs (slugsin ``$`` buffers, integer comparisons share subformulas), and writing a
+shared subformula out at every use can make the text exponentially longer than the clause. A
+shared subformula longer than ``SHARE_LIMIT`` characters is therefore named: the English reads
+``always, if $1 then next y, where $1 = x0 and x1`` (definitions before their uses), and infix text
+falls back to the slugsin prefix line with ``$`` buffers, which ``parse_structured`` reads too. The
+text is built as nested parts joined once at the end, so its size and the work are linear in the
+formula's size.
 """
 from __future__ import annotations
 
 from collections.abc import Sequence
 
-from ltl_stack.spec.formula import FALSE, TRUE, And, Const, Formula, Iff, Implies, Not, Or, Var, Xor
+from ltl_stack.spec.formula import FALSE, TRUE, And, Const, Formula, Iff, Implies, Not, Or, Var, Xor, children
 from ltl_stack.spec.model import SECTIONS, Clause, IntegerVariable, Spec
 from ltl_stack.spec.ops import fold
 from ltl_stack.spec.slugsin import formula_to_slugsin
 
 __all__ = ["clause_to_english", "formula_to_english", "formula_to_infix", "formula_to_slugsin", "spec_to_english"]
 
+#: a shared subformula whose text is longer than this is named (English) or written with $ buffers
+SHARE_LIMIT = 40
+
+
+
+class _Rope:
+    """Text as nested parts with its length, so building a parent never copies its children."""
+
+    __slots__ = ("parts", "size")
+
+    def __init__(self, *parts: str | _Rope):
+        self.parts = parts
+        self.size = sum(len(p) if isinstance(p, str) else p.size for p in parts)
+
+    def __len__(self) -> int:
+        return self.size
+
+    def __str__(self) -> str:
+        out: list[str] = []
+        stack: list[str | _Rope] = [self]
+        while stack:
+            item = stack.pop()
+            if isinstance(item, str):
+                out.append(item)
+            else:
+                stack.extend(reversed(item.parts))
+        return "".join(out)
+
+
+def _joined(separator: str, parts: Sequence[str | _Rope]) -> _Rope:
+    items: list[str | _Rope] = []
+    for k, part in enumerate(parts):
+        if k:
+            items.append(separator)
+        items.append(part)
+    return _Rope(*items)
+
+
+def _shared(f: Formula) -> set[int]:
+    """Ids of compound nodes of ``f`` with more than one parent (shared subformulas)."""
+    parents: dict[int, int] = {}
+    seen: set[int] = set()
+    stack = [f]
+    while stack:
+        node = stack.pop()
+        if id(node) in seen:
+            continue
+        seen.add(id(node))
+        for kid in children(node):
+            if not isinstance(kid, (Var, Const)):
+                parents[id(kid)] = parents.get(id(kid), 0) + 1
+                stack.append(kid)
+    return {key for key, count in parents.items() if count > 1}
+
+
+class _Names:
+    """The named shared subformulas of one rendering, in the order they were defined."""
+
+    def __init__(self, f: Formula):
+        self.shared = _shared(f)
+        self.definitions: list[tuple[str, str | _Rope]] = []
+
+    def name(self, node: Formula, text: str | _Rope) -> str | None:
+        """A name for ``node``'s text when it is shared and long, else None."""
+        if id(node) not in self.shared or len(text) <= SHARE_LIMIT:
+            return None
+        name = f"${len(self.definitions) + 1}"
+        self.definitions.append((name, text))
+        return name
+
+    def where(self) -> str:
+        if not self.definitions:
+            return ""
+        return ", where " + "; ".join(f"{name} = {text}" for name, text in self.definitions)
+
+
 # A rendered subformula and how it binds: "atom" needs no parentheses anywhere.
-_Piece = tuple[str, str]
+_Piece = tuple[str | _Rope, str]
 
 _WORDS = {"not", "and", "or", "if", "then", "next", "always", "true", "false", "infinitely", "often",
           "initially", "exactly", "one", "of", "only"}
@@ -37,27 +121,48 @@ SECTION_WORDS = {
 
 
 def formula_to_infix(f: Formula) -> str:
-    """``f`` in the structured format's infix syntax; ``parse_structured`` reads it back."""
+    """``f`` in the structured format's infix syntax; ``parse_structured`` reads it back.
+
+    A formula with long shared subformulas is written as its slugsin prefix line with ``$`` buffers
+    (``formula_to_slugsin``) instead, which the structured reader also reads, so the text stays as
+    small as the formula.
+    """
+    names = _Names(f)
+
     def combine(node: Formula, kids: tuple[_Piece, ...]) -> _Piece:
-        if isinstance(node, Var):
-            return node.name + ("'" if node.primed else ""), "atom"
-        if isinstance(node, Const):
-            return ("TRUE" if node.value else "FALSE"), "atom"
-        if isinstance(node, Not):
-            text, kind = kids[0]
-            return "!" + (text if kind in ("atom", "not") else f"({text})"), "not"
-        if isinstance(node, (And, Or)):
-            kind = "and" if isinstance(node, And) else "or"
-            if not kids:
-                return ("TRUE" if kind == "and" else "FALSE"), "atom"
-            if len(kids) == 1:
-                return kids[0]
-            parts = [t if k in ("atom", "not", kind) else f"({t})" for t, k in kids]
-            return f" {'&' if kind == 'and' else '|'} ".join(parts), kind
-        op, kind = {Xor: ("^", "xor"), Implies: ("->", "implies"), Iff: ("<->", "iff")}[type(node)]
-        parts = [t if k in ("atom", "not") else f"({t})" for t, k in kids]
-        return f"{parts[0]} {op} {parts[1]}", kind
-    return fold(f, combine)[0]
+        piece = _infix_piece(node, kids)
+        if names.name(node, piece[0]) is not None:
+            raise _Shared
+        return piece
+    try:
+        return str(fold(f, combine)[0])
+    except _Shared:
+        return formula_to_slugsin(f)
+
+
+class _Shared(Exception):
+    """A long shared subformula: infix text would repeat it."""
+
+
+def _infix_piece(node: Formula, kids: tuple[_Piece, ...]) -> _Piece:
+    if isinstance(node, Var):
+        return node.name + ("'" if node.primed else ""), "atom"
+    if isinstance(node, Const):
+        return ("TRUE" if node.value else "FALSE"), "atom"
+    if isinstance(node, Not):
+        text, kind = kids[0]
+        return _Rope("!", text if kind in ("atom", "not") else _Rope("(", text, ")")), "not"
+    if isinstance(node, (And, Or)):
+        kind = "and" if isinstance(node, And) else "or"
+        if not kids:
+            return ("TRUE" if kind == "and" else "FALSE"), "atom"
+        if len(kids) == 1:
+            return kids[0]
+        parts = [t if k in ("atom", "not", kind) else _Rope("(", t, ")") for t, k in kids]
+        return _joined(f" {'&' if kind == 'and' else '|'} ", parts), kind
+    op, kind = {Xor: ("^", "xor"), Implies: ("->", "implies"), Iff: ("<->", "iff")}[type(node)]
+    parts = [t if k in ("atom", "not") else _Rope("(", t, ")") for t, k in kids]
+    return _Rope(parts[0], f" {op} ", parts[1]), kind
 
 
 def _name(var: Var) -> str:
@@ -94,23 +199,29 @@ def formula_to_english(f: Formula, integers: Sequence[IntegerVariable] = ()) -> 
 
     With the spec's ``integers``, a conjunction that fixes every bit of an integer reads
     ``x is 3`` (``next x is 3`` when primed) instead of listing its bits; ``and true`` and
-    ``or false`` are left out.
+    ``or false`` are left out. Long shared subformulas are named (``…, where $1 = …``).
     """
-    return _english(f, integers)[0]
+    names = _Names(f)
+    return str(_english(f, integers, names)[0]) + names.where()
 
 
-def _english(f: Formula, integers: Sequence[IntegerVariable]) -> tuple:
+def _english(f: Formula, integers: Sequence[IntegerVariable], names: _Names) -> tuple:
     """The phrase of ``f`` and how it binds (``atom``, ``not``, ``and``, ``or``, ``if``, …)."""
-    def wrap(piece: tuple, allowed: tuple[str, ...] = ("atom", "not")) -> str:
+    def wrap(piece: tuple, allowed: tuple[str, ...] = ("atom", "not")) -> str | _Rope:
         text, kind = piece[0], piece[1]
-        return text if kind in allowed or kind == "value" else f"({text})"
+        return text if kind in allowed or kind == "value" else _Rope("(", text, ")")
 
     def condition(cause: tuple, effect: tuple) -> tuple:
         allowed = ("atom", "not", "and", "or")
-        return f"if {wrap(cause, allowed)} then {wrap(effect, allowed)}", "if", None
+        return _Rope("if ", wrap(cause, allowed), " then ", wrap(effect, allowed)), "if", None
+
+    def combine(node: Formula, kids: tuple) -> tuple:
+        piece = phrase(node, kids)
+        name = names.name(node, piece[0])
+        return piece if name is None else (name, "atom", None)
 
     # Each piece is (text, kind, piece of the negated formula for "not" pieces).
-    def combine(node: Formula, kids: tuple) -> tuple:
+    def phrase(node: Formula, kids: tuple) -> tuple:
         if isinstance(node, Var):
             return _name(node), "atom", None
         if isinstance(node, Const):
@@ -118,10 +229,11 @@ def _english(f: Formula, integers: Sequence[IntegerVariable]) -> tuple:
         if isinstance(node, Not):
             if kids[0][1] == "value":  # "x is 3" -> "x is not 3"
                 return kids[0][0].replace(" is ", " is not ", 1), "atom", kids[0]
-            return "not " + wrap(kids[0]), "not", kids[0]
+            return _Rope("not ", wrap(kids[0])), "not", kids[0]
         if isinstance(node, Or) and len(kids) >= 2 and kids[0][1] == "not":
             # slugs writes "a -> b" as "| ! a b": read it back as a condition
-            rest = kids[1] if len(kids) == 2 else (" or ".join(wrap(k, ("atom", "not", "or")) for k in kids[1:]), "or")
+            rest = kids[1] if len(kids) == 2 else (
+                _joined(" or ", [wrap(k, ("atom", "not", "or")) for k in kids[1:]]), "or")
             return condition(kids[0][2], rest)
         if isinstance(node, (And, Or)):
             kind = "and" if isinstance(node, And) else "or"
@@ -140,13 +252,13 @@ def _english(f: Formula, integers: Sequence[IntegerVariable]) -> tuple:
                         return parts[0], "value", None
             if len(parts) == 1:
                 return kids[keep[0]]
-            return f" {kind} ".join(parts), kind, None
+            return _joined(f" {kind} ", parts), kind, None
         left, right = kids
         if isinstance(node, Implies):
             return condition(left, right)
         if isinstance(node, Iff):
-            return f"{wrap(left)} if and only if {wrap(right)}", "iff", None
-        return f"exactly one of {wrap(left)} and {wrap(right)}", "xor", None
+            return _Rope(wrap(left), " if and only if ", wrap(right)), "iff", None
+        return _Rope("exactly one of ", wrap(left), " and ", wrap(right)), "xor", None
     return fold(f, combine)
 
 
@@ -155,20 +267,24 @@ def clause_to_english(clause_or_formula: Clause | Formula, section: str | None =
     """A Structured English sentence for a clause (or formula) of ``section`` (one of ``SECTIONS``).
 
     Without a section only the formula is rendered, with no ``always``/``infinitely often``.
-    Pass ``spec.integers`` to read integer bits as values (``x is 3``).
+    Pass ``spec.integers`` to read integer bits as values (``x is 3``). Long shared subformulas
+    are named after the sentence (``…, where $1 = …``).
     """
     f = clause_or_formula.formula if isinstance(clause_or_formula, Clause) else clause_or_formula
-    body, kind, _ = _english(f, integers)
-    if section is None:
-        return body
-    if section not in SECTION_WORDS:
+    if section is not None and section not in SECTION_WORDS:
         raise ValueError(f"unknown section {section!r}; expected one of {', '.join(SECTION_WORDS)}")
+    names = _Names(f)
+    text, kind, _ = _english(f, integers, names)
+    body = str(text)
+    where = names.where()
+    if section is None:
+        return body + where
     word = SECTION_WORDS[section]
-    if body.startswith("if "):
-        return f"{word}, {body}"
+    if kind == "if":
+        return f"{word}, {body}{where}"
     if word != "infinitely often" and kind in ("and", "or", "xor", "iff"):
-        return f"{word} ({body})"
-    return f"{word} {body}"
+        return f"{word} ({body}){where}"
+    return f"{word} {body}{where}"
 
 
 def spec_to_english(spec: Spec) -> dict[str, list[str]]:

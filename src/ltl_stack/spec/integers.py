@@ -10,6 +10,14 @@ for an output to SYS_INIT and SYS_TRANS.
 Comparisons such as ``x' + 1 = y`` are exact comparisons of natural numbers: sums get a carry bit
 instead of wrapping around, so the formulas agree with slugs' on every valuation of the bits,
 in range or not.
+
+A comparison with at most two integer terms is written with a ripple-carry adder and a bitwise
+comparator (a few nodes per bit). A longer sum (``x1 + x2 + … + xn = c``) would make the adder's
+partial sums the problem: each is a formula of small size but a BDD of size O(i^2) for the first i
+terms, so building the adder's BDD costs O(n^3). Such comparisons are compiled into a decision
+diagram over the linear form ``left - right`` instead (``_diagram``): one shared node per (bit,
+partial value) that can still change the outcome, so the formula is at most
+``bits * (2 * terms + 1)`` nodes and its BDD is built node by node.
 """
 from __future__ import annotations
 
@@ -17,7 +25,7 @@ import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from ltl_stack.spec.formula import FALSE, TRUE, Formula, Var
+from ltl_stack.spec.formula import FALSE, TRUE, And, Formula, Not, Or, Var
 from ltl_stack.spec.model import IntegerVariable
 from ltl_stack.spec.ops import and_, conjunction, iff_, not_, or_, xor_
 
@@ -135,8 +143,17 @@ def _vector(expr: IntExpr, extra: int) -> Bits:
     return total
 
 
+COMPARISONS = ("=", "!=", "<", "<=", ">", ">=")
+#: from this many integer terms (both sides together) a comparison is compiled as a decision diagram
+DIAGRAM_TERMS = 3
+
+
 def compare(op: str, left: IntExpr, right: IntExpr) -> Formula:
     """``left op right`` for ``op`` in ``= != < <= > >=``, exact over the naturals."""
+    if op not in COMPARISONS:
+        raise ValueError(f"unknown comparison {op!r}")
+    if len(left.vectors) + len(right.vectors) >= DIAGRAM_TERMS:
+        return linear_comparison(op, left, right)
     shift = left.offset - right.offset
     a = _vector(left, max(shift, 0))
     b = _vector(right, max(-shift, 0))
@@ -150,9 +167,97 @@ def compare(op: str, left: IntExpr, right: IntExpr) -> Formula:
         return less(b, a)
     if op == "<=":
         return not_(less(b, a))
-    if op == ">=":
-        return not_(less(a, b))
-    raise ValueError(f"unknown comparison {op!r}")
+    return not_(less(a, b))
+
+
+def linear_comparison(op: str, left: IntExpr, right: IntExpr) -> Formula:
+    """``left op right`` as a decision diagram over the bits of ``left - right`` (see the module doc).
+
+    The bits are tested in the order they are written (integer by integer, least significant bit
+    first), which is the BDD variable order and keeps the BDD work per node small; when that order
+    needs more nodes than the bound ``bits * (2 * terms + 1)`` (wide integers compared with each
+    other), they are tested most significant bit first across all terms, which always meets it.
+    """
+    terms = [(bit, 1 << k) for vector in left.vectors for k, bit in enumerate(vector)]
+    terms += [(bit, -(1 << k)) for vector in right.vectors for k, bit in enumerate(vector)]
+    constant = left.offset - right.offset
+    bound = len(terms) * (2 * (len(left.vectors) + len(right.vectors)) + 1) + 1
+    written = _diagram(op, terms, constant, bound)
+    if written is not None:
+        return written
+    by_weight = sorted(terms, key=lambda term: -abs(term[1]))  # stable: terms in order within a column
+    result = _diagram(op, by_weight, constant, None)
+    assert result is not None
+    return result
+
+
+def _outcome(op: str, low: int, high: int) -> Formula | None:
+    """TRUE/FALSE when ``value op 0`` holds for every / no value in ``low..high``, else None."""
+    if op in ("=", "!="):
+        if low == high == 0:
+            return TRUE if op == "=" else FALSE
+        if low > 0 or high < 0:
+            return FALSE if op == "=" else TRUE
+        return None
+    sure, never = {"<": (high < 0, low >= 0), "<=": (high <= 0, low > 0),
+                   ">": (low > 0, high <= 0), ">=": (low >= 0, high < 0)}[op]
+    return TRUE if sure else FALSE if never else None
+
+
+def _diagram(op: str, terms: list[tuple[Formula, int]], constant: int, budget: int | None) -> Formula | None:
+    """``sum(weight * bit) + constant op 0``, testing ``terms`` in order; None past ``budget`` nodes.
+
+    Node (level, value) stands for "the terms from ``level`` on, added to ``value``, satisfy op";
+    it is decided as soon as the remaining terms cannot change the outcome. Built iteratively
+    (thousands of levels), each node once.
+    """
+    n = len(terms)
+    low = [0] * (n + 1)
+    high = [0] * (n + 1)
+    for level in range(n - 1, -1, -1):
+        weight = terms[level][1]
+        low[level] = low[level + 1] + min(weight, 0)
+        high[level] = high[level + 1] + max(weight, 0)
+    done: dict[tuple[int, int], Formula] = {}
+    stack = [(0, constant)]
+    while stack:
+        key = stack[-1]
+        if key in done:
+            stack.pop()
+            continue
+        level, value = key
+        decided = _outcome(op, value + low[level], value + high[level])
+        if decided is not None:
+            done[key] = decided
+            stack.pop()
+            continue
+        bit, weight = terms[level]
+        on, off = (level + 1, value + weight), (level + 1, value)
+        missing = [k for k in (on, off) if k not in done]
+        if missing:
+            stack.extend(missing)
+            continue
+        stack.pop()
+        done[key] = _choice(bit, done[on], done[off])
+        if budget is not None and len(done) > budget:
+            return None
+    return done[(0, constant)]
+
+
+def _choice(bit: Formula, on: Formula, off: Formula) -> Formula:
+    """``if bit then on else off`` with the constant cases folded (binary nodes: no flattening,
+    which would copy argument tuples along a chain)."""
+    if on is off:
+        return on
+    if on == TRUE:
+        return bit if off == FALSE else Or((bit, off))
+    if on == FALSE:
+        return Not(bit) if off == TRUE else And((Not(bit), off))
+    if off == TRUE:
+        return Or((Not(bit), on))
+    if off == FALSE:
+        return And((bit, on))
+    return Or((And((bit, on)), And((Not(bit), off))))
 
 
 def range_constraint(var: IntegerVariable, primed: bool = False) -> Formula:

@@ -118,7 +118,7 @@ def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = Fa
     early_exit = early_exit or opts.early_exit
     bdd = game.bdd
     start = time.perf_counter()
-    reorder = opts.reorder and BACKEND == "cudd"
+    reorder = opts.reorder and game.may_reorder
     old_reordering = bdd.configure()["reordering"] if BACKEND == "cudd" else False
     reordering_on = False
     calls = 0

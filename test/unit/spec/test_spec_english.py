@@ -5,7 +5,7 @@ import pytest
 from hypothesis import given, settings
 from spec_testing import NAMES, SPECS, formulas
 
-from ltl_stack.spec import load_spec, parse_structured
+from ltl_stack.spec import load_spec, parse_slugsin, parse_structured
 from ltl_stack.spec.english import (
     clause_to_english,
     formula_to_english,
@@ -15,7 +15,7 @@ from ltl_stack.spec.english import (
 )
 from ltl_stack.spec.formula import FALSE, TRUE, And, Iff, Implies, Not, Or, Var, Xor
 from ltl_stack.spec.model import Clause
-from ltl_stack.spec.ops import flatten
+from ltl_stack.spec.ops import evaluate_many, flatten
 
 
 def v(name: str, primed: bool = False) -> Var:
@@ -105,3 +105,41 @@ def test_integers_read_as_values():
     assert got["env_init"] == ["initially not (x@2 and x@1)"], got  # the range constraint 0<=x<=5
     # without the integers the bits show
     assert clause_to_english(spec.sys_init[0], "sys_init") == "initially (not x@0.0.5 and not x@1 and x@2)"
+
+
+def doubling_clause(levels: int) -> str:
+    """A slugsin clause whose buffer entries each use the previous one twice: as a tree it has
+    about 2^levels nodes, as written a few tokens per level."""
+    entries = ["| a' b"] + [f"^ ? {k} ! ? {k}" if k % 2 else f"& ? {k} | b ? {k}" for k in range(levels - 1)]
+    return f"$ {levels} " + " ".join(entries)
+
+
+def test_shared_subformulas_are_named_and_the_text_stays_linear():
+    line = doubling_clause(60)
+    spec = parse_slugsin(f"[INPUT]\na\nb\n[OUTPUT]\n[SYS_TRANS]\n{line}\n", "shared.slugsin")
+    clause = spec.sys_safety[0]
+    english = clause_to_english(clause, "sys_safety")
+    infix = formula_to_infix(clause.formula)
+    assert len(english) <= 20 * len(line) and len(infix) <= 20 * len(line), (len(english), len(infix))
+    assert ", where $1 = " in english, english[:200]
+    # every name is defined once, before the definitions that use it
+    definitions = english.split(", where ", 1)[1].split("; ")
+    for k, definition in enumerate(definitions, start=1):
+        name, body = definition.split(" = ", 1)
+        assert name == f"${k}" and f"${k + 1} " not in body + " ", definition
+
+
+def test_infix_of_a_shared_formula_reads_back_to_the_same_meaning():
+    line = doubling_clause(12)
+    spec = parse_slugsin(f"[INPUT]\na\nb\n[OUTPUT]\n[SYS_TRANS]\n{line}\n", "shared.slugsin")
+    f = spec.sys_safety[0].formula
+    again = parse_structured(f"[INPUT]\na\nb\n[OUTPUT]\n[SYS_TRANS]\n{formula_to_infix(f)}\n").sys_safety[0].formula
+    samples = {"a": 0b0101, "b": 0b0011}
+    assert evaluate_many(f, samples, samples, 0b1111) == evaluate_many(again, samples, samples, 0b1111)
+
+
+def test_short_shared_subformulas_are_written_out():
+    shared = Or((Var("a"), Var("b")))
+    f = And((shared, Not(shared)))
+    assert formula_to_english(f) == "(a or b) and not (a or b)"
+    assert formula_to_infix(f) == "(a | b) & !(a | b)"

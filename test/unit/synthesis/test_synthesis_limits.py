@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import argparse
 import resource
+import warnings
 
 import pytest
 from hypothesis import given
@@ -13,6 +14,7 @@ from ltl_stack.spec import parse_slugsin, parse_structured
 from ltl_stack.synthesis import (
     DEFAULT_OPTIONS,
     Deadline,
+    Game,
     MemoryLimitReached,
     SynthesisOptions,
     TimeLimitReached,
@@ -116,3 +118,18 @@ def test_parse_size_never_crashes(text):
         assert parse_size(text) > 0
     except ValueError:
         pass
+
+
+def sum_spec(n: int, total: int) -> str:
+    declarations = "\n".join(f"x{k}:0...7" for k in range(n))
+    return f"[INPUT]\n{declarations}\n\n[OUTPUT]\ny\n\n[SYS_TRANS]\n" + \
+        " + ".join(f"x{k}" for k in range(n)) + f" = {total} -> y'\n"
+
+
+def test_the_bdd_of_a_long_sum_is_built_without_big_intermediate_bdds():
+    # the ripple-carry adder's partial sums had BDDs of size O(i^2): millions of peak nodes here
+    game = Game(parse_structured(sum_spec(120, 5), "sum.structuredslugs"))
+    with warnings.catch_warnings():  # dd warns that the unit of "mem" changed
+        warnings.simplefilter("ignore")
+        peak = game.bdd.statistics()["peak_nodes"]
+    assert peak <= 100 * 3 * 120, peak
