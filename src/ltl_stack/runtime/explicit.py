@@ -1,8 +1,8 @@
 """Stepping a saved explicit automaton through the same interface as the symbolic strategy.
 
-``controller_executor --strategy FILE`` loads an ``ltl_stack.synthesis.Automaton`` (JSON) and runs it
-with ``AutomatonStrategy``: ``initial_state`` picks the first initial state that matches the given
-partial valuation, ``step`` the first successor whose inputs equal the new readings. When no successor
+``controller_executor --strategy FILE`` loads an ``ltl_stack.synthesis.Automaton`` (JSON), which
+``AutomatonStrategy`` checks against the spec (``synthesis.automaton_check``), and runs it:
+``initial_state`` picks the first initial state that matches the given partial valuation, ``step`` the first successor whose inputs equal the new readings. When no successor
 matches, the readings broke the environment assumptions; with the spec at hand ``violated_env_safety``
 names the env-safety clauses they break.
 """
@@ -14,6 +14,8 @@ from typing import Any
 
 from ltl_stack.spec.formula import evaluate
 from ltl_stack.spec.model import Clause, Spec
+from ltl_stack.synthesis.automaton import Automaton
+from ltl_stack.synthesis.automaton_check import check_automaton
 from ltl_stack.synthesis.errors import AssumptionViolation, NoInitialState
 
 
@@ -45,6 +47,10 @@ class AutomatonStrategy:
     """An explicit automaton (``Automaton.states``, ``Automaton.initial``) as a steppable strategy."""
 
     def __init__(self, automaton: Any, spec: Spec | None = None) -> None:
+        """With ``spec``, an automaton loaded from a file (``Automaton.path``) is first checked against
+        it (``check_automaton``: names, ids, init, safety on every edge; ``StrategyFileError``)."""
+        if spec is not None and isinstance(automaton, Automaton) and automaton.path:
+            check_automaton(automaton, spec)
         states = automaton.states.values() if isinstance(automaton.states, Mapping) else automaton.states
         self._states = {int(s.id): ExplicitState(int(s.id), int(getattr(s, "goal", 0)), dict(s.inputs), dict(s.outputs))
                         for s in states}

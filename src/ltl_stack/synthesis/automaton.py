@@ -10,17 +10,21 @@ Recovery transitions (thesis §4.6, ``explicit(recovery=True)``) are ordinary su
 also listed in ``AutomatonState.recovery``: key ``recovery`` of a state (our JSON) or node (slugs
 layout; slugs' own tools ignore it), dashed edges in DOT.
 
-``Automaton.load(path)`` reads either JSON layout. Files are written atomically (``write_atomic``).
+``Automaton.load(path)`` reads either JSON layout (through ``ltl_stack.inputs.load_json``; a file
+that is not such a strategy is a ``StrategyFileError`` naming it, exit 2);
+``automaton_check.load_checked(path, spec)`` also checks it against a spec. Files are written atomically (``write_atomic``).
 """
 from __future__ import annotations
 
-import json
 import shutil
 import subprocess
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ltl_stack.errors import InputError
 from ltl_stack.fileio import write_atomic
+from ltl_stack.inputs import load_json
+from ltl_stack.synthesis.errors import StrategyFileError
 
 FORMAT = "ltl_stack-strategy"
 DOT_LAYOUT_LIMIT = 100
@@ -48,6 +52,8 @@ class Automaton:
     initial: list[int]
     goals: int = 1
     metadata: dict = field(default_factory=dict)
+    #: the file it was loaded from ("" when made in memory); not part of the JSON
+    path: str = field(default="", compare=False)
 
     def __len__(self) -> int:
         return len(self.states)
@@ -132,12 +138,25 @@ class Automaton:
 
     @classmethod
     def load(cls, path: str | Path, inputs: list[str] | None = None) -> Automaton:
-        data = json.loads(Path(path).read_text())
-        if isinstance(data, dict) and data.get("format") == FORMAT:
-            return cls.from_json(data)
-        if isinstance(data, dict) and "nodes" in data and "variables" in data:
-            return cls.from_slugs_json(data, inputs)
-        raise ValueError(f"{path}: neither an {FORMAT} nor a slugs strategy JSON file")
+        """Read our JSON or slugs' layout (``inputs`` names the inputs of the latter). Problems are
+        ``StrategyFileError`` naming the file; ``automaton_check.load_checked`` also checks a spec."""
+        file = str(path)
+        try:
+            data = load_json(path, "strategy file")
+        except InputError as e:
+            raise StrategyFileError(str(e)) from None
+        try:
+            if isinstance(data, dict) and data.get("format") == FORMAT:
+                automaton = cls.from_json(data)
+            elif isinstance(data, dict) and "nodes" in data and "variables" in data:
+                automaton = cls.from_slugs_json(data, inputs)
+            else:
+                raise ValueError(f"neither an {FORMAT} nor a slugs strategy JSON file")
+        except (KeyError, TypeError, ValueError, AttributeError) as e:
+            detail = f"missing field {e}" if isinstance(e, KeyError) else str(e)
+            raise StrategyFileError(f"{file}: not a usable strategy file: {detail}") from None
+        automaton.path = file
+        return automaton
 
     # --- Graphviz -------------------------------------------------------------------------
     def to_dot(self, name: str = "strategy") -> str:

@@ -31,8 +31,9 @@ class MemoryLimitReached(LimitReached):
     """The BDD manager reached its memory cap (``synthesize --max-memory``)."""
 
 
-class StrategyFileError(UserError):
-    """A saved strategy that cannot be used with its spec; ``str()`` names file, state or edge, and clause."""
+class StrategyFileError(UserError, ValueError):
+    """A saved strategy file that cannot be read or used with its spec; ``str()`` names the file,
+    the state or edge, and the clause. Also a ``ValueError``, which ``Automaton.load`` raised before."""
 
 
 class AssumptionViolation(SynthesisError):
