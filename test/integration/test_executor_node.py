@@ -226,7 +226,7 @@ def test_pause_by_service_and_topic_drives_every_output_false(ros_master, probes
 
 @pytest.mark.parametrize("policy", ["hold", "all-false"])
 def test_assumption_violation_is_diagnosed_and_outputs_follow_the_policy(ros_master, probes, lock_spec, policy):
-    executor = start_executor(ros_master, lock_spec, "--on-violation", policy)
+    executor = start_executor(ros_master, lock_spec, "--on-violation", policy, "--no-recovery")
     probe = probes(LISTEN)
     probe.publish(A, True)
     probe.publish(LOCK, True)
@@ -386,7 +386,8 @@ def test_transient_violation_between_two_messages_is_not_reported(ros_master, pr
     spec.write_text("[INPUT]\nr1\nr2\n\n[OUTPUT]\nat1\n\n[ENV_INIT]\n| & r1 ! r2 & ! r1 r2\n\n"
                     "[ENV_TRANS]\n| & r1' ! r2' & ! r1' r2'\n\n[SYS_TRANS]\n| & at1' r1' & ! at1' ! r1'\n\n"
                     "[SYS_INIT]\n| & at1 r1 & ! at1 ! r1\n")
-    executor = ros_master.run(["rosrun", "ltl_stack", "controller_executor", str(spec), "--violation-grace", "5.0"],
+    executor = ros_master.run(["rosrun", "ltl_stack", "controller_executor", str(spec), "--violation-grace", "5.0",
+                               "--no-recovery"],
                               name="executor")
     ros_master.wait_for_subscriber("/regions/inputs/r2")
     probe = probes(["bool:/regions/outputs/at1", "diag:/diagnostics"])

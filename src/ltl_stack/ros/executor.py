@@ -55,8 +55,10 @@ from ltl_stack.runtime.executor_setup import (
     scenario_namespace,
 )
 from ltl_stack.runtime.mapping import resolve_topics
+from ltl_stack.runtime.recovery import RecoveringStrategy
 from ltl_stack.spec.english import clause_to_english
 from ltl_stack.spec.valuation import format_valuation
+from ltl_stack.synthesis.recovery import StepResult
 
 PROG = "controller_executor"
 #: How often the node's statuses are published on /diagnostics (rqt_robot_monitor marks older ones stale).
@@ -97,6 +99,10 @@ def build_parser() -> cli.ToolParser:
                         "published after S seconds, and again every S seconds (default 10; 0 = never)")
     parser.add_argument("--on-violation", choices=VIOLATION_POLICIES, help="outputs after an environment-"
                         "assumption violation: hold the last safe valuation (default) or drive all false")
+    parser.add_argument("--recovery", dest="recovery", action="store_true", default=None,
+                        help="answer an environment-assumption violation with a recovery step (thesis §4.6; default)")
+    parser.add_argument("--no-recovery", dest="recovery", action="store_false",
+                        help="hold (or --on-violation) until the inputs are admissible again from the last state")
     parser.add_argument("--start-paused", action="store_true", default=None, help="start paused")
     parser.add_argument("--publisher-check-period", type=float, metavar="S",
                         help="how often to look for extra publishers on input topics (default 2; 0 = never)")
@@ -127,14 +133,14 @@ class ViolationConfirmer:
     def __init__(self, grace: float, confirm) -> None:
         self.grace = grace
         self.confirm = confirm
-        self._pending: tuple[float, Update, tuple] | None = None
+        self._pending: tuple[float, Update, tuple, StepResult | None] | None = None
         self._cond = threading.Condition()
         self._thread = threading.Thread(target=self._run, name="violation_grace", daemon=True)
         self._thread.start()
 
-    def schedule(self, update: Update, key: tuple) -> None:
+    def schedule(self, update: Update, key: tuple, result: StepResult | None = None) -> None:
         with self._cond:
-            self._pending = (time.monotonic() + self.grace, update, key)
+            self._pending = (time.monotonic() + self.grace, update, key, result)
             self._cond.notify()
 
     def _run(self) -> None:
@@ -143,13 +149,13 @@ class ViolationConfirmer:
                 if self._pending is None:
                     self._cond.wait(0.5)
                     continue
-                due, update, key = self._pending
+                due, update, key, result = self._pending
                 left = due - time.monotonic()
                 if left > 0:
                     self._cond.wait(left)
                     continue
                 self._pending = None
-            self.confirm(update, key)
+            self.confirm(update, key, result)
 
 
 class ExecutorNode:
@@ -312,10 +318,12 @@ class ExecutorNode:
         if update.stepped:
             self._report_step(update)
         if update.violation is not None:
+            strategy = self.controller.strategy
+            result = strategy.last if isinstance(strategy, RecoveringStrategy) else None
             if self.confirmer is not None:
-                self.confirmer.schedule(update, _key(self.controller.readings))
+                self.confirmer.schedule(update, _key(self.controller.readings), result)
             else:
-                self._report_violation(update)
+                self._report_violation(update, result)
         elif self._last_violation_key is not None and self.controller.violation is None:
             self._last_violation_key = None
             rospy.loginfo("%s: inputs admissible again; continuing", self.name)
@@ -349,33 +357,49 @@ class ExecutorNode:
             print(json.dumps({"event": "start" if update.started else "step", "state": state.id, "goal": state.goal,
                               "inputs": dict(state.inputs), "outputs": update.outputs}), flush=True)
 
-    def _confirm_violation(self, update: Update, key: tuple) -> None:
-        """Report ``update``'s violation if the same inputs are still inadmissible after the grace time."""
+    def _confirm_violation(self, update: Update, key: tuple, result: StepResult | None = None) -> None:
+        """Report ``update``'s violation if the same inputs are still there after the grace time (and,
+        unless it was recovered, still inadmissible)."""
         with self.controller.lock:
-            if self.controller.violation is not None and _key(self.controller.readings) == key:
-                self._report_violation(update)
+            if (update.recovered or self.controller.violation is not None) and _key(self.controller.readings) == key:
+                self._report_violation(update, result)
 
-    def _report_violation(self, update: Update) -> None:
+    def _report_violation(self, update: Update, result: StepResult | None = None) -> None:
+        """Once per distinct violation: recovered is a WARN naming the broken assumptions; otherwise an
+        ERROR, naming also the guarantees that cannot be kept when recovery found no safe move."""
         violation = update.violation
         readings = self.controller.readings
         key = _key(readings)
         if key == self._last_violation_key:
             return
         self._last_violation_key = key
-        clauses = [f"{c.location}: {c.text}" for c in violation.clauses] or ["(no single clause)"]
-        meanings = [_english(c) for c in violation.clauses]
+        broken = violation.clauses or (result.violated if result is not None else [])
+        clauses = [f"{c.location}: {c.text}" for c in broken] or ["(no single clause)"]
+        meanings = [_english(c) for c in broken]
         shown = [f"{c} ({m})" if m else c for c, m in zip(clauses, meanings + [""] * len(clauses), strict=False)]
+        unsafe = [f"{c.location}: {c.text}" for c in result.unsafe] if result is not None else []
+        kind = result.kind.value if result is not None else None
         policy = "holding the last safe outputs" if self.options.on_violation == HOLD else "all outputs false"
-        text = (f"environment assumption violated by inputs {format_valuation(readings)} from state "
-                f"{update.state.id}: {'; '.join(shown)}; {policy}, waiting for admissible inputs")
-        rospy.logerr("%s: %s", self.name, text)
+        if update.recovered:
+            text = (f"environment assumption violated by inputs {format_valuation(readings)}: {'; '.join(shown)}; "
+                    f"recovering ({kind}), now in state {update.state.id}")
+        else:
+            cannot = (f"; no move keeps the system safety, these guarantees cannot all be kept: {'; '.join(unsafe)}"
+                      if unsafe else "")
+            text = (f"environment assumption violated by inputs {format_valuation(readings)} from state "
+                    f"{update.state.id}: {'; '.join(shown)}{cannot}; {policy}, waiting for admissible inputs")
+        (rospy.logwarn if update.recovered else rospy.logerr)("%s: %s", self.name, text)
         values = [("clause", c) for c in clauses] + [("meaning", m) for m in meanings if m] + [
+            ("unsafe_clause", c) for c in unsafe] + [
             ("inputs", format_valuation(readings)), ("state", str(update.state.id)),
-            ("policy", self.options.on_violation.value)]
-        self._set_status(ERROR, "environment assumptions", text, values)
+            ("policy", f"recovery ({kind})" if update.recovered else self.options.on_violation.value)]
+        self._set_status(WARN if update.recovered else ERROR, "environment assumptions", text, values)
         if self.json_lines:
-            print(json.dumps({"event": "violation", "state": update.state.id, "inputs": readings,
-                              "clauses": clauses, "outputs": update.outputs}), flush=True)
+            event = {"event": "violation", "state": update.state.id, "inputs": readings, "clauses": clauses,
+                     "outputs": update.outputs, "recovered": update.recovered, "kind": kind}
+            if unsafe:
+                event["unsafe"] = unsafe
+            print(json.dumps(event), flush=True)
 
     # diagnostics: one status per concern, all republished every DIAGNOSTICS_PERIOD
     def _update_health(self, publish: bool = True) -> None:

@@ -17,8 +17,10 @@ strategy at once; a repeated reading does nothing.
 * Environment-assumption violation: the strategy raises ``AssumptionViolation``; the controller keeps
   its last state, remembers the violation, and — by ``on_violation`` — holds the last outputs or drives
   all outputs false. Each later change of the readings is tried again from the last state, so the
-  controller resumes on its own once the inputs are admissible again. A ``recovery`` callable (the hook
-  for resynthesis/recovery transitions) may return a state to continue from instead.
+  controller resumes on its own once the inputs are admissible again. A ``recovery`` callable
+  (``ltl_stack.runtime.recovery.RecoveringStrategy.recover``, thesis §4.6) may return a state to
+  continue from instead: the controller takes it like a step (the Update says ``recovered``, the
+  outputs are the new state's, no policy applies); None means no recovery, and the policy applies.
 
 Every method takes ``lock`` (re-entrant), and callers that publish the result should hold it too, so
 that the order of published outputs is the order of the steps.
@@ -73,7 +75,8 @@ class Update:
 
     ``outputs`` is the valuation the output topics must carry now. ``stepped`` says a new state was
     taken (``started`` when it is the initial one); ``violation`` is set when the readings broke an
-    environment assumption on this call; ``error`` holds a message when no initial state matched.
+    environment assumption on this call (``recovered`` when the recovery hook stepped past it);
+    ``error`` holds a message when no initial state matched.
     """
 
     outputs: dict[str, bool]
@@ -81,6 +84,7 @@ class Update:
     stepped: bool = False
     started: bool = False
     violation: AssumptionViolation | None = None
+    recovered: bool = False
     error: str | None = None
     changed_outputs: dict[str, bool] = field(default_factory=dict)
 
@@ -208,7 +212,10 @@ class Controller:
             recovered = self.recovery(self, violation) if self.recovery is not None else None
             if recovered is None:
                 return self._result(violation=violation)
-            new_state = recovered
+            self.violation = None
+            self.state = recovered
+            self._settle(readings)
+            return self._result(stepped=True, violation=violation, recovered=True)
         self.violation = None
         self.state = new_state
         self._settle(readings)
@@ -221,8 +228,8 @@ class Controller:
                 following = self.strategy.step(self.state, readings)
             except AssumptionViolation:
                 return  # the environment may not stay still here: wait for it to move
-            if following.id == self.state.id:
-                return
+            if type(following) is type(self.state) and following.id == self.state.id:
+                return  # (a recovered state may be symbolic, its ids another numbering)
             self.state = following
 
     def _result(self, **kwargs: Any) -> Update:

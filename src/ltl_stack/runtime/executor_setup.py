@@ -10,6 +10,11 @@ Strategy ids: when the explicit automaton of the synthesized strategy has at mos
 stepped (``AutomatonStrategy``), so the state ids and goal numbers on ``~state`` are those of the
 exported picture. Beyond the bound the symbolic strategy runs, and its ids are its own
 (valuation bits and goal), not those of an export.
+
+Recovery (``--recovery``, default on; thesis §4.6): the synthesized strategy is wrapped in a
+``RecoveringStrategy``, whose ``recover`` is the Controller's hook, so an environment-assumption
+violation is answered by a recovery-mode step instead of holding forever. A saved ``--strategy``
+has no symbolic strategy to recover with: recovery is off then.
 """
 from __future__ import annotations
 
@@ -25,6 +30,7 @@ from ltl_stack.runtime.explicit import AutomatonStrategy
 from ltl_stack.runtime.mapping import Mapping as PropositionMapping
 from ltl_stack.runtime.mapping import MappingError, check_mapping, load_mapping, resolve_topics
 from ltl_stack.runtime.node_params import Bound, NodeConfigError, Param, coerce_param
+from ltl_stack.runtime.recovery import RecoveringStrategy
 from ltl_stack.runtime.ros_names import check_proposition_names, is_legal_name
 from ltl_stack.spec import SpecError, load_spec
 from ltl_stack.spec.valuation import parse_valuation
@@ -52,6 +58,8 @@ EXECUTOR_PARAMS = [
     Param("ready_timeout", 10.0, "report silent inputs every S seconds (0: never)", bound=Bound.NON_NEGATIVE),
     Param("on_violation", ViolationPolicy.HOLD.value, "outputs after an assumption violation",
           choices=VIOLATION_POLICIES),
+    Param("recovery", True, "after an environment-assumption violation take a recovery step (thesis §4.6) "
+          "instead of holding; the violation policy applies only when no step keeps the guarantees"),
     Param("start_paused", False, "start paused"),
     Param("publisher_check_period", 2.0, "how often to look for extra publishers on input topics (s; 0: never)",
           bound=Bound.NON_NEGATIVE),
@@ -77,6 +85,7 @@ class Options:
     rate: float = 0.0
     ready_timeout: float = 10.0
     on_violation: ViolationPolicy = ViolationPolicy.HOLD
+    recovery: bool = True
     start_paused: bool = False
     publisher_check_period: float = 2.0
     violation_grace: float = 0.2
@@ -207,7 +216,8 @@ def build_strategy(spec: Any, options: Options, log: Callable[[str], None] = pri
             raise ExecutorError(f"{options.strategy}: the strategy's propositions (inputs {automaton.inputs}, "
                                 f"outputs {automaton.outputs}) differ from the spec's (inputs {spec.inputs}, "
                                 f"outputs {spec.outputs})")
-        log(f"loaded strategy {options.strategy}: {len(automaton.states)} states")
+        log(f"loaded strategy {options.strategy}: {len(automaton.states)} states"
+            f"{'; no recovery (it needs the synthesized strategy)' if options.recovery else ''}")
         return AutomatonStrategy(automaton, spec)
     chosen = {name: getattr(options, name) for name in ("robotics_semantics", "cooperative")
               if getattr(options, name) is not None}
@@ -222,6 +232,14 @@ def build_strategy(spec: Any, options: Options, log: Callable[[str], None] = pri
     strategy = result.strategy
     log(f"synthesized in {result.seconds:.3f} s (robotics semantics: {semantics}, "
         f"cooperative: {strategy.cooperative})")
+    primary = _primary(strategy, spec, options, log)
+    if not options.recovery:
+        return primary
+    log("recovery on: a violation of the environment assumptions is answered by a recovery step (thesis §4.6)")
+    return RecoveringStrategy(primary, strategy)
+
+
+def _primary(strategy: Any, spec: Any, options: Options, log: Callable[[str], None]) -> Any:
     if options.max_explicit_states > 0:
         try:
             automaton = strategy.explicit(max_states=options.max_explicit_states)
@@ -237,9 +255,11 @@ def build_strategy(spec: Any, options: Options, log: Callable[[str], None] = pri
 
 
 def make_controller(strategy: Any, options: Options, init: Mapping[str, bool]) -> Controller:
+    """The Controller for ``strategy``; a ``RecoveringStrategy`` also becomes its recovery hook."""
+    recovery = strategy.recover if isinstance(strategy, RecoveringStrategy) else None
     try:
         return Controller(strategy, on_violation=options.on_violation, init_props=init,
-                          running=True, settle_steps=options.settle_steps)
+                          running=True, settle_steps=options.settle_steps, recovery=recovery)
     except ValueError as err:
         raise ExecutorError(str(err)) from None
 
@@ -250,11 +270,13 @@ def check_summary(spec_path: str, mapping_path: str | None, prepared: Prepared, 
     init = parse_init_props(options.init_props, prepared.spec)
     strategy = build_strategy(prepared.spec, options, log=log)
     controller = make_controller(strategy, options, init)
+    primary = strategy.primary if isinstance(strategy, RecoveringStrategy) else strategy
     summary: dict[str, Any] = {
         "spec": str(spec_path), "mapping": mapping_path, "namespace": prepared.namespace,
         "inputs": prepared.input_topics, "outputs": prepared.output_topics, "warnings": prepared.warnings,
         "init_props": init, "ready": controller.ready,
-        "strategy": "explicit" if isinstance(strategy, AutomatonStrategy) else "symbolic"}
+        "strategy": "explicit" if isinstance(primary, AutomatonStrategy) else "symbolic",
+        "recovery": isinstance(strategy, RecoveringStrategy)}
     if controller.ready:
         update = controller.advance()
         summary["initial_state"] = None if update.state is None else {
