@@ -154,7 +154,16 @@ def test_controller_view_follows_the_executor_and_pauses_it(scenario, qtbot, mon
             seen.append(current)
         return len(seen) >= 4
     qtbot.waitUntil(moved_three_times, timeout=WAIT)
-    assert lost == [], f"executor states not found in the automaton: {lost[:3]}"
+    # With recovery on (the executor's default), a reading that breaks an environment assumption for a
+    # moment (two region messages on their way) moves the executor to a safe position outside the
+    # exported automaton, published with its symbolic id. The view must place every other state.
+    a = view.model.automaton
+    n = len(a.inputs) + len(a.outputs)
+    for update in lost:
+        bits = [bool(update.state_id >> k & 1) for k in range(n)]
+        assert update.state_id >> n == update.goal, f"executor state not found in the automaton: {update}"
+        assert a.find(dict(zip(a.inputs, bits, strict=False)), dict(zip(a.outputs, bits[len(a.inputs):], strict=False)),
+                      update.goal) is None, f"the automaton has this executor state, the view missed it: {update}"
     qtbot.waitUntil(lambda: view.current_node_id() is not None and bool(view.graph_view._marks), timeout=WAIT)
     state = view.model.automaton.states[view.model.current]
     assert view.state_label.text().startswith(f"state {state.id} ")
