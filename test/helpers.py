@@ -16,6 +16,18 @@ import pytest
 
 from ltl_stack.sim.session import free_port, master_command, master_env, stop_process  # noqa: F401 - free_port for tests
 
+_HELD: list[socket.socket] = []
+
+
+def closed_port() -> int:
+    """A loopback port that refuses connections for the whole test session: bound here, never listened
+    on, so no other process (a node's XML-RPC server, another worker's master) can take it meanwhile.
+    ``free_port`` only says a port is free *now*."""
+    held = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+    held.bind(("127.0.0.1", 0))
+    _HELD.append(held)
+    return held.getsockname()[1]
+
 REPO_ROOT = Path(__file__).resolve().parent.parent
 
 

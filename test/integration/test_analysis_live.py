@@ -17,7 +17,7 @@ from pathlib import Path
 
 import pytest
 import yaml
-from helpers import RosMaster, free_port, require_shared, wait_for
+from helpers import RosMaster, closed_port, require_shared, wait_for
 
 from ltl_stack.analysis.checks import analyze
 from ltl_stack.analysis.graph import ComputationGraph
@@ -230,7 +230,7 @@ def test_live_spheros_fig_3_14_and_3_15(spheros):
 
 
 def test_unreachable_master_is_one_clear_error():
-    uri = f"http://127.0.0.1:{free_port()}/"
+    uri = f"http://127.0.0.1:{closed_port()}/"
     with pytest.raises(SnapshotError, match=f"cannot read the graph from the ROS master at {uri}") as err:
         take_snapshot(uri, timeout=2.0)  # gives up (pytest-timeout fails a hang), however slow the machine
     assert err.value.code == Exit.NO_ROS

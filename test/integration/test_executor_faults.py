@@ -168,8 +168,10 @@ def test_after_a_master_restart_new_nodes_reach_the_executor_and_the_nodes(ros_m
     ros_master.wait_for_subscriber(OUT)
     ros_master.wait_for_publisher("/robot/cmd_vel")
 
+    old_pid = ros_master.proxy().getPid("/pytest")[2]
     ros_master.restart_master()
-    assert ros_master.subscribers(A) == [], "a new master must start empty"
+    # A new master process (it starts empty; the watchers may already be re-registering by now).
+    assert ros_master.proxy().getPid("/pytest")[2] != old_pid
     # The executor and the proposition node notice the new master and register again.
     wait_for(lambda: ros_master.subscribers(A) == ["/controller_executor"], 30, "the executor's subscription")
     wait_for(lambda: ros_master.subscribers(OUT) == ["/set_velocity"], 30, "set_velocity's subscription")

@@ -12,7 +12,7 @@ import subprocess
 from pathlib import Path
 
 import pytest
-from helpers import REPO_ROOT, free_port
+from helpers import REPO_ROOT, closed_port
 
 pytestmark = pytest.mark.slow
 
@@ -33,7 +33,7 @@ def bootstrap_paths() -> dict[str, Path]:
 def clean_env(tmp: Path) -> dict[str, str]:
     """No ROS, Python or catkin variables, no venv on PATH; ROS_MASTER_URI at a closed port."""
     return {"HOME": os.environ.get("HOME", "/root"), "PATH": "/usr/bin:/bin", "LANG": "C.UTF-8",
-            "ROS_MASTER_URI": f"http://127.0.0.1:{free_port()}/", "ROS_HOME": str(tmp / "ros_home"),
+            "ROS_MASTER_URI": f"http://127.0.0.1:{closed_port()}/", "ROS_HOME": str(tmp / "ros_home"),
             "ROS_LOG_DIR": str(tmp / "ros_log")}
 
 

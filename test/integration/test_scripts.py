@@ -7,7 +7,7 @@ import json
 import os
 import subprocess
 
-from helpers import REPO_ROOT, free_port
+from helpers import REPO_ROOT, closed_port
 
 from ltl_stack.spec import parse_slugsin
 from ltl_stack.synthesis import synthesize
@@ -18,7 +18,7 @@ LOCK = (REPO_ROOT / "test" / "unit" / "runtime" / "lock.slugsin").read_text()
 def no_master_env() -> dict[str, str]:
     """This environment with ROS_MASTER_URI at a closed port: a node that ignores --help and starts
     fails or hangs (and the subprocess timeout ends the test) instead of finding a master."""
-    return dict(os.environ, ROS_MASTER_URI=f"http://127.0.0.1:{free_port()}/")
+    return dict(os.environ, ROS_MASTER_URI=f"http://127.0.0.1:{closed_port()}/")
 
 
 def test_controller_executor_checks_a_saved_strategy_from_the_command_line(tmp_path):

@@ -12,7 +12,7 @@ import subprocess
 from pathlib import Path
 
 import pytest
-from helpers import RosMaster, free_port
+from helpers import RosMaster, closed_port
 
 from ltl_stack.errors import Exit
 
@@ -23,7 +23,7 @@ LONG = "7" * 5000
 GOOD_SCHEDULE = "events:\n  - {at: 0.5, topic: /env/person, value: true}\n"
 GOOD_REGIONS = ('Regions: # name\n[{"name": "boundary", "type": "rect", "position": [0, 0], "size": [10, 10]},\n'
                 ' {"name": "left", "type": "rect", "position": [0, 0], "size": [5, 10]}]\n')
-UNREACHABLE = f"http://127.0.0.1:{free_port()}/"
+UNREACHABLE = f"http://127.0.0.1:{closed_port()}/"
 
 # case: (command after `rosrun ltl_stack`, files {name: bytes}, exit code, expected text of the error line)
 # {d} is the case's folder.
