@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import re
+import time
 
 import pytest
 from helpers import wait_for
@@ -40,12 +41,28 @@ def test_scripted_events_fire_on_schedule(ros, tmp_path):
     names = [name for name, _ in fired_at]
     assert names == [f"{ros.topic('env/person')} := False", "a person shows up",
                      f"{ros.topic('env/object_distance')} := {{'data': 0.25}}", "the person leaves"], names
-    for (name, elapsed), at in zip(fired_at, [0.0, 0.6, 0.9, 1.5]):
+    for (name, elapsed), at in zip(fired_at, [0.0, 0.6, 0.9, 1.5], strict=True):
         assert elapsed >= at - 0.01, (name, elapsed, at)
     assert [t for _, t in fired_at] == sorted(t for _, t in fired_at)
     # ~fired is latched: a late subscriber may first get an earlier event, then the last one
     fired.wait(lambda ms: any(m.data == "the person leaves" for m in ms), what="the last fired event (latched)")
     assert node.running()  # it keeps the latched topics up after the schedule
+
+
+def test_clock_starts_on_the_first_message_of_start_on(ros, tmp_path):
+    from std_msgs.msg import Bool, String
+
+    schedule = tmp_path / "env.yaml"
+    schedule.write_text(f"events:\n  - {{at: 0.0, topic: {ros.topic('env/door')}, value: true, name: door}}\n")
+    door = ros.record(ros.topic("env/door"), Bool)
+    node = ros.run("scripted_environment", f"_schedule:={schedule}", f"_start_on:={ros.topic('go')}",
+                   "_wait_for_subscribers:=60", name="env")
+    # it waits for our recorder first, so from this line on the door event would reach us at once
+    node.wait_output("waiting for the first message on", 60)
+    time.sleep(1.0)  # a window in which nothing may fire: nobody has published on the start topic yet
+    assert door.messages == [] and node.running(), node.output()
+    ros.publish(ros.topic("go"), String(data="start"))
+    door.wait(lambda ms: [m.data for m in ms] == [True], what="the door event after the start message")
 
 
 def _fired_times(output: str) -> list[tuple[str, float]]:

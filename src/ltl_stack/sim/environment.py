@@ -32,6 +32,9 @@ SCRIPTED_ENVIRONMENT = NodeSpec(
         Param("wait_for_subscribers", 0.0, "wait up to this long (s) for every topic to have a "
               "subscriber before the clock starts (0: start at once)", bound=Bound.NON_NEGATIVE),
         Param("rate", 50.0, "how often (Hz) to check for due events", bound=Bound.POSITIVE),
+        Param("start_on", "", "start the clock at the first message on this topic (e.g. the controller's "
+              "state topic, so a late controller misses no event; relative to the node's namespace); "
+              "empty: do not wait", kind=str),
     ],
 )
 
@@ -77,11 +80,23 @@ class ScriptedEnvironment:
         if missing:
             rospy.logwarn("%s: starting although nobody listens to %s", rospy.get_name(), ", ".join(missing))
 
+    def _wait_for_start_message(self, topic: str) -> None:
+        import rospy
+
+        name = rospy.resolve_name(topic)
+        rospy.loginfo("%s: waiting for the first message on %s to start the clock", rospy.get_name(), name)
+        try:
+            rospy.wait_for_message(name, rospy.AnyMsg)
+        except rospy.ROSInterruptException:
+            return
+
     def spin(self) -> None:
         import rospy
 
         if self.config["wait_for_subscribers"] > 0:
             self._wait_for_subscribers()
+        if self.config["start_on"]:
+            self._wait_for_start_message(self.config["start_on"])
         start = time.monotonic()
         rate = rospy.Rate(self.config["rate"])
         rospy.loginfo("%s: playing %d events from %s", rospy.get_name(), len(self.schedule.events),
