@@ -1,11 +1,38 @@
-"""GR(1) specification model, .slugsin and structured readers/writers, Structured English."""
-from ltl_stack.spec.english import clause_to_english, formula_to_english, formula_to_infix, spec_to_english
-from ltl_stack.spec.errors import SpecError
-from ltl_stack.spec.formula import FALSE, TRUE, And, Const, Formula, Iff, Implies, Not, Or, Var, Xor
-from ltl_stack.spec.load import load_spec
-from ltl_stack.spec.model import SECTIONS, Clause, IntegerVariable, Spec
-from ltl_stack.spec.slugsin import formula_to_slugsin, parse_slugsin, write_slugsin
-from ltl_stack.spec.structured import parse_structured
+"""GR(1) specification model, .slugsin and structured readers/writers, Structured English.
+
+The names below are imported on first use (PEP 562 module ``__getattr__``): a tool that reads one
+slugsin file does not pay for the English writer and reader (~30 ms of a command's start-up), while
+``from ltl_stack.spec import load_spec`` keeps working as before.
+"""
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # pragma: no cover - for type checkers and readers only
+    from ltl_stack.spec.english import (
+        clause_to_english,
+        formula_to_english,
+        formula_to_infix,
+        spec_to_english,
+    )
+    from ltl_stack.spec.errors import SpecError
+    from ltl_stack.spec.formula import FALSE, TRUE, And, Const, Formula, Iff, Implies, Not, Or, Var, Xor
+    from ltl_stack.spec.load import load_spec
+    from ltl_stack.spec.model import SECTIONS, Clause, IntegerVariable, Spec
+    from ltl_stack.spec.slugsin import formula_to_slugsin, parse_slugsin, write_slugsin
+    from ltl_stack.spec.structured import parse_structured
+
+_EXPORTS = {
+    "english": ("clause_to_english", "formula_to_english", "formula_to_infix", "spec_to_english"),
+    "errors": ("SpecError",),
+    "formula": ("FALSE", "TRUE", "And", "Const", "Formula", "Iff", "Implies", "Not", "Or", "Var", "Xor"),
+    "load": ("load_spec",),
+    "model": ("SECTIONS", "Clause", "IntegerVariable", "Spec"),
+    "slugsin": ("formula_to_slugsin", "parse_slugsin", "write_slugsin"),
+    "structured": ("parse_structured",),
+}
+_MODULE_OF = {name: module for module, names in _EXPORTS.items() for name in names}
 
 __all__ = [
     "FALSE", "TRUE", "And", "Const", "Formula", "Iff", "Implies", "Not", "Or", "Var", "Xor",
@@ -13,3 +40,16 @@ __all__ = [
     "SpecError", "load_spec", "parse_slugsin", "write_slugsin", "formula_to_slugsin", "parse_structured",
     "clause_to_english", "formula_to_english", "formula_to_infix", "spec_to_english",
 ]
+
+
+def __getattr__(name: str) -> object:
+    module = _MODULE_OF.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"{__name__}.{module}"), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

@@ -5,7 +5,6 @@ from pathlib import Path
 
 from ltl_stack.errors import InputError
 from ltl_stack.inputs import read_text
-from ltl_stack.spec.english_reader import ENGLISH_SUFFIXES, has_section_headers, parse_english
 from ltl_stack.spec.errors import SpecError
 from ltl_stack.spec.model import Spec
 from ltl_stack.spec.slugsin import parse_slugsin
@@ -34,8 +33,12 @@ def load_spec(path: str | Path) -> Spec:
         return parse_slugsin(text, file)
     if suffix in STRUCTURED_SUFFIXES:
         return parse_structured(text, file)
-    if suffix in ENGLISH_SUFFIXES and not has_section_headers(text):
-        return parse_english(text, file)
+    # imported here, not at the top: the English reader's phrase tables cost ~12 ms of every
+    # command's start-up, and only a file that is neither slugsin nor structured may be English
+    from ltl_stack.spec import english_reader
+
+    if suffix in english_reader.ENGLISH_SUFFIXES and not english_reader.has_section_headers(text):
+        return english_reader.parse_english(text, file)
     try:
         return parse_slugsin(text, file)
     except SpecError as as_slugsin:

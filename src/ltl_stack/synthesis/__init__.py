@@ -58,8 +58,12 @@ class SynthesisResult:
 def synthesize(spec: Spec, *, robotics_semantics: bool = DEFAULT_OPTIONS.robotics_semantics,
                cooperative: bool = DEFAULT_OPTIONS.cooperative, progress: Progress | None = None,
                options: Options | None = None, timeout: float | None = None, deadline: Deadline | None = None,
-               max_memory: int | None = None) -> SynthesisResult:
+               max_memory: int | None = None, strategy: bool = True) -> SynthesisResult:
     """Solve the game of ``spec`` and, when realizable, build its symbolic strategy.
+
+    ``strategy=False`` answers realizability only (``result.strategy`` is None): the ordinary game
+    is solved once, stopping as soon as the answer is known to be "no" (``Solution.complete``
+    False), with no cooperative game and no strategy relations; the verdict is the same.
 
     The verdict is the spec's (cooperation never changes it). With ``cooperative`` the game is first
     solved without moves that leave the environment no admissible input; only if that loses is the
@@ -73,6 +77,11 @@ def synthesize(spec: Spec, *, robotics_semantics: bool = DEFAULT_OPTIONS.robotic
     limit = deadline if deadline is not None else Deadline(timeout)
     game = Game(spec, max_memory=max_memory, deadline=limit)
     with memory_guard(game.max_memory):
+        if not strategy:
+            solution = solve(game, robotics_semantics=robotics_semantics, early_exit=True, options=options,
+                             progress=progress)
+            return SynthesisResult(solution.realizable, None, time.perf_counter() - start, game, solution,
+                                   SynthesisOptions(robotics_semantics, cooperative))
         solution = solve(game, robotics_semantics=robotics_semantics, cooperative=cooperative,
                          options=options, progress=progress)
         if cooperative and not solution.realizable:

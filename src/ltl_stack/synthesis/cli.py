@@ -101,8 +101,10 @@ def _synthesize(args: argparse.Namespace) -> int:
         spec = load_spec(args.spec)
         parsed = time.perf_counter()
         options = options_from(args.robotics_semantics, args.cooperative)
+        exports = any([args.strategy_json, args.slugs_json, args.dot, args.png])
+        # without an export only the verdict is printed: no strategy, and an early exit when unrealizable
         result = synthesize(spec, robotics_semantics=options.robotics_semantics, cooperative=options.cooperative,
-                            progress=progress, deadline=deadline, max_memory=args.max_memory)
+                            progress=progress, deadline=deadline, max_memory=args.max_memory, strategy=exports)
         summary = {
             "spec": args.spec,
             "realizable": result.realizable,
@@ -115,13 +117,13 @@ def _synthesize(args: argparse.Namespace) -> int:
             "z_iterations": result.solution.z_iterations,
         }
         files: list[tuple[str, str | bytes, str]] = []
-        if result.realizable and any([args.strategy_json, args.slugs_json, args.dot, args.png]):
+        if result.realizable and exports:
             t = time.perf_counter()
             automaton = result.strategy.explicit(max_states=args.max_states, progress=progress)
             summary["explicit_seconds"] = round(time.perf_counter() - t, 6)
             summary["states"] = len(automaton)
             files = _strategy_files(automaton, args, deadline)
-        elif not result.realizable and any([args.strategy_json, args.slugs_json, args.dot, args.png]):
+        elif not result.realizable and exports:
             if not args.quiet:
                 cli.warn(PROG, "unrealizable, no strategy to export")
         text = None

@@ -38,6 +38,7 @@ the environment breaks its safety assumptions first, so
 """
 from __future__ import annotations
 
+import sys
 from collections.abc import Iterable, Iterator, Mapping
 from contextlib import contextmanager
 
@@ -46,14 +47,34 @@ from ltl_stack.spec.model import SECTIONS, Clause, Spec
 from ltl_stack.synthesis.errors import MemoryLimitReached
 from ltl_stack.synthesis.options import MANAGER_ESTIMATE, NO_DEADLINE, Deadline, memory_cap
 
-try:  # pragma: no cover - which branch runs depends on the installation
-    from dd import cudd as _backend
+# dd imports networkx for one thing only, its ``to_nx`` graph export, which ltl_stack never calls;
+# importing networkx costs ~90 ms, as much as the rest of a ``synthesize`` run on a small spec.
+# dd itself treats networkx as optional (``dd._utils`` catches the ImportError), so networkx is
+# marked absent while dd is first imported (a ``None`` entry in ``sys.modules`` makes an import
+# fail: documented Python behaviour) and the mark is taken out again right after: any later
+# ``import networkx`` in the process works as usual. If a dd release ever needs networkx to import
+# at all, the plain import is done instead (only the start-up cost comes back).
+_HIDE_NETWORKX = "networkx" not in sys.modules and "dd" not in sys.modules
+if _HIDE_NETWORKX:
+    sys.modules["networkx"] = None  # type: ignore[assignment]
+try:
+    try:  # pragma: no cover - which branch runs depends on the installation
+        from dd import cudd as _backend
 
-    BACKEND = "cudd"
-except ImportError:  # pragma: no cover
-    from dd import autoref as _backend
-
-    BACKEND = "autoref"
+        BACKEND = "cudd"
+    except ImportError as _error:  # pragma: no cover
+        if _HIDE_NETWORKX and _error.name == "networkx":
+            del sys.modules["networkx"]
+            for _name in [m for m in sys.modules if m == "dd" or m.startswith("dd.")]:
+                del sys.modules[_name]
+            _HIDE_NETWORKX = False
+            from dd import cudd as _backend
+        else:
+            from dd import autoref as _backend
+        BACKEND = "cudd" if _backend.__name__ == "dd.cudd" else "autoref"
+finally:
+    if _HIDE_NETWORKX and sys.modules.get("networkx", False) is None:
+        del sys.modules["networkx"]
 
 
 #: node count from which building the game and solving it use dynamic reordering

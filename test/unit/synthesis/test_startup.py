@@ -1,0 +1,108 @@
+"""What a ``synthesize`` call loads and computes when it only has to print a verdict (issue 16).
+
+The realizability-only path (no export asked) must give the verdict of the full path on every
+shared spec; the start-up must not import what the common path does not need (networkx through dd,
+the Structured English reader and writer), while those modules stay importable on demand.
+"""
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from helpers import shared_dir
+
+import ltl_stack.spec
+import ltl_stack.synthesis.cli as synthesis_cli
+from ltl_stack.errors import Exit
+from ltl_stack.spec import load_spec
+from ltl_stack.synthesis import synthesize
+
+#: solving it takes ~20 s per run; its verdict is checked by the synthesis benchmark
+SLOW = {"basicEvasion"}
+
+
+def shared_specs() -> list[Path]:
+    base = shared_dir()
+    if base is None:
+        return []
+    found = sorted((base / "specs").glob("*/*.slugsin")) + sorted((base / "specs" / "benchmarks" / "slugsin").glob("*.slugsin"))
+    return [p for p in found if p.stem not in SLOW]
+
+
+def run_python(code: str) -> subprocess.CompletedProcess:
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(p for p in sys.path if p)}
+    return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=120,
+                          check=False)
+
+
+@pytest.mark.skipif(not shared_specs(), reason="../shared/specs is absent")
+@pytest.mark.parametrize("path", shared_specs(), ids=lambda p: f"{p.parent.name}/{p.stem}")
+@pytest.mark.parametrize("robotics", [True, False], ids=["robotics", "slugs-init"])
+def test_realizability_only_gives_the_verdict_of_the_full_path(path: Path, robotics: bool) -> None:
+    spec = load_spec(path)
+    full = synthesize(spec, robotics_semantics=robotics)
+    quick = synthesize(spec, robotics_semantics=robotics, strategy=False)
+    assert quick.realizable == full.realizable
+    assert quick.strategy is None
+    assert (full.strategy is not None) == full.realizable
+
+
+def _spec(tmp_path: Path, realizable: bool) -> Path:
+    goal = "y" if realizable else "& y ! y"
+    path = tmp_path / ("r.slugsin" if realizable else "u.slugsin")
+    path.write_text(f"[INPUT]\nx\n\n[OUTPUT]\ny\n\n[SYS_LIVENESS]\n{goal}\n")
+    return path
+
+
+@pytest.mark.parametrize("realizable", [True, False])
+def test_cli_without_exports_builds_no_strategy_and_keeps_the_exit_code(tmp_path, monkeypatch, capsys,
+                                                                        realizable: bool) -> None:
+    spec = _spec(tmp_path, realizable)
+    out = tmp_path / "s.json"
+    code_full = synthesis_cli.main([str(spec), "--strategy-json", str(out), "--quiet"])
+    assert out.exists() == realizable
+
+    def no_strategy(*args, **kwargs):
+        raise AssertionError("the strategy was built although no export was asked")
+
+    monkeypatch.setattr("ltl_stack.synthesis.SymbolicStrategy", no_strategy)
+    code_verdict = synthesis_cli.main([str(spec), "--json"])
+    assert code_verdict == code_full == (Exit.OK if realizable else Exit.UNREALIZABLE)
+    assert f'"realizable": {"true" if realizable else "false"}' in capsys.readouterr().out
+
+
+def test_dd_is_imported_without_networkx_which_stays_importable() -> None:
+    proc = run_python("import sys\n"
+                      "import ltl_stack.synthesis.game as g\n"
+                      "assert 'networkx' not in sys.modules, 'networkx was imported'\n"
+                      "b = g.new_manager(2**28); b.declare('x'); assert (b.var('x') & ~b.var('x')) == b.false\n"
+                      "import networkx\n"
+                      "print(g.BACKEND, networkx.__name__)")
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.split() == ["cudd", "networkx"]
+
+
+def test_synthesize_start_up_skips_the_english_reader_and_writer() -> None:
+    proc = run_python("import sys\n"
+                      "import ltl_stack.synthesis.cli\n"
+                      "print(sorted(m for m in sys.modules if m.startswith('ltl_stack.spec.english_')))")
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip() == "[]"
+
+
+def test_every_name_of_the_spec_package_resolves() -> None:
+    for name in ltl_stack.spec.__all__:
+        assert getattr(ltl_stack.spec, name) is not None
+    assert set(dir(ltl_stack.spec)) >= set(ltl_stack.spec.__all__)
+    with pytest.raises(AttributeError):
+        ltl_stack.spec.no_such_name  # noqa: B018
+
+
+def test_english_spec_files_still_load(tmp_path) -> None:
+    path = tmp_path / "task.spec"
+    path.write_text("Sensors: person\nActions: camera\n\nIf you are sensing person then do camera\n")
+    spec = load_spec(path)
+    assert "person" in spec.inputs and "camera" in spec.outputs
