@@ -190,8 +190,9 @@ def test_patrol_with_characterization_only_resynthesizes_on_every_violation():
     rs = ResilientStrategy(load_spec(PATROL), recovery=False)
     trace = patrol_run(rs, spill_steps=8, user="!spill")
     assert trace[-1]["phase"] == "done" and all(r["mode"] is not Mode.ABORTED for r in trace)
-    # metal (A3), alarm + spill (A2), the early tap (A1, two observations): 4 here, 3 in the thesis
-    assert rs.counters.resyntheses == 4, rs.counters
+    # metal (A3); alarm + spill (A2): realizable once, then unrealizable (a spill may stop the robot
+    # for ever), the user's GF !spill; the early tap (A1, two observations): 5 here, 3 in the thesis
+    assert rs.counters.resyntheses == 5 and rs.counters.user == 1 and rs.counters.unrealizable == 1, rs.counters
     assert any(r["outputs"]["notify"] for r in trace), "the robot reports to the manager"
     spill = [r for r in trace if r["phase"] == "spill"]
     assert all(r["outputs"]["stop"] and r["outputs"]["callHelp"] for r in spill[1:])
