@@ -1,6 +1,10 @@
 """Where proposition nodes can fight each other: checks E1, E2, E3, C1, C2 of thesis section 3.5.2.
 
-- E1 (3.5.2.2): an output proposition's nodes publish-reach an input proposition node.
+- E1 (3.5.2.2): an output proposition's nodes publish-reach an input proposition node; one
+  finding per (output, input) pair with every chain under it. Pairs that are the designed feedback
+  of the activation-completion paradigm ([75]: an action ``X`` and its completion ``X_ac``, a region
+  ``R`` and its completion ``R_rc``, and the robot's own motion seen by its region sensors) are kept
+  apart as *expected feedback*: shown, not counted as findings (see ``expected_feedback``).
 - E2 (3.5.2.3): two or more output propositions publish-reach the same topic or action
   (refined in ``conflicts``: they must compete there, not merely both reach a driver's outputs).
 - E3 (3.5.2.4): one output proposition's nodes publish-reach the same topic through several nodes
@@ -17,10 +21,11 @@ from collections.abc import Callable, Collection, Iterable, Sequence
 from dataclasses import dataclass, field
 from fnmatch import fnmatchcase
 
-from ltl_stack.analysis.conflicts import conflict_pairs
+from ltl_stack.analysis.conflicts import channel_lanes, conflict_pairs, downstream
 from ltl_stack.analysis.graph import ACTION, ComputationGraph
 from ltl_stack.analysis.reach import PUBLISH, SUBSCRIBE, Reach, reach
 from ltl_stack.runtime.mapping import INPUT, OUTPUT, Mapping, resolve_node_name, resolve_topics
+from ltl_stack.spec.activation_completion import ACTION_COMPLETION, REGION_COMPLETION
 
 
 @dataclass(frozen=True)
@@ -42,14 +47,33 @@ class Witness:
 
 @dataclass(frozen=True)
 class E1Finding:
+    """Output ``output`` publish-reaches the node(s) of input ``input``: one chain per (output node,
+    input node) pair, folded under the one (output, input) row. ``expected`` is the reason when the
+    pair is designed feedback (activation-completion: its kind), else ''."""
+
     output: str
     input: str
-    input_node: str
-    witness: Witness
+    witnesses: tuple[Witness, ...]
+    input_nodes: tuple[str, ...]  # the input node each witness ends at
+    expected: str = ""  # a kind of expected feedback (``expected_feedback``) or ''
+
+    @property
+    def witness(self) -> Witness:
+        return self.witnesses[0]
+
+    @property
+    def input_node(self) -> str:
+        return self.input_nodes[0]
 
     def to_dict(self) -> dict:
-        return {"output": self.output, "input": self.input, "input_node": self.input_node,
-                "output_node": self.witness.node, "chain": self.witness.text}
+        data = {"output": self.output, "input": self.input, "input_node": self.input_node,
+                "output_node": self.witness.node, "chain": self.witness.text,
+                "chains": [{"output_node": w.node, "input_node": n, "chain": w.text}
+                           for w, n in zip(self.witnesses, self.input_nodes, strict=True)]}
+        if self.expected:
+            data["expected"] = self.expected
+            data["why"] = feedback_reason(self)
+        return data
 
 
 @dataclass(frozen=True)
@@ -141,6 +165,7 @@ class Analysis:
     robots: list[str] = field(default_factory=list)
     robot_topics_ignored: list[str] = field(default_factory=list)
     e1: list[E1Finding] = field(default_factory=list)
+    feedback: list[E1Finding] = field(default_factory=list)  # E1 pairs that are expected feedback
     e2: list[E2Group] = field(default_factory=list)
     e3: list[E3Finding] = field(default_factory=list)
     c1: list[C1Finding] = field(default_factory=list)
@@ -202,26 +227,102 @@ def analyze(graph: ComputationGraph, mapping: Mapping, inputs: Sequence[str], ou
         start = graph.node_index[node]
         result.pub[(prop, node)] = reach(graph, start, PUBLISH, blocked)
         result.sub[(prop, node)] = reach(graph, start, SUBSCRIBE, blocked)
-    result.e1 = check_e1(result)
     result.e2, result.e3 = check_conflicts(result, blocked)
+    pairs = check_e1(result, blocked)
+    result.e1 = [f for f in pairs if not f.expected]
+    result.feedback = [f for f in pairs if f.expected]
     if robots:
         result.c2 = check_c2(result)
         result.c1 = check_c1(result, skip={f.robot for f in result.c2})
     return result
 
 
-def check_e1(a: Analysis) -> list[E1Finding]:
-    """Output propositions whose nodes publish-reach an input proposition node (thesis Fig. 3.6)."""
-    input_nodes = [(x, n, a.graph.node_index[n]) for x in a.inputs for n in a.nodes.get(x, [])]
+def check_e1(a: Analysis, blocked: Collection[int] = ()) -> list[E1Finding]:
+    """Output propositions whose nodes publish-reach an input proposition node (thesis Fig. 3.6).
+
+    One finding per (output, input) pair in spec order, with a chain for every (output node,
+    input node) pair that reaches; each is marked with ``expected_feedback``'s reason, if any
+    (needs ``a.e2``, so run it after ``check_conflicts``).
+    """
+    input_nodes = [(x, [(n, a.graph.node_index[n]) for n in a.nodes.get(x, [])]) for x in a.inputs]
+    motion = motion_outputs(a, blocked)
     found = []
     for y in a.outputs:
-        for x, x_node, v in input_nodes:
-            for y_node in a.nodes.get(y, []):
-                r = a.pub[(y, y_node)]
-                if v in r:
-                    found.append(E1Finding(y, x, x_node, make_witness(a.graph, y, y_node, r.chain(v))))
-                    break
+        for x, nodes in input_nodes:
+            witnesses, ends = [], []
+            for x_node, v in nodes:
+                for y_node in a.nodes.get(y, []):
+                    r = a.pub[(y, y_node)]
+                    if v in r:
+                        witnesses.append(make_witness(a.graph, y, y_node, r.chain(v)))
+                        ends.append(x_node)
+            if witnesses:
+                kind = expected_feedback(y, x, a.outputs, motion)
+                found.append(E1Finding(y, x, tuple(witnesses), tuple(ends), kind))
     return found
+
+
+def motion_outputs(a: Analysis, blocked: Collection[int] = ()) -> set[str]:
+    """Outputs that command the robot's motion as the region activations do: every region ``R``
+    (an output with an input ``R_rc``), and every output competing with one (E2) on a channel
+    upstream of what the region sensors read - a velocity command, not the location topic itself
+    (an output that only disturbs the location sensing, say by switching off its camera, is no motion).
+    """
+    regions = {y for y in a.outputs if y + REGION_COMPLETION in a.inputs}
+    n = len(a.graph.nodes)
+    sensed = {n + a.graph.lane_channel[lane] for r in regions for node in a.nodes.get(r + REGION_COMPLETION, [])
+              for lane in a.graph.node_subscribes[a.graph.node_index[node]]}
+    lanes_of = channel_lanes(a.graph)
+    moving = set(regions)
+    for g in a.e2:
+        v = a.graph.channel_vertex(g.channel)
+        if v is None or v in sensed or not sensed.intersection(downstream(a.graph, v, lanes_of, blocked)):
+            continue
+        for y1, y2 in g.pairs:
+            if y1 in regions:
+                moving.add(y2)
+            if y2 in regions:
+                moving.add(y1)
+    return moving
+
+
+#: kinds of expected feedback (``E1Finding.expected``) and what each means
+ACTION_FEEDBACK = "action completion"
+REGION_FEEDBACK = "region completion"
+LOCATION_FEEDBACK = "location sensing"
+
+
+def expected_feedback(output: str, input: str, outputs: Collection[str], motion: Collection[str] = ()) -> str:
+    """The kind of designed feedback of the activation-completion paradigm ([75], thesis 4.3) that
+    ``output`` reaching ``input`` is, or '' when it is a finding.
+
+    - ``ACTION_FEEDBACK``: ``X`` -> ``X_ac``, the action reports its own completion (thesis Fig. 3.6
+      calls this connection desirable);
+    - ``REGION_FEEDBACK``: ``R`` -> ``R_rc``, heading for region R, the robot's own location sensing
+      reports its arrival;
+    - ``LOCATION_FEEDBACK``: a motion output (``motion_outputs``) -> ``S_rc`` of a region S: moving
+      the robot changes where it is, which is what the region sensors report (the region topology
+      assumptions of the spec say how the completions follow the activations).
+    Anything else, e.g. an output that disables a camera an input reads (thesis 3.5.2.2), is a finding.
+    """
+    if input == output + ACTION_COMPLETION:
+        return ACTION_FEEDBACK
+    if input == output + REGION_COMPLETION:
+        return REGION_FEEDBACK
+    if input.endswith(REGION_COMPLETION) and input[:-len(REGION_COMPLETION)] in outputs and output in motion:
+        return LOCATION_FEEDBACK
+    return ""
+
+
+def feedback_reason(f: E1Finding) -> str:
+    """One sentence saying why ``f`` is expected feedback."""
+    if f.expected == ACTION_FEEDBACK:
+        return f"{f.input} reports the completion of the action {f.output}"
+    if f.expected == REGION_FEEDBACK:
+        return f"{f.input} reports the robot's arrival in region {f.output}"
+    if f.expected == LOCATION_FEEDBACK:
+        return f"{f.output} moves the robot; {f.input} is the robot's own location sensing"
+    return ""
 
 
 def check_conflicts(a: Analysis, blocked: Collection[int] = ()) -> tuple[list[E2Group], list[E3Finding]]:

@@ -1,7 +1,7 @@
 """Reports of a graph analysis: readable text, Markdown tables like the thesis figures, and JSON."""
 from __future__ import annotations
 
-from ltl_stack.analysis.checks import Analysis, reach_listing
+from ltl_stack.analysis.checks import LOCATION_FEEDBACK, Analysis, E1Finding, feedback_reason, reach_listing
 from ltl_stack.analysis.graph import ACTION
 from ltl_stack.analysis.reach import PUBLISH, SUBSCRIBE
 from ltl_stack.analysis.suggest import MutualExclusion
@@ -14,6 +14,8 @@ CHECKS = {
     "C1": "Robot topics left behind: reached for some robots but not all (thesis 3.5.2.5)",
     "C2": "Robots that no output proposition controls (thesis 3.5.2.6)",
 }
+FEEDBACK_TITLE = ("Expected feedback, not findings: outputs reaching their own completion inputs "
+                  "(activation-completion [75])")
 
 
 def suggestion_forms(s: MutualExclusion) -> dict:
@@ -53,6 +55,7 @@ def to_dict(a: Analysis, suggestions: list[MutualExclusion], *, reach: bool = Fa
         "robots": a.robots,
         "robot_topics_ignored": a.robot_topics_ignored,
         "E1": [f.to_dict() for f in a.e1],
+        "expected_feedback": [f.to_dict() for f in a.feedback],
         "E2": [f.to_dict() for f in a.e2],
         "E3": [f.to_dict() for f in a.e3],
         "C1": [f.to_dict() for f in a.c1],
@@ -106,6 +109,10 @@ def to_text(a: Analysis, suggestions: list[MutualExclusion], *, reach: bool = Fa
             out.extend("  " + line for line in _finding_lines(key, f))
     if a.robots:
         add(f"  (robots: {', '.join(a.robots)}; robot topics ignored: {', '.join(a.robot_topics_ignored) or 'none'})")
+    if a.feedback:
+        add("")
+        add(f"{FEEDBACK_TITLE}: {len(a.feedback)} pair(s)")
+        out.extend("  " + line for line in feedback_lines(a.feedback))
     add("")
     add(f"Suggested additions to the specification: {len(suggestions) or 'none'}")
     for i, s in enumerate(suggestions, 1):
@@ -123,7 +130,8 @@ def to_text(a: Analysis, suggestions: list[MutualExclusion], *, reach: bool = Fa
                     for name, chain in row["nodes"].items():
                         add(f"    {name}: {chain}")
     add("")
-    add(f"{a.finding_count} finding(s).")
+    add(f"{a.finding_count} finding(s)." + (f" {len(a.feedback)} expected feedback pair(s), not counted."
+                                           if a.feedback else ""))
     return "\n".join(out) + "\n"
 
 
@@ -162,9 +170,33 @@ def _channel_text(f) -> str:
     return f"({f.channel})" if f.kind == ACTION else f"[{f.channel}]"
 
 
+def feedback_lines(pairs: list[E1Finding]) -> list[str]:
+    """Expected feedback: completion pairs one by one with their chain; the location sensing
+    (motion outputs reaching the region sensors) folded per output, one chain each."""
+    lines = []
+    for f in pairs:
+        if f.expected != LOCATION_FEEDBACK:
+            lines += [f"{f.output} -> {f.input}: {feedback_reason(f)}", f"  {f.witness.text}"]
+    location: dict[str, list[E1Finding]] = {}
+    for f in pairs:
+        if f.expected == LOCATION_FEEDBACK:
+            location.setdefault(f.output, []).append(f)
+    if location:
+        lines.append("location sensing: these outputs move the robot, the region sensors report where it is")
+        for output, fs in location.items():
+            lines += [f"  {output} -> {', '.join(f.input for f in fs)}", f"    {fs[0].witness.text}"]
+    return lines
+
+
+def _e1_lines(f: E1Finding) -> list[str]:
+    if len(f.witnesses) == 1:
+        return [f"{f.output} -> {f.input}: {f.witness.text}"]
+    return [f"{f.output} -> {f.input}: {len(f.witnesses)} chains", *(f"  {w.text}" for w in f.witnesses)]
+
+
 def _finding_lines(key: str, f) -> list[str]:
     if key == "E1":
-        return [f"{f.output} -> {f.input}: {f.witness.text}"]
+        return _e1_lines(f)
     if key == "E2":
         name = f"({f.channel})" if f.kind == ACTION else f"[{f.channel}]"
         return [f"{name}: {', '.join(f.outputs)}", *(f"  {w.proposition}: {w.text}" for w in f.witnesses)]
@@ -196,8 +228,12 @@ def to_markdown(a: Analysis, suggestions: list[MutualExclusion]) -> str:
         out += ["", "**Mapped nodes not in the graph:** "
                 + ", ".join(f"`{m.node}` ({m.proposition})" for m in a.missing)]
     out += ["", f"## E1: {CHECKS['E1']}", ""]
-    out += _table(["Output", "Input", "Output-to-input chain"],
-                  [[f.output, f.input, f"`{f.witness.text}`"] for f in a.e1])
+    out += _table(["Output", "Input", "Output-to-input chain"], _e1_rows(a.e1))
+    if a.feedback:
+        out += ["", f"## {FEEDBACK_TITLE}", ""]
+        out += _table(["Output", "Input", "Why", "Output-to-input chain"],
+                      [[*row[:2], feedback_reason(f) if row[0] else "", row[2]]
+                       for f in a.feedback for row in _e1_rows([f])])
     out += ["", f"## E2: {CHECKS['E2']}", ""]
     out += _table(["Topic", "Output", "Output-to-topic chain"],
                   [[f.channel if i == 0 else "", w.proposition, f"`{w.text}`"]
@@ -229,8 +265,15 @@ def to_markdown(a: Analysis, suggestions: list[MutualExclusion]) -> str:
             out.append(f"   - LTL: `{forms['ltl']}`")
             for section, line in forms["slugsin"].items():
                 out.append(f"   - `[{section}]`: `{line}`")
-    out += ["", f"{a.finding_count} finding(s)."]
+    out += ["", f"{a.finding_count} finding(s)." + (f" {len(a.feedback)} expected feedback pair(s), not counted."
+                                                   if a.feedback else "")]
     return "\n".join(out) + "\n"
+
+
+def _e1_rows(findings: list[E1Finding]) -> list[list[str]]:
+    """One row per chain, the (output, input) cells only on a pair's first row."""
+    return [[f.output if k == 0 else "", f.input if k == 0 else "", f"`{w.text}`"]
+            for f in findings for k, w in enumerate(f.witnesses)]
 
 
 def _table(header: list[str], rows: list[list[str]]) -> list[str]:

@@ -3,7 +3,8 @@
 ``run_analysis`` does what ``analyze_graph`` does (snapshot, checks E1–E3/C1–C2, suggestions) and
 returns an ``AnalysisResult`` whose ``tables()`` are the rows of the panel's tables laid out like the
 thesis figures, with for each row the finding it belongs to (E2 rows of one topic share a group, so
-selecting a topic selects its rows). ``suggestion_text`` renders the suggestions as Structured
+selecting a topic selects its rows); E1 pairs that are the designed feedback of the
+activation-completion paradigm get their own table (``FEEDBACK_KEY``), not counted as findings. ``suggestion_text`` renders the suggestions as Structured
 English, LTL or ``.slugsin``; ``conflict_graph`` is the subgraph of a finding's witness chains with
 the conflicting channels highlighted; ``apply_and_check`` writes the amended spec, synthesizes it and
 explains an unrealizable result (``analysis.cli.apply_suggestions``).
@@ -14,7 +15,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 from ltl_stack.analysis import report
-from ltl_stack.analysis.checks import Analysis, Witness, analyze, e2_groups
+from ltl_stack.analysis.checks import Analysis, Witness, analyze, e2_groups, feedback_reason
 from ltl_stack.analysis.cli import apply_suggestions, apply_text
 from ltl_stack.analysis.graph import DEFAULT_IGNORED_TOPICS, ComputationGraph
 from ltl_stack.analysis.snapshot import Snapshot
@@ -26,6 +27,9 @@ from ltl_stack.spec import load_spec
 from ltl_stack.spec.model import Spec
 
 CHECK_KEYS = ("E1", "E2", "E3", "C1", "C2")
+FEEDBACK_KEY = "feedback"
+TAB_KEYS = (*CHECK_KEYS, FEEDBACK_KEY)  # the panel's tabs: the checks, then the expected feedback
+TAB_TITLES = {**{k: k for k in CHECK_KEYS}, FEEDBACK_KEY: "Expected feedback"}
 FORMS = ("english", "ltl", "slugsin")
 FORM_TITLES = {"english": "Structured English", "ltl": "LTL", "slugsin": ".slugsin"}
 CONFLICT_COLOR = "red"
@@ -89,9 +93,15 @@ class AnalysisResult:
             ("E2", ["Topic", "Output", "Output-to-topic chain"]),
             ("E3", ["Output", "Topic", "Node", "One existing chain"]),
             ("C1", ["Output", "Topic", "Robot", "One existing chain"]),
-            ("C2", ["Robot", "Topics the other robots get"]))}
+            ("C2", ["Robot", "Topics the other robots get"]),
+            (FEEDBACK_KEY, ["Output", "Input", "Why (activation-completion)", "Output-to-input chain"]))}
         for i, f in enumerate(a.e1):
-            _add(t["E1"], i, [f.output, f.input, f.witness.text])
+            for k, w in enumerate(f.witnesses):  # one row per chain, the pair named on its first
+                _add(t["E1"], i, [f.output if k == 0 else "", f.input if k == 0 else "", w.text])
+        for i, f in enumerate(a.feedback):
+            for k, w in enumerate(f.witnesses):
+                _add(t[FEEDBACK_KEY], i, [f.output if k == 0 else "", f.input if k == 0 else "",
+                                          feedback_reason(f) if k == 0 else "", w.text])
         for i, g in enumerate(a.e2):
             for k, w in enumerate(g.witnesses):
                 _add(t["E2"], i, [_channel(g.channel, g.kind) if k == 0 else "", w.proposition, w.text])
@@ -108,15 +118,17 @@ class AnalysisResult:
         return t
 
     def counts(self) -> dict[str, int]:
+        """Findings per check, and the expected feedback pairs (``FEEDBACK_KEY``, not findings)."""
         a = self.analysis
-        return {"E1": len(a.e1), "E2": len(a.e2), "E3": len(a.e3), "C1": len(a.c1), "C2": len(a.c2)}
+        return {"E1": len(a.e1), "E2": len(a.e2), "E3": len(a.e3), "C1": len(a.c1), "C2": len(a.c2),
+                FEEDBACK_KEY: len(a.feedback)}
 
     def witnesses(self, key: str, index: int) -> tuple[list[Witness], set[str]]:
         """The chains of finding ``index`` of check ``key`` and the channels/nodes in conflict there."""
         a = self.analysis
-        if key == "E1":
-            f = a.e1[index]
-            return [f.witness], {f.input_node}
+        if key in ("E1", FEEDBACK_KEY):
+            f = (a.e1 if key == "E1" else a.feedback)[index]
+            return list(f.witnesses), set(f.input_nodes)
         if key == "E2":
             g = a.e2[index]
             return list(g.witnesses), {g.channel}
@@ -131,9 +143,10 @@ class AnalysisResult:
     def summary(self) -> str:
         g = self.analysis.graph
         c = self.counts()
-        found = ", ".join(f"{k} {v}" for k, v in c.items() if k in ("E1", "E2", "E3") or self.analysis.robots)
+        found = ", ".join(f"{k} {c[k]}" for k in CHECK_KEYS if k in ("E1", "E2", "E3") or self.analysis.robots)
+        feedback = f"; expected feedback: {c[FEEDBACK_KEY]} pair(s)" if c[FEEDBACK_KEY] else ""
         return (f"{len(g.nodes)} nodes, {len(g.channels)} topics/actions, {g.edge_count} edges; "
-                f"findings: {found}; {len(self.suggestions)} suggestion(s)")
+                f"findings: {found}{feedback}; {len(self.suggestions)} suggestion(s)")
 
 
 def _add(table: Table, finding: int, row: list[str]) -> None:

@@ -38,6 +38,8 @@ from ltl_stack.gui.analysis_model import (
     CHECK_KEYS,
     FORM_TITLES,
     FORMS,
+    TAB_KEYS,
+    TAB_TITLES,
     AnalysisResult,
     Table,
     apply_and_check,
@@ -105,7 +107,7 @@ class AnalysisPanel(QWidget):
         self.findings_tab_widget.setObjectName("findings_tab_widget")
         self.models: dict[str, RowsModel] = {}
         self.views: dict[str, QTableView] = {}
-        for key in CHECK_KEYS:
+        for key in TAB_KEYS:
             view = QTableView()
             view.setObjectName(f"{key.lower()}_table_view")
             view.setSelectionBehavior(QAbstractItemView.SelectRows)
@@ -117,7 +119,7 @@ class AnalysisPanel(QWidget):
             view.setModel(model)
             view.selectionModel().selectionChanged.connect(lambda *_a, k=key: self._on_selection(k))
             self.models[key], self.views[key] = model, view
-            self.findings_tab_widget.addTab(view, key)
+            self.findings_tab_widget.addTab(view, TAB_TITLES[key])
         self.findings_tab_widget.currentChanged.connect(lambda _i: self._on_selection(self.current_key()))
         self.graph_view = GraphView()
         self.graph_view.setObjectName("conflict_graphics_view")
@@ -234,10 +236,10 @@ class AnalysisPanel(QWidget):
         self.result = result
         self.tables = result.tables()
         counts = result.counts()
-        for i, key in enumerate(CHECK_KEYS):
+        for i, key in enumerate(TAB_KEYS):
             table = self.tables[key]
             self.models[key].set_rows(table.header, table.rows)
-            self.findings_tab_widget.setTabText(i, f"{key} ({counts[key]})")
+            self.findings_tab_widget.setTabText(i, f"{TAB_TITLES[key]} ({counts[key]})")
             view = self.views[key]
             if len(table.rows) <= 500:  # measuring every row of a huge table costs more than it helps
                 view.resizeColumnsToContents()
@@ -255,7 +257,7 @@ class AnalysisPanel(QWidget):
         self._status(result.summary() + "." + warn)
 
     def current_key(self) -> str:
-        return CHECK_KEYS[self.findings_tab_widget.currentIndex()]
+        return TAB_KEYS[self.findings_tab_widget.currentIndex()]
 
     def select_finding(self, key: str, index: int) -> None:
         """Select every row of finding ``index`` of check ``key`` (and so draw it)."""

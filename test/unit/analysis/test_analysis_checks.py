@@ -5,8 +5,18 @@ import pytest
 import yaml
 from analysis_data import DATA, analyze_simple, scenarios
 from helpers import require_shared
+from hypothesis import given
+from hypothesis import strategies as st
 
-from ltl_stack.analysis.checks import analyze, split_robot_topic, suffix_ignored
+from ltl_stack.analysis.checks import (
+    ACTION_FEEDBACK,
+    LOCATION_FEEDBACK,
+    REGION_FEEDBACK,
+    analyze,
+    expected_feedback,
+    split_robot_topic,
+    suffix_ignored,
+)
 from ltl_stack.analysis.graph import DEFAULT_IGNORED_TOPICS, ComputationGraph
 from ltl_stack.analysis.suggest import mutual_exclusions
 from ltl_stack.runtime.mapping import load_mapping, parse_mapping
@@ -23,6 +33,79 @@ def test_e1_output_reaching_an_input_node_with_its_chain():
                        inputs={"person": "/person"}, outputs={"disableCamera": "/cam_off", "move": "/move"})
     assert [(f.output, f.input) for f in a.e1] == [("disableCamera", "person")]
     assert a.e1[0].witness.text == "(/cam_off) -> [/camera/enable] -> (/camera) -> [/image] -> (/person)"
+
+
+def test_e1_one_row_per_pair_with_every_chain_folded_under_it():
+    # two nodes of disableCamera (one per robot) both reach the person detector: one finding, two chains
+    nodes = {"/r1/cam_off": {"pub": ["/r1/camera/enable"]}, "/r2/cam_off": {"pub": ["/r2/camera/enable"]},
+             "/person": {"sub": ["/r1/camera/enable", "/r2/camera/enable"]}}
+    a = analyze_simple(nodes, inputs={"person": "/person"},
+                       outputs={"disableCamera": ["/r1/cam_off", "/r2/cam_off"]})
+    assert [(f.output, f.input) for f in a.e1] == [("disableCamera", "person")]
+    assert [w.text for w in a.e1[0].witnesses] == ["(/r1/cam_off) -> [/r1/camera/enable] -> (/person)",
+                                                   "(/r2/cam_off) -> [/r2/camera/enable] -> (/person)"]
+    assert a.e1[0].input_nodes == ("/person", "/person") and a.finding_count == 1
+    assert [c["output_node"] for c in a.e1[0].to_dict()["chains"]] == ["/r1/cam_off", "/r2/cam_off"]
+
+
+def navigation_graph(extra: dict | None = None) -> dict:
+    """Two regions driven through one planner to the base, whose location the region sensors read;
+    ``stop`` commands the base directly; ``pick`` reports its own completion."""
+    nodes = {"/nav_a": {"clients": ["/navigate"]}, "/nav_b": {"clients": ["/navigate"]},
+             "/navigation": {"servers": ["/navigate"], "pub": ["/cmd_vel"]},
+             "/stop": {"pub": ["/cmd_vel"]}, "/base": {"sub": ["/cmd_vel"], "pub": ["/current_region"]},
+             "/a_rc": {"sub": ["/current_region"]}, "/b_rc": {"sub": ["/current_region"]},
+             "/pick": {"pub": ["/pick_done"]}, "/pick_ac": {"sub": ["/pick_done"]}}
+    nodes.update(extra or {})
+    return nodes
+
+
+def test_activation_completion_pairs_are_expected_feedback_not_findings():
+    a = analyze_simple(navigation_graph(), inputs={"a_rc": "/a_rc", "b_rc": "/b_rc", "pick_ac": "/pick_ac"},
+                       outputs={"a": "/nav_a", "b": "/nav_b", "stop": "/stop", "pick": "/pick"})
+    assert a.e1 == [] and a.finding_count == len(a.e2) == 3  # E2 only: cmd_vel, current_region, the action
+    assert [(f.output, f.input, f.expected) for f in a.feedback] == [
+        ("a", "a_rc", REGION_FEEDBACK), ("a", "b_rc", LOCATION_FEEDBACK),
+        ("b", "a_rc", LOCATION_FEEDBACK), ("b", "b_rc", REGION_FEEDBACK),
+        ("stop", "a_rc", LOCATION_FEEDBACK), ("stop", "b_rc", LOCATION_FEEDBACK),  # stop competes with a, b
+        ("pick", "pick_ac", ACTION_FEEDBACK)]
+    assert a.feedback[0].witness.text == ("(/nav_a) -> (navigate/action_topics) -> (/navigation) -> [/cmd_vel] "
+                                          "-> (/base) -> [/current_region] -> (/a_rc)")
+
+
+def test_feedback_is_only_what_the_paradigm_designs():
+    # an output that does not move the robot but reaches the location sensing (it switches off the
+    # localisation camera) is a finding; so is a region reaching an input that is no completion,
+    # and an action reaching another action's completion
+    extra = {"/cam_off": {"pub": ["/camera/enable"]}, "/locate": {"sub": ["/camera/enable"], "pub": ["/current_region"]},
+             "/bump": {"sub": ["/current_region"]}, "/pick": {"pub": ["/pick_done", "/place_done"]},
+             "/place_ac": {"sub": ["/place_done"]}, "/place": {}}
+    a = analyze_simple(navigation_graph(extra),
+                       inputs={"a_rc": "/a_rc", "b_rc": "/b_rc", "pick_ac": "/pick_ac", "bumped": "/bump",
+                               "place_ac": "/place_ac"},
+                       outputs={"a": "/nav_a", "b": "/nav_b", "stop": "/stop", "pick": "/pick",
+                                "disableCamera": "/cam_off", "place": "/place"})
+    assert [(f.output, f.input) for f in a.e1] == [
+        ("a", "bumped"), ("b", "bumped"), ("stop", "bumped"), ("pick", "place_ac"),
+        ("disableCamera", "a_rc"), ("disableCamera", "b_rc"), ("disableCamera", "bumped")]
+    assert {(f.output, f.input) for f in a.feedback} == {
+        ("a", "a_rc"), ("a", "b_rc"), ("b", "a_rc"), ("b", "b_rc"), ("stop", "a_rc"), ("stop", "b_rc"),
+        ("pick", "pick_ac")}
+
+
+@given(st.sampled_from(["x", "x_ac", "x_rc", "y_ac", "y_rc", "person", "x_ac_rc"]),
+       st.sampled_from(["x", "y", "x_ac", "stop"]), st.booleans())
+def test_expected_feedback_needs_a_completion_of_the_paradigm(input, output, moving):
+    outputs = ["x", "y", "stop", "x_ac"]
+    kind = expected_feedback(output, input, outputs, ["stop", "x", "y"] if moving else [])
+    if kind == ACTION_FEEDBACK:
+        assert input == output + "_ac"
+    elif kind == REGION_FEEDBACK:
+        assert input == output + "_rc"
+    elif kind == LOCATION_FEEDBACK:
+        assert moving and input.endswith("_rc") and input.removesuffix("_rc") in outputs
+    else:
+        assert kind == "" and input not in (output + "_ac", output + "_rc")
 
 
 def test_e2_groups_outputs_by_topic_with_one_chain_each():
@@ -128,9 +211,10 @@ def run(graph, mapping):
 def test_clean_and_patrol_reproduces_figs_3_6_to_3_8(clean_and_patrol):
     graph, path = clean_and_patrol
     a = run(graph, load_mapping(path))
-    assert [(f.output, f.input, f.witness.text) for f in a.e1] == [
-        ("pickup", "pickup_ac", f"(/pickup) -> [{MGMB}/outputs/pickup_status] -> (/pickup_ac)"),
-        ("drop", "drop_ac", f"(/drop) -> [{MGMB}/outputs/drop_status] -> (/drop_ac)")]  # Fig. 3.6
+    assert a.e1 == []  # Fig. 3.6 is the designed completion feedback: shown apart, not a finding
+    assert [(f.output, f.input, f.expected, f.witness.text) for f in a.feedback] == [
+        ("pickup", "pickup_ac", ACTION_FEEDBACK, f"(/pickup) -> [{MGMB}/outputs/pickup_status] -> (/pickup_ac)"),
+        ("drop", "drop_ac", ACTION_FEEDBACK, f"(/drop) -> [{MGMB}/outputs/drop_status] -> (/drop_ac)")]
     groups = {g.channel: g for g in a.e2}
     assert set(groups["/cmd_vel"].outputs) == {"pickup", "stop", *REGIONS}  # Fig. 3.7
     chains = {w.proposition: w.text for w in groups["/cmd_vel"].witnesses}

@@ -40,7 +40,14 @@ def spheros_args(snapshots):
 def test_text_report_shows_findings_chains_and_suggestions(snapshots, capsys):
     assert main(clean_and_patrol_args(snapshots)) == Exit.OK
     out = capsys.readouterr().out
-    assert "pickup -> pickup_ac: (/pickup) -> [/move_group_and_move_base/outputs/pickup_status] -> (/pickup_ac)" in out
+    assert "E1  Output propositions publishing to input proposition nodes (thesis 3.5.2.2): none" in out
+    feedback = out[out.index("Expected feedback, not findings"):out.index("Suggested additions")]
+    assert feedback.splitlines()[1:] == [  # Fig. 3.6, apart from the findings
+        "  pickup -> pickup_ac: pickup_ac reports the completion of the action pickup",
+        "    (/pickup) -> [/move_group_and_move_base/outputs/pickup_status] -> (/pickup_ac)",
+        "  drop -> drop_ac: drop_ac reports the completion of the action drop",
+        "    (/drop) -> [/move_group_and_move_base/outputs/drop_status] -> (/drop_ac)", ""]
+    assert out.endswith("7 finding(s). 2 expected feedback pair(s), not counted.\n")
     assert "E2  Output propositions publishing to the same topic or action (thesis 3.5.2.3): 7" in out
     assert "2. pickup and drop are mutually exclusive" in out
     assert "    the same outputs also compete on: [/joint_states], " \
@@ -66,7 +73,8 @@ def test_json_report_for_tools(snapshots, capsys):
 def test_markdown_report_has_thesis_like_tables(snapshots, capsys):
     assert main([*clean_and_patrol_args(snapshots), "--markdown"]) == Exit.OK
     out = capsys.readouterr().out
-    assert "| Output | Input | Output-to-input chain |" in out
+    assert "| Output | Input | Why | Output-to-input chain |" in out  # Fig. 3.6, as expected feedback
+    assert "7 finding(s). 2 expected feedback pair(s), not counted." in out
     assert "| /cmd_vel | pickup | `(/pickup) -> [/cmd_vel]` |" in out
 
 
@@ -75,6 +83,30 @@ def test_reach_listing(snapshots, capsys):
     out = capsys.readouterr().out
     assert "pickup /pickup publish-reachable:" in out
     assert "    /move_group: (/pickup) -> (move_group/action_topics) -> (/move_group)" in out
+
+
+def test_expected_feedback_alone_is_no_finding(snapshots, tmp_path, capsys):
+    # only the completion nodes of clean and patrol: Fig. 3.6's pairs and nothing else
+    snapshot = scenarios.scenario_snapshot(DATA / "clean_and_patrol.yaml")
+    keep = {"/pickup", "/drop", "/pickup_ac", "/drop_ac"}
+    for name in list(snapshot.topics):
+        if not name.endswith(("pickup_status", "drop_status")):
+            del snapshot.topics[name]
+    snapshot.nodes[:] = [n for n in snapshot.nodes if n in keep]
+    snapshot.save(tmp_path / "completions.json")
+    args = [*clean_and_patrol_args(snapshots)[:4], "--snapshot", str(tmp_path / "completions.json")]
+    assert main([*args, "--fail-on-findings", "--json"]) == Exit.OK
+    data = json.loads(capsys.readouterr().out)
+    assert data["E1"] == [] and data["finding_count"] == 0
+    assert [(f["output"], f["input"], f["expected"], f["chains"][0]["chain"]) for f in data["expected_feedback"]] == [
+        ("pickup", "pickup_ac", "action completion",
+         "(/pickup) -> [/move_group_and_move_base/outputs/pickup_status] -> (/pickup_ac)"),
+        ("drop", "drop_ac", "action completion",
+         "(/drop) -> [/move_group_and_move_base/outputs/drop_status] -> (/drop_ac)")]
+    assert main([*args, "--markdown"]) == Exit.OK
+    out = capsys.readouterr().out
+    assert "| pickup | pickup_ac | pickup_ac reports the completion of the action pickup | " in out
+    assert "## E1: Output propositions publishing to input proposition nodes (thesis 3.5.2.2)\n\nNone." in out
 
 
 def test_fail_on_findings_and_generic_topic_options(snapshots, capsys):

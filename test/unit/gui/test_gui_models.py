@@ -6,12 +6,22 @@ import shutil
 import threading
 
 import pytest
-from gui_data import CLEAN_MAPPING, CLEAN_SPEC, SIMPLE_MAPPING, SIMPLE_SPEC, simple_snapshot
+from gui_data import ANALYSIS_DATA, CLEAN_MAPPING, CLEAN_SPEC, SIMPLE_MAPPING, SIMPLE_SPEC, simple_snapshot
+from gui_data import scenarios as analysis_scenarios
+from helpers import require_shared
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from ltl_stack.analysis.snapshot import Snapshot
-from ltl_stack.gui.analysis_model import apply_and_check, conflict_graph, names, run_analysis, suggestion_text
+from ltl_stack.gui.analysis_model import (
+    FEEDBACK_KEY,
+    TAB_KEYS,
+    apply_and_check,
+    conflict_graph,
+    names,
+    run_analysis,
+    suggestion_text,
+)
 from ltl_stack.gui.controller_model import (
     ControllerModel,
     Latest,
@@ -201,6 +211,24 @@ def test_simple_scenario_tables_and_suggestion_forms(tmp_path):
     g = conflict_graph(result, "E2", 0)
     labels = {n.label: n.color for n in g.nodes}
     assert labels == {"/simple/move": "blue", "/simple/cmd_vel": "red", "/simple/stop": "blue"}
+
+
+def test_expected_feedback_has_its_own_table_not_counted_as_findings(tmp_path):
+    spec = require_shared("specs", "move_group_and_move_base", "move_group_and_move_base.slugsin")
+    snapshot = analysis_scenarios.scenario_snapshot(ANALYSIS_DATA / "clean_and_patrol.yaml")
+    result = run_analysis(str(spec), str(spec.with_suffix(".yaml")), snapshot=snapshot)
+    tables = result.tables()
+    assert tables["E1"].rows == [] and result.counts()["E1"] == 0
+    assert tables[FEEDBACK_KEY].rows == [  # thesis Fig. 3.6, shown apart
+        ["pickup", "pickup_ac", "pickup_ac reports the completion of the action pickup",
+         "(/pickup) -> [/move_group_and_move_base/outputs/pickup_status] -> (/pickup_ac)"],
+        ["drop", "drop_ac", "drop_ac reports the completion of the action drop",
+         "(/drop) -> [/move_group_and_move_base/outputs/drop_status] -> (/drop_ac)"]]
+    assert result.counts()[FEEDBACK_KEY] == 2 and TAB_KEYS[-1] == FEEDBACK_KEY
+    assert "expected feedback: 2 pair(s)" in result.summary() and "E1 0" in result.summary()
+    chains, ends = result.witnesses(FEEDBACK_KEY, 0)
+    assert [w.text for w in chains] == [tables[FEEDBACK_KEY].rows[0][3]] and ends == {"/pickup_ac"}
+    assert len(conflict_graph(result, FEEDBACK_KEY, 0).nodes) == 3
 
 
 def test_apply_and_check_shows_example_7_unrealizable(tmp_path):
