@@ -12,7 +12,7 @@ import subprocess
 from pathlib import Path
 
 import pytest
-from helpers import RosMaster, closed_port
+from helpers import RosMaster, closed_port, wait_for
 
 from ltl_stack.errors import Exit
 
@@ -191,3 +191,27 @@ def test_help_prints_help_and_starts_nothing(master, tool):
     assert done.returncode == 0 and "usage:" in done.stdout and "exit codes:" in done.stdout, done
     nodes = {n for _, who in master.system_state()[0] for n in who}
     assert not any(tool in n for n in nodes), nodes
+
+
+@pytest.mark.parametrize("tool", ["set_propositions", "proposition_monitor", "controller_trace"])
+def test_master_uri_of_a_node_is_refused_not_waited_on(master, tmp_path, tool):
+    """A node's XML-RPC URI answers getPid like a master; rospy would wait forever to register there."""
+    schedule = tmp_path / "env.yaml"
+    schedule.write_text(GOOD_SCHEDULE)
+    node = master.run(["rosrun", "ltl_stack", "scripted_environment", f"_schedule:={schedule}",
+                       f"__name:=uri_probe_{tool}"], name=f"uri_probe_{tool}")
+    try:
+        def node_uri():
+            code, _, uri = master.proxy().lookupNode("/pytest", f"/uri_probe_{tool}")
+            return uri if code == 1 else None
+
+        uri = wait_for(node_uri, 60, "the probe node to register")
+        args = {"set_propositions": ["/x", "a=1"], "proposition_monitor": ["/x"], "controller_trace": []}[tool]
+        done = subprocess.run(["rosrun", "ltl_stack", tool, *args, "--master-uri", uri], env=master.env,
+                              capture_output=True, text=True, timeout=120, cwd=tmp_path)
+        assert done.returncode == Exit.NO_ROS, (done.returncode, done.stdout[-1000:], done.stderr[-2000:])
+        assert done.stderr.strip().splitlines()[-1].startswith(f"{tool}: error: {uri} answers but is not a ROS master"), \
+            done.stderr[-2000:]
+        assert "Traceback" not in done.stderr + done.stdout
+    finally:
+        node.stop()

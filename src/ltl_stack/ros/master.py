@@ -9,10 +9,13 @@ topic or action name are user mistakes (exit 2, one line); a master that does no
 from __future__ import annotations
 
 import argparse
+import http.client
 import os
 import socket
 import time
+import xmlrpc.client
 from urllib.parse import urlsplit
+from xml.parsers.expat import ExpatError
 
 import rosgraph
 import rosgraph.masterapi
@@ -62,11 +65,20 @@ def master_uri(given: str | None = None) -> str:
 
 
 def master_online(uri: str) -> bool:
-    """True when the master at ``uri`` answers within ``PROBE_TIMEOUT`` seconds."""
+    """True when a ROS master answers at ``uri`` within ``PROBE_TIMEOUT`` seconds.
+
+    Asks ``hasParam``, which only a master serves: any rospy node's XML-RPC server also answers
+    ``getPid`` (what ``Master.is_online`` asks) and ``getUri``, and rospy would then wait forever to
+    register with it. Something that answers but is not a master is a ``UserError`` with ``Exit.NO_ROS``."""
     previous = socket.getdefaulttimeout()
     socket.setdefaulttimeout(PROBE_TIMEOUT)
     try:
-        return rosgraph.masterapi.Master("/ltl_stack_probe", master_uri=uri).is_online()
+        rosgraph.masterapi.Master("/ltl_stack_probe", master_uri=uri).hasParam("/run_id")
+        return True
+    except (xmlrpc.client.Fault, ExpatError, rosgraph.masterapi.Error, rosgraph.masterapi.Failure) as e:
+        raise UserError(f"{uri} answers but is not a ROS master ({e}); is it a node's URI?", Exit.NO_ROS) from None
+    except (OSError, http.client.HTTPException, xmlrpc.client.ProtocolError, rosgraph.masterapi.MasterException):
+        return False
     finally:
         socket.setdefaulttimeout(previous)
 
