@@ -40,7 +40,14 @@ from pathlib import Path
 from typing import Any
 
 from ltl_stack.fileio import write_atomic
-from ltl_stack.spec import SpecError, formula_to_infix, formula_to_slugsin, parse_slugsin, parse_structured
+from ltl_stack.spec import (
+    SpecError,
+    formula_to_infix,
+    formula_to_slugsin,
+    parse_slugsin,
+    parse_structured,
+    write_slugsin,
+)
 from ltl_stack.spec.formula import And, Formula, Not, Or, Var
 from ltl_stack.spec.model import SECTIONS, Clause, Spec
 from ltl_stack.synthesis import synthesize
@@ -347,7 +354,8 @@ class Event:
     message: str
 
 
-Negotiate = Callable[["ResilientStrategy", Observation], Spec | None]
+# returns a spec to synthesize, an adoption (``runtime.negotiation.Adoption``: spec, text, strategy), or None
+Negotiate = Callable[["ResilientStrategy", Observation], Any]
 
 
 @dataclass
@@ -468,6 +476,23 @@ class ResilientStrategy:
         self.mode = Mode.ABORTED
         self._event(f"aborted: {reason}")
 
+    def adopt(self, spec: Spec, text: str, strategy: SymbolicStrategy, inputs: Mapping[str, bool],
+              outputs: Mapping[str, bool]) -> State:
+        """Run ``spec`` (with its ``strategy``) from the position (``inputs``, ``outputs``) on: a
+        specification adopted by integrative negotiation (§4.8, Alg. 4 lines 12/15). It becomes the
+        base of later characterizations, whose disjunction sets start empty (Alg. 4 line 2), and is
+        written atomically to ``path`` (slugsin for a ``.slugsin`` path). Returns the new state."""
+        path = self.characterizer.path
+        self.characterizer = Characterizer(spec, path=path, synthesis_options=self.characterizer.synthesis_options)
+        if path is not None:
+            write_atomic(path, write_slugsin(spec, comments=True) if path.suffix == ".slugsin" else text)
+        observation = Observation(self.steps, self.wall_clock(), dict(inputs), dict(outputs), dict(inputs))
+        self.counters.resyntheses += 1
+        self.threshold.reset()
+        state = self._install(Attempt(True, "negotiation", spec, text, strategy, 0.0), observation)
+        self._event("adopted the specification negotiated with a collaborative robot (Alg. 4)")
+        return state
+
     def safe_outputs(self) -> dict[str, bool]:
         """The outputs an aborted controller publishes: all false."""
         return dict.fromkeys(self.outputs, False)
@@ -491,6 +516,9 @@ class ResilientStrategy:
         self.counters.unrealizable += 1
         if self.negotiate is not None:  # S.2: a collaborative robot caused it (Alg. 3 line 9, §4.8)
             spec = self.negotiate(self, observation)
+            if spec is not None and not isinstance(spec, Spec):  # an adoption (runtime.negotiation)
+                return self.adopt(spec.spec, spec.text, spec.strategy, observation.incoming,
+                                  observation.current_outputs)
             result = synthesize(spec, **self.characterizer.synthesis_options) if spec is not None else None
             if result is not None and result.realizable:
                 text = self.characterizer.text(None, observation)

@@ -45,7 +45,7 @@ OUTPUT = "output"
 _TOPIC_KEY = {INPUT: "node_publish_topic", OUTPUT: "node_subscribe_topic"}
 _ENTRY_KEYS = {"node", "node_publish_topic", "node_subscribe_topic", "pkg", "filename", "parameters",
                "type", "args"}
-_TOP_KEYS = {"inputs", "outputs", "namespace"}
+_TOP_KEYS = {"inputs", "outputs", "namespace", "negotiation"}
 _NAME = re.compile(r"^/?[A-Za-z_~][A-Za-z0-9_/]*$")
 
 
@@ -109,6 +109,9 @@ class Mapping:
     outputs: dict[str, list[NodeEntry]] = field(default_factory=dict)
     lines: dict[tuple[str, str], int] = field(default_factory=dict)
     namespace: str | None = None
+    #: the ``negotiation:`` section as written (proposition classes, read by ``runtime.negotiation``)
+    negotiation: Any = None
+    negotiation_line: int = 0
 
     def entries(self) -> list[NodeEntry]:
         """Every node entry, inputs first."""
@@ -159,12 +162,15 @@ def parse_mapping(text: str, file: str = "<string>") -> Mapping:
     top = _keyed_nodes(root, file)
     for key, (key_line, _) in top.items():
         if key not in _TOP_KEYS:
-            raise MappingError(file, key_line, f"unknown top-level key {key!r} (expected inputs, outputs, namespace)")
+            raise MappingError(file, key_line, f"unknown top-level key {key!r} (expected inputs, outputs, namespace, "
+                               "negotiation)")
     if "namespace" in top:
         ns = data["namespace"]
         if not isinstance(ns, str) or not _NAME.match(ns):
             raise MappingError(file, top["namespace"][0], f"namespace must be a ROS name, got {ns!r}")
         mapping.namespace = ns
+    if "negotiation" in top:
+        mapping.negotiation, mapping.negotiation_line = data["negotiation"], top["negotiation"][0]
     for kind, key in ((INPUT, "inputs"), (OUTPUT, "outputs")):
         if key not in top or data[key] is None:
             continue

@@ -1,0 +1,703 @@
+"""Integrative negotiation between two robots without ROS (thesis §4.8, Alg. 4; Def. 4.3.1, Table 4.1).
+
+**Proposition classes.** Which inputs abstract another robot's behaviour (eAP_r, Table 4.1's
+pi^r_{prop,r'}) and which are global sensors (Sen_G) is declared in the robot's *mapping* file, under
+the top-level key ``negotiation:`` (the mapping already says which topic feeds each input, so it is
+where "this input is robot A's openDoor" belongs; the spec stays a plain GR(1) spec)::
+
+    negotiation:
+      robot: D                       # this robot's name, as its peers call it
+      global_sensors: [ingredientArrived]        # Sen_G: same name for every robot
+      peers:
+        A:
+          service: /kitchen/A/negotiate         # optional (ROS adapter); default <peer ns>/negotiate
+          eap: {openDoor_A: openDoor}           # eAP_D about A: my input -> A's proposition
+          shares: {road_c: road_c_D}            # my proposition -> A's input that abstracts it
+
+``eap`` and ``shares`` together are the translation table between the two namespaces: a formula
+sent to A is renamed with it (Sen_G names unchanged), and A parses it against its own declarations.
+
+**phi^{t(r_env)}_{e,r}** (§4.8): the env-safety clauses of the spec that mention an eAP input about
+r_env (``assumptions_about``).
+
+**Alg. 4 for one party** (``Negotiation``), driven by messages (``Message``) in this order, the same
+for both robots (the transport decides who sends first; the initiator sends, the responder answers):
+
+1. ``offer()`` (line 3): phi^{t(r_env)}_{e,r} and phi^g_{s,r}, renamed into r_env's names, as
+   structured spec text (``[SYS_TRANS]`` / ``[ENV_LIVENESS]`` of the receiver) — the received
+   assumptions become system safety and the received goals environment liveness (line 5);
+2. ``receive(offer)`` (lines 4-9): parse it against our propositions (garbled text or an unknown
+   name is a fault), phi^nego = init from the current state (lines 6-7: incoming inputs, current
+   outputs), original env safety phi^t_e (line 2: the EC disjuncts are dropped), phi*^t_s /\\ received
+   assumptions, phi*^g_e /\\ received goals; synthesize;
+3. ``status(1)`` / ``receive(status 1)`` (lines 10-17): if phi^nego is realizable it becomes phi*;
+   else if the peer's is, phi* is resynthesized with the new init (4.8.2); else both abort (4.8.3);
+4. ``status(2)`` / ``receive(status 2)`` (lines 18-21): phi* is adopted only when both phi* are
+   realizable; otherwise abort (line 20).
+
+Faults — a message out of order, garbled spec text, a peer that sends ``abort``, a timeout or a
+vanished peer reported by the transport (``fail``) — end the negotiation as ``FAILED``: nothing is
+adopted (no half-adopted spec). The party that started it (its own spec is unrealizable, Alg. 3)
+then aborts with safe outputs; the responder keeps the controller it was running, which is still
+correct for its own spec. A party adopts only after it synthesized a realizable phi* *and* received
+the peer's realizable second status (``adopted`` is None otherwise).
+"""
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from enum import Enum
+from pathlib import Path
+from typing import Any
+
+from ltl_stack.errors import UserError
+from ltl_stack.fileio import write_atomic
+from ltl_stack.runtime.mapping import Mapping as MappingFile
+from ltl_stack.spec import SpecError, clause_to_english, formula_to_infix, parse_structured, write_slugsin
+from ltl_stack.spec.formula import And, Formula, Not, Or, Var, children, evaluate, variables
+from ltl_stack.spec.model import SECTIONS, Clause, Spec
+from ltl_stack.spec.ops import fold
+from ltl_stack.synthesis import synthesize
+from ltl_stack.synthesis.explain import explain
+from ltl_stack.synthesis.explain_render import explanation_text
+from ltl_stack.synthesis.strategy import SymbolicStrategy
+
+HEADERS = {"env_init": "ENV_INIT", "sys_init": "SYS_INIT", "env_safety": "ENV_TRANS",
+           "sys_safety": "SYS_TRANS", "env_liveness": "ENV_LIVENESS", "sys_liveness": "SYS_LIVENESS"}
+OFFER, STATUS, ABORT = "offer", "status", "abort"
+
+
+class NegotiationError(UserError):
+    """A ``negotiation:`` declaration that cannot be used (``file:line: message``, exit code 2)."""
+
+    def __init__(self, file: str, line: int, message: str) -> None:
+        self.file, self.line, self.message = file, line, message
+        super().__init__(f"{file}:{line}: {message}" if line else f"{file}: {message}")
+
+
+# --- proposition classes (Def. 4.3.1) -------------------------------------------------------------
+@dataclass(frozen=True)
+class Peer:
+    """A collaborative robot and the translation table between its namespace and ours."""
+
+    name: str
+    eap: dict[str, str]           # our input -> the peer's proposition it abstracts (eAP about the peer)
+    shares: dict[str, str]        # our proposition -> the peer's input that abstracts it
+    service: str | None = None
+
+    @property
+    def table(self) -> dict[str, str]:
+        """Our name -> the peer's name, for every proposition both robots know."""
+        return {**self.shares, **self.eap}
+
+
+@dataclass(frozen=True)
+class Classes:
+    """The proposition classes of one robot: its name, eAP per peer, Sen_G."""
+
+    robot: str
+    peers: dict[str, Peer] = field(default_factory=dict)
+    global_sensors: tuple[str, ...] = ()
+    file: str = "<memory>"
+    line: int = 0
+
+    def eap(self, peer: str | None = None) -> set[str]:
+        """eAP_r (about ``peer``, or about any peer)."""
+        peers = [self.peers[peer]] if peer is not None else list(self.peers.values())
+        return {name for p in peers for name in p.eap}
+
+    def peers_in(self, clauses: list[Clause]) -> list[str]:
+        """The peers whose behaviour the clauses mention (through eAP inputs), in declaration order."""
+        names = {v.name for c in clauses for v in variables(c.formula)}
+        return [p for p, peer in self.peers.items() if names & set(peer.eap)]
+
+    def check(self, spec: Spec) -> list[str]:
+        """Problems of this declaration against ``spec`` (empty: usable)."""
+        where = f"{self.file}:{self.line}" if self.line else self.file
+        problems = []
+        inputs, props = set(spec.inputs), set(spec.propositions)
+        for name in self.global_sensors:
+            if name not in inputs:
+                problems.append(f"{where}: negotiation.global_sensors: {name!r} is not an input of {spec.source}")
+        for peer in self.peers.values():
+            for name in peer.eap:
+                if name not in inputs:
+                    problems.append(f"{where}: negotiation.peers.{peer.name}.eap: {name!r} is not an input of "
+                                    f"{spec.source}")
+                if name in self.global_sensors:
+                    problems.append(f"{where}: negotiation.peers.{peer.name}.eap: {name!r} is also a global sensor")
+            for name in peer.shares:
+                if name not in props:
+                    problems.append(f"{where}: negotiation.peers.{peer.name}.shares: {name!r} is not a proposition "
+                                    f"of {spec.source}")
+            seen: dict[str, str] = {}
+            for mine, theirs in peer.table.items():
+                if theirs in seen and seen[theirs] != mine:
+                    problems.append(f"{where}: negotiation.peers.{peer.name}: {seen[theirs]!r} and {mine!r} both "
+                                    f"translate to {theirs!r}")
+                seen[theirs] = mine
+        return problems
+
+
+def classes_from_data(data: Any, file: str = "<memory>", line: int = 0) -> Classes:
+    """The ``negotiation:`` value of a mapping (see the module docstring); ``NegotiationError`` when malformed."""
+    def fail(message: str) -> NegotiationError:
+        return NegotiationError(file, line, f"negotiation: {message}")
+
+    if not isinstance(data, dict):
+        raise fail("expected a mapping with robot:, peers: and optionally global_sensors:")
+    unknown = set(data) - {"robot", "peers", "global_sensors"}
+    if unknown:
+        raise fail(f"unknown key(s) {', '.join(sorted(map(str, unknown)))} (expected robot, peers, global_sensors)")
+    robot = data.get("robot")
+    if not isinstance(robot, str) or not robot.strip():
+        raise fail("robot: must name this robot")
+    sensors = data.get("global_sensors") or []
+    if not isinstance(sensors, list) or not all(isinstance(s, str) for s in sensors):
+        raise fail("global_sensors: must be a list of input names")
+    peers_data = data.get("peers") or {}
+    if not isinstance(peers_data, dict):
+        raise fail("peers: must map robot names to {eap:, shares:, service:}")
+    peers = {}
+    for name, value in peers_data.items():
+        if not isinstance(value, dict):
+            raise fail(f"peers.{name}: expected a mapping with eap:, shares:, service:")
+        bad = set(value) - {"eap", "shares", "service"}
+        if bad:
+            raise fail(f"peers.{name}: unknown key(s) {', '.join(sorted(map(str, bad)))} (expected eap, shares, service)")
+        tables = {}
+        for key in ("eap", "shares"):
+            table = value.get(key) or {}
+            if not isinstance(table, dict) or not all(isinstance(k, str) and isinstance(v, str)
+                                                      for k, v in table.items()):
+                raise fail(f"peers.{name}.{key}: must map proposition names to proposition names")
+            tables[key] = dict(table)
+        service = value.get("service")
+        if service is not None and not isinstance(service, str):
+            raise fail(f"peers.{name}.service: must be a ROS service name")
+        if str(name) == robot:
+            raise fail(f"peers.{name}: a robot does not negotiate with itself")
+        peers[str(name)] = Peer(str(name), tables["eap"], tables["shares"], service)
+    return Classes(robot.strip(), peers, tuple(sensors), file, line)
+
+
+def classes_from_mapping(mapping: MappingFile) -> Classes | None:
+    """The proposition classes a mapping declares (its ``negotiation:`` key), None when it has none."""
+    if mapping.negotiation is None:
+        return None
+    return classes_from_data(mapping.negotiation, mapping.file, mapping.negotiation_line)
+
+
+def assumptions_about(spec: Spec, classes: Classes, peer: str) -> list[Clause]:
+    """phi^{t(r_env)}_{e,r} (§4.8): the env-safety clauses that mention an eAP input about ``peer``."""
+    eap = classes.eap(peer)
+    return [c for c in spec.env_safety if any(v.name in eap for v in variables(c.formula))]
+
+
+def rename(f: Formula, table: Mapping[str, str]) -> Formula:
+    """``f`` with every variable ``x`` renamed to ``table[x]`` (``KeyError`` for a name not in it)."""
+    def combine(node: Formula, kids: tuple) -> Formula:
+        if isinstance(node, Var):
+            return Var(table[node.name], node.primed)
+        if not kids or all(a is b for a, b in zip(kids, children(node), strict=True)):
+            return node
+        if isinstance(node, Not):
+            return Not(kids[0])
+        if isinstance(node, And | Or):
+            return type(node)(kids)
+        return type(node)(kids[0], kids[1])
+    return fold(f, combine)
+
+
+# --- messages ---------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Message:
+    """One message of Alg. 4 (what the ROS service carries, field by field)."""
+
+    kind: str                   # offer, status, abort
+    sender: str
+    session: str                # "<initiator>-><responder>": one negotiation per pair
+    round: int = 0              # 1 or 2 for a status (Alg. 4 lines 10 and 18)
+    text: str = ""              # offer: structured spec text in the receiver's names
+    english: tuple[str, ...] = ()  # offer: the same clauses in Structured English (for people)
+    realizable: bool = False    # status
+    reason: str = ""            # abort / status: why
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"kind": self.kind, "sender": self.sender, "session": self.session, "round": self.round,
+                "text": self.text, "english": list(self.english), "realizable": self.realizable,
+                "reason": self.reason}
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> Message:
+        return cls(str(data["kind"]), str(data["sender"]), str(data["session"]), int(data.get("round", 0)),
+                   str(data.get("text", "")), tuple(str(s) for s in data.get("english", ())),
+                   bool(data.get("realizable", False)), str(data.get("reason", "")))
+
+
+class Phase(Enum):
+    NEW = "new"
+    OFFERED = "offered"               # our offer sent
+    SYNTHESIZED = "synthesized"       # the peer's offer received, phi^nego synthesized (status 1 known)
+    DECIDED = "decided"               # the peer's status 1 received, phi* known (status 2 known)
+    DONE = "done"
+
+
+class Outcome(Enum):
+    """How a negotiation ended, from one party's view (thesis §4.8.1-4.8.3, plus faults)."""
+
+    BOTH_ADOPT = "4.8.1: both robots adopt their negotiated specifications"
+    ADOPTED_PEERS = "4.8.2: this robot incorporated the peer's specification; the peer keeps its own"
+    KEPT_OWN = "4.8.2: the peer incorporated this robot's specification; this robot resynthesized its own"
+    BOTH_ABORT = "4.8.3: neither robot can incorporate the other's specification; both abort"
+    ABORT_LINE_20 = "Alg. 4 line 20: a specification after negotiation is unrealizable; both abort"
+    FAILED = "failed (fault); nothing adopted"
+
+    @property
+    def adopts(self) -> bool:
+        return self in (Outcome.BOTH_ADOPT, Outcome.ADOPTED_PEERS, Outcome.KEPT_OWN)
+
+
+@dataclass
+class Adoption:
+    """The spec (and its text and strategy) a party runs after a successful negotiation."""
+
+    spec: Spec
+    text: str
+    strategy: SymbolicStrategy
+    incorporated: bool          # phi^nego (the peer's assumptions and goals) or phi* with new init
+
+
+class ProtocolFault(Exception):
+    """A message that breaks the protocol (garbled, out of order, from someone else)."""
+
+
+# --- one party ----------------------------------------------------------------------------------------
+class Negotiation:
+    """Alg. 4 for one party (see the module docstring). ``star`` is phi*_r (the original spec, or the
+    spec adopted in an earlier negotiation); ``original`` gives phi^t_e (line 2); ``incoming`` and
+    ``outputs`` are the current position (lines 6-7)."""
+
+    def __init__(self, star: Spec, classes: Classes, peer: str, *, incoming: Mapping[str, bool],
+                 outputs: Mapping[str, bool], original: Spec | None = None, initiator: bool = True,
+                 synthesis_options: Mapping[str, Any] | None = None, clock=time.monotonic,
+                 wall_clock=time.time) -> None:
+        if peer not in classes.peers:
+            raise ValueError(f"{classes.robot} has no peer {peer!r} (declared: {', '.join(classes.peers) or 'none'})")
+        self.star = star
+        self.original = original if original is not None else star
+        self.classes = classes
+        self.me = classes.robot
+        self.peer = classes.peers[peer]
+        self.initiator = initiator
+        self.session = f"{self.me}->{peer}" if initiator else f"{peer}->{self.me}"
+        self.incoming = {n: bool(incoming[n]) for n in star.inputs}
+        self.outputs = {n: bool(outputs[n]) for n in star.outputs}
+        self.synthesis_options = dict(synthesis_options or {})
+        self.clock, self.wall_clock = clock, wall_clock
+        self.started = wall_clock()
+        self.phase = Phase.NEW
+        self.outcome: Outcome | None = None
+        self.reason = ""
+        self.adopted: Adoption | None = None
+        self.explanation = ""
+        self.sent: list[str] = []          # Structured English, for ~state / the trace
+        self.received: list[str] = []
+        self.dropped: list[str] = []       # our goals the peer cannot express (not sent)
+        self.log: list[str] = []           # what happened, in order
+        self.syntheses = 0                 # at most two (§4.9)
+        self._offer: Message | None = None
+        self._nego: tuple[Spec, str, SymbolicStrategy | None] | None = None
+        self._nego_reason = ""
+        self._star_candidate: tuple[Spec, str, SymbolicStrategy | None, bool] | None = None
+        self._status: dict[int, bool] = {}
+        self._peer_status: dict[int, bool] = {}
+
+    # --- line 3: what we send -----------------------------------------------------------------------
+    def offer(self) -> Message:
+        """Our phi^{t(r_env)}_{e,r} and phi^g_{s,r} in the peer's names (Alg. 4 line 3)."""
+        if self._offer is not None:
+            return self._offer
+        if self.phase is not Phase.NEW:
+            raise ProtocolFault(f"offer requested in phase {self.phase.value}")
+        table = {**{s: s for s in self.classes.global_sensors}, **self.peer.table}
+        lines = [f"# Alg. 4 line 3: {self.me}'s assumptions about {self.peer.name} (phi^t(r_env)_e) and goals "
+                 f"(phi^g_s), in {self.peer.name}'s names",
+                 f"# session {self.session}"]
+        english = []
+        sections = (("sys_safety", assumptions_about(self.original, self.classes, self.peer.name), "assumption"),
+                    ("env_liveness", list(self.star.sys_liveness), "goal"))
+        for section, clauses, what in sections:
+            lines.append(f"[{HEADERS[section]}]")
+            for clause in clauses:
+                missing = sorted({v.name for v in variables(clause.formula) if v.name not in table})
+                if missing:
+                    note = (f"{what} {clause.location} mentions {', '.join(missing)}, which {self.peer.name} "
+                            "does not observe")
+                    if what == "assumption":
+                        # the peer cannot guarantee what it cannot see: say so, it then cannot incorporate
+                        lines.append(f"# untranslatable {note}")
+                        lines.append("FALSE")
+                        english.append(f"{what} {clause.location} cannot be expressed for {self.peer.name}")
+                    else:
+                        self.dropped.append(note)  # one env liveness fewer for the peer: sound (it assumes less)
+                    continue
+                renamed = rename(clause.formula, table)
+                lines.append(f"# {self.me} {clause.location}: {' '.join(clause.text.split())}")
+                lines.append(formula_to_infix(renamed))
+                english.append(f"{what} ({clause.location}): {clause_to_english(renamed, section)}")
+        text = "\n".join(lines) + "\n"
+        self.sent = english
+        self._offer = Message(OFFER, self.me, self.session, 0, text, tuple(english))
+        if self.phase is Phase.NEW:
+            self.phase = Phase.OFFERED
+        self._note(f"sent {len(english)} clause(s) to {self.peer.name}"
+                   + (f"; {len(self.dropped)} goal(s) not expressible for it" if self.dropped else ""))
+        return self._offer
+
+    # --- receiving ------------------------------------------------------------------------------------
+    def receive(self, message: Message) -> None:
+        """Take the peer's next message; a protocol fault ends the negotiation as FAILED."""
+        if self.phase is Phase.DONE:
+            return
+        try:
+            if message.sender != self.peer.name or message.session != self.session:
+                raise ProtocolFault(f"message from {message.sender!r} (session {message.session!r}) in the "
+                                    f"negotiation {self.session}")
+            if message.kind == ABORT:
+                raise ProtocolFault(f"{self.peer.name} aborted the negotiation: {message.reason or 'no reason'}")
+            if message.kind == OFFER:
+                self._on_offer(message)
+            elif message.kind == STATUS:
+                self._on_status(message)
+            else:
+                raise ProtocolFault(f"unknown message kind {message.kind!r}")
+        except ProtocolFault as fault:
+            self.fail(str(fault))
+
+    def _on_offer(self, message: Message) -> None:
+        if self.phase is Phase.NEW and not self.initiator:
+            self.offer()
+        if self.phase is not Phase.OFFERED:
+            raise ProtocolFault(f"offer received in phase {self.phase.value}")
+        decl = ["[INPUT]", *self.star.inputs, "[OUTPUT]", *self.star.outputs]
+        where = f"offer from {self.peer.name}"
+        try:
+            received = parse_structured(message.text + "\n" + "\n".join(decl) + "\n", where)
+        except SpecError as err:
+            raise ProtocolFault(f"garbled specification text: {err}") from None
+        if received.env_safety or received.sys_init or received.env_init or received.sys_liveness:
+            raise ProtocolFault(f"{where}: only [SYS_TRANS] and [ENV_LIVENESS] may be sent")
+        self.received = [f"assumption of {self.peer.name}: {clause_to_english(c, 'sys_safety')}"
+                         for c in received.sys_safety]
+        self.received += [f"goal of {self.peer.name}: {clause_to_english(c, 'env_liveness')}"
+                          for c in received.env_liveness]
+        self._note(f"received {len(received.sys_safety)} assumption(s) and {len(received.env_liveness)} goal(s) "
+                   f"from {self.peer.name}")
+        # lines 5-9
+        extra = {"sys_safety": received.sys_safety, "env_liveness": received.env_liveness}
+        spec, text = self._spec(self.star, extra, "phi^nego (Alg. 4 line 8)")
+        strategy = self._synthesize(spec)
+        self._nego = (spec, text, strategy)
+        self._status[1] = strategy is not None
+        self._note(f"phi^nego {'realizable' if strategy is not None else 'unrealizable'} (line 9)")
+        self.phase = Phase.SYNTHESIZED
+
+    def status(self, round_: int) -> Message:
+        """Our synthesis status for exchange ``round_`` (Alg. 4 line 10 or 18)."""
+        if round_ not in self._status:
+            raise ProtocolFault(f"status {round_} requested in phase {self.phase.value}")
+        return Message(STATUS, self.me, self.session, round_, realizable=self._status[round_])
+
+    def _on_status(self, message: Message) -> None:
+        expected = 1 if self.phase is Phase.SYNTHESIZED else 2 if self.phase is Phase.DECIDED else None
+        if expected is None or message.round != expected:
+            raise ProtocolFault(f"status {message.round} received in phase {self.phase.value}")
+        self._peer_status[message.round] = bool(message.realizable)
+        if expected == 1:
+            self._decide(bool(message.realizable))
+        else:
+            self._finish(bool(message.realizable))
+
+    def _decide(self, peer_nego: bool) -> None:
+        """Lines 11-17."""
+        spec, text, strategy = self._nego
+        if strategy is not None:
+            self._star_candidate = (spec, text, strategy, True)
+            self._status[2] = True
+            self._note("phi* <- phi^nego (line 12)")
+        elif peer_nego:
+            star_spec, star_text = self._spec(self.star, {}, "phi* with the new init (Alg. 4 line 14)")
+            star_strategy = self._synthesize(star_spec)
+            self._star_candidate = (star_spec, star_text, star_strategy, False)
+            self._status[2] = star_strategy is not None
+            self._note(f"{self.peer.name} can incorporate our specification; phi* with the new init is "
+                       f"{'realizable' if star_strategy is not None else 'unrealizable'} (lines 14-15)")
+        else:
+            self._status[2] = False
+            self._end(Outcome.BOTH_ABORT, "neither robot can incorporate the other's specification (line 17)",
+                      explain_spec=spec, keep_phase=True)
+        self.phase = Phase.DECIDED
+
+    def _finish(self, peer_star: bool) -> None:
+        """Lines 18-21."""
+        if self.outcome is Outcome.BOTH_ABORT:
+            self.phase = Phase.DONE
+            return
+        spec, text, strategy, incorporated = self._star_candidate
+        if strategy is None or not peer_star:
+            who = "ours" if strategy is None else f"{self.peer.name}'s"
+            self._end(Outcome.ABORT_LINE_20, f"phi* ({who}) is unrealizable (line 20)",
+                      explain_spec=spec if strategy is None else None)
+            return
+        self.adopted = Adoption(spec, text, strategy, incorporated)
+        if incorporated and self._peer_status.get(1):
+            outcome = Outcome.BOTH_ADOPT
+        elif incorporated:
+            outcome = Outcome.ADOPTED_PEERS
+        else:
+            outcome = Outcome.KEPT_OWN
+        self._end(outcome, "adopted " + ("phi^nego" if incorporated else "phi* with the new init"))
+
+    def fail(self, reason: str) -> None:
+        """A fault (timeout, peer gone, garbled text, protocol error): nothing is adopted."""
+        if self.phase is Phase.DONE:
+            return
+        self.adopted = None
+        self._end(Outcome.FAILED, reason)
+
+    def abort_message(self) -> Message:
+        return Message(ABORT, self.me, self.session, reason=self.reason or "aborted")
+
+    @property
+    def done(self) -> bool:
+        return self.phase is Phase.DONE
+
+    def report(self) -> dict[str, Any]:
+        """What ``~state`` / the trace show: with whom, what was sent and received, outcome."""
+        return {"peer": self.peer.name, "session": self.session, "initiator": self.initiator,
+                "phase": self.phase.value, "outcome": self.outcome.value if self.outcome else None,
+                "case": self.outcome.name if self.outcome else None, "reason": self.reason,
+                "sent": list(self.sent), "received": list(self.received), "dropped": list(self.dropped),
+                "status": {str(k): v for k, v in self._status.items()},
+                "peer_status": {str(k): v for k, v in self._peer_status.items()},
+                "explanation": self.explanation, "log": list(self.log)}
+
+    # --- internals --------------------------------------------------------------------------------------
+    def _end(self, outcome: Outcome, reason: str, explain_spec: Spec | None = None, keep_phase: bool = False) -> None:
+        self.outcome, self.reason = outcome, reason
+        if explain_spec is not None:
+            try:
+                self.explanation = explanation_text(explain(explain_spec, robotics_semantics=self.synthesis_options.get(
+                    "robotics_semantics", True)))
+            except Exception as err:  # noqa: BLE001 - an explanation must never turn an abort into a crash
+                self.explanation = f"(no explanation: {err})"
+        if not keep_phase:
+            self.phase = Phase.DONE
+        self._note(f"{outcome.value}: {reason}")
+
+    def _note(self, message: str) -> None:
+        self.log.append(message)
+
+    def _synthesize(self, spec: Spec) -> SymbolicStrategy | None:
+        self.syntheses += 1
+        result = synthesize(spec, **self.synthesis_options)
+        return result.strategy if result.realizable else None
+
+    def _spec(self, base: Spec, extra: Mapping[str, list[Clause]], what: str) -> tuple[Spec, str]:
+        """``base`` with init from the current position (lines 6-7), env safety phi^t_e of ``original``
+        (line 2) and ``extra`` clauses appended, as structured spec text and parsed back from it."""
+        out = [f"# {self.me}: {what}, negotiated with {self.peer.name} (thesis §4.8, Alg. 4) "
+               f"at {time.strftime('%Y-%m-%d %H:%M:%S', time.localtime(self.wall_clock()))}",
+               f"# from {base.source}. It loads like any spec: synthesize FILE, controller_executor FILE.", "",
+               "[INPUT]", *base.inputs, "", "[OUTPUT]", *base.outputs, ""]
+        for section in SECTIONS:
+            out.append(f"[{HEADERS[section]}]")
+            if section in ("env_init", "sys_init"):
+                names, values = ((base.inputs, self.incoming) if section == "env_init" else (base.outputs, self.outputs))
+                out.append(f"# Alg. 4 line {6 if section == 'env_init' else 7}: the current "
+                           f"{'inputs' if section == 'env_init' else 'outputs'}")
+                literals = [Var(n) if values[n] else Not(Var(n)) for n in names]
+                out.append(formula_to_infix(literals[0] if len(literals) == 1 else And(tuple(literals))))
+            else:
+                clauses = self.original.env_safety if section == "env_safety" else base.section(section)
+                if section == "env_safety":
+                    out.append("# Alg. 4 line 2: the original environment safety (no characterization disjuncts)")
+                for c in clauses:
+                    out.append(f"# {c.location}: {' '.join(c.text.split())}")
+                    out.append(formula_to_infix(c.formula))
+                for c in extra.get(section, []):
+                    origin = "assumption" if section == "sys_safety" else "goal"
+                    out.append(f"# Alg. 4 line 5: {origin} of {self.peer.name} ({c.text.strip()})")
+                    out.append(formula_to_infix(c.formula))
+            out.append("")
+        text = "\n".join(out)
+        return parse_structured(text, f"<{self.me} negotiated with {self.peer.name}>"), text
+
+
+def write_adopted(adoption: Adoption, path: str | Path) -> None:
+    """Write an adopted spec atomically (structured text; slugsin for a ``.slugsin`` path)."""
+    path = Path(path)
+    if path.suffix == ".slugsin":
+        write_atomic(path, write_slugsin(adoption.spec, comments=True))
+    else:
+        write_atomic(path, adoption.text)
+
+
+# --- the transport-independent drivers ----------------------------------------------------------------
+def answer(responder: Negotiation, message: Message) -> Message:
+    """The responder's side of one exchange: take ``message``, return ours (an abort on a fault)."""
+    reply = None
+    try:
+        if message.kind == OFFER:
+            reply = responder.offer()
+        elif message.kind == STATUS:
+            reply = responder.status(message.round)
+    except ProtocolFault as fault:
+        responder.fail(str(fault))
+    responder.receive(message)
+    if responder.outcome is Outcome.FAILED or reply is None:
+        if responder.outcome is not Outcome.FAILED:
+            responder.fail(f"unexpected {message.kind} message")
+        return responder.abort_message()
+    return reply
+
+
+def drive(initiator: Negotiation, call: Callable[[Message], Message]) -> None:
+    """The initiator's side: offer, status 1, status 2 (Alg. 4 lines 3-4, 10, 18), each sent with
+    ``call(message) -> reply``. A transport error (``TimeoutError``, ``ConnectionError``, ``OSError``:
+    timeout, peer gone) is a fault; after a fault on our side the peer is told (best effort)."""
+    for make in (initiator.offer, lambda: initiator.status(1), lambda: initiator.status(2)):
+        if initiator.done:
+            break
+        try:
+            message = make()
+        except ProtocolFault as fault:
+            initiator.fail(str(fault))
+            break
+        try:
+            reply = call(message)
+        except (TimeoutError, ConnectionError, OSError) as err:
+            initiator.fail(f"{initiator.peer.name} did not answer: {err}")
+            return
+        initiator.receive(reply)
+    if not initiator.done:
+        initiator.fail("negotiation ended early")
+    if initiator.outcome is Outcome.FAILED and not initiator.reason.startswith(f"{initiator.peer.name} aborted"):
+        try:
+            call(initiator.abort_message())
+        except (TimeoutError, ConnectionError, OSError):
+            pass
+
+
+def violated_clauses(spec: Spec, current: Mapping[str, bool], incoming: Mapping[str, bool]) -> list[Clause]:
+    """The env-safety clauses of ``spec`` broken by the transition (``current`` position -> ``incoming``)."""
+    now = {n: bool(v) for n, v in current.items()}
+    nxt = {n: bool(v) for n, v in incoming.items()}
+    return [c for c in spec.env_safety if not evaluate(c.formula, now, nxt)]
+
+
+Transport = Callable[[Peer], Callable[[Message], Message]]
+
+
+class Negotiator:
+    """One robot's negotiations (both roles): whom to negotiate with, once per pair (§4.8), and the
+    reports for ``~state`` / the trace. ``transport(peer)`` gives the call that sends a message to
+    ``peer`` and returns its answer (an in-process responder, or the ROS service)."""
+
+    def __init__(self, classes: Classes, *, transport: Transport | None = None,
+                 synthesis_options: Mapping[str, Any] | None = None) -> None:
+        self.classes = classes
+        self.transport = transport
+        self.synthesis_options = dict(synthesis_options or {})
+        self.history: list[Negotiation] = []
+        self.active: dict[str, Negotiation] = {}   # responder side, by peer
+        self.partners: set[frozenset[str]] = set()
+
+    def choose(self, star: Spec, current: Mapping[str, bool], incoming: Mapping[str, bool]) -> str | None:
+        """The peer to negotiate with: the first (declaration order) whose eAP inputs appear in the
+        violated env-safety clauses and with whom we have not negotiated yet."""
+        for peer in self.classes.peers_in(violated_clauses(star, current, incoming)):
+            if frozenset((self.classes.robot, peer)) not in self.partners:
+                return peer
+        return None
+
+    def initiate(self, star: Spec, peer: str, incoming: Mapping[str, bool], outputs: Mapping[str, bool]) -> Negotiation:
+        """Run Alg. 4 as the robot that detected the conflict."""
+        n = Negotiation(star, self.classes, peer, incoming=incoming, outputs=outputs, initiator=True,
+                        synthesis_options=self.synthesis_options)
+        self.partners.add(frozenset((self.classes.robot, peer)))
+        self.history.append(n)
+        if self.transport is None:
+            n.fail("no transport to reach the peer")
+        else:
+            drive(n, self.transport(self.classes.peers[peer]))
+        return n
+
+    def respond(self, message: Message, star: Spec, incoming: Mapping[str, bool],
+                outputs: Mapping[str, bool]) -> tuple[Message, Negotiation | None]:
+        """Answer one message of a negotiation another robot started; returns our reply and the
+        negotiation (done when it ended)."""
+        peer = message.sender
+        if message.kind == OFFER:
+            if peer not in self.classes.peers:
+                return Message(ABORT, self.classes.robot, message.session,
+                               reason=f"{self.classes.robot} has no peer {peer!r}"), None
+            if frozenset((self.classes.robot, peer)) in self.partners:
+                return Message(ABORT, self.classes.robot, message.session,
+                               reason=f"{self.classes.robot} already negotiated with {peer} (once per pair)"), None
+            n = Negotiation(star, self.classes, peer, incoming=incoming, outputs=outputs, initiator=False,
+                            synthesis_options=self.synthesis_options)
+            self.partners.add(frozenset((self.classes.robot, peer)))
+            self.history.append(n)
+            self.active[peer] = n
+        else:
+            n = self.active.get(peer)
+            if n is None:
+                return Message(ABORT, self.classes.robot, message.session,
+                               reason=f"no negotiation with {peer} in progress"), None
+        reply = answer(n, message)
+        if n.done:
+            self.active.pop(peer, None)
+        return reply, n
+
+    def expire(self, peer: str, reason: str) -> Negotiation | None:
+        """The responder's timeout: the initiator went silent mid-negotiation."""
+        n = self.active.pop(peer, None)
+        if n is not None:
+            n.fail(reason)
+        return n
+
+    def reports(self) -> list[dict[str, Any]]:
+        return [n.report() for n in self.history]
+
+    # --- with a ResilientStrategy (runtime.characterize) -------------------------------------------------
+    def hook(self, strategy: Any, observation: Any) -> Adoption | None:
+        """``ResilientStrategy(negotiate=negotiator.hook)``: Alg. 3 line 9. Negotiates with the peer whose
+        eAP inputs the violated clauses mention (once per pair); returns the adopted spec, or None
+        (the strategy then aborts: no peer to ask, or the negotiation did not end in adoption)."""
+        star = strategy.characterizer.original
+        current = {**observation.current_inputs, **observation.current_outputs}
+        peer = self.choose(star, current, observation.incoming)
+        if peer is None:
+            return None
+        return self.initiate(star, peer, observation.incoming, observation.current_outputs).adopted
+
+    def serve(self, message: Message, strategy: Any, controller: Any) -> Message:
+        """Answer a peer's message for the robot running ``controller`` (a ``runtime.Controller`` over
+        ``strategy``, a ``ResilientStrategy``). The position is held (controller lock) while the message
+        is handled; an adopted spec is installed at once (``strategy.adopt``), and 4.8.3 / line 20
+        abort the strategy (its safe outputs)."""
+        with controller.lock:
+            state = controller.state
+            if state is None:
+                return Message(ABORT, self.classes.robot, message.session, reason=f"{self.classes.robot} has not started")
+            reply, n = self.respond(message, strategy.characterizer.original, state.inputs, state.outputs)
+            if n is not None and n.done:
+                if n.adopted is not None:
+                    controller.state = strategy.adopt(n.adopted.spec, n.adopted.text, n.adopted.strategy,
+                                                      state.inputs, state.outputs)
+                elif n.outcome in (Outcome.BOTH_ABORT, Outcome.ABORT_LINE_20):
+                    strategy.abort(f"negotiation with {n.peer.name}: {n.outcome.value}")
+            return reply

@@ -1,0 +1,278 @@
+"""Integrative negotiation without ROS (thesis §4.8, Alg. 4): two in-process parties, every outcome
+(4.8.1, 4.8.2, 4.8.3, line 20) and every fault (timeout, vanished peer, garbled text, out of order,
+once per pair), and the invariant that nobody adopts without a realizable spec and the peer's status."""
+from __future__ import annotations
+
+import dataclasses
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from ltl_stack.runtime.mapping import MappingError, parse_mapping
+from ltl_stack.runtime.negotiation import (
+    OFFER,
+    STATUS,
+    Classes,
+    Message,
+    Negotiation,
+    NegotiationError,
+    Negotiator,
+    Outcome,
+    Peer,
+    answer,
+    assumptions_about,
+    classes_from_data,
+    classes_from_mapping,
+    drive,
+)
+from ltl_stack.spec import parse_structured
+from ltl_stack.synthesis import synthesize
+
+# P observes Q's output x as its input x_Q; Q observes P's output p as its input p_P.
+P_CLASSES = Classes("P", {"Q": Peer("Q", eap={"x_Q": "x"}, shares={"p": "p_P"})})
+Q_CLASSES = Classes("Q", {"P": Peer("P", eap={"p_P": "p"}, shares={"x": "x_Q"})})
+
+
+def p_spec(*, refuses: bool = False, stuck: bool = False) -> str:
+    """P assumes Q does x; its goal is p. ``refuses``: P never does p (cannot incorporate Q's
+    assumption that it does). ``stuck``: a latch q that, once set, never clears, and a goal !q."""
+    return f"""
+[INPUT]
+x_Q
+[OUTPUT]
+p
+q
+[ENV_INIT]
+x_Q
+[SYS_INIT]
+!p & !q
+[ENV_TRANS]
+x_Q'
+[SYS_TRANS]
+{"!p'" if refuses else "TRUE"}
+{"q -> q'" if stuck else "TRUE"}
+[SYS_LIVENESS]
+{"!q" if stuck else "TRUE"}
+"""
+
+
+def q_spec(*, refuses: bool = False, assumes: bool = False) -> str:
+    """Q may do x; ``refuses``: it never does (cannot incorporate P's assumption); ``assumes``: Q
+    assumes P does p."""
+    return f"""
+[INPUT]
+p_P
+[OUTPUT]
+x
+[ENV_INIT]
+{"p_P" if assumes else "TRUE"}
+[SYS_INIT]
+!x
+[ENV_TRANS]
+{"p_P'" if assumes else "TRUE"}
+[SYS_TRANS]
+{"!x'" if refuses else "TRUE"}
+"""
+
+
+def pair(p_text: str, q_text: str, *, p_outputs: dict | None = None):
+    p = parse_structured(p_text, "P.structuredslugs")
+    q = parse_structured(q_text, "Q.structuredslugs")
+    init_q = {"p_P": "p_P'" in q_text}
+    a = Negotiation(p, P_CLASSES, "Q", incoming={"x_Q": False}, outputs=p_outputs or {"p": False, "q": False},
+                    initiator=True)
+    b = Negotiation(q, Q_CLASSES, "P", incoming=init_q, outputs={"x": False}, initiator=False)
+    return a, b
+
+
+def direct(b: Negotiation):
+    return lambda message: answer(b, message)
+
+
+def test_assumptions_about_a_peer_are_the_env_safety_clauses_with_its_eap():
+    spec = parse_structured(p_spec(), "P")
+    assert [c.text.strip() for c in assumptions_about(spec, P_CLASSES, "Q")] == ["x_Q'"]
+    assert assumptions_about(parse_structured(q_spec(), "Q"), Q_CLASSES, "P") == []
+
+
+def test_both_adopt_4_8_1_and_the_received_assumption_is_guaranteed():
+    a, b = pair(p_spec(), q_spec())
+    drive(a, direct(b))
+    assert a.outcome is b.outcome is Outcome.BOTH_ADOPT
+    assert a.adopted.incorporated and b.adopted.incorporated
+    # Q now guarantees x (P's assumption, renamed into Q's names) and assumes P's goal (none here)
+    assert any(c.text.strip() == "x'" for c in b.adopted.spec.sys_safety)
+    assert b.received == ["assumption of P: always next x", "goal of P: infinitely often true"]
+    assert len(a.sent) == 2 and b.sent == a.received == []
+    # init from the current position (Alg. 4 lines 6-7)
+    assert [c.text.strip() for c in b.adopted.spec.env_init] == ["!p_P"]
+    assert a.syntheses == 1 and b.syntheses == 1  # §4.9: at most two each
+
+
+def test_only_one_incorporates_4_8_2():
+    a, b = pair(p_spec(), q_spec(refuses=True))
+    drive(a, direct(b))
+    assert b.outcome is Outcome.KEPT_OWN and not b.adopted.incorporated  # line 14-15: own spec, new init
+    assert a.outcome is Outcome.ADOPTED_PEERS and a.adopted.incorporated
+    assert not any(c.text.strip() == "x'" for c in b.adopted.spec.sys_safety)
+    assert b.syntheses == 2
+
+
+def test_neither_incorporates_4_8_3_both_abort_with_an_explanation():
+    a, b = pair(p_spec(refuses=True), q_spec(refuses=True, assumes=True))
+    drive(a, direct(b))
+    assert a.outcome is b.outcome is Outcome.BOTH_ABORT
+    assert a.adopted is None and b.adopted is None
+    assert "unrealizable" in a.explanation and "unrealizable" in b.explanation
+
+
+def test_line_20_one_incorporates_but_the_other_cannot_run_its_own_spec_either():
+    a, b = pair(p_spec(stuck=True), q_spec(), p_outputs={"p": False, "q": True})
+    drive(a, direct(b))
+    assert a.outcome is b.outcome is Outcome.ABORT_LINE_20
+    assert a.adopted is None and b.adopted is None and a.syntheses == 2
+
+
+@pytest.mark.parametrize("delivered", [0, 1, 2])
+def test_a_peer_that_stops_answering_leaves_both_without_adoption(delivered):
+    a, b = pair(p_spec(), q_spec())
+    calls = []
+
+    def call(message):
+        if len(calls) >= delivered:
+            raise TimeoutError("no answer within 5 s")
+        calls.append(message)
+        return answer(b, message)
+
+    drive(a, call)
+    assert a.outcome is Outcome.FAILED and a.adopted is None and "did not answer" in a.reason
+    if not b.done:  # the responder's own timeout (the ROS adapter's expire)
+        b.fail("the initiator went silent")
+    assert b.adopted is None
+
+
+def test_a_lost_final_reply_leaves_the_initiator_safe():
+    """The responder adopted (it had everything); the reply never arrives: the initiator adopts
+    nothing (and, having an unrealizable spec, aborts)."""
+    a, b = pair(p_spec(), q_spec())
+    n = [0]
+
+    def call(message):
+        n[0] += 1
+        reply = answer(b, message)
+        if n[0] == 3:
+            raise ConnectionError("peer vanished")
+        return reply
+
+    drive(a, call)
+    assert a.adopted is None and a.outcome is Outcome.FAILED
+    assert b.outcome is Outcome.BOTH_ADOPT
+
+
+@pytest.mark.parametrize("garbled", ["[SYS_TRANS]\nx' &&& (", "[SYS_TRANS]\nnot_a_proposition'",
+                                     "[ENV_TRANS]\nx'", "\x00binary"])
+def test_garbled_spec_text_is_a_fault_on_both_sides(garbled):
+    a, b = pair(p_spec(), q_spec())
+
+    def call(message):
+        if message.kind == OFFER:
+            message = dataclasses.replace(message, text=garbled)
+        return answer(b, message)
+
+    drive(a, call)
+    assert b.outcome is Outcome.FAILED and b.reason.startswith(("garbled", "offer from P"))
+    assert a.outcome is Outcome.FAILED and "Q aborted" in a.reason
+    assert a.adopted is None and b.adopted is None
+
+
+def test_out_of_order_and_foreign_messages_are_faults():
+    a, b = pair(p_spec(), q_spec())
+    b.receive(Message(STATUS, "P", "P->Q", 1, realizable=True))
+    assert b.outcome is Outcome.FAILED and "status 1 received in phase" in b.reason
+    a, b = pair(p_spec(), q_spec())
+    b.receive(Message(OFFER, "Z", "Z->Q"))
+    assert b.outcome is Outcome.FAILED and "'Z'" in b.reason
+
+
+def test_negotiator_negotiates_once_per_pair_and_reports():
+    p = parse_structured(p_spec(), "P")
+    q = parse_structured(q_spec(), "Q")
+    q_side = Negotiator(Q_CLASSES)
+
+    def transport(peer):
+        return lambda message: q_side.respond(message, q, {"p_P": False}, {"x": False})[0]
+
+    p_side = Negotiator(P_CLASSES, transport=transport)
+    assert p_side.choose(p, {"x_Q": True, "p": False, "q": False}, {"x_Q": False}) == "Q"
+    first = p_side.initiate(p, "Q", {"x_Q": False}, {"p": False, "q": False})
+    assert first.outcome is Outcome.BOTH_ADOPT
+    assert p_side.choose(p, {"x_Q": True, "p": False, "q": False}, {"x_Q": False}) is None  # once per pair
+    again = Negotiator(P_CLASSES, transport=transport).initiate(p, "Q", {"x_Q": False}, {"p": False, "q": False})
+    assert again.outcome is Outcome.FAILED and "once per pair" in again.reason
+    report = p_side.reports()[0]
+    assert report["peer"] == "Q" and report["case"] == "BOTH_ADOPT" and report["sent"]
+
+
+def test_proposition_classes_from_the_mapping():
+    mapping = parse_mapping("negotiation:\n  robot: D\n  global_sensors: [g]\n  peers:\n    A:\n"
+                            "      eap: {door_A: door}\n      shares: {road_c: road_c_D}\n", "D.yaml")
+    classes = classes_from_mapping(mapping)
+    assert classes.robot == "D" and classes.eap("A") == {"door_A"} and classes.global_sensors == ("g",)
+    assert classes.peers["A"].table == {"road_c": "road_c_D", "door_A": "door"}
+    spec = parse_structured("[INPUT]\ndoor_A\ng\n[OUTPUT]\nroad_c\n", "D")
+    assert classes.check(spec) == []
+    with pytest.raises(MappingError, match="D.yaml:1: unknown top-level key 'negotiations'"):
+        parse_mapping("negotiations: {}\n", "D.yaml")
+    with pytest.raises(NegotiationError, match="D.yaml:2: negotiation: peers.A: unknown key"):
+        classes_from_data({"robot": "D", "peers": {"A": {"eab": {}}}}, "D.yaml", 2)
+    bad = Classes("D", {"A": Peer("A", {"nope": "x", "g": "y"}, {"road_c": "y"})}, ("g",), "D.yaml", 3)
+    problems = bad.check(spec)
+    assert any("'nope' is not an input" in p for p in problems)
+    assert any("also a global sensor" in p for p in problems)
+    assert any("both translate to 'y'" in p for p in problems)
+
+
+# --- the invariant, under every fault ------------------------------------------------------------------
+SPECS = {
+    "p": [p_spec(), p_spec(refuses=True), p_spec(stuck=True)],
+    "q": [q_spec(), q_spec(refuses=True), q_spec(assumes=True), q_spec(refuses=True, assumes=True)],
+}
+
+
+@settings(max_examples=60, deadline=None)
+@given(pi=st.integers(0, 2), qi=st.integers(0, 3), stuck_now=st.booleans(),
+       fault=st.one_of(st.none(), st.tuples(st.sampled_from(["before", "after", "garble", "flip"]),
+                                            st.integers(0, 3))))
+def test_nobody_adopts_without_a_realizable_spec_and_the_peers_status(pi, qi, stuck_now, fault):
+    a, b = pair(SPECS["p"][pi], SPECS["q"][qi], p_outputs={"p": False, "q": stuck_now})
+    n = [0]
+
+    def call(message):
+        i = n[0]
+        n[0] += 1
+        if fault and fault[1] == i and fault[0] == "before":
+            raise TimeoutError("timeout")
+        if fault and fault[1] == i and fault[0] == "garble":
+            message = dataclasses.replace(message, text=message.text + "\n)(", realizable=not message.realizable)
+        reply = answer(b, message)
+        if fault and fault[1] == i and fault[0] == "after":
+            raise ConnectionError("gone")
+        if fault and fault[1] == i and fault[0] == "flip":
+            reply = dataclasses.replace(reply, round=reply.round + 1)
+        return reply
+
+    drive(a, call)
+    if not b.done:
+        b.fail("initiator silent")
+    for party in (a, b):
+        assert party.done
+        if party.adopted is not None:
+            assert party.outcome.adopts
+            assert party._status.get(2) is True and party._peer_status.get(2) is True
+            assert synthesize(party.adopted.spec).realizable
+        else:
+            assert not party.outcome.adopts
+    if fault is None:
+        assert (a.adopted is None) == (b.adopted is None)
+        assert a.outcome.adopts == b.outcome.adopts
