@@ -10,6 +10,10 @@ snapshot, option, malformed master URI, an output that is an input); 3 no ROS ma
 (the explanation is in the report). Outputs (--apply, --save-snapshot) are checked against the
 inputs before any work and written only when everything else has succeeded.
 
+--apply on a Structured English spec (``.spec``/``.english``) with an English OUT appends the
+suggestions to the spec's text as English sentences (``a, b and c are mutually exclusive``) and
+reads OUT back as English; any other combination writes ``.slugsin`` (issue 15).
+
 The live snapshot comes from the ``take_live`` callable given to ``main`` (``scripts/analyze_graph``
 passes ``ltl_stack.ros.graph_snapshot.take_snapshot``), so this module stays free of ROS.
 """
@@ -28,8 +32,11 @@ from ltl_stack.analysis.graph import DEFAULT_IGNORED_TOPICS, ComputationGraph
 from ltl_stack.analysis.snapshot import Snapshot, is_json_path
 from ltl_stack.analysis.suggest import MutualExclusion, add_to_spec, input_exclusion_for, mutual_exclusions
 from ltl_stack.errors import Exit, UserError
+from ltl_stack.inputs import read_text
 from ltl_stack.runtime.mapping import check_mapping, errors, load_mapping
 from ltl_stack.spec import formula_to_slugsin, load_spec, write_slugsin
+from ltl_stack.spec.english_reader import ENGLISH_SUFFIXES, has_section_headers, parse_english
+from ltl_stack.spec.english_writer import sentences_for
 from ltl_stack.spec.model import SLUGSIN_SECTIONS, Spec
 from ltl_stack.synthesis import is_realizable
 from ltl_stack.synthesis.explain import explain
@@ -117,7 +124,8 @@ def run(args: argparse.Namespace, take_live: Callable[..., Snapshot] | None) -> 
     applied = None
     outputs = []
     if args.apply:
-        applied, text = apply_suggestions(spec, suggestions, args.apply, args.suggestions)
+        english = english_text(args.spec, args.apply)
+        applied, text = apply_suggestions(spec, suggestions, args.apply, args.suggestions, english)
         outputs.append((args.apply, text, "spec"))
     if args.save_snapshot:
         outputs.append((args.save_snapshot, snapshot.to_text(is_json_path(args.save_snapshot)), "snapshot"))
@@ -143,23 +151,47 @@ def _snapshot(args: argparse.Namespace, take_live: Callable[..., Snapshot] | Non
     return take_live(args.master_uri)
 
 
-def apply_suggestions(spec: Spec, suggestions: list[MutualExclusion], out: str,
-                      chosen: list[str] | None) -> tuple[dict, str]:
-    """``spec`` plus the chosen suggestions, as the text to write to ``out``, synthesized; explained
-    when unrealizable. Returns (the report's ``apply`` entry, the .slugsin text); writes nothing.
+def english_text(spec_path: str, out: str) -> str | None:
+    """The text of ``spec_path`` when it is Structured English and ``out`` is an English file too
+    (``--apply`` then appends sentences), else None (``--apply`` writes .slugsin)."""
+    english = tuple(s.lower() for s in ENGLISH_SUFFIXES)
+    if not (spec_path.lower().endswith(english) and out.lower().endswith(english)):
+        return None
+    text = read_text(spec_path, "spec file")
+    return None if has_section_headers(text) else text
 
-    When the result is unrealizable, also try the assumption that the inputs driving the
-    excluded outputs are mutually exclusive (thesis Example 9) and say whether it helps.
+
+def apply_suggestions(spec: Spec, suggestions: list[MutualExclusion], out: str,
+                      chosen: list[str] | None, english: str | None = None) -> tuple[dict, str]:
+    """``spec`` plus the chosen suggestions, as the text to write to ``out``, synthesized; explained
+    when unrealizable. Returns (the report's ``apply`` entry, the text); writes nothing.
+
+    With ``english`` (the text of a Structured English spec) the suggestions are appended to it as
+    English sentences and the result is read back as English (its clauses then point at OUT's
+    lines); else the text is ``.slugsin``. When the result is unrealizable, also try the assumption
+    that the inputs driving the excluded outputs are mutually exclusive (thesis Example 9) and say
+    whether it helps.
     """
     picked = _pick(suggestions, chosen)
-    new_spec = add_to_spec(spec, [suggestions[i - 1] for i in picked], file=out)
-    new_spec.source = out
-    text = write_slugsin(new_spec)
-    text += "" if text.endswith("\n") else "\n"
-    new_spec = _with_written_lines(new_spec, text, out)
-    progress(f"spec with suggestion(s) {', '.join(map(str, picked)) or 'none'} for {out}; synthesizing")
+    chosen_suggestions = [suggestions[i - 1] for i in picked]
     result: dict = {"output": out, "added": picked, "robotics_semantics": True,
-                    "realizable_before": is_realizable(spec, robotics_semantics=True)}
+                    "format": "english" if english is not None else "slugsin"}
+    if english is not None:
+        sentences = [sentence for s in chosen_suggestions for sentence in english_sentences(spec, s)]
+        text = english + ("" if not english or english.endswith("\n") else "\n")
+        if sentences:
+            text += "# added by analyze_graph (ROS graph analysis, thesis 3.5.2.3)\n" + "".join(
+                s + "\n" for s in sentences)
+        new_spec = parse_english(text, out)  # as loading OUT will read it
+        result["sentences"] = sentences
+    else:
+        new_spec = add_to_spec(spec, chosen_suggestions, file=out)
+        new_spec.source = out
+        text = write_slugsin(new_spec)
+        text += "" if text.endswith("\n") else "\n"
+        new_spec = _with_written_lines(new_spec, text, out)
+    progress(f"spec with suggestion(s) {', '.join(map(str, picked)) or 'none'} for {out}; synthesizing")
+    result["realizable_before"] = is_realizable(spec, robotics_semantics=True)
     result["realizable"] = is_realizable(new_spec, robotics_semantics=True)
     if result["realizable"]:
         return result, text
@@ -173,7 +205,15 @@ def apply_suggestions(spec: Spec, suggestions: list[MutualExclusion], out: str,
         fixed = add_to_spec(new_spec, [assumption], file=out)
         result["input_assumption"] = {**assumption.to_dict(), **report.suggestion_forms(assumption),
                                       "restores_realizability": is_realizable(fixed, robotics_semantics=True)}
+        if english is not None:
+            result["input_assumption"]["sentences"] = english_sentences(new_spec, assumption)
     return result, text
+
+
+def english_sentences(spec: Spec, suggestion: MutualExclusion) -> list[str]:
+    """A suggestion as Structured English sentences of ``spec``'s language (``english_writer``):
+    ``a, b and c are mutually exclusive``, ``Assume x, y and z are mutually exclusive``."""
+    return sentences_for(spec, list(suggestion.clauses().items()))
 
 
 def _with_written_lines(spec: Spec, text: str, out: str) -> Spec:
@@ -221,6 +261,9 @@ def _print_report(args, analysis: Analysis, suggestions, warnings: list[str], ap
 
 def apply_text(applied: dict) -> str:
     out = [f"--apply: wrote {applied['output']} with suggestion(s) {', '.join(map(str, applied['added'])) or 'none'}."]
+    if applied.get("sentences"):
+        out.append("Sentences appended:")
+        out += [f"  {s}" for s in applied["sentences"]]
     before = "realizable" if applied["realizable_before"] else "unrealizable"
     if applied["realizable"]:
         out.append(f"The new spec is realizable (robotics init semantics; the original was {before}).")
@@ -237,6 +280,8 @@ def apply_text(applied: dict) -> str:
         else:
             out.append(f"The excluded outputs are driven by the inputs {names}; assuming they are mutually "
                        "exclusive is NOT enough on its own to make the spec realizable:")
+        for sentence in hint.get("sentences", []):
+            out.append(f"  Sentence to add: {sentence}")
         out.append(f"  Structured English: {hint['english_expanded']}")
         for section, line in hint["slugsin"].items():
             out.append(f"  .slugsin [{section}]: {line}")

@@ -235,3 +235,89 @@ def test_thesis_example_9_on_the_shared_sphero_mapping(tmp_path, capsys):
     assert added, data["apply"]["explanation"]["core"]
     for clause in added:
         assert clause["line"] > 0 and lines[clause["line"] - 1].startswith("| & move_left'"), clause
+
+
+# --- --apply on a Structured English spec appends English sentences (issue 15) --------------------
+
+ENGLISH = Path(__file__).resolve().parents[2] / "data" / "english"
+SPEC3_MOVES = ["moveLeft", "moveRight", "moveUp", "moveDown", "stop"]
+SPEC3_TURNS = ["turnPurple", "turnBlue", "turnGreen", "turnYellow", "turnRed", "turnWhite"]
+SPEC3_ROBOTS = ["sphero_wpw", "sphero_ggw", "sphero_rgw", "sphero_wpp"]
+
+
+def spec3_setup(folder: Path) -> list[str]:
+    """Thesis Spec. 3 as printed (English) over four spheros: one node per output and robot, a
+    driver per robot taking velocity and colour (Example 9, Fig. 3.13)."""
+    nodes, outputs = {}, {}
+    for prop in SPEC3_MOVES + SPEC3_TURNS:
+        outputs[prop] = [f"/spheros/outputs/{r}/{prop}" for r in SPEC3_ROBOTS]
+        topic = "cmd_vel" if prop in SPEC3_MOVES else "set_color"
+        for r in SPEC3_ROBOTS:
+            nodes[f"/spheros/outputs/{r}/{prop}"] = {"sub": [f"/t/outputs/{prop}"], "pub": [f"/{r}/{topic}"]}
+    for r in SPEC3_ROBOTS:
+        nodes[f"/{r}/driver"] = {"sub": [f"/{r}/cmd_vel", f"/{r}/set_color"], "pub": [f"/{r}/odom"]}
+    scenarios.snapshot_of({"nodes": nodes}).save(folder / "spheros.json")
+    lines = ["outputs:"]
+    for prop, ns in outputs.items():
+        lines += [f"  {prop}:", *(f"    - {{node: '{n}', node_subscribe_topic: '/t/outputs/{prop}'}}" for n in ns)]
+    (folder / "spheros.yaml").write_text("\n".join(lines) + "\n")
+    return ["--spec", str(ENGLISH / "thesis_spec3.spec"), "--mapping", str(folder / "spheros.yaml"),
+            "--snapshot", str(folder / "spheros.json")]
+
+
+def test_apply_on_english_spec3_appends_sentences_and_names_the_assumption(tmp_path, capsys):
+    from ltl_stack.spec.english_writer import append_sentences
+    from ltl_stack.synthesis import is_realizable
+
+    args = spec3_setup(tmp_path)
+    assert main([*args, "--json"]) == Exit.OK
+    suggestions = json.loads(capsys.readouterr().out)["suggestions"]
+    assert [s["propositions"] for s in suggestions] == [SPEC3_TURNS, SPEC3_MOVES]  # Fig. 3.13
+    out = tmp_path / "spec3_exclusive.spec"
+    # Example 9: the move outputs exclusive -> unrealizable
+    assert main([*args, "--apply", str(out), "--suggestions", "2"]) == Exit.UNREALIZABLE
+    report = capsys.readouterr().out
+    original = (ENGLISH / "thesis_spec3.spec").read_text()
+    text = out.read_text()
+    assert text.startswith(original), "the user's sentences stay as they are"
+    assert text[len(original):].splitlines() == [
+        "# added by analyze_graph (ROS graph analysis, thesis 3.5.2.3)",
+        "moveLeft, moveRight, moveUp, moveDown and stop are mutually exclusive"]
+    assert "Sentences appended:\n  moveLeft, moveRight, moveUp, moveDown and stop are mutually exclusive\n" in report
+    sentence = "Assume leftSignal, rightSignal, forwardSignal, backwardSignal and stopSignal are mutually exclusive"
+    assert f"  Sentence to add: {sentence}\n" in report
+    spec = load_spec(out)
+    added = [c for c in spec.sys_safety if c.line == len(text.splitlines())]
+    assert added and all(c.file == str(out) for c in added), "the clauses point at the appended sentence"
+    assert not is_realizable(spec, robotics_semantics=True)
+    # ... then the *Signal inputs assumed exclusive, as the report says -> realizable
+    append_sentences(out, [sentence])
+    assert is_realizable(load_spec(out), robotics_semantics=True)
+
+
+def test_apply_on_english_spec_realizable_and_json(tmp_path, capsys):
+    folder = tmp_path / "spec"
+    folder.mkdir()
+    config = Path(__file__).resolve().parents[3] / "config" / "clean_and_patrol"
+    for name in ("clean_and_patrol.spec", "clean_and_patrol.regions"):  # the spec's Map: is beside it
+        (folder / name).write_text((config / name).read_text())
+    snapshot = tmp_path / "graph.yaml"
+    scenarios.scenario_snapshot(DATA / "clean_and_patrol.yaml").save(snapshot)
+    mapping = require_shared("specs", "move_group_and_move_base", "move_group_and_move_base.yaml")
+    out = folder / "with_suggestions.spec"
+    assert main(["--spec", str(folder / "clean_and_patrol.spec"), "--mapping", str(mapping), "--snapshot",
+                 str(snapshot), "--apply", str(out), "--json"]) == Exit.OK
+    applied = json.loads(capsys.readouterr().out)["apply"]
+    assert (applied["format"], applied["realizable"]) == ("english", True)
+    assert applied["sentences"] == [
+        "stop, pickup, topLane, bottomLane, leftLane, rightLane, leftGround and rightGround are mutually exclusive",
+        "pickup and drop are mutually exclusive"]
+    assert out.read_text().splitlines()[-2:] == applied["sentences"]
+    spec = load_spec(out)
+    assert sorted(spec.outputs) == sorted(load_spec(folder / "clean_and_patrol.spec").outputs)
+    # an English spec with a .slugsin OUT gets the .slugsin text, as before
+    out2 = folder / "with_suggestions.slugsin"
+    assert main(["--spec", str(folder / "clean_and_patrol.spec"), "--mapping", str(mapping), "--snapshot",
+                 str(snapshot), "--apply", str(out2), "--json", "--suggestions", "2"]) == Exit.OK
+    assert json.loads(capsys.readouterr().out)["apply"]["format"] == "slugsin"
+    assert out2.read_text().startswith("[INPUT]")
