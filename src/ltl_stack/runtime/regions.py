@@ -1,10 +1,10 @@
 """Named polygon regions of a workspace, read from LTLMoP ``.regions`` files. ROS-free.
 
-An LTLMoP ``.regions`` file is a list of sections, each introduced by a header line ``Name: # comment``
-at column 0. The ``Regions:`` section holds a JSON list of objects with ``name``, ``type`` (``poly`` or
-``rect``), ``position`` (an offset), ``points`` (vertices relative to ``position``), ``size`` and
-``holeList`` (lists of vertices, also relative to ``position``). ``Obstacles:`` lists region names,
-one per line. The region named ``boundary`` is the outline of the whole workspace.
+The file format is read by ``ltl_stack.spec.region_map.read_region_file`` (the reader the
+Structured English front end uses for the topology): the ``Regions:`` section's JSON list of
+``name``, ``type`` (``poly`` or ``rect``), ``position`` (an offset), ``points``, ``size`` and
+``holeList`` (vertices relative to ``position``), and the ``Obstacles:`` names. The region named
+``boundary`` is the outline of the whole workspace.
 
 File coordinates are drawing pixels; ``RegionMap.load`` maps them to world metres with
 ``world = scale * file + (x_trans, y_trans)``, with y negated first when ``flip_y`` is set (the
@@ -13,18 +13,15 @@ drawing's y axis points down).
 from __future__ import annotations
 
 import math
-import re
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from ltl_stack.errors import InputError, UserError
-from ltl_stack.inputs import parse_json, read_text
-
-Point = tuple[float, float]
-
-BOUNDARY = "boundary"
-_HEADER = re.compile(r"^([A-Za-z][A-Za-z0-9_]*):\s*(#.*)?$")
+from ltl_stack.inputs import read_text
+from ltl_stack.spec.errors import SpecError
+from ltl_stack.spec.region_map import BOUNDARY, Point, read_region_file
+from ltl_stack.spec.region_map import shared_border as _shared_outline_border
 
 
 class RegionsError(UserError, ValueError):
@@ -140,49 +137,17 @@ class RegionMap:
     @classmethod
     def parse(cls, text: str, source: str = "<regions>", scale: float = 1.0, x_trans: float = 0.0,
               y_trans: float = 0.0, flip_y: bool = False) -> RegionMap:
-        sections = _sections(text)
-        if "Regions" not in sections:
-            raise RegionsError(f"{source}: no 'Regions:' section (is this an LTLMoP .regions file?)")
-        start_line, lines = sections["Regions"]
         try:
-            items = parse_json("\n".join(lines), source)
-        except InputError as error:  # invalid JSON, nested too deep, an over-long integer
-            where = f"{source}:{start_line + error.line}" if error.line else source
-            raise RegionsError(f"{where}: Regions section: {error.message}") from None
-        if not isinstance(items, list):
-            raise RegionsError(f"{source}:{start_line + 1}: Regions section must be a JSON list")
+            content = read_region_file(text, source)
+        except SpecError as error:
+            raise RegionsError(str(error)) from None
 
         def world(px: float, py: float) -> Point:
             return (scale * px + x_trans, scale * (-py if flip_y else py) + y_trans)
 
-        regions: dict[str, Region] = {}
-        for index, item in enumerate(items):
-            try:
-                if not isinstance(item, dict):
-                    raise TypeError(f"expected an object, got {type(item).__name__}")
-                name = str(item["name"])
-                ox, oy = (float(v) for v in item.get("position", (0, 0)))
-                if item.get("type", "poly") == "rect":
-                    w, h = (float(v) for v in item["size"])
-                    raw = [(0.0, 0.0), (w, 0.0), (w, h), (0.0, h)]
-                else:
-                    raw = [(float(p[0]), float(p[1])) for p in item["points"]]
-                holes_raw = [[(float(p[0]), float(p[1])) for p in hole] for hole in item.get("holeList", [])]
-                points = [(ox, oy), *raw, *(p for hole in holes_raw for p in hole)]
-                if not all(math.isfinite(c) for point in points for c in point):
-                    raise ValueError("a coordinate is not a finite number")
-            except (KeyError, TypeError, ValueError, IndexError, OverflowError) as error:
-                raise RegionsError(f"{source}: region #{index} of the Regions section is malformed "
-                                   f"({type(error).__name__}: {error})") from None
-            if len(raw) < 3:
-                raise RegionsError(f"{source}: region {name!r} has fewer than 3 vertices")
-            regions[name] = Region(
-                name=name,
-                polygon=[world(ox + x, oy + y) for x, y in raw],
-                holes=[[world(ox + x, oy + y) for x, y in hole] for hole in holes_raw],
-            )
-        obstacles = [line.strip() for line in sections.get("Obstacles", (0, []))[1] if line.strip()]
-        return cls(regions=regions, obstacles=obstacles, source=source)
+        regions = {r.name: Region(r.name, [world(*p) for p in r.outline], [[world(*p) for p in hole] for hole in r.holes])
+                   for r in content.regions}
+        return cls(regions=regions, obstacles=content.obstacles, source=source)
 
     def names(self, include_boundary: bool = False) -> list[str]:
         return [n for n in self.regions if include_boundary or n != BOUNDARY]
@@ -235,43 +200,7 @@ class RegionMap:
 
 def shared_border(a: Region, b: Region, tolerance: float = 1e-6) -> tuple[Point, Point] | None:
     """The longest stretch of boundary that regions ``a`` and ``b`` share, or None if they do not touch."""
-    best: tuple[Point, Point] | None = None
-    best_length = tolerance
-    for p1, p2 in _edges(a.polygon):
-        ex, ey = p2[0] - p1[0], p2[1] - p1[1]
-        length = math.hypot(ex, ey)
-        if length < tolerance:
-            continue
-        ux, uy = ex / length, ey / length
-        for q1, q2 in _edges(b.polygon):
-            # Both ends of b's edge must lie on the line through a's edge.
-            if any(abs((q[0] - p1[0]) * uy - (q[1] - p1[1]) * ux) > tolerance for q in (q1, q2)):
-                continue
-            t1 = (q1[0] - p1[0]) * ux + (q1[1] - p1[1]) * uy
-            t2 = (q2[0] - p1[0]) * ux + (q2[1] - p1[1]) * uy
-            lo, hi = max(0.0, min(t1, t2)), min(length, max(t1, t2))
-            if hi - lo > best_length:
-                best_length = hi - lo
-                best = ((p1[0] + ux * lo, p1[1] + uy * lo), (p1[0] + ux * hi, p1[1] + uy * hi))
-    return best
-
-
-def _edges(polygon: Sequence[Point]) -> list[tuple[Point, Point]]:
-    return [(polygon[i], polygon[(i + 1) % len(polygon)]) for i in range(len(polygon))]
-
-
-def _sections(text: str) -> dict[str, tuple[int, list[str]]]:
-    """Split a .regions file into {section name: (header line number, body lines)}."""
-    sections: dict[str, tuple[int, list[str]]] = {}
-    current: list[str] | None = None
-    for number, line in enumerate(text.splitlines(), start=1):
-        match = _HEADER.match(line)
-        if match:
-            current = []
-            sections[match.group(1)] = (number, current)
-        elif current is not None:
-            current.append(line)
-    return sections
+    return _shared_outline_border(a.polygon, b.polygon, tolerance)
 
 
 def distance(a: Point, b: Point) -> float:

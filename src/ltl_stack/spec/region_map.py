@@ -1,8 +1,10 @@
 """Region names and adjacency from an LTLMoP ``.regions`` map, for the Structured English reader.
 
-Only what a specification needs: which regions there are and which touch (the topology constraints
-of thesis section 4.3 / [75]). The geometry used to drive a robot lives with the ROS adapters; this
-module is self-contained so that ``ltl_stack.spec`` stays below every other layer.
+``read_region_file`` is the one reader of the file format: every region's outline and holes in file
+coordinates, the obstacles, in file order. ``parse_region_map`` builds on it what a specification
+needs: which regions there are and which touch (the topology constraints of thesis section 4.3 /
+[75]). ``ltl_stack.runtime.regions`` builds on it the geometry that drives a robot (world
+coordinates, point location, routes).
 
 A ``.regions`` file is a list of sections, each introduced by a line ``Name: # comment`` at column 0:
 
@@ -16,11 +18,12 @@ outlines share a stretch of border of positive length (what LTLMoP's editor writ
 """
 from __future__ import annotations
 
-import json
 import math
 import re
 from dataclasses import dataclass, field
 
+from ltl_stack.errors import InputError
+from ltl_stack.inputs import parse_json
 from ltl_stack.spec.errors import SpecError
 
 BOUNDARY = "boundary"
@@ -51,29 +54,82 @@ def complete_topology(regions: list[str], source: str = "<declaration>") -> Regi
     return RegionTopology(list(regions), {r: set(regions) - {r} for r in regions}, source)
 
 
-def parse_region_map(text: str, file: str) -> RegionTopology:
-    """The regions and adjacency of an LTLMoP ``.regions`` text; ``SpecError`` names file and line."""
+@dataclass
+class RegionOutline:
+    """One entry of a map's Regions section, in file coordinates (``position`` added)."""
+
+    name: str
+    outline: list[Point]
+    holes: list[list[Point]] = field(default_factory=list)
+
+
+@dataclass
+class RegionFile:
+    """What a ``.regions`` file holds: every region (boundary and obstacles included), in file order."""
+
+    regions: list[RegionOutline]
+    obstacles: list[str]
+    sections: dict[str, tuple[int, list[str]]]
+    regions_line: int
+
+
+def read_region_file(text: str, file: str) -> RegionFile:
+    """Every region of an LTLMoP ``.regions`` text; ``SpecError`` names file and line.
+
+    Bounded on hostile input: the Regions JSON goes through ``ltl_stack.inputs.parse_json`` (nesting,
+    over-long integers), coordinates must be finite and every region needs three vertices."""
     sections = _sections(text)
     if "Regions" not in sections:
         raise SpecError(file, 0, 0, "no 'Regions:' section (is this an LTLMoP .regions file?)")
     start, lines = sections["Regions"]
-    body = "\n".join(lines)
     try:
-        items = _load_json(body)
-    except ValueError as e:
-        line, message = e.args
-        raise SpecError(file, start + line, 1, f"the Regions section is not valid JSON: {message}") from None
+        items = parse_json("\n".join(lines), file)
+    except InputError as error:
+        raise SpecError(file, start + error.line if error.line else 0, 0,
+                        f"Regions section: {error.message}") from None
     if not isinstance(items, list):
-        raise SpecError(file, start + 1, 1, "the Regions section must be a JSON list of regions")
-    obstacles = {line.strip() for line in sections.get("Obstacles", (0, []))[1] if line.strip()}
+        raise SpecError(file, start + 1, 0, "the Regions section must be a JSON list of regions")
+    obstacles = [line.strip() for line in sections.get("Obstacles", (0, []))[1] if line.strip()]
+    regions = [_region(item, index, file, start) for index, item in enumerate(items)]
+    return RegionFile(regions, obstacles, sections, start)
+
+
+def _region(item: object, index: int, file: str, line: int) -> RegionOutline:
+    where = f"region #{index + 1} of the Regions section"
+    if not isinstance(item, dict) or not isinstance(item.get("name"), str):
+        raise SpecError(file, line, 0, f"{where} is not an object with a \"name\"")
+    name = item["name"]
+    try:
+        ox, oy = (float(v) for v in item.get("position", (0, 0)))
+        if item.get("type", "poly") == "rect":
+            w, h = (float(v) for v in item["size"])
+            raw = [(0.0, 0.0), (w, 0.0), (w, h), (0.0, h)]
+        else:
+            raw = [(float(p[0]), float(p[1])) for p in item["points"]]
+        holes = [[(ox + float(p[0]), oy + float(p[1])) for p in hole] for hole in item.get("holeList", [])]
+    except OverflowError:
+        raise SpecError(file, line, 0, f"region {name!r}: a coordinate is not a finite number") from None
+    except (KeyError, TypeError, ValueError, IndexError):
+        raise SpecError(file, line, 0, f"region {name!r} has no valid \"points\" (or \"size\" for a rect, "
+                                       "\"position\", \"holeList\")") from None
+    outline = [(ox + x, oy + y) for x, y in raw]
+    if not all(math.isfinite(c) for p in [*outline, *(q for hole in holes for q in hole)] for c in p):
+        raise SpecError(file, line, 0, f"region {name!r}: a coordinate is not a finite number")
+    if len(outline) < 3:
+        raise SpecError(file, line, 0, f"region {name!r} has fewer than 3 vertices")
+    return RegionOutline(name, outline, holes)
+
+
+def parse_region_map(text: str, file: str) -> RegionTopology:
+    """The regions and adjacency of an LTLMoP ``.regions`` text; ``SpecError`` names file and line."""
+    content = read_region_file(text, file)
+    sections, start = content.sections, content.regions_line
+    obstacles = set(content.obstacles)
     names: list[str] = []
     outlines: dict[str, list[Point]] = {}
     vertices = 0
-    for index, item in enumerate(items):
-        where = f"region #{index + 1} of the Regions section"
-        if not isinstance(item, dict) or not isinstance(item.get("name"), str):
-            raise SpecError(file, start, 1, f"{where} has no \"name\"")
-        name = item["name"]
+    for region in content.regions:
+        name = region.name
         if name == BOUNDARY or name in obstacles:
             continue
         if not _NAME.match(name):
@@ -81,13 +137,12 @@ def parse_region_map(text: str, file: str) -> RegionTopology:
                                             "(letters, digits and '_', not starting with a digit)")
         if name in outlines:
             raise SpecError(file, start, 1, f"region {name!r} appears twice in the Regions section")
-        outline = _outline(item, file, start, name)
-        vertices += len(outline)
+        vertices += len(region.outline)
         if vertices > MAX_VERTICES or len(names) >= MAX_REGIONS:
             raise SpecError(file, start, 1, f"the map is too large for a specification (more than "
                                             f"{MAX_REGIONS} regions or {MAX_VERTICES} vertices)")
         names.append(name)
-        outlines[name] = outline
+        outlines[name] = region.outline
     adjacent: dict[str, set[str]] = {n: set() for n in names}
     transitions = sections.get("Transitions")
     listed = [(n, line) for n, line in enumerate(transitions[1], start=transitions[0] + 1)
@@ -128,63 +183,23 @@ def _sections(text: str) -> dict[str, tuple[int, list[str]]]:
     return sections
 
 
-def _load_json(body: str):
-    """JSON with bounded nesting; ValueError(line, message) on any problem."""
-    depth = deepest = 0
-    in_string = escaped = False
-    for char in body:  # refuse deep nesting before json's recursive parser sees it
-        if in_string:
-            if escaped:
-                escaped = False
-            elif char == "\\":
-                escaped = True
-            elif char == '"':
-                in_string = False
-            continue
-        if char == '"':
-            in_string = True
-        elif char in "[{":
-            depth += 1
-            deepest = max(deepest, depth)
-        elif char in "]}":
-            depth -= 1
-    if deepest > 20:
-        raise ValueError(1, "nested deeper than a region list can be")
-    try:
-        return json.loads(body)
-    except json.JSONDecodeError as e:
-        raise ValueError(e.lineno, e.msg) from None
-    except (RecursionError, ValueError) as e:
-        raise ValueError(1, str(e)) from None
-
-
-def _outline(item: dict, file: str, line: int, name: str) -> list[Point]:
-    """The region's vertices in file coordinates (``position`` added)."""
-    try:
-        ox, oy = (float(v) for v in item.get("position", (0, 0)))
-        if item.get("type", "poly") == "rect":
-            w, h = (float(v) for v in item["size"])
-            raw = [(0.0, 0.0), (w, 0.0), (w, h), (0.0, h)]
-        else:
-            raw = [(float(p[0]), float(p[1])) for p in item["points"]]
-    except (KeyError, TypeError, ValueError, IndexError, OverflowError):
-        raise SpecError(file, line, 1, f"region {name!r} has no valid \"points\" (or \"size\" for a rect)") from None
-    points = [(ox + x, oy + y) for x, y in raw]
-    if len(points) < 3 or not all(math.isfinite(c) for p in points for c in p):
-        raise SpecError(file, line, 1, f"region {name!r} needs at least 3 finite vertices")
-    return points
-
-
 def _touch(a: list[Point], b: list[Point]) -> bool:
-    """Do outlines ``a`` and ``b`` share a stretch of border (collinear, overlapping edges)?"""
+    """Do outlines ``a`` and ``b`` share a stretch of border of positive length?"""
     xs = [p[0] for p in a + b]
     ys = [p[1] for p in a + b]
-    scale = max(max(xs) - min(xs), max(ys) - min(ys), 1e-9)
-    tolerance = 1e-6 * scale
+    tolerance = 1e-6 * max(max(xs) - min(xs), max(ys) - min(ys), 1e-9)
     ax0, ax1, ay0, ay1 = _box(a)
     bx0, bx1, by0, by1 = _box(b)
     if ax0 > bx1 + tolerance or bx0 > ax1 + tolerance or ay0 > by1 + tolerance or by0 > ay1 + tolerance:
         return False
+    return shared_border(a, b, tolerance) is not None
+
+
+def shared_border(a: list[Point], b: list[Point], tolerance: float = 1e-6) -> tuple[Point, Point] | None:
+    """The longest stretch of border that outlines ``a`` and ``b`` share (collinear, overlapping
+    edges, longer than ``tolerance``), or None if they do not touch."""
+    best: tuple[Point, Point] | None = None
+    best_length = tolerance
     for p1, p2 in _edges(a):
         ex, ey = p2[0] - p1[0], p2[1] - p1[1]
         length = math.hypot(ex, ey)
@@ -196,9 +211,11 @@ def _touch(a: list[Point], b: list[Point]) -> bool:
                 continue  # b's edge is not on the line of a's edge
             t1 = (q1[0] - p1[0]) * ux + (q1[1] - p1[1]) * uy
             t2 = (q2[0] - p1[0]) * ux + (q2[1] - p1[1]) * uy
-            if min(length, max(t1, t2)) - max(0.0, min(t1, t2)) > tolerance:
-                return True
-    return False
+            lo, hi = max(0.0, min(t1, t2)), min(length, max(t1, t2))
+            if hi - lo > best_length:
+                best_length = hi - lo
+                best = ((p1[0] + ux * lo, p1[1] + uy * lo), (p1[0] + ux * hi, p1[1] + uy * hi))
+    return best
 
 
 def _box(points: list[Point]) -> tuple[float, float, float, float]:

@@ -77,12 +77,14 @@ def test_flip_y_negates_file_y():
     ("Regions:\n[{\"name\": \"a\", \"points\": [[" + "9" * 5000 + ", 0]]}]\n",
      "small.regions: Regions section: invalid JSON value"),
     ("Regions:\n[{\"name\": \"a\", \"points\": [[1" + "0" * 400 + ", 0], [1, 0], [0, 1]]}]\n",
-     "small.regions: region #0 of the Regions section is malformed (OverflowError"),
+     "small.regions:1: region 'a': a coordinate is not a finite number"),
     ("Regions:\n[{\"name\": \"a\", \"points\": [[NaN, 0], [1, 0], [0, 1]]}]\n", "not a finite number"),
     ("Regions:\n[{\"name\": \"a\", \"points\": [[0, 0], [1e999, 0], [0, 1]]}]\n", "not a finite number"),
-    ("Regions:\n[\"a\"]\n", "region #0 of the Regions section is malformed (TypeError: expected an object"),
+    ("Regions:\n[\"a\"]\n", "small.regions:1: region #1 of the Regions section is not an object with a \"name\""),
     ("Regions:\n[{\"name\": \"a\", \"points\": [[0, 0], [1, 1]]}]\n", "region 'a' has fewer than 3 vertices"),
-    ("Regions:\n[{\"points\": []}]\n", "small.regions: region #0 of the Regions section is malformed"),
+    ("Regions:\n[{\"points\": []}]\n", "small.regions:1: region #1 of the Regions section is not an object"),
+    ("Regions:\n[{\"name\": \"a\", \"points\": [[0, 0], [1, 0], [0, 1]], \"holeList\": [[[0, \"x\"]]]}]\n",
+     "small.regions:1: region 'a' has no valid \"points\""),
 ])
 def test_bad_files_give_one_clear_error(text, message):
     with pytest.raises(RegionsError) as err:
