@@ -163,6 +163,7 @@ class Analysis:
     pub: dict[tuple[str, str], Reach]
     sub: dict[tuple[str, str], Reach]
     robots: list[str] = field(default_factory=list)
+    namespace: str = ""  # the scenario namespace of the mapping (robots may be named relative to it)
     robot_topics_ignored: list[str] = field(default_factory=list)
     e1: list[E1Finding] = field(default_factory=list)
     feedback: list[E1Finding] = field(default_factory=list)  # E1 pairs that are expected feedback
@@ -204,7 +205,7 @@ def analyze(graph: ComputationGraph, mapping: Mapping, inputs: Sequence[str], ou
     boundary = sorted({*in_topics.values(), *(t for ts in out_topics.values() for t in ts)})
     blocked = {v for v in (graph.channel_vertex(t) for t in boundary) if v is not None}
     result = Analysis(graph, list(inputs), list(outputs), {}, [], [], boundary, {}, {},
-                      robots=list(robots), robot_topics_ignored=list(robot_topics_to_ignore))
+                      robots=list(robots), namespace=namespace, robot_topics_ignored=list(robot_topics_to_ignore))
     for kind, props, section in ((INPUT, inputs, mapping.inputs), (OUTPUT, outputs, mapping.outputs)):
         for prop in props:
             named = [e for e in section.get(prop) or [] if e.node is not None]
@@ -360,11 +361,25 @@ def e2_groups(a: Analysis) -> list[tuple[str, tuple[tuple[str, str], ...]]]:
     return [(g.channel, g.pairs) for g in a.e2]
 
 
-def split_robot_topic(name: str, robots: Iterable[str]) -> tuple[str, str] | None:
-    """``/sphero_wpw/cmd_vel`` -> (``sphero_wpw``, ``/cmd_vel``) when the first segment is a listed robot."""
-    parts = name.strip("/").split("/", 1)
-    if len(parts) == 2 and parts[0] in robots:
-        return parts[0], "/" + parts[1]
+def split_robot_topic(name: str, robots: Iterable[str], namespace: str = "") -> tuple[str, str] | None:
+    """``/sphero_wpw/cmd_vel`` -> (``sphero_wpw``, ``/cmd_vel``) when the name lies under a listed robot.
+
+    A robot is a namespace: ``sphero_wpw`` (the thesis' robots at the root), or one with several
+    segments (``spheros/sphero_wpw``). Inside the scenario namespace ``namespace`` robots may also be
+    named relative to it, as the mapping names its nodes: with ``namespace`` ``spheros``,
+    ``/spheros/sphero_wpw/cmd_vel`` belongs to robot ``sphero_wpw``. The longest robot name wins.
+    """
+    full = "/" + name.strip("/")
+    candidates = [full]
+    ns = namespace.strip("/")
+    if ns and full.startswith(f"/{ns}/"):
+        candidates.insert(0, full[len(ns) + 1:])
+    ordered = sorted(robots, key=lambda r: len(r.strip("/")), reverse=True)
+    for candidate in candidates:
+        for robot in ordered:
+            prefix = "/" + robot.strip("/")
+            if prefix != "/" and candidate.startswith(prefix + "/"):
+                return robot, candidate[len(prefix):]
     return None
 
 
@@ -383,7 +398,7 @@ def _robot_topics(a: Analysis, y: str) -> dict[str, dict[str, tuple[str, int]]]:
     out: dict[str, dict[str, tuple[str, int]]] = {}
     for node in a.nodes.get(y, []):
         for v in a.pub[(y, node)].channels:
-            split = split_robot_topic(a.graph.vertex_name(v), robots)
+            split = split_robot_topic(a.graph.vertex_name(v), robots, a.namespace)
             if split is None or suffix_ignored(split[1], a.robot_topics_ignored):
                 continue
             robot, suffix = split

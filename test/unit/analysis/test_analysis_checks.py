@@ -191,6 +191,13 @@ def test_robot_topic_helpers():
     assert split_robot_topic("r1/move/action_topics", {"r1"}) == ("r1", "/move/action_topics")
     assert split_robot_topic("/r10/cmd_vel", {"r1"}) is None
     assert split_robot_topic("/r1", {"r1"}) is None
+    # robots of a scenario namespace, named relative to it or in full, and robots of several segments
+    assert split_robot_topic("/spheros/r1/cmd_vel", {"r1"}, "spheros") == ("r1", "/cmd_vel")
+    assert split_robot_topic("spheros/r1/move/action_topics", {"r1"}, "/spheros/") == ("r1", "/move/action_topics")
+    assert split_robot_topic("/spheros/r1/cmd_vel", {"r1"}) is None
+    assert split_robot_topic("/r1/cmd_vel", {"r1"}, "spheros") == ("r1", "/cmd_vel")
+    assert split_robot_topic("/spheros/r1/cmd_vel", {"spheros/r1"}) == ("spheros/r1", "/cmd_vel")
+    assert split_robot_topic("/a/b/cmd_vel", {"a", "a/b"}) == ("a/b", "/cmd_vel")
     assert suffix_ignored("/odom", ["/odom"]) and suffix_ignored("/imu/data", ["imu"])
     assert suffix_ignored("/camera/depth", ["/camera/*"]) and not suffix_ignored("/odometry", ["/odom"])
 
