@@ -25,7 +25,6 @@ from python_qt_binding.QtWidgets import (
     QLabel,
     QLineEdit,
     QPlainTextEdit,
-    QProgressBar,
     QPushButton,
     QSplitter,
     QTableView,
@@ -47,7 +46,17 @@ from ltl_stack.gui.analysis_model import (
     names,
     run_analysis,
 )
-from ltl_stack.gui.widgets import GraphView, RowsModel, Task, error_text, restore_controls, save_controls
+from ltl_stack.gui.widgets import (
+    GraphView,
+    RowsModel,
+    Task,
+    error_text,
+    line_edit,
+    restore_controls,
+    save_controls,
+    show_status,
+    status_row,
+)
 
 
 def take_live_snapshot(master_uri: str | None):
@@ -73,15 +82,15 @@ class AnalysisPanel(QWidget):
     # --- layout -----------------------------------------------------------------------------------
     def _build(self) -> None:
         grid = QGridLayout()
-        self.spec_line_edit = self._line("spec_line_edit", "spec file")
-        self.mapping_line_edit = self._line("mapping_line_edit", "mapping YAML")
-        self.snapshot_line_edit = self._line("snapshot_line_edit", "saved snapshot (YAML or JSON)")
+        self.spec_line_edit = line_edit("spec_line_edit", "spec file")
+        self.mapping_line_edit = line_edit("mapping_line_edit", "mapping YAML")
+        self.snapshot_line_edit = line_edit("snapshot_line_edit", "saved snapshot (YAML or JSON)")
         self.live_check_box = QCheckBox("Live graph")
         self.live_check_box.setObjectName("live_check_box")
         self.live_check_box.setToolTip("snapshot the running ROS master instead of reading a file")
-        self.master_line_edit = self._line("master_uri_line_edit", "ROS master (empty: $ROS_MASTER_URI)")
-        self.robots_line_edit = self._line("robots_line_edit", "robots, e.g. sphero_wpw, sphero_ggw")
-        self.ignore_line_edit = self._line("ignore_topics_line_edit", "robot topics to ignore, e.g. /odom, /imu")
+        self.master_line_edit = line_edit("master_uri_line_edit", "ROS master (empty: $ROS_MASTER_URI)")
+        self.robots_line_edit = line_edit("robots_line_edit", "robots, e.g. sphero_wpw, sphero_ggw")
+        self.ignore_line_edit = line_edit("ignore_topics_line_edit", "robot topics to ignore, e.g. /odom, /imu")
         grid.addWidget(QLabel("Spec"), 0, 0)
         grid.addWidget(self.spec_line_edit, 0, 1)
         grid.addWidget(self._browse("spec_browse_push_button", self.spec_line_edit), 0, 2)
@@ -130,12 +139,12 @@ class AnalysisPanel(QWidget):
         self.form_combo_box.setObjectName("suggestion_form_combo_box")
         self.form_combo_box.addItems([FORM_TITLES[f] for f in FORMS])
         self.form_combo_box.currentIndexChanged.connect(lambda _i: self._show_suggestions())
-        self.chosen_line_edit = self._line("chosen_suggestions_line_edit", "add which, e.g. 1,2 (empty: all)")
+        self.chosen_line_edit = line_edit("chosen_suggestions_line_edit", "add which, e.g. 1,2 (empty: all)")
         form_row.addWidget(QLabel("Show as"))
         form_row.addWidget(self.form_combo_box)
         form_row.addWidget(self.chosen_line_edit, 1)
         apply_row = QHBoxLayout()
-        self.amended_line_edit = self._line("amended_spec_line_edit", "amended spec to write (.slugsin)")
+        self.amended_line_edit = line_edit("amended_spec_line_edit", "amended spec to write (.slugsin)")
         self.apply_push_button = QPushButton("Apply and check")
         self.apply_push_button.setObjectName("apply_and_check_push_button")
         self.apply_push_button.clicked.connect(self.apply)
@@ -169,27 +178,11 @@ class AnalysisPanel(QWidget):
         main.addWidget(bottom_splitter)
         main.setSizes([330, 420])
 
-        self.progress_bar = QProgressBar()
-        self.progress_bar.setObjectName("progress_bar")
-        self.progress_bar.setRange(0, 0)
-        self.progress_bar.setMaximumWidth(160)
-        self.progress_bar.hide()
-        self.status_label = QLabel("Name a spec, a mapping and a snapshot (or tick Live graph), then Analyze.")
-        self.status_label.setObjectName("status_label")
-        self.status_label.setWordWrap(True)
-        bottom = QHBoxLayout()
-        bottom.addWidget(self.progress_bar)
-        bottom.addWidget(self.status_label, 1)
+        bottom, self.progress_bar, self.status_label = status_row("Name a spec, a mapping and a snapshot (or tick Live graph), then Analyze.")
         layout = QVBoxLayout(self)
         layout.addLayout(grid)
         layout.addWidget(main, 1)
         layout.addLayout(bottom)
-
-    def _line(self, name: str, placeholder: str) -> QLineEdit:
-        edit = QLineEdit()
-        edit.setObjectName(name)
-        edit.setPlaceholderText(placeholder)
-        return edit
 
     def _browse(self, name: str, edit: QLineEdit) -> QPushButton:
         button = QPushButton("Browse…")
@@ -358,8 +351,7 @@ class AnalysisPanel(QWidget):
         self.apply_push_button.setEnabled(not busy)
 
     def _status(self, text: str, error: bool = False) -> None:
-        self.status_label.setText(text)
-        self.status_label.setStyleSheet("color: #a00000;" if error else "")
+        show_status(self.status_label, text, error)
 
     def save_settings(self, settings: Any) -> None:
         save_controls(self, settings)

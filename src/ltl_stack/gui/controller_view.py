@@ -29,7 +29,6 @@ from python_qt_binding.QtWidgets import (
     QLabel,
     QLineEdit,
     QPlainTextEdit,
-    QProgressBar,
     QPushButton,
     QSpinBox,
     QSplitter,
@@ -50,7 +49,15 @@ from ltl_stack.gui.controller_model import (
     mode_text,
     options_from_params,
 )
-from ltl_stack.gui.widgets import GraphView, Task, error_text, restore_controls, save_controls
+from ltl_stack.gui.widgets import (
+    GraphView,
+    Task,
+    error_text,
+    restore_controls,
+    save_controls,
+    show_status,
+    status_row,
+)
 
 STATE_TYPE = "ltl_stack/ControllerState"
 REFRESH_MS = 30
@@ -242,17 +249,7 @@ class ControllerView(QWidget):
         middle.setStretchFactor(1, 1)
         middle.setSizes([1000, 380])
 
-        self.progress_bar = QProgressBar()
-        self.progress_bar.setObjectName("progress_bar")
-        self.progress_bar.setRange(0, 0)
-        self.progress_bar.setMaximumWidth(160)
-        self.progress_bar.hide()
-        self.status_label = QLabel("Name the spec and the executor's state topic, then Attach.")
-        self.status_label.setObjectName("status_label")
-        self.status_label.setWordWrap(True)
-        bottom = QHBoxLayout()
-        bottom.addWidget(self.progress_bar)
-        bottom.addWidget(self.status_label, 1)
+        bottom, self.progress_bar, self.status_label = status_row("Name the spec and the executor's state topic, then Attach.")
         layout = QVBoxLayout(self)
         layout.addLayout(grid)
         layout.addWidget(middle, 1)
@@ -464,8 +461,7 @@ class ControllerView(QWidget):
         self.attach_push_button.setEnabled(not busy)
 
     def _status(self, text: str, error: bool = False) -> None:
-        self.status_label.setText(text)
-        self.status_label.setStyleSheet("color: #a00000;" if error else "")
+        show_status(self.status_label, text, error)
 
     def save_settings(self, settings: Any) -> None:
         save_controls(self, settings)

@@ -35,7 +35,7 @@ from python_qt_binding.QtWidgets import (
 )
 
 from ltl_stack.gui.mapping_model import ERROR, INPUT, OUTPUT, LiveGraph, MappingDocument, launch_file
-from ltl_stack.gui.widgets import Task, error_text, restore_controls, save_controls
+from ltl_stack.gui.widgets import Task, error_text, line_edit, restore_controls, save_controls, show_status
 
 SEVERITY_COLOR = {ERROR: QColor("#ffc8c8"), "warning": QColor("#fff0b0")}
 
@@ -66,10 +66,10 @@ class MappingPanel(QWidget):
     # --- layout -------------------------------------------------------------------------------
     def _build(self) -> None:
         top = QGridLayout()
-        self.spec_line_edit = self._line("spec_line_edit", "spec file (.slugsin, .structuredslugs, ...)")
-        self.mapping_line_edit = self._line("mapping_line_edit", "mapping YAML (empty: start a new mapping)")
-        self.launch_line_edit = self._line("launch_file_line_edit", "launch file to generate")
-        self.master_line_edit = self._line("master_uri_line_edit", "ROS master (empty: $ROS_MASTER_URI)")
+        self.spec_line_edit = line_edit("spec_line_edit", "spec file (.slugsin, .structuredslugs, ...)")
+        self.mapping_line_edit = line_edit("mapping_line_edit", "mapping YAML (empty: start a new mapping)")
+        self.launch_line_edit = line_edit("launch_file_line_edit", "launch file to generate")
+        self.master_line_edit = line_edit("master_uri_line_edit", "ROS master (empty: $ROS_MASTER_URI)")
         rows = [("Spec", self.spec_line_edit, "spec_browse_push_button"),
                 ("Mapping", self.mapping_line_edit, "mapping_browse_push_button"),
                 ("Launch file", self.launch_line_edit, "launch_file_browse_push_button"),
@@ -127,12 +127,6 @@ class MappingPanel(QWidget):
         layout.addLayout(buttons)
         layout.addWidget(main, 1)
         layout.addWidget(self.status_label)
-
-    def _line(self, name: str, placeholder: str) -> QLineEdit:
-        edit = QLineEdit()
-        edit.setObjectName(name)
-        edit.setPlaceholderText(placeholder)
-        return edit
 
     def _button(self, name: str, text: str) -> QPushButton:
         button = QPushButton(text)
@@ -362,8 +356,7 @@ class MappingPanel(QWidget):
         return self.findings
 
     def _status(self, text: str, error: bool = False) -> None:
-        self.status_label.setText(text)
-        self.status_label.setStyleSheet("color: #a00000;" if error else "")
+        show_status(self.status_label, text, error)
 
     # --- settings (rqt's save_settings / restore_settings) -----------------------------------------
     def save_settings(self, settings: Any) -> None:

@@ -35,8 +35,11 @@ from python_qt_binding.QtWidgets import (
     QGraphicsScene,
     QGraphicsSimpleTextItem,
     QGraphicsView,
+    QHBoxLayout,
+    QLabel,
     QLineEdit,
     QPlainTextEdit,
+    QProgressBar,
     QSpinBox,
     QSplitter,
     QTabWidget,
@@ -57,6 +60,36 @@ def error_text(err: BaseException) -> str:
     if isinstance(err, UserError | OSError | GraphvizError):
         return str(err)
     return f"{type(err).__name__}: {err}"
+
+
+def line_edit(name: str, placeholder: str) -> QLineEdit:
+    """A line edit with an object name (for settings and tests) and a placeholder saying what goes in."""
+    edit = QLineEdit()
+    edit.setObjectName(name)
+    edit.setPlaceholderText(placeholder)
+    return edit
+
+
+def status_row(text: str) -> tuple[QHBoxLayout, QProgressBar, QLabel]:
+    """A panel's bottom row: a busy indicator (hidden until work runs) and the status line."""
+    progress = QProgressBar()
+    progress.setObjectName("progress_bar")
+    progress.setRange(0, 0)
+    progress.setMaximumWidth(160)
+    progress.hide()
+    label = QLabel(text)
+    label.setObjectName("status_label")
+    label.setWordWrap(True)
+    row = QHBoxLayout()
+    row.addWidget(progress)
+    row.addWidget(label, 1)
+    return row, progress, label
+
+
+def show_status(label: QLabel, text: str, error: bool = False) -> None:
+    """Put ``text`` on a status line, in red when it reports an error."""
+    label.setText(text)
+    label.setStyleSheet("color: #a00000;" if error else "")
 
 
 class Task(QObject):
