@@ -65,6 +65,30 @@ def test_clock_starts_on_the_first_message_of_start_on(ros, tmp_path):
     door.wait(lambda ms: [m.data for m in ms] == [True], what="the door event after the start message")
 
 
+def test_when_events_wait_for_the_count_th_change_on_a_topic(ros, tmp_path):
+    """clean_and_patrol's camera: the object shows up the second time the robot is in a region."""
+    from std_msgs.msg import Bool, Float64
+
+    schedule = tmp_path / "env.yaml"
+    schedule.write_text(f"""events:
+  - {{at: 0.0, topic: {ros.topic('camera')}, type: std_msgs/Float64, value: 10.0}}
+  - when: {{topic: {ros.topic('in_region')}, type: std_msgs/Bool, value: true, count: 2}}
+    at: 0.2
+    topic: {ros.topic('camera')}
+    type: std_msgs/Float64
+    value: 0.4
+    name: object
+""")
+    camera = ros.record(ros.topic("camera"), Float64)
+    node = ros.run("scripted_environment", f"_schedule:={schedule}", "_wait_for_subscribers:=60", name="env")
+    camera.wait(lambda ms: [m.data for m in ms] == [10.0], what="nothing in sight")
+    # the second change to true (the counting itself is unit-tested in test_schedule.py)
+    for value in (True, True, False, True):
+        ros.publish(ros.topic("in_region"), Bool(data=value))
+    camera.wait(lambda ms: [m.data for m in ms] == [10.0, 0.4], what="the object on the second entry")
+    assert "'when' events start" in node.output(), node.output()
+
+
 def _fired_times(output: str) -> list[tuple[str, float]]:
     return [(m.group(2), float(m.group(1))) for m in re.finditer(r"t=(\d+\.\d+) (.+?)\s*$", output, re.M)]
 

@@ -5,7 +5,8 @@ robot, its navigation and manipulation servers, a scripted camera, every proposi
 controller executor, which synthesizes the spec at start-up), prints the controller's trace — what it
 senses, what it does, what changed — and stops everything after the strategy has cycled through all
 its goals the given number of times (for a spec without goals: ``--duration`` seconds after the
-controller's first state). Exit
+controller's first state). For clean_and_patrol it also tells the thesis' story (Fig. 3.10 a-d,
+``sim.narration``) from the trace and runs until the story is complete. Exit
 code 0 when it did, 1 when it did not in time.
 """
 from __future__ import annotations
@@ -19,12 +20,14 @@ from pathlib import Path
 
 from ltl_stack import cli
 from ltl_stack.errors import Exit, UserError
+from ltl_stack.sim.narration import CleanAndPatrolStory
 from ltl_stack.sim.session import RosSession
 from ltl_stack.spec import load_spec
 
 SCENARIOS = {
-    "clean_and_patrol": "Thesis Example 8: patrol the four lanes; when an object is seen, stop, pick it "
-                        "up, carry it to rightGround, drop it, and patrol again.",
+    "clean_and_patrol": "Thesis Example 8 (Fig. 3.10): start in topLane and patrol the four lanes; on the "
+                        "second time in bottomLane the camera sees an object there: stop, pick it up, carry "
+                        "it to rightGround, drop it, patrol again.",
     "simple": "Thesis Example 7: always move; stop when a person is sensed (move and stop are then "
               "true together, the conflict of Fig. 3.1).",
 }
@@ -104,6 +107,9 @@ def run(args: argparse.Namespace) -> int:
 
         rospy.Subscriber("/diagnostics", DiagnosticArray, on_diagnostics)
         trace = ControllerTrace(f"/{args.scenario}/controller_executor/state", goals, args.json)
+        # clean_and_patrol: the thesis' story (Fig. 3.10) told from the trace; the run also waits for it
+        story = CleanAndPatrolStory() if args.scenario == "clean_and_patrol" else None
+        read = 0  # trace steps the story has read
         if has_goals:
             say(f"synthesizing and starting; the run ends after {args.cycles} cycle(s) through {goals} goals")
         else:
@@ -112,9 +118,14 @@ def run(args: argparse.Namespace) -> int:
         first_state = None  # --duration counts from here: start-up takes long on a busy machine
         reached = False
         while time.monotonic() - started < args.timeout and launch.poll() is None:
-            if has_goals and trace.wait_cycles(args.cycles, 1.0):
+            cycles_done = has_goals and trace.wait_cycles(args.cycles, 1.0 if story is None else 0.5)
+            if story is not None:
+                read = _tell(story, trace.steps, read, args.json)
+            if cycles_done and (story is None or story.complete):
                 reached = True
                 break
+            if cycles_done:
+                time.sleep(0.2)
             if not has_goals:
                 time.sleep(0.2)
                 if trace.steps and first_state is None:
@@ -127,6 +138,8 @@ def run(args: argparse.Namespace) -> int:
         summary = {"event": "summary", "scenario": args.scenario, "cycles": trace.cycles.completed,
                    "states": len(trace.steps), "seconds": round(elapsed, 1), "problems": len(problems),
                    "ok": reached}
+        if story is not None:
+            summary["story"] = [c.key for c in story.chapters]
         if args.json:
             print(json.dumps(summary), flush=True)
         elif reached:
@@ -136,6 +149,8 @@ def run(args: argparse.Namespace) -> int:
         if not reached:
             if launch.poll() is not None:
                 why = f"roslaunch exited with code {launch.returncode} after {elapsed:.0f} s"
+            elif story is not None and trace.cycles.completed >= args.cycles:
+                why = f"the story did not reach '{story.next_key}' within {args.timeout:.0f} s"
             elif has_goals:
                 why = f"{args.cycles} goal cycle(s) not completed within {args.timeout:.0f} s"
             else:
@@ -145,6 +160,18 @@ def run(args: argparse.Namespace) -> int:
             cli.error("demo", f"{why} (the last lines of the launch log are above)")
             return Exit.NEGATIVE
     return Exit.OK
+
+
+def _tell(story: CleanAndPatrolStory, steps: list, read: int, json_lines: bool) -> int:
+    """Feed the story the trace steps after ``read`` and print each part it completes; the new count."""
+    new = steps[read:]
+    for step in new:
+        for chapter in story.feed(step):
+            if json_lines:
+                print(json.dumps(chapter.to_dict()), flush=True)
+            else:
+                print(f"[{chapter.time:7.2f}s] *** Fig. {chapter.figure}: {chapter.text}", flush=True)
+    return read + len(new)
 
 
 if __name__ == "__main__":

@@ -3,10 +3,12 @@
 Each event publishes one message, latched, on its topic: a person shows up, an object appears, a
 door closes. Sensor proposition nodes (or the controller's inputs directly) listen to these topics,
 so a scenario or a test sees the same environment every time. The name of each event is also
-published on ``~fired`` (std_msgs/String) when it fires.
+published on ``~fired`` (std_msgs/String) when it fires. Events with ``when:`` wait for a message
+on a topic the node subscribes to (the robot's second time in a region, say).
 """
 from __future__ import annotations
 
+import threading
 import time
 from typing import Any
 
@@ -67,6 +69,33 @@ class ScriptedEnvironment:
         self.fired_pub = rospy.Publisher("~fired", String, queue_size=100, latch=True)
         self._string = String
         self.scheduler = Scheduler(self.schedule)
+        self._lock = threading.Lock()
+        self._start: float | None = None
+        self._subscribers = []
+        for trigger in self.schedule.triggers():
+            try:
+                cls = message_class(trigger.type)
+                fill_message(cls, trigger.fields, "when: value")  # names a field the message lacks?
+            except NodeConfigError as error:
+                raise NodeConfigError(f"{name}: {self.schedule.source}: 'when' topic {trigger.topic}: "
+                                      f"{error}") from None
+            if not any(s.resolved_name == rospy.resolve_name(trigger.topic) for s in self._subscribers):
+                self._subscribers.append(rospy.Subscriber(trigger.topic, cls, self._on_message,
+                                                          callback_args=trigger.topic, queue_size=100))
+
+    def _elapsed(self) -> float:
+        """Schedule seconds since the clock started (0 before)."""
+        if self._start is None:
+            return 0.0
+        return (time.monotonic() - self._start) * self.config["time_scale"]
+
+    def _on_message(self, message: Any, topic: str) -> None:
+        import rospy
+
+        with self._lock:
+            for trigger in self.scheduler.observe(topic, message, self._elapsed()):
+                rospy.loginfo("%s: %s changed to %s (time %d): 'when' events start", rospy.get_name(),
+                              trigger.topic, trigger.fields, trigger.count)
 
     def _wait_for_subscribers(self) -> None:
         import rospy
@@ -97,17 +126,22 @@ class ScriptedEnvironment:
             self._wait_for_subscribers()
         if self.config["start_on"]:
             self._wait_for_start_message(self.config["start_on"])
-        start = time.monotonic()
+        with self._lock:
+            self._start = time.monotonic()
         rate = rospy.Rate(self.config["rate"])
         rospy.loginfo("%s: playing %d events from %s", rospy.get_name(), len(self.schedule.events),
                       self.schedule.source)
         while not rospy.is_shutdown():
-            elapsed = (time.monotonic() - start) * self.config["time_scale"]
-            for event in self.scheduler.due(elapsed):
+            with self._lock:
+                elapsed = self._elapsed()
+                due = self.scheduler.due(elapsed)
+            for event in due:
                 self.publishers[event.topic][0].publish(self.messages[id(event)])
                 self.fired_pub.publish(self._string(data=event.name))
                 rospy.loginfo("%s: t=%.2f %s", rospy.get_name(), elapsed, event.name)
-            if self.scheduler.finished():
+            with self._lock:
+                finished = self.scheduler.finished()
+            if finished:
                 rospy.loginfo("%s: schedule done; keeping the latched topics up", rospy.get_name())
                 rospy.spin()
                 return

@@ -16,6 +16,19 @@ time::
         value: {data: 0.3}           # message fields, as for rostopic pub
 
 Events at the same time fire in file order. A scalar ``value`` means ``{data: value}``.
+
+An event with ``when:`` is timed from a moment the world decides instead of from the start: its
+``at`` counts from the ``count``-th time (default 1) a message on the ``when`` topic changes to one
+matching ``value`` (the fields given must be equal; a message that matches after one that did not, or
+as the first message, is one time)::
+
+      - when: {topic: inputs/bottomLane_rc, value: true, count: 2}   # the robot's second time there
+        at: 0.5
+        topic: camera/object_distance
+        type: std_msgs/Float64
+        value: 0.4
+
+Triggered events fire once each (a looping schedule cannot have them).
 """
 from __future__ import annotations
 
@@ -39,6 +52,16 @@ class ScheduleError(UserError, ValueError):
 
 
 @dataclass(frozen=True)
+class Trigger:
+    """The ``count``-th time a message on ``topic`` (of ``type``) changes to one matching ``fields``."""
+
+    topic: str
+    type: str
+    fields: dict[str, Any]
+    count: int = 1
+
+
+@dataclass(frozen=True)
 class Event:
     at: float
     topic: str
@@ -46,6 +69,7 @@ class Event:
     fields: dict[str, Any]
     name: str
     line: int = 0
+    when: Trigger | None = None
 
 
 @dataclass
@@ -58,6 +82,26 @@ class Schedule:
     def topics(self) -> dict[str, str]:
         """{topic: message type} of every topic the schedule publishes on."""
         return {e.topic: e.type for e in self.events}
+
+    def triggers(self) -> list[Trigger]:
+        """The distinct ``when:`` conditions, in file order."""
+        out: list[Trigger] = []
+        for e in self.events:
+            if e.when is not None and e.when not in out:
+                out.append(e.when)
+        return out
+
+
+def matches(message: Any, fields: dict[str, Any]) -> bool:
+    """True when every field given (nested dicts for nested messages) equals the message's."""
+    for key, want in fields.items():
+        got = message.get(key) if isinstance(message, dict) else getattr(message, key, None)
+        if isinstance(want, dict):
+            if got is None or not matches(got, want):
+                return False
+        elif got != want:
+            return False
+    return True
 
 
 def _event_lines(root: yaml.Node | None) -> list[int]:
@@ -101,7 +145,7 @@ def parse_schedule(text: str, source: str = "<schedule>") -> Schedule:
         where = f"{source}:{line}: event #{index}" if line else f"{source}: event #{index}"
         if not isinstance(item, dict):
             raise ScheduleError(f"{where}: expected a mapping with at, topic and value")
-        extra = set(item) - {"at", "topic", "type", "value", "name"}
+        extra = set(item) - {"at", "topic", "type", "value", "name", "when"}
         if extra:
             raise ScheduleError(f"{where}: unknown key(s) {', '.join(sorted(extra))}")
         for key in ("at", "topic", "value"):
@@ -110,10 +154,7 @@ def parse_schedule(text: str, source: str = "<schedule>") -> Schedule:
         at = _seconds(item["at"])
         if at is None:
             raise ScheduleError(f"{where}: 'at' must be a number of seconds >= 0, got {item['at']!r}")
-        topic = item["topic"]
-        if not isinstance(topic, str) or not _TOPIC.match(topic) or "//" in topic:
-            raise ScheduleError(f"{where}: 'topic' must be a ROS topic name (letters, digits, _ and /), "
-                                f"got {topic!r}")
+        topic = _topic(item["topic"], where, "topic")
         msg_type = str(item.get("type", DEFAULT_TYPE))
         if topic in types and types[topic][0] != msg_type:
             raise ScheduleError(f"{where}: topic {topic} was given type {types[topic][0]} at line "
@@ -122,17 +163,46 @@ def parse_schedule(text: str, source: str = "<schedule>") -> Schedule:
         value = item["value"]
         fields = value if isinstance(value, dict) else {"data": value}
         name = str(item.get("name") or f"{topic} := {value}")
-        events.append(Event(at, topic, msg_type, fields, name, line))
+        when = _trigger(item["when"], where) if "when" in item else None
+        events.append(Event(at, topic, msg_type, fields, name, line, when))
     events.sort(key=lambda e: e.at)  # stable: equal times keep file order
     loop = bool(data.get("loop", False))
-    period = _seconds(data.get("period", events[-1].at if events else 0.0))
+    if loop and any(e.when is not None for e in events):
+        raise ScheduleError(f"{source}: 'loop: true' cannot replay events with 'when:'")
+    timed = [e for e in events if e.when is None]
+    period = _seconds(data.get("period", timed[-1].at if timed else 0.0))
     if period is None:
         raise ScheduleError(f"{source}: 'period' must be a number of seconds >= 0, got {data['period']!r}")
     if loop and (not events or period <= 0):
         raise ScheduleError(f"{source}: 'loop: true' needs events and a positive period")
-    if events and period < events[-1].at:
-        raise ScheduleError(f"{source}: period {period} is shorter than the last event time {events[-1].at}")
+    if timed and period < timed[-1].at:
+        raise ScheduleError(f"{source}: period {period} is shorter than the last event time {timed[-1].at}")
     return Schedule(events, loop, period, source)
+
+
+def _topic(topic: Any, where: str, key: str) -> str:
+    if not isinstance(topic, str) or not _TOPIC.match(topic) or "//" in topic:
+        raise ScheduleError(f"{where}: '{key}' must be a ROS topic name (letters, digits, _ and /), "
+                            f"got {topic!r}")
+    return topic
+
+
+def _trigger(when: Any, where: str) -> Trigger:
+    """The ``when:`` mapping of an event: topic, value, optional type and count."""
+    if not isinstance(when, dict):
+        raise ScheduleError(f"{where}: 'when' must be a mapping with topic and value")
+    extra = set(when) - {"topic", "type", "value", "count"}
+    if extra:
+        raise ScheduleError(f"{where}: unknown key(s) in 'when': {', '.join(sorted(extra))}")
+    for key in ("topic", "value"):
+        if key not in when:
+            raise ScheduleError(f"{where}: 'when' is missing '{key}'")
+    count = when.get("count", 1)
+    if isinstance(count, bool) or not isinstance(count, int) or not 1 <= count <= 1_000_000:
+        raise ScheduleError(f"{where}: 'when: count' must be a whole number from 1, got {count!r}")
+    value = when["value"]
+    return Trigger(_topic(when["topic"], where, "when: topic"), str(when.get("type", DEFAULT_TYPE)),
+                   value if isinstance(value, dict) else {"data": value}, count)
 
 
 def load_schedule(path: str | Path) -> Schedule:
@@ -147,17 +217,61 @@ def load_schedule(path: str | Path) -> Schedule:
 
 @dataclass
 class Scheduler:
-    """Hands out the events that are due as time passes (replaying them when the schedule loops)."""
+    """Hands out the events that are due as time passes (replaying them when the schedule loops);
+    ``observe`` tells it the messages on the ``when:`` topics."""
 
     schedule: Schedule
     _next: int = 0
     _cycle: int = 0
     fired: list[Event] = field(default_factory=list)
+    #: per trigger (index in ``schedule.triggers()``): times matched so far, last message matched, and
+    #: the elapsed time it happened (None until the count is reached)
+    _seen: list[int] = field(default_factory=list)
+    _was: list[bool] = field(default_factory=list)
+    _at: list[float | None] = field(default_factory=list)
+    _waiting: list[Event] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        self._triggers = self.schedule.triggers()
+        self._timed = [e for e in self.schedule.events if e.when is None]
+        self._waiting = [e for e in self.schedule.events if e.when is not None]
+        n = len(self._triggers)
+        self._seen, self._was, self._at = [0] * n, [False] * n, [None] * n
+
+    def observe(self, topic: str, message: Any, elapsed: float) -> list[Trigger]:
+        """A message arrived on ``topic``; the triggers whose count it completes (now timed from
+        ``elapsed``)."""
+        done = []
+        for i, trigger in enumerate(self._triggers):
+            if trigger.topic != topic or self._at[i] is not None:
+                continue
+            now = matches(message, trigger.fields)
+            if now and not self._was[i]:
+                self._seen[i] += 1
+                if self._seen[i] >= trigger.count:
+                    self._at[i] = elapsed
+                    done.append(trigger)
+            self._was[i] = now
+        return done
 
     def due(self, elapsed: float) -> list[Event]:
         """Events whose time has come by ``elapsed`` seconds after the start, in order, each once."""
+        out = self._due_timed(elapsed)
+        ready = []
+        for event in self._waiting:
+            start = self._at[self._triggers.index(event.when)]
+            if start is not None and start + event.at <= elapsed:
+                ready.append((start + event.at, event))
+        if ready:
+            self._waiting = [e for e in self._waiting if all(e is not r for _, r in ready)]
+            ready.sort(key=lambda pair: pair[0])  # stable: file order for ties
+            out += [event for _, event in ready]
+            self.fired.extend(event for _, event in ready)
+        return out
+
+    def _due_timed(self, elapsed: float) -> list[Event]:
         out: list[Event] = []
-        events = self.schedule.events
+        events = self._timed
         while events:
             if self._next >= len(events):
                 if not self.schedule.loop:
@@ -172,4 +286,4 @@ class Scheduler:
         return out
 
     def finished(self) -> bool:
-        return not self.schedule.loop and self._next >= len(self.schedule.events)
+        return not self.schedule.loop and self._next >= len(self._timed) and not self._waiting

@@ -102,3 +102,73 @@ def test_missing_file_names_it(tmp_path):
 
 def test_empty_schedule_is_finished_at_once():
     assert Scheduler(Schedule([])).finished()
+
+
+TRIGGERED = """
+events:
+  - {at: 0.0, topic: /camera, type: std_msgs/Float64, value: 10.0}
+  - when: {topic: /in_region, value: true, count: 2}
+    at: 0.5
+    topic: /camera
+    type: std_msgs/Float64
+    value: 0.4
+    name: object
+  - when: {topic: /pickup, value: true}
+    at: 0.0
+    topic: /camera
+    type: std_msgs/Float64
+    value: 10.0
+    name: gone
+"""
+
+
+def test_when_events_are_timed_from_the_count_th_change_to_a_matching_message():
+    scheduler = Scheduler(parse_schedule(TRIGGERED, "t.yaml"))
+    assert [e.name for e in scheduler.due(0.0)] == ["/camera := 10.0"]
+    assert not scheduler.finished()
+    # a topic republished periodically: only changes to a matching message count
+    for t, value in [(1.0, False), (2.0, True), (2.1, True), (2.2, True), (3.0, False), (4.0, False)]:
+        assert scheduler.observe("/in_region", {"data": value}, t) == []
+        assert scheduler.due(t + 0.6) == []
+    assert [t.topic for t in scheduler.observe("/in_region", {"data": True}, 5.0)] == ["/in_region"]
+    assert scheduler.due(5.4) == []
+    assert [e.name for e in scheduler.due(5.5)] == ["object"]
+    assert scheduler.observe("/in_region", {"data": False}, 6.0) == []
+    assert scheduler.observe("/in_region", {"data": True}, 7.0) == []  # fired once; later times ignored
+    assert scheduler.due(100.0) == [] and not scheduler.finished()
+    assert scheduler.observe("/other", {"data": True}, 8.0) == []
+    scheduler.observe("/pickup", {"data": True}, 9.0)
+    assert [e.name for e in scheduler.due(9.0)] == ["gone"]
+    assert scheduler.finished()
+
+
+def test_when_value_compares_nested_fields_and_attributes():
+    class Msg:
+        def __init__(self, **kw):
+            self.__dict__.update(kw)
+    text = ("events:\n  - when: {topic: /odom, type: nav_msgs/Odometry, value: {header: {frame_id: map}}}\n"
+            "    at: 1\n    topic: /a\n    value: true\n")
+    scheduler = Scheduler(parse_schedule(text))
+    assert scheduler.observe("/odom", Msg(header=Msg(frame_id="odom")), 0.0) == []
+    assert len(scheduler.observe("/odom", Msg(header=Msg(frame_id="map")), 0.5)) == 1
+    assert [e.topic for e in scheduler.due(1.5)] == ["/a"]
+
+
+@pytest.mark.parametrize("when, message", [
+    ("[a]", "'when' must be a mapping with topic and value"),
+    ("{topic: /a}", "'when' is missing 'value'"),
+    ("{value: 1}", "'when' is missing 'topic'"),
+    ("{topic: /a, value: 1, count: 0}", "'when: count' must be a whole number from 1, got 0"),
+    ("{topic: /a, value: 1, count: true}", "'when: count' must be a whole number from 1, got True"),
+    ("{topic: 'a b', value: 1}", "'when: topic' must be a ROS topic name"),
+    ("{topic: /a, value: 1, colour: red}", "unknown key(s) in 'when': colour"),
+])
+def test_bad_when_gives_one_clear_error_with_the_line(when, message):
+    with pytest.raises(ScheduleError) as err:
+        parse_schedule(f"events:\n  - {{at: 1, topic: /b, value: 1, when: {when}}}\n", "s.yaml")
+    assert str(err.value).startswith("s.yaml:2: event #0: ") and message in str(err.value), str(err.value)
+
+
+def test_a_looping_schedule_cannot_have_when_events():
+    with pytest.raises(ScheduleError, match="cannot replay events with 'when:'"):
+        parse_schedule("loop: true\nperiod: 2\nevents:\n  - {at: 1, topic: /b, value: 1, when: {topic: /a, value: 1}}\n")
