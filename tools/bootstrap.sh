@@ -64,7 +64,7 @@ make_venv() {
 build_workspace() {
   local want
   # What catkin_make's output depends on: the build files, the interface files, the script names.
-  want=$( (cd "$LTL_STACK_ROOT" && cat package.xml CMakeLists.txt setup.py msg/* action/* \
+  want=$( (cd "$LTL_STACK_ROOT" && cat package.xml CMakeLists.txt setup.py msg/* srv/* action/* \
           && ls scripts && echo "$LTL_STACK_VENV") | sha1sum | cut -c1-40)
   if [ -f "$LTL_STACK_WS/devel/setup.bash" ] && stamp_matches "$LTL_STACK_WS/.ltl_stack_stamp" "$want"; then
     return 0

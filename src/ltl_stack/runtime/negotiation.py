@@ -614,6 +614,8 @@ class Negotiator:
         self.history: list[Negotiation] = []
         self.active: dict[str, Negotiation] = {}   # responder side, by peer
         self.partners: set[frozenset[str]] = set()
+        #: called after every message handled and every negotiation started or ended (reports changed)
+        self.on_change: Callable[[Negotiation], None] | None = None
 
     def choose(self, star: Spec, current: Mapping[str, bool], incoming: Mapping[str, bool]) -> str | None:
         """The peer to negotiate with: the first (declaration order) whose eAP inputs appear in the
@@ -632,8 +634,14 @@ class Negotiator:
         if self.transport is None:
             n.fail("no transport to reach the peer")
         else:
+            self._changed(n)
             drive(n, self.transport(self.classes.peers[peer]))
+        self._changed(n)
         return n
+
+    def _changed(self, n: Negotiation) -> None:
+        if self.on_change is not None:
+            self.on_change(n)
 
     def respond(self, message: Message, star: Spec, incoming: Mapping[str, bool],
                 outputs: Mapping[str, bool]) -> tuple[Message, Negotiation | None]:
@@ -660,6 +668,7 @@ class Negotiator:
         reply = answer(n, message)
         if n.done:
             self.active.pop(peer, None)
+        self._changed(n)
         return reply, n
 
     def expire(self, peer: str, reason: str) -> Negotiation | None:
@@ -667,37 +676,49 @@ class Negotiator:
         n = self.active.pop(peer, None)
         if n is not None:
             n.fail(reason)
+            self._changed(n)
         return n
 
     def reports(self) -> list[dict[str, Any]]:
         return [n.report() for n in self.history]
 
     # --- with a ResilientStrategy (runtime.characterize) -------------------------------------------------
-    def hook(self, strategy: Any, observation: Any) -> Adoption | None:
-        """``ResilientStrategy(negotiate=negotiator.hook)``: Alg. 3 line 9. Negotiates with the peer whose
-        eAP inputs the violated clauses mention (once per pair); returns the adopted spec, or None
-        (the strategy then aborts: no peer to ask, or the negotiation did not end in adoption)."""
+    def hook(self, strategy: Any, observation: Any) -> Spec | None:
+        """``ResilientStrategy(negotiate=negotiator.hook)`` (the executor's negotiation hook,
+        docs/resilience.md): Alg. 3 line 9. Negotiates with the peer whose eAP inputs the violated
+        clauses mention (once per pair). On adoption the negotiated spec becomes the strategy's base
+        spec phi* (later characterizations start from it with empty EC sets, Alg. 4 line 2), is
+        written atomically to the characterized-spec path, and is returned for the strategy to run;
+        otherwise None (the strategy aborts: no peer to ask, or no agreement)."""
         star = strategy.characterizer.original
         current = {**observation.current_inputs, **observation.current_outputs}
         peer = self.choose(star, current, observation.incoming)
         if peer is None:
             return None
-        return self.initiate(star, peer, observation.incoming, observation.current_outputs).adopted
+        adopted = self.initiate(star, peer, observation.incoming, observation.current_outputs).adopted
+        if adopted is None:
+            return None
+        old = strategy.characterizer
+        strategy.characterizer = type(old)(adopted.spec, path=old.path, synthesis_options=old.synthesis_options)
+        if old.path is not None:
+            write_adopted(adopted, old.path)
+        return adopted.spec
 
     def serve(self, message: Message, strategy: Any, controller: Any) -> Message:
         """Answer a peer's message for the robot running ``controller`` (a ``runtime.Controller`` over
-        ``strategy``, a ``ResilientStrategy``). The position is held (controller lock) while the message
-        is handled; an adopted spec is installed at once (``strategy.adopt``), and 4.8.3 / line 20
-        abort the strategy (its safe outputs)."""
+        ``strategy``, a ``ResilientStrategy``), under the controller's lock. An adopted spec is installed
+        at once (``strategy.adopt``) from the position the negotiation started at (the adopted spec's
+        init; the robot keeps running between messages, and the controller's next step continues from
+        there with the current readings); 4.8.3 / line 20 abort the strategy (its safe outputs)."""
         with controller.lock:
             state = controller.state
             if state is None:
                 return Message(ABORT, self.classes.robot, message.session, reason=f"{self.classes.robot} has not started")
             reply, n = self.respond(message, strategy.characterizer.original, state.inputs, state.outputs)
             if n is not None and n.done:
-                if n.adopted is not None:
+                if n.adopted is not None:  # from the position the negotiation started at (its init)
                     controller.state = strategy.adopt(n.adopted.spec, n.adopted.text, n.adopted.strategy,
-                                                      state.inputs, state.outputs)
+                                                      n.incoming, n.outputs)
                 elif n.outcome in (Outcome.BOTH_ABORT, Outcome.ABORT_LINE_20):
                     strategy.abort(f"negotiation with {n.peer.name}: {n.outcome.value}")
             return reply

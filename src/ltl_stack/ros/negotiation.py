@@ -1,0 +1,167 @@
+"""Integrative negotiation over ROS (thesis §4.8, Alg. 4; docs/negotiation.md).
+
+Each executor that negotiates offers the service ``~negotiate`` (``ltl_stack/Negotiate``): the
+request is one message of the initiator, the response the responder's own message of the same
+exchange (offer, status 1, status 2, or an abort). The protocol logic is ROS-free
+(``ltl_stack.runtime.negotiation``); this module is the transport and the reporting:
+
+* ``NegotiationEndpoint(negotiator, strategy, controller)``: serves ``~negotiate`` (under the
+  controller's lock, ``Negotiator.serve``), gives the negotiator its transport (a service call per
+  message, bounded by ``timeout``: a peer whose service does not appear or does not answer in time is
+  a fault, the negotiation fails and nothing is adopted), expires a negotiation whose initiator went
+  silent, and publishes ``~negotiations`` (``std_msgs/String``, latched: a JSON list of the reports —
+  with whom, what was sent and received in Structured English, outcome) and a ``negotiation`` status
+  on ``/diagnostics``;
+* a peer's service is the ``service:`` of its mapping entry, else
+  ``<parent namespace>/<peer>/controller_executor/negotiate`` (the executors of a scenario side by side,
+  e.g. ``/kitchen/D/…`` and ``/kitchen/A/…``).
+"""
+from __future__ import annotations
+
+import json
+import threading
+import time
+from collections.abc import Callable
+from typing import Any
+
+import rosgraph
+import rospy
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from std_msgs.msg import String
+
+from ltl_stack.runtime.negotiation import Message, Negotiation, Negotiator, Outcome, Peer
+from ltl_stack.srv import Negotiate, NegotiateRequest, NegotiateResponse
+
+FIELDS = ("kind", "sender", "session", "round", "text", "english", "realizable", "reason")
+#: Default bound of one exchange (seconds); ~negotiation_timeout.
+DEFAULT_TIMEOUT = 5.0
+
+
+def to_ros(message: Message, kind: type = NegotiateRequest) -> Any:
+    data = message.to_dict()
+    return kind(**{f: data[f] for f in FIELDS})
+
+
+def from_ros(msg: Any) -> Message:
+    return Message.from_dict({f: getattr(msg, f) for f in FIELDS})
+
+
+def default_service(peer: str, namespace: str | None = None) -> str:
+    """``<parent of our namespace>/<peer>/controller_executor/negotiate``."""
+    namespace = namespace if namespace is not None else rospy.get_namespace()
+    parent = rosgraph.names.namespace(namespace.rstrip("/") or "/")
+    return rosgraph.names.ns_join(parent, f"{peer}/controller_executor/negotiate")
+
+
+class NegotiationEndpoint:
+    """The ROS side of one robot's negotiations (see the module docstring). Create after ``init_node``."""
+
+    def __init__(self, negotiator: Negotiator, strategy: Any, controller: Any, *, timeout: float = DEFAULT_TIMEOUT,
+                 service_name: str = "~negotiate", on_report: Callable[[Negotiation], None] | None = None) -> None:
+        self.negotiator = negotiator
+        self.strategy = strategy
+        self.controller = controller
+        self.timeout = timeout
+        self.on_report = on_report
+        self.name = rospy.get_name()
+        self.pub = rospy.Publisher("~negotiations", String, queue_size=10, latch=True)
+        self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=10)
+        negotiator.transport = self.transport
+        negotiator.on_change = self._changed
+        self.service = rospy.Service(service_name, Negotiate, self._on_request)
+        self.expiry = rospy.Timer(rospy.Duration(max(timeout / 2.0, 0.1)), self._expire)
+        self._publish()
+
+    # --- initiator: one service call per message ---------------------------------------------------------
+    def service_of(self, peer: Peer) -> str:
+        return rospy.resolve_name(peer.service) if peer.service else default_service(peer.name)
+
+    def transport(self, peer: Peer) -> Callable[[Message], Message]:
+        name = self.service_of(peer)
+        timeout = self.timeout
+
+        def call(message: Message) -> Message:
+            result: dict[str, Any] = {}
+
+            def work() -> None:
+                try:
+                    rospy.wait_for_service(name, timeout=timeout)
+                    result["reply"] = rospy.ServiceProxy(name, Negotiate)(to_ros(message))
+                except Exception as err:  # noqa: BLE001 - every transport failure is a fault of the negotiation
+                    result["error"] = err
+
+            worker = threading.Thread(target=work, name=f"negotiate_{peer.name}", daemon=True)
+            worker.start()
+            worker.join(timeout)
+            if worker.is_alive():
+                raise TimeoutError(f"{name}: no answer within {timeout:g} s")
+            if "error" in result:
+                error = result["error"]
+                if isinstance(error, rospy.ROSException) and "timeout" in str(error).lower():
+                    raise TimeoutError(f"{name}: service not available within {timeout:g} s")
+                raise ConnectionError(f"{name}: {error}")
+            return from_ros(result["reply"])
+
+        return call
+
+    # --- responder -------------------------------------------------------------------------------------------
+    def _on_request(self, request: Any) -> NegotiateResponse:
+        try:
+            message = from_ros(request)
+        except (KeyError, TypeError, ValueError) as err:
+            reply = Message("abort", self.negotiator.classes.robot, "", reason=f"malformed request: {err}")
+        else:
+            reply = self.negotiator.serve(message, self.strategy, self.controller)
+        return to_ros(reply, NegotiateResponse)
+
+    def _expire(self, _event: Any) -> None:
+        """A responder's negotiation whose initiator stayed silent for 3 x timeout ends as FAILED."""
+        now = time.time()
+        with self.controller.lock:
+            for peer, n in list(self.negotiator.active.items()):
+                if now - n.started > 3 * self.timeout:
+                    self.negotiator.expire(peer, f"{peer} went silent for more than {3 * self.timeout:g} s")
+
+    # --- reports --------------------------------------------------------------------------------------------
+    def _changed(self, n: Negotiation) -> None:
+        if n.done:
+            level = rospy.loginfo if n.outcome is not None and n.outcome.adopts else rospy.logwarn
+            level("%s: negotiation %s with %s: %s (%s)", self.name, n.session, n.peer.name,
+                  n.outcome.value if n.outcome else "?", n.reason)
+            for line in n.sent:
+                rospy.loginfo("%s:   sent to %s: %s", self.name, n.peer.name, line)
+            for line in n.received:
+                rospy.loginfo("%s:   received from %s: %s", self.name, n.peer.name, line)
+        self._publish()
+        if self.on_report is not None:
+            self.on_report(n)
+
+    def _publish(self) -> None:
+        reports = self.negotiator.reports()
+        try:
+            self.pub.publish(String(json.dumps(reports)))
+            last = self.negotiator.history[-1] if self.negotiator.history else None
+            if last is None:
+                level, text = DiagnosticStatus.OK, "no negotiation yet"
+            elif not last.done:
+                level, text = DiagnosticStatus.OK, f"negotiating with {last.peer.name} ({last.phase.value})"
+            elif last.outcome is not None and last.outcome.adopts:
+                level, text = DiagnosticStatus.OK, f"with {last.peer.name}: {last.outcome.value}"
+            else:
+                level = DiagnosticStatus.ERROR if last.outcome in (Outcome.BOTH_ABORT, Outcome.ABORT_LINE_20) \
+                    else DiagnosticStatus.WARN
+                text = f"with {last.peer.name}: {last.outcome.value if last.outcome else '?'}: {last.reason}"
+            values = [KeyValue("negotiations", str(len(reports)))]
+            if last is not None:
+                values += [KeyValue("peer", last.peer.name), KeyValue("session", last.session)]
+                values += [KeyValue("sent", s) for s in last.sent] + [KeyValue("received", r) for r in last.received]
+            status = DiagnosticStatus(level=level, name=f"{self.name}: negotiation", message=text,
+                                      hardware_id=self.name, values=values)
+            array = DiagnosticArray(status=[status])
+            array.header.stamp = rospy.Time.now()
+            self.diag_pub.publish(array)
+        except rospy.ROSException:
+            pass  # shutting down
+
+
+__all__ = ["DEFAULT_TIMEOUT", "NegotiationEndpoint", "default_service", "from_ros", "to_ros"]
