@@ -354,8 +354,7 @@ class Event:
     message: str
 
 
-# returns a spec to synthesize, an adoption (``runtime.negotiation.Adoption``: spec, text, strategy), or None
-Negotiate = Callable[["ResilientStrategy", Observation], Any]
+Negotiate = Callable[["ResilientStrategy", Observation], Spec | None]
 
 
 @dataclass
@@ -516,9 +515,6 @@ class ResilientStrategy:
         self.counters.unrealizable += 1
         if self.negotiate is not None:  # S.2: a collaborative robot caused it (Alg. 3 line 9, §4.8)
             spec = self.negotiate(self, observation)
-            if spec is not None and not isinstance(spec, Spec):  # an adoption (runtime.negotiation)
-                return self.adopt(spec.spec, spec.text, spec.strategy, observation.incoming,
-                                  observation.current_outputs)
             result = synthesize(spec, **self.characterizer.synthesis_options) if spec is not None else None
             if result is not None and result.realizable:
                 text = self.characterizer.text(None, observation)
