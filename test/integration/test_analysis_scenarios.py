@@ -124,7 +124,7 @@ def test_simple_reports_move_and_stop_on_the_base_and_nothing_else(tmp_path_fact
     assert {tuple(g["outputs"]) for g in report["E2"]} == {("move", "stop")}  # and downstream: odom, pose
     assert [c["chain"] for c in report["E2"][0]["chains"]] == ["(/simple/move) -> [/simple/cmd_vel]",
                                                                "(/simple/stop) -> [/simple/cmd_vel]"]
-    assert [s["propositions"] for s in report["suggestions"]] == [["move", "stop"]]
+    assert [(s["propositions"], s["already_in_spec"]) for s in report["suggestions"]] == [(["move", "stop"], False)]
     assert report["finding_count"] == len(report["E2"])
 
 
@@ -159,6 +159,7 @@ def test_clean_and_patrol_completion_and_navigation_feedback_apart(tmp_path_fact
     assert report["E2"][0]["topic"] == f"{cp}/cmd_vel"
     assert sorted(report["E2"][0]["outputs"]) == sorted(["stop", *REGIONS])
     assert [sorted(s["propositions"]) for s in report["suggestions"]] == [sorted(["stop", *REGIONS])]
+    assert report["suggestions"][0]["already_in_spec"] is True  # the region exclusion and line "stop: no region"
     assert report["finding_count"] == len(report["E2"])
 
 

@@ -30,7 +30,13 @@ from ltl_stack.analysis import report
 from ltl_stack.analysis.checks import Analysis, analyze, e2_groups
 from ltl_stack.analysis.graph import DEFAULT_IGNORED_TOPICS, ComputationGraph
 from ltl_stack.analysis.snapshot import Snapshot, is_json_path
-from ltl_stack.analysis.suggest import MutualExclusion, add_to_spec, input_exclusion_for, mutual_exclusions
+from ltl_stack.analysis.suggest import (
+    MutualExclusion,
+    add_to_spec,
+    input_exclusion_for,
+    mark_guaranteed,
+    mutual_exclusions,
+)
 from ltl_stack.errors import Exit, UserError
 from ltl_stack.inputs import read_text
 from ltl_stack.runtime.mapping import check_mapping, errors, load_mapping
@@ -120,7 +126,7 @@ def run(args: argparse.Namespace, take_live: Callable[..., Snapshot] | None) -> 
     progress(f"graph: {len(graph.nodes)} nodes, {len(graph.channels)} topics/actions, {graph.edge_count} edges")
     analysis = analyze(graph, mapping, spec.inputs, spec.outputs, robots=args.robots,
                        robot_topics_to_ignore=args.ignore_topics, progress=progress)
-    suggestions = mutual_exclusions(e2_groups(analysis), spec.outputs)
+    suggestions = mark_guaranteed(spec, mutual_exclusions(e2_groups(analysis), spec.outputs))
     applied = None
     outputs = []
     if args.apply:

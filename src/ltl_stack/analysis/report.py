@@ -14,6 +14,7 @@ CHECKS = {
     "C1": "Robot topics left behind: reached for some robots but not all (thesis 3.5.2.5)",
     "C2": "Robots that no output proposition controls (thesis 3.5.2.6)",
 }
+IN_SPEC_NOTE = "[already guaranteed by the spec: adding it changes nothing]"
 FEEDBACK_TITLE = ("Expected feedback, not findings: outputs reaching their own completion inputs "
                   "(activation-completion [75])")
 
@@ -137,7 +138,7 @@ def to_text(a: Analysis, suggestions: list[MutualExclusion], *, reach: bool = Fa
 
 def suggestion_lines(i: int, s: MutualExclusion) -> list[str]:
     why = f"   (shared: {_short_list(list(s.topics), 4)})" if s.topics else ""
-    lines = [f"{i}. {s.sentence()}{why}"]
+    lines = [f"{i}. {s.sentence()}{why}" + (f"   {IN_SPEC_NOTE}" if s.in_spec else "")]
     forms = _forms_or_error(s)
     if "render_error" in forms:
         lines.append(f"   (cannot render the formula: {forms['render_error']})")
@@ -259,7 +260,8 @@ def to_markdown(a: Analysis, suggestions: list[MutualExclusion]) -> str:
         out.append("None.")
     for i, s in enumerate(suggestions, 1):
         forms = _forms_or_error(s)
-        out.append(f"{i}. **{s.sentence()}** (shared: {', '.join(s.topics) or '-'})")
+        out.append(f"{i}. **{s.sentence()}** (shared: {', '.join(s.topics) or '-'})"
+                   + (f" {IN_SPEC_NOTE}" if s.in_spec else ""))
         if "render_error" not in forms:
             out.append(f"   - Structured English: `{forms['english_expanded']}`")
             out.append(f"   - LTL: `{forms['ltl']}`")

@@ -18,12 +18,13 @@ assumption (``[ENV_TRANS]`` primed, ``[ENV_INIT]`` unprimed).
 from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from ltl_stack.analysis.conflicts import maximal_cliques
 from ltl_stack.spec.english import formula_to_english
 from ltl_stack.spec.formula import And, Formula, Not, Or, Var, variables
 from ltl_stack.spec.model import Clause, Spec
+from ltl_stack.synthesis.game import Game
 
 SYSTEM = "system"
 ENVIRONMENT = "environment"
@@ -36,6 +37,7 @@ class MutualExclusion:
     propositions: tuple[str, ...]
     topics: tuple[str, ...] = ()
     side: str = SYSTEM  # SYSTEM: outputs (a guarantee); ENVIRONMENT: inputs (an assumption)
+    in_spec: bool = False  # the spec already guarantees it (``mark_guaranteed``)
 
     def formula(self, primed: bool) -> Formula:
         """The thesis' expanded form: one "only y_i" term per proposition, plus "none of them"."""
@@ -63,7 +65,8 @@ class MutualExclusion:
         return {safety: Clause(self.formula(True), text, file, 0), init: Clause(self.formula(False), text, file, 0)}
 
     def to_dict(self) -> dict:
-        return {"propositions": list(self.propositions), "topics": list(self.topics), "side": self.side}
+        return {"propositions": list(self.propositions), "topics": list(self.topics), "side": self.side,
+                "already_in_spec": self.in_spec}
 
 
 def mutual_exclusions(groups: Iterable[tuple[str, Sequence[str] | Iterable[tuple[str, str]]]],
@@ -92,6 +95,23 @@ def mutual_exclusions(groups: Iterable[tuple[str, Sequence[str] | Iterable[tuple
         result.append(MutualExclusion(props, tuple(covered)))
     result.sort(key=lambda m: (-len(m.propositions), m.propositions))
     return result
+
+
+def mark_guaranteed(spec: Spec, suggestions: Sequence[MutualExclusion]) -> list[MutualExclusion]:
+    """``suggestions`` with ``in_spec`` set on those the spec already guarantees: every transition its
+    safety clauses allow, and every initial state its init clauses allow, keeps the exclusion
+    (a sufficient check, on BDDs). Adding such a suggestion changes nothing; the report says so."""
+    if not suggestions:
+        return list(suggestions)
+    game = Game(spec)
+    allowed_step = game.env_trans & game.sys_trans
+    allowed_start = game.env_init & game.sys_init
+    marked = []
+    for s in suggestions:
+        kept = (allowed_step & ~game.to_bdd(s.formula(True))) == game.false and \
+            (allowed_start & ~game.to_bdd(s.formula(False))) == game.false
+        marked.append(replace(s, in_spec=kept))
+    return marked
 
 
 def add_to_spec(spec: Spec, suggestions: Iterable[MutualExclusion], file: str = "<graph analysis>") -> Spec:

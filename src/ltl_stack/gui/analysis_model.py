@@ -18,8 +18,9 @@ from ltl_stack.analysis import report
 from ltl_stack.analysis.checks import Analysis, Witness, analyze, e2_groups, feedback_reason
 from ltl_stack.analysis.cli import apply_suggestions, apply_text
 from ltl_stack.analysis.graph import DEFAULT_IGNORED_TOPICS, ComputationGraph
+from ltl_stack.analysis.report import IN_SPEC_NOTE
 from ltl_stack.analysis.snapshot import Snapshot
-from ltl_stack.analysis.suggest import MutualExclusion, mutual_exclusions
+from ltl_stack.analysis.suggest import MutualExclusion, mark_guaranteed, mutual_exclusions
 from ltl_stack.cli import check_outputs, write_output
 from ltl_stack.gui.dotgraph import DotGraph
 from ltl_stack.runtime.mapping import MappingError, check_mapping, load_mapping
@@ -183,7 +184,7 @@ def run_analysis(spec_path: str, mapping_path: str, *, snapshot: Snapshot | None
     graph = ComputationGraph(snapshot, list(DEFAULT_IGNORED_TOPICS))
     analysis = analyze(graph, mapping, spec.inputs, spec.outputs, robots=list(robots),
                        robot_topics_to_ignore=list(ignore_topics), progress=say)
-    suggestions = mutual_exclusions(e2_groups(analysis), spec.outputs)
+    suggestions = mark_guaranteed(spec, mutual_exclusions(e2_groups(analysis), spec.outputs))
     say("done")
     say("laying out the tables")
     return AnalysisResult(spec, analysis, suggestions, [str(i) for i in issues], snapshot, str(spec_path),
@@ -198,7 +199,8 @@ def suggestion_text(suggestions: Sequence[MutualExclusion], form: str) -> str:
     for i, s in enumerate(suggestions, 1):
         forms = report.suggestion_forms(s)
         out.append(f"{i}. {s.sentence()}" + (f"   (shared: {', '.join(s.topics[:4])}"
-                                               f"{', …' if len(s.topics) > 4 else ''})" if s.topics else ""))
+                                               f"{', …' if len(s.topics) > 4 else ''})" if s.topics else "")
+                   + (f"   {IN_SPEC_NOTE}" if s.in_spec else ""))
         if form == "english":
             out.append(f"   always {forms['english_expanded'].removeprefix('always ')}")
         elif form == "ltl":

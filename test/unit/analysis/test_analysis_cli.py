@@ -307,8 +307,11 @@ def test_apply_on_english_spec_realizable_and_json(tmp_path, capsys):
     out = folder / "with_suggestions.spec"
     assert main(["--spec", str(folder / "clean_and_patrol.spec"), "--mapping", str(mapping), "--snapshot",
                  str(snapshot), "--apply", str(out), "--json"]) == Exit.OK
-    applied = json.loads(capsys.readouterr().out)["apply"]
+    data = json.loads(capsys.readouterr().out)
+    applied = data["apply"]
     assert (applied["format"], applied["realizable"]) == ("english", True)
+    # our Spec. 2 already keeps the regions, stop and pickup apart, and pickup and drop
+    assert [s["already_in_spec"] for s in data["suggestions"]] == [True, True]
     assert applied["sentences"] == [
         "stop, pickup, topLane, bottomLane, leftLane, rightLane, leftGround and rightGround are mutually exclusive",
         "pickup and drop are mutually exclusive"]

@@ -12,9 +12,10 @@ from ltl_stack.analysis.suggest import (
     MutualExclusion,
     add_to_spec,
     input_exclusion_for,
+    mark_guaranteed,
     mutual_exclusions,
 )
-from ltl_stack.spec.formula import Not, Or, Var, evaluate, variables
+from ltl_stack.spec.formula import And, Not, Or, Var, evaluate, variables
 from ltl_stack.spec.model import Clause, Spec
 
 prop_names = st.lists(st.sampled_from(["a", "b", "not", "not_ready", "and", "or", "x1", "always", "c"]),
@@ -141,3 +142,19 @@ def test_english_quotes_names_that_are_sentence_words():
     assert s.sentence() == "'not', 'and' and not_ready are mutually exclusive"
     assert suggestion_forms(s)["english_expanded"].startswith(
         "always (('not' and not 'and' and not not_ready) or (not 'not' and 'and' and not not_ready)")
+
+
+def test_suggestions_the_spec_already_guarantees_are_marked():
+    nand = Not(And((Var("a", True), Var("b", True))))
+    both_now = Not(And((Var("a"), Var("b"))))
+    s = MutualExclusion(("a", "b"))
+    plain = Spec(inputs=["x"], outputs=["a", "b", "c"])
+    # nothing keeps a and b apart
+    assert [m.in_spec for m in mark_guaranteed(plain, [s])] == [False]
+    # only the safety part: the first state may still have both
+    safety_only = Spec(inputs=["x"], outputs=["a", "b", "c"], sys_safety=[Clause(nand)])
+    assert [m.in_spec for m in mark_guaranteed(safety_only, [s])] == [False]
+    full = Spec(inputs=["x"], outputs=["a", "b", "c"], sys_safety=[Clause(nand)], sys_init=[Clause(both_now)])
+    marked = mark_guaranteed(full, [s, MutualExclusion(("a", "c"))])
+    assert [m.in_spec for m in marked] == [True, False]
+    assert marked[0].to_dict()["already_in_spec"] is True and marked[0].propositions == s.propositions
