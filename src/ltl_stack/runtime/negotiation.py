@@ -297,6 +297,7 @@ class Negotiation:
         self.synthesis_options = dict(synthesis_options or {})
         self.clock, self.wall_clock = clock, wall_clock
         self.started = wall_clock()
+        self.finished: float | None = None
         self.phase = Phase.NEW
         self.outcome: Outcome | None = None
         self.reason = ""
@@ -482,11 +483,13 @@ class Negotiation:
                 "sent": list(self.sent), "received": list(self.received), "dropped": list(self.dropped),
                 "status": {str(k): v for k, v in self._status.items()},
                 "peer_status": {str(k): v for k, v in self._peer_status.items()},
-                "explanation": self.explanation, "log": list(self.log)}
+                "explanation": self.explanation, "log": list(self.log), "started": self.started,
+                "finished": self.finished, "syntheses": self.syntheses}
 
     # --- internals --------------------------------------------------------------------------------------
     def _end(self, outcome: Outcome, reason: str, explain_spec: Spec | None = None, keep_phase: bool = False) -> None:
         self.outcome, self.reason = outcome, reason
+        self.finished = self.wall_clock()
         if explain_spec is not None:
             try:
                 self.explanation = explanation_text(explain(explain_spec, robotics_semantics=self.synthesis_options.get(

@@ -1,0 +1,149 @@
+"""Integrative negotiation benchmarks (on demand): the §4.10.4 comparison for Example 13 and the
+negotiation latency.
+
+    python test/benchmarks/bench_negotiation.py [--repeat 10] [--skip-ros]
+
+1. §4.10.4 comparison on Example 13 (config/kitchen, in process: test/unit/runtime/kitchen_world.py,
+   30 ticks): base case (no recovery, no characterization), recovery only, environment
+   characterization only, characterization + integrative negotiation — whether D delivers, A passes,
+   C cooks, D returns, and how each ends.
+2. Alg. 4 in process on the Ex. 13 specs (D blocked at the door negotiates with A): one whole
+   negotiation (both offers, both phi^nego syntheses, both status exchanges), median over --repeat.
+3. Through a real master: D's and A's negotiation nodes (test/integration/negotiation_party.py, the
+   ``ltl_stack/Negotiate`` service) — from D starting the negotiation (its conflict detected and
+   characterization failed) to both robots running their new controllers (the later of the two
+   adoptions), median over --repeat fresh pairs of nodes. Goal: median < 1 s.
+
+Figures go to docs/benchmarks/negotiation.md.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import statistics
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "test"))
+sys.path.insert(0, str(ROOT / "test" / "unit" / "runtime"))
+OUT = ROOT / "docs" / "benchmarks" / "negotiation.md"
+PARTY = ROOT / "test" / "integration" / "negotiation_party.py"
+KITCHEN = ROOT / "config" / "kitchen"
+
+from helpers import RosMaster, wait_for  # noqa: E402
+from kitchen_world import KitchenWorld  # noqa: E402
+
+from ltl_stack.runtime.mapping import load_mapping  # noqa: E402
+from ltl_stack.runtime.negotiation import Negotiation, answer, classes_from_mapping, drive  # noqa: E402
+from ltl_stack.spec import load_spec  # noqa: E402
+
+REGIONS = ["company", "road", "storage", "prepArea", "cookingArea"]
+D_BLOCKED_IN = {**{f"{r}_c": r == "road" for r in REGIONS}, "pickup_c": False, "deliver_c": False, "order": False,
+                "openDoor_A": False, "prepArea_c_A": True, "cookingArea_c_C": True}
+D_BLOCKED_OUT = {**{r: r == "road" for r in REGIONS}, "pickup": False, "deliver": False, "orderReceived": True}
+A_IN = {"prepArea_c": True, "cookingArea_c_C": True, "company_c_D": True}
+
+
+def comparison() -> list[str]:
+    rows = ["| approach | D delivers | A passes | C cooks | D back in company | at the end |", "|---|---|---|---|---|---|"]
+    names = {"base": "base case", "recovery": "recovery only", "ec": "characterization (EC) only",
+             "negotiation": "EC + integrative negotiation"}
+    for mode in ("base", "recovery", "ec", "negotiation"):
+        world = KitchenWorld(mode)
+        world.run(30)
+        s = world.summary()
+        d = world.strategies["D"]
+        if mode == "base":
+            end = f"D's controller has no next state in road: a violation at each of {sum('D' in h['raised'] for h in world.history)} ticks"
+        elif mode == "recovery":
+            end = f"D waits in front of the door ({d.counters.recovery_steps} recovery steps)"
+        elif mode == "ec":
+            end = (f"D: {d.counters.ec1 + d.counters.ec2} resynthesis, then unrealizable: waiting for the user "
+                   f"({d.mode.value})")
+        else:
+            end = "; ".join(f"{n['session']} {n['case']}" for n in s["negotiations"]) + "; every robot normal"
+        at = {k: (f"tick {s[k]}" if s[k] is not None else "no") for k in ("delivered", "passed", "cooked", "back_in_company")}
+        rows.append(f"| {names[mode]} | {at['delivered']} | {at['passed']} | {at['cooked']} | {at['back_in_company']} | {end} |")
+    return rows
+
+
+def in_process(repeat: int) -> float:
+    d_spec = load_spec(KITCHEN / "delivery_agent.structuredslugs")
+    a_spec = load_spec(KITCHEN / "kitchen_assistant.structuredslugs")
+    d_classes = classes_from_mapping(load_mapping(KITCHEN / "delivery_agent.yaml"))
+    a_classes = classes_from_mapping(load_mapping(KITCHEN / "kitchen_assistant.yaml"))
+    a_in = {n: False for n in a_spec.inputs} | A_IN
+    times = []
+    for _ in range(repeat):
+        start = time.perf_counter()
+        d = Negotiation(d_spec, d_classes, "A", incoming=D_BLOCKED_IN, outputs=D_BLOCKED_OUT)
+        a = Negotiation(a_spec, a_classes, "D", incoming=a_in, outputs=dict.fromkeys(a_spec.outputs, False) | {"prepArea": True},
+                        initiator=False)
+        drive(d, lambda m, a=a: answer(a, m))
+        times.append(time.perf_counter() - start)
+        assert d.outcome.name == a.outcome.name == "BOTH_ADOPT", (d.report(), a.report())
+    return statistics.median(times)
+
+
+def reports(proc) -> list[dict]:
+    return [json.loads(x)["report"] for x in proc.output().splitlines() if x.startswith('{"report"')]
+
+
+def through_master(repeat: int) -> list[float]:
+    latencies = []
+    with tempfile.TemporaryDirectory() as tmp:
+        master = RosMaster(Path(tmp))
+        os.environ.update({k: master.env[k] for k in ("ROS_MASTER_URI", "ROS_IP", "ROS_LOG_DIR", "ROS_HOME")})
+        try:
+            for k in range(repeat):
+                a = master.run([sys.executable, str(PARTY), "responder", str(KITCHEN / "kitchen_assistant.structuredslugs"),
+                                str(KITCHEN / "kitchen_assistant.yaml"), "--inputs", json.dumps(A_IN),
+                                "__ns:=/kitchen/A"], name=f"A{k}")
+                a.wait_output('"ready"', timeout=60)
+                d = master.run([sys.executable, str(PARTY), "initiator", str(KITCHEN / "delivery_agent.structuredslugs"),
+                                str(KITCHEN / "delivery_agent.yaml"), "--peer", "A", "--inputs", json.dumps(D_BLOCKED_IN),
+                                "--outputs", json.dumps(D_BLOCKED_OUT), "__ns:=/kitchen/D"], name=f"D{k}")
+                wait_for(lambda a=a, d=d: reports(a) and reports(d), 60, "both reports")
+                rd, ra = reports(d)[0], reports(a)[0]
+                assert rd["case"] == ra["case"] == "BOTH_ADOPT", (d.output(), a.output())
+                latencies.append(max(rd["finished"], ra["finished"]) - rd["started"])
+                a.stop()
+                d.stop()
+        finally:
+            master.shutdown()
+    return latencies
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=10)
+    parser.add_argument("--skip-ros", action="store_true")
+    args = parser.parse_args()
+    lines = ["# Integrative negotiation (thesis §4.8, §4.10.3-4.10.4): figures",
+             "", f"`python test/benchmarks/bench_negotiation.py --repeat {args.repeat}` on {platform.node()} "
+             f"({os.cpu_count()} CPUs, shared with other work), {time.strftime('%Y-%m-%d')}.", "",
+             "## §4.10.4 comparison, Example 13 (30 ticks, in process)", "", *comparison(), ""]
+    print("\n".join(lines))
+    median = in_process(args.repeat)
+    lines += ["## Latency", "", "| what | median | runs |", "|---|---|---|",
+              f"| Alg. 4 in process, D blocked at the door with A (2 offers, 2 syntheses, 2 status exchanges) | "
+              f"{median * 1000:.0f} ms | {args.repeat} |"]
+    if not args.skip_ros:
+        lat = through_master(args.repeat)
+        lines.append(f"| through a real master (`~negotiate` services of two nodes): D starts negotiating → both "
+                     f"running their new controllers | {statistics.median(lat) * 1000:.0f} ms (min {min(lat) * 1000:.0f}, "
+                     f"max {max(lat) * 1000:.0f}) | {len(lat)} |")
+    lines.append("")
+    print("\n".join(lines[-4:]))
+    OUT.write_text("\n".join(lines))
+    print(f"written to {OUT}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
