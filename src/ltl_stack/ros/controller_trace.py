@@ -1,7 +1,9 @@
 """``controller_trace``: print a running controller's state changes, readable or as JSON lines.
 
 Subscribes to the executor's ``~state`` (``ltl_stack/ControllerState``) and prints one line per new
-state: what the controller senses, what it does and what changed. With ``--cycles N`` it exits after
+state: what the controller senses, what it does and what changed; and one line per change of the
+resilience mode (normal, recovering, holding, characterizing, waiting_for_user, aborted; thesis ch. 4)
+and per resynthesis (EC1/EC2/user counters), with the violated environment-safety clauses. With ``--cycles N`` it exits after
 the strategy has gone N times through all system goals (the spec tells how many there are).
 """
 from __future__ import annotations
@@ -39,12 +41,15 @@ class ControllerTrace:
         self.json_lines = json_lines
         self.out = out
         self.steps: list[TraceStep] = []
+        self.mode = "normal"
+        self.resyntheses = (0, 0, 0, 0)
         self.cycles = GoalCycles(goals) if goals else None
         self.changed = threading.Condition()
         self._start = rospy.get_time()
         self._sub = rospy.Subscriber(topic, ControllerState, self._on_state, queue_size=100)
 
     def _on_state(self, msg) -> None:
+        self._resilience(msg)
         if msg.state_id < 0:
             return
         step = step_of(msg, self._start)
@@ -62,6 +67,34 @@ class ControllerTrace:
                     print(f"[{step.time:7.2f}s] --- goal cycle {self.cycles.completed} complete ---",
                           file=self.out, flush=True)
             self.changed.notify_all()
+
+    def _resilience(self, msg) -> None:
+        """A line when the mode or the resynthesis counters change."""
+        mode = msg.mode or "normal"
+        counts = (msg.resyntheses, msg.resyntheses_ec1, msg.resyntheses_ec2, msg.resyntheses_user)
+        if (mode, counts) == (self.mode, self.resyntheses):
+            return
+        when = msg.header.stamp.to_sec() - self._start
+        lines = []
+        if counts != self.resyntheses:
+            new = [name for name, now, before in zip(("EC1", "EC2", "user"), counts[1:], self.resyntheses[1:],
+                                                      strict=True) if now > before]
+            lines.append(f"resynthesized ({', '.join(new) or 'negotiation'}): {counts[0]} resynthes"
+                          f"{'i' if counts[0] == 1 else 'e'}s (EC1 {counts[1]}, EC2 {counts[2]}, user {counts[3]})")
+        if mode != self.mode:
+            violated = f"; violated: {'; '.join(msg.violated_clauses)}" if msg.violated_clauses else ""
+            lines.append(f"mode {self.mode} -> {mode}{violated}")
+        with self.changed:
+            self.mode, self.resyntheses = mode, counts
+            for line in lines:
+                if self.json_lines:
+                    print(json.dumps({"event": "mode", "time": round(when, 3), "mode": mode,
+                                      "resyntheses": counts[0], "ec1": counts[1], "ec2": counts[2],
+                                      "user": counts[3], "unrealizable": msg.unrealizable,
+                                      "violated": list(msg.violated_clauses), "text": line}),
+                          file=self.out, flush=True)
+                else:
+                    print(f"[{when:7.2f}s] *** {line}", file=self.out, flush=True)
 
     def wait_cycles(self, cycles: int, timeout: float) -> bool:
         """Block until ``cycles`` goal cycles completed (True) or ``timeout`` seconds passed (False)."""

@@ -15,7 +15,14 @@ module only wires them:
 * run/pause: service ``~set_running`` (``std_srvs/SetBool``) and topic ``~running`` (``std_msgs/Bool``);
 * violations are confirmed after ``--violation-grace`` by one worker thread, whatever the input rate;
 * ``/diagnostics``: the node's statuses once a second, and at once when one changes;
-* a master restart is detected and every topic, service and parameter is registered again.
+* a master restart is detected and every topic, service and parameter is registered again;
+* resilient execution (thesis ch. 4, docs/resilience.md): recovery moves (``--recovery``, default on),
+  environment characterization (``--characterize``; resynthesis in a worker thread, the new strategy
+  swapped in under the controller's lock), the services ``~add_env_liveness``
+  (``ltl_stack/AddEnvLiveness``) and ``~abort`` (``std_srvs/Trigger``), the mode and counters on
+  ``~state`` and ``/diagnostics``;
+* the negotiation hook (thesis §4.8, Alg. 3 S.2): ``ExecutorNode(..., negotiate=callable)`` or
+  ``main(negotiate=...)``; see ``Negotiate`` and docs/resilience.md "Negotiation hook".
 """
 from __future__ import annotations
 
@@ -26,19 +33,21 @@ import threading
 import time
 import warnings
 from collections.abc import Mapping, Sequence
+from dataclasses import replace
 from typing import Any
 
 import rosgraph
 import rospy
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from std_msgs.msg import Bool
-from std_srvs.srv import SetBool, SetBoolResponse
+from std_srvs.srv import SetBool, SetBoolResponse, Trigger, TriggerResponse
 
 from ltl_stack import cli
 from ltl_stack.errors import Exit, UserError
 from ltl_stack.msg import ControllerState, PropositionValuation
 from ltl_stack.ros.master_watch import MasterWatch
 from ltl_stack.ros.valuation import valuation_to_msg
+from ltl_stack.runtime.characterize import Counters, Event, ExecutionAborted, Mode, Negotiate
 from ltl_stack.runtime.controller import HOLD, VIOLATION_POLICIES, Controller, Update
 from ltl_stack.runtime.executor_setup import (
     NODE_NAME,
@@ -46,6 +55,7 @@ from ltl_stack.runtime.executor_setup import (
     Options,
     Prepared,
     build_strategy,
+    check_characterized_spec,
     check_summary,
     load_inputs,
     make_controller,
@@ -56,9 +66,14 @@ from ltl_stack.runtime.executor_setup import (
 )
 from ltl_stack.runtime.mapping import resolve_topics
 from ltl_stack.runtime.recovery import RecoveringStrategy
+from ltl_stack.runtime.resilient_executor import BackgroundResilience, Busy, thread_runner
+from ltl_stack.spec import SpecError
 from ltl_stack.spec.english import clause_to_english
 from ltl_stack.spec.valuation import format_valuation
-from ltl_stack.synthesis.recovery import StepResult
+from ltl_stack.srv import AddEnvLiveness, AddEnvLivenessResponse
+from ltl_stack.synthesis.errors import AssumptionViolation
+from ltl_stack.synthesis.explain_render import clause_line, explanation_text
+from ltl_stack.synthesis.recovery import StepKind, StepResult, UnsafeStep
 
 PROG = "controller_executor"
 #: How often the node's statuses are published on /diagnostics (rqt_robot_monitor marks older ones stale).
@@ -66,7 +81,12 @@ DIAGNOSTICS_PERIOD = 1.0
 #: Pause between a step's falling and rising output edges, so that listeners (one thread per topic in
 #: rospy) have handled the falling ones before a rising one arrives.
 EDGE_GAP = 0.005
+#: How often a violation that outlasts ``--characterize-after-seconds`` without a step is looked for.
+POLL_PERIOD = 0.1
 OK, WARN, ERROR = DiagnosticStatus.OK, DiagnosticStatus.WARN, DiagnosticStatus.ERROR
+#: The diagnostic level of each mode (``~state``'s ``mode``).
+MODE_LEVELS = {"normal": OK, "recovering": WARN, "holding": WARN, "characterizing": WARN,
+               "waiting_for_user": WARN, "aborted": ERROR}
 
 
 def build_parser() -> cli.ToolParser:
@@ -103,6 +123,21 @@ def build_parser() -> cli.ToolParser:
                         help="answer an environment-assumption violation with a recovery step (thesis §4.6; default)")
     parser.add_argument("--no-recovery", dest="recovery", action="store_false",
                         help="hold (or --on-violation) until the inputs are admissible again from the last state")
+    parser.add_argument("--characterize", dest="characterize", action="store_true", default=None,
+                        help="environment characterization (thesis §4.7): when the environment breaks its "
+                             "assumptions, learn the observed behaviour and resynthesize, keeping the robot "
+                             "safe meanwhile (default: on exactly when --characterized-spec is given)")
+    parser.add_argument("--no-characterize", dest="characterize", action="store_false",
+                        help="never resynthesize")
+    parser.add_argument("--characterize-after-transitions", type=int, metavar="N",
+                        help="with recovery: characterize once a violation lasted more than N transitions "
+                             "(thesis §4.10.2; default 0: not used; with no limit at all: at once)")
+    parser.add_argument("--characterize-after-seconds", type=float, metavar="T",
+                        help="with recovery: characterize once a violation lasted more than T seconds "
+                             "(default 0: not used)")
+    parser.add_argument("--characterized-spec", metavar="FILE",
+                        help="write the characterized spec to FILE (atomically) after each resynthesis; "
+                             "synthesize and controller_executor load it (turns --characterize on)")
     parser.add_argument("--start-paused", action="store_true", default=None, help="start paused")
     parser.add_argument("--publisher-check-period", type=float, metavar="S",
                         help="how often to look for extra publishers on input topics (default 2; 0 = never)")
@@ -159,15 +194,36 @@ class ViolationConfirmer:
 
 
 class ExecutorNode:
-    """The ROS wiring around a Controller. Create after ``rospy.init_node``."""
+    """The ROS wiring around a Controller. Create after ``rospy.init_node``.
+
+    ``negotiate`` (thesis §4.8, Alg. 3 S.2) is the negotiation hook: a callable
+    ``negotiate(strategy, observation) -> Spec | None`` called from the resynthesis worker thread
+    (never under the controller's lock) when environment characterization found no realizable
+    specification; a realizable spec it returns runs next, None aborts. Without it the node asks
+    the user (``~add_env_liveness``). See docs/resilience.md, "Negotiation hook".
+    """
 
     def __init__(self, controller: Controller, prepared: Prepared, options: Options, json_lines: bool = False,
-                 watch_master: bool = True):
+                 watch_master: bool = True, negotiate: Negotiate | None = None):
         self.controller = controller
         self.prepared = prepared
         self.options = options
         self.json_lines = json_lines
         self.name = rospy.get_name()
+        strategy = controller.strategy
+        self.resilient: BackgroundResilience | None = strategy if isinstance(strategy, BackgroundResilience) else None
+        #: what the node counts itself when the strategy does not (no characterization)
+        self.counters = Counters()
+        self._recovering = False
+        self._violated_now: list[str] = []
+        self._mode = "normal"
+        if self.resilient is not None:
+            self.resilient.runner = thread_runner
+            self.resilient.on_installed = self._on_installed
+            self.resilient.on_changed = self._on_resilience_changed
+            self.resilient.on_event = self._on_resilience_event
+            if negotiate is not None:
+                self.resilient.negotiate = negotiate
         self._last_violation_key: tuple | None = None
         self._warned_publishers: dict[str, tuple[str, ...]] = {}
         self._started_at = time.monotonic()
@@ -190,8 +246,12 @@ class ExecutorNode:
                                              tcp_nodelay=True)
                             for prop, topic in prepared.input_topics.items()]
         self.service = rospy.Service("~set_running", SetBool, self._on_set_running)
+        self.liveness_service = rospy.Service("~add_env_liveness", AddEnvLiveness, self._on_add_env_liveness)
+        self.abort_service = rospy.Service("~abort", Trigger, self._on_abort)
         self.running_sub = rospy.Subscriber("~running", Bool, self._on_running_topic, queue_size=10)
-        self.tick_timer = self.ready_timer = self.publisher_timer = None
+        self.tick_timer = self.ready_timer = self.publisher_timer = self.poll_timer = None
+        if self.resilient is not None and self.resilient.threshold.seconds is not None:
+            self.poll_timer = rospy.Timer(rospy.Duration(POLL_PERIOD), self._on_poll)
         if options.rate > 0:
             self.tick_timer = rospy.Timer(rospy.Duration(1.0 / options.rate), self._on_tick)
         if options.ready_timeout > 0 and not controller.ready:
@@ -201,6 +261,7 @@ class ExecutorNode:
                                                lambda _event: self.check_publishers())
         self._set_status(OK, "environment assumptions", "no violation", [], publish=False)
         self._set_status(OK, "input publishers", "one publisher or none per input topic", [], publish=False)
+        self._update_mode(publish=False)
         self._update_health(publish=False)
         self.diagnostics_timer = rospy.Timer(rospy.Duration(DIAGNOSTICS_PERIOD), lambda _e: self.publish_diagnostics())
         self.master_watch = MasterWatch(on_restart=self._on_master_restart) if watch_master else None
@@ -242,6 +303,148 @@ class ExecutorNode:
             self._publish(self.controller.set_running(running), force_state=changed)
         if changed:
             rospy.loginfo("%s: %s", self.name, "running" if running else "paused: every output is false")
+
+    # resilient execution (thesis ch. 4)
+    def _on_add_env_liveness(self, request: Any) -> AddEnvLivenessResponse:
+        """Alg. 3 line 6: the user's environment liveness; synthesis runs in this service thread,
+        not under the controller's lock."""
+        formula = request.formula
+        if self.resilient is None:
+            return AddEnvLivenessResponse(success=False, code=Exit.NEGATIVE, mode=self._mode, message=(
+                "environment characterization is off: start the executor with --characterize or "
+                "--characterized-spec FILE (docs/resilience.md)"))
+        try:
+            attempt = self.resilient.add_env_liveness(formula)
+        except SpecError as err:
+            text = f"{err}"
+            rospy.logwarn("%s: ~add_env_liveness %r refused: %s", self.name, formula, text)
+            return AddEnvLivenessResponse(success=False, code=Exit.BAD_INPUT, mode=self._current_mode(), message=text)
+        except (ExecutionAborted, Busy) as err:
+            return AddEnvLivenessResponse(success=False, code=Exit.NEGATIVE, mode=self._current_mode(),
+                                          message=str(err))
+        if attempt is not None and attempt.realizable:
+            where = f"; written to {self.options.characterized_spec}" if self.options.characterized_spec and \
+                self.resilient.write_error is None else ""
+            message = f"realizable with {formula!r} ({attempt.variant}); running the new strategy{where}"
+            rospy.loginfo("%s: ~add_env_liveness: %s", self.name, message)
+            return AddEnvLivenessResponse(success=True, code=Exit.OK, mode=self._current_mode(), message=message)
+        message = f"still unrealizable with {formula!r}: aborted, every output is false"
+        return AddEnvLivenessResponse(success=False, code=Exit.UNREALIZABLE, mode=self._current_mode(),
+                                      message=message)
+
+    def _on_abort(self, _request: Any) -> TriggerResponse:
+        """Abort (Alg. 3 line 11): every output false, the node stays up reporting ERROR."""
+        with self.controller.lock:
+            if self.controller.aborted is not None:
+                return TriggerResponse(success=True, message=f"already aborted: {self.controller.aborted}")
+            reason = "aborted by the user (~abort)"
+            if self.resilient is not None:
+                self.resilient.abort(reason)  # -> _on_resilience_changed aborts the controller
+            if self.controller.aborted is None:
+                self._abort_controller(reason)
+        return TriggerResponse(success=True, message="aborted: every output is false")
+
+    def _abort_controller(self, reason: str) -> None:
+        """Under the lock: every output false, no more steps, ERROR on /diagnostics."""
+        update = self.controller.abort(reason)
+        rospy.logerr("%s: execution aborted (%s): every output is false; the node stays up", self.name, reason)
+        self._publish(update, force_state=True)
+        if self.json_lines:
+            print(json.dumps({"event": "aborted", "reason": reason}), flush=True)
+
+    def _on_poll(self, _event: Any) -> None:
+        """--characterize-after-seconds: a violation may outlast it without any step."""
+        if self.resilient.poll():
+            with self.controller.lock:
+                self._on_resilience_changed()
+
+    def _on_installed(self, state: Any) -> None:
+        """A new strategy is in place (under the lock): continue from ``state`` and publish."""
+        self._publish(self.controller.restart_from(state), force_state=True)
+
+    def _on_resilience_changed(self) -> None:
+        """The resilient strategy's mode changed outside a step (under the lock)."""
+        strategy = self.resilient
+        if strategy.mode is Mode.ABORTED and self.controller.aborted is None:
+            self._abort_controller(getattr(strategy, "_abort_reason", "aborted"))
+            return
+        if strategy.mode is Mode.WAITING_FOR_USER and strategy.explanation is not None:
+            rospy.logwarn("%s: environment characterization found no realizable specification:\n%s\n"
+                          "add an environment liveness assumption (rosrun ltl_stack add_env_liveness "
+                          "\"FORMULA\") or abort (rosrun ltl_stack add_env_liveness --abort)",
+                          self.name, explanation_text(strategy.explanation))
+        self._publish_state(Update(outputs=self.controller.current_outputs(), state=self.controller.state))
+        self._update_mode()
+
+    def _on_resilience_event(self, event: Event) -> None:
+        rospy.loginfo("%s: [%s] %s", self.name, event.mode.value, event.message)
+        if self.json_lines:
+            counters = self.resilient.counters if self.resilient is not None else self.counters
+            print(json.dumps({"event": "resilience", "mode": event.mode.value, "message": event.message,
+                              "step": event.step, "resyntheses": counters.resyntheses, "ec1": counters.ec1,
+                              "ec2": counters.ec2, "user": counters.user}), flush=True)
+
+    def _current_mode(self) -> str:
+        """normal, recovering, holding, characterizing, waiting_for_user or aborted."""
+        controller = self.controller
+        with controller.lock:
+            if controller.aborted is not None:
+                return "aborted"
+            if self.resilient is not None:
+                mode = self.resilient.mode.value
+                if mode in ("normal", "recovering") and controller.violation is not None:
+                    return "holding"
+                return mode
+            if controller.violation is not None:
+                return "holding"
+            return "recovering" if self._recovering else "normal"
+
+    def _counters(self) -> Counters:
+        return self.resilient.counters if self.resilient is not None else self.counters
+
+    def _update_mode(self, publish: bool = True) -> None:
+        """The "mode" status: what the controller is doing and how many resyntheses happened."""
+        mode = self._current_mode()
+        counters = self._counters()
+        values = [("mode", mode), ("violations", str(counters.violations)),
+                  ("recovery_steps", str(counters.recovery_steps)), ("unsafe_steps", str(counters.unsafe)),
+                  ("resyntheses", str(counters.resyntheses)), ("resyntheses_ec1", str(counters.ec1)),
+                  ("resyntheses_ec2", str(counters.ec2)), ("resyntheses_user", str(counters.user)),
+                  ("unrealizable", str(counters.unrealizable))]
+        violated = self._violated_clauses()
+        values += [("violated_clause", c) for c in violated]
+        text = {"normal": "normal", "recovering": "recovering: recovery moves keep the system safety",
+                "holding": f"holding: no recovery move; outputs by --on-violation {self.options.on_violation.value}",
+                "characterizing": "characterizing: resynthesizing (recovery moves meanwhile)"
+                if self.options.recovery else "characterizing: resynthesizing (holding meanwhile)",
+                "waiting_for_user": "waiting for the user: unrealizable after environment characterization; call "
+                                    "~add_env_liveness with an environment liveness assumption, or ~abort",
+                "aborted": f"aborted ({self.controller.aborted}): every output is false"}[mode]
+        if violated and mode in ("recovering", "holding", "characterizing"):
+            text += "; violated: " + "; ".join(violated)
+        if mode == "waiting_for_user" and self.resilient is not None and self.resilient.explanation is not None:
+            explanation = self.resilient.explanation
+            core = [clause_line(c, section) for section, c in explanation.core]
+            text += f" ({explanation.kind}{': ' + '; '.join(core) if core else ''})"
+            values.append(("explanation", explanation_text(explanation)))
+        if self.resilient is not None and self.resilient.write_error:
+            values.append(("write_error", self.resilient.write_error))
+        text += (f"; resyntheses {counters.resyntheses} (EC1 {counters.ec1}, EC2 {counters.ec2}, "
+                 f"user {counters.user})" if self.resilient is not None else "")
+        changed = mode != self._mode
+        self._mode = mode
+        self._set_status(MODE_LEVELS[mode], "mode", text, values, publish)
+        if changed:
+            rospy.loginfo("%s: mode %s", self.name, mode)
+            if self.json_lines:
+                print(json.dumps({"event": "mode", "mode": mode, "resyntheses": counters.resyntheses,
+                                  "ec1": counters.ec1, "ec2": counters.ec2, "user": counters.user}), flush=True)
+
+    def _violated_clauses(self) -> list[str]:
+        """The env-safety clauses the current inputs violate, ``file:line: text (English)``."""
+        if self.resilient is not None:
+            return [_shown(c) for c in self.resilient.violated_now]
+        return list(self._violated_now)
 
     def _on_ready_timeout(self, _event: Any) -> None:
         missing = self.controller.missing_inputs()
@@ -313,13 +516,16 @@ class ExecutorNode:
         for prop in rising:
             for pub in self.output_pubs[prop]:
                 pub.publish(Bool(True))
+        update = self._account(update)
         if changed or update.stepped or force_state or force_outputs or update.violation is not None:
             self._publish_state(update)
         if update.stepped:
             self._report_step(update)
         if update.violation is not None:
             strategy = self.controller.strategy
-            result = strategy.last if isinstance(strategy, RecoveringStrategy) else None
+            result = strategy.last if isinstance(strategy, RecoveringStrategy | BackgroundResilience) else None
+            if isinstance(update.violation, UnsafeStep) and result is not None and result.kind is not StepKind.UNSAFE:
+                result = None
             if self.confirmer is not None:
                 self.confirmer.schedule(update, _key(self.controller.readings), result)
             else:
@@ -332,6 +538,33 @@ class ExecutorNode:
             rospy.logerr("%s: %s (waiting for the inputs to change)", self.name, update.error)
         if update.stepped or update.error or force_state:
             self._update_health()
+        if update.stepped or update.violation is not None or force_state or self._current_mode() != self._mode:
+            self._update_mode()
+
+    def _account(self, update: Update) -> Update:
+        """Count what the update did (without characterization the node counts), and make a
+        violation the resilient strategy recovered from internally visible as one."""
+        if self.resilient is not None:
+            violated = self.resilient.violated_now
+            if update.stepped and update.violation is None and violated and self.controller.aborted is None:
+                update = replace(update, violation=AssumptionViolation(violated, self.controller.readings),
+                                 recovered=True)
+            return update
+        counters = self.counters
+        if update.violation is not None:
+            counters.violations += 1
+            self._violated_now = [_shown(c) for c in update.violation.clauses]
+            strategy = self.controller.strategy
+            last = strategy.last if isinstance(strategy, RecoveringStrategy) else None
+            if update.recovered:
+                counters.recovery_steps += 1
+                self._recovering = True
+            elif isinstance(update.violation, UnsafeStep) or (last is not None and last.kind is StepKind.UNSAFE):
+                counters.unsafe += 1
+        elif update.stepped:
+            self._violated_now = []
+            self._recovering = False
+        return update
 
     def _publish_state(self, update: Update) -> None:
         stamp = rospy.Time.now()
@@ -345,6 +578,14 @@ class ExecutorNode:
         msg.inputs = valuation_to_msg(inputs, stamp)
         msg.outputs = valuation_to_msg(update.outputs, stamp)
         msg.running = self.controller.running
+        counters = self._counters()
+        msg.mode = self._current_mode()
+        msg.violations, msg.recovery_steps, msg.unsafe_steps = (counters.violations, counters.recovery_steps,
+                                                                counters.unsafe)
+        msg.resyntheses, msg.resyntheses_ec1, msg.resyntheses_ec2, msg.resyntheses_user = (
+            counters.resyntheses, counters.ec1, counters.ec2, counters.user)
+        msg.unrealizable = counters.unrealizable
+        msg.violated_clauses = self._violated_clauses()
         self.state_pub.publish(msg)
         self.valuation_pub.publish(valuation_to_msg({**inputs, **update.outputs}, stamp))
 
@@ -453,6 +694,13 @@ def _key(readings: Mapping[str, bool]) -> tuple:
     return tuple(sorted(readings.items()))
 
 
+def _shown(clause: Any) -> str:
+    """``file:line: text`` and, when it says more, the Structured English in parentheses."""
+    words = _english(clause)
+    text = f"{clause.location}: {clause.text}"
+    return f"{text} ({words})" if words and words.strip() != (clause.text or "").strip() else text
+
+
 def _english(clause: Any) -> str:
     """The clause in Structured English, or "" when it cannot be rendered."""
     try:
@@ -468,6 +716,7 @@ def _cli_values(args: argparse.Namespace) -> dict[str, Any]:
 def _check(args: argparse.Namespace) -> int:
     """``--check``: everything up to the strategy, no ROS."""
     options = merge_options(_cli_values(args))
+    check_characterized_spec(options, [args.spec, args.mapping, options.strategy or None])
     prepared = prepare(args.spec, args.mapping, options.namespace, rosgraph.names.get_ros_namespace())
     for warning in prepared.warnings:
         cli.warn(PROG, warning)
@@ -488,7 +737,7 @@ def _param_lookup(name: str) -> tuple[bool, Any]:
     return (True, rospy.get_param(key)) if rospy.has_param(key) else (False, None)
 
 
-def _run(args: argparse.Namespace) -> int:
+def _run(args: argparse.Namespace, negotiate: Negotiate | None = None) -> int:
     """Load the files (errors before touching ROS), then start the node; errors after ``init_node``
     end in one ``[FATAL]`` line."""
     spec, mapping, warnings_ = load_inputs(args.spec, args.mapping)
@@ -497,6 +746,7 @@ def _run(args: argparse.Namespace) -> int:
     rospy.init_node(NODE_NAME)
     try:
         options = merge_options(_cli_values(args), _param_lookup)
+        check_characterized_spec(options, [args.spec, args.mapping, options.strategy or None])
         namespace = scenario_namespace(options.namespace, rospy.get_namespace(), mapping, args.spec)
         in_topics, out_topics = resolve_topics(mapping, spec.inputs, spec.outputs, namespace.strip("/"))
         prepared = Prepared(spec, mapping, namespace, in_topics, out_topics, warnings_)
@@ -507,15 +757,16 @@ def _run(args: argparse.Namespace) -> int:
         rospy.logfatal("%s", err)
         rospy.signal_shutdown("bad configuration")
         return int(err.code)
-    ExecutorNode(controller, prepared, options, json_lines=args.json)
+    ExecutorNode(controller, prepared, options, json_lines=args.json, negotiate=negotiate)
     rospy.spin()
     return Exit.OK
 
 
-def main(argv: Sequence[str] | None = None) -> int:
+def main(argv: Sequence[str] | None = None, negotiate: Negotiate | None = None) -> int:
+    """The ``controller_executor`` command; ``negotiate`` is the negotiation hook (see ``ExecutorNode``)."""
     raw = list(sys.argv if argv is None else [PROG, *argv])
     args = build_parser().parse_args(rospy.myargv(raw)[1:])
-    return cli.run(PROG, lambda: _check(args) if args.check else _run(args))
+    return cli.run(PROG, lambda: _check(args) if args.check else _run(args, negotiate))
 
 
 __all__ = ["ExecutorError", "ExecutorNode", "Options", "ViolationConfirmer", "build_parser", "main"]

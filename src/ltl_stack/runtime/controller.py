@@ -22,6 +22,10 @@ strategy at once; a repeated reading does nothing.
   continue from instead: the controller takes it like a step (the Update says ``recovered``, the
   outputs are the new state's, no policy applies); None means no recovery, and the policy applies.
 
+* Abort (``abort``; thesis Alg. 3 line 11, the executor's ``~abort``): every output false, nothing
+  stepped any more; the node stays up. ``restart_from(state)`` continues from a state of a strategy
+  that was put in place meanwhile (environment characterization, ``runtime.resilient_executor``).
+
 Every method takes ``lock`` (re-entrant), and callers that publish the result should hold it too, so
 that the order of published outputs is the order of the steps.
 """
@@ -116,6 +120,8 @@ class Controller:
         self.running = running
         self.violation: AssumptionViolation | None = None
         self.init_error: str | None = None
+        #: why the execution was aborted (None while it runs)
+        self.aborted: str | None = None
         self.init_outputs = {p: v for p, v in init_props.items() if p in self.outputs}
         # Inputs given in init_props count as readings until their topic says otherwise.
         self._readings: dict[str, bool] = {p: v for p, v in init_props.items() if p in self.inputs}
@@ -145,7 +151,8 @@ class Controller:
         """The output valuation to publish: all false while paused, before the start, or on a
         violation with the ``all-false`` policy; otherwise the current state's outputs."""
         with self.lock:
-            if not self.running or self.state is None or (self.violation is not None and self.on_violation == ALL_FALSE):
+            if (not self.running or self.state is None or self.aborted is not None
+                    or (self.violation is not None and self.on_violation == ALL_FALSE)):
                 return dict.fromkeys(self.outputs, False)
             return {p: bool(self.state.outputs[p]) for p in self.outputs}
 
@@ -185,13 +192,29 @@ class Controller:
                 return self._advance(force=False)
             return self._result()
 
+    def abort(self, reason: str) -> Update:
+        """Stop for good (Alg. 3 line 11): every output false from now on, no more steps."""
+        with self.lock:
+            self.aborted = reason
+            return self._result()
+
+    def restart_from(self, state: Any) -> Update:
+        """Continue from ``state`` (of a strategy just put in place): step once with the current
+        readings and settle, like a tick. Nothing happens once aborted or before the start."""
+        with self.lock:
+            if self.aborted is not None or self.state is None:
+                return self._result()
+            self.state = state
+            self.violation = None
+            return self._advance(force=True)
+
     def outputs_published(self) -> dict[str, bool] | None:
         """The valuation the last ``Update`` told the adapter to publish (None before the first)."""
         return self._published
 
     # --- internals ---------------------------------------------------------------------------
     def _advance(self, force: bool) -> Update:
-        if not self.running or not self.ready:
+        if not self.running or not self.ready or self.aborted is not None:
             return self._result()
         readings = self.readings
         if self.state is None:

@@ -15,6 +15,15 @@ Recovery (``--recovery``, default on; thesis §4.6): the synthesized strategy is
 ``RecoveringStrategy``, whose ``recover`` is the Controller's hook, so an environment-assumption
 violation is answered by a recovery-mode step instead of holding forever. A saved ``--strategy``
 has no symbolic strategy to recover with: recovery is off then.
+
+Environment characterization (``--characterize``; thesis §4.7, Alg. 2-3, §4.10.2; docs/resilience.md):
+the strategy is a ``runtime.resilient_executor.BackgroundResilience`` (monitor, recovery moves,
+resynthesis in a worker thread, the user's env liveness, abort). Off by default; on when
+``~characterized_spec`` names the file that keeps what was learned (``characterization_on``): a
+resynthesis the user cannot see afterwards would be a surprise. The threshold (more than
+``characterize_after_transitions`` violating transitions or ``characterize_after_seconds`` seconds;
+0 = that limit unused, both 0 = at once) applies only with recovery on; without recovery the
+controller characterizes at the first violation.
 """
 from __future__ import annotations
 
@@ -24,17 +33,21 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from ltl_stack import cli
 from ltl_stack.errors import Exit, UserError
+from ltl_stack.runtime.characterize import Threshold
 from ltl_stack.runtime.controller import VIOLATION_POLICIES, Controller, ViolationPolicy
 from ltl_stack.runtime.explicit import AutomatonStrategy
 from ltl_stack.runtime.mapping import Mapping as PropositionMapping
 from ltl_stack.runtime.mapping import MappingError, check_mapping, load_mapping, resolve_topics
 from ltl_stack.runtime.node_params import Bound, NodeConfigError, Param, coerce_param
 from ltl_stack.runtime.recovery import RecoveringStrategy
+from ltl_stack.runtime.resilient_executor import BackgroundResilience
 from ltl_stack.runtime.ros_names import check_proposition_names, is_legal_name
 from ltl_stack.spec import SpecError, load_spec
 from ltl_stack.spec.valuation import parse_valuation
 from ltl_stack.synthesis import Automaton, synthesize
+from ltl_stack.synthesis.errors import LimitReached, SynthesisError
 from ltl_stack.synthesis.explicit import TooManyStates
 
 NODE_NAME = "controller_executor"
@@ -60,6 +73,15 @@ EXECUTOR_PARAMS = [
           choices=VIOLATION_POLICIES),
     Param("recovery", True, "after an environment-assumption violation take a recovery step (thesis §4.6) "
           "instead of holding; the violation policy applies only when no step keeps the guarantees"),
+    Param("characterize", None, "environment characterization (thesis §4.7): resynthesize when the environment "
+          "breaks its assumptions (default: on exactly when ~characterized_spec is given)", kind=bool),
+    Param("characterize_after_transitions", 0, "with recovery: characterize once a violation lasted more than N "
+          "transitions (thesis §4.10.2; 0: not used; with ~characterize_after_seconds also 0: at once)",
+          bound=Bound.NON_NEGATIVE, kind=int),
+    Param("characterize_after_seconds", 0.0, "with recovery: characterize once a violation lasted more than S "
+          "seconds (0: not used)", bound=Bound.NON_NEGATIVE),
+    Param("characterized_spec", "", "write the characterized spec to this file (atomically) after each "
+          "resynthesis; .slugsin: slugsin, else the structured format (English sentences for a .spec spec)"),
     Param("start_paused", False, "start paused"),
     Param("publisher_check_period", 2.0, "how often to look for extra publishers on input topics (s; 0: never)",
           bound=Bound.NON_NEGATIVE),
@@ -86,6 +108,10 @@ class Options:
     ready_timeout: float = 10.0
     on_violation: ViolationPolicy = ViolationPolicy.HOLD
     recovery: bool = True
+    characterize: bool | None = None
+    characterize_after_transitions: int = 0
+    characterize_after_seconds: float = 0.0
+    characterized_spec: str = ""
     start_paused: bool = False
     publisher_check_period: float = 2.0
     violation_grace: float = 0.2
@@ -132,7 +158,42 @@ def merge_options(cli: Mapping[str, Any], lookup: ParamLookup = no_params) -> Op
             raise ExecutorError(f"{NODE_NAME}: parameter ~init_props: {bad[0]!r} needs a true/false value")
         values["init_props"] = ",".join(f"{k}={int(bool(v))}" for k, v in items)
     values["on_violation"] = ViolationPolicy(values["on_violation"])
-    return Options(**values, sources=sources)
+    options = Options(**values, sources=sources)
+    if characterization_on(options) and options.strategy:
+        raise ExecutorError(f"{NODE_NAME}: {_label(options, 'characterize')} needs the synthesized strategy; "
+                            f"it cannot be used with {_label(options, 'strategy')} (a saved strategy)")
+    if options.characterized_spec and Path(options.characterized_spec).is_dir():
+        raise ExecutorError(f"{NODE_NAME}: {_label(options, 'characterized_spec')} {options.characterized_spec!r} "
+                            "is a folder; name the file to write")
+    if options.characterized_spec and not Path(options.characterized_spec).resolve().parent.is_dir():
+        raise ExecutorError(f"{NODE_NAME}: {_label(options, 'characterized_spec')} {options.characterized_spec!r}: "
+                            "its folder does not exist")
+    return options
+
+
+def _label(options: Options, name: str) -> str:
+    source = options.sources.get(name, "default")
+    return source if source.startswith("--") else f"parameter ~{name}"
+
+
+def characterization_on(options: Options) -> bool:
+    """``~characterize`` if given, else on exactly when ``~characterized_spec`` names a file."""
+    return bool(options.characterized_spec) if options.characterize is None else options.characterize
+
+
+def threshold_of(options: Options) -> Threshold:
+    """The §4.10.2 threshold: the limits that are > 0 (neither: characterize at once)."""
+    return Threshold(transitions=options.characterize_after_transitions or None,
+                     seconds=options.characterize_after_seconds or None)
+
+
+def check_characterized_spec(options: Options, inputs: list[str | None]) -> None:
+    """Refuse a ``~characterized_spec`` that is one of the node's input files (before anything runs)."""
+    if options.characterized_spec:
+        try:
+            cli.check_outputs(inputs, [options.characterized_spec])
+        except UserError as err:
+            raise ExecutorError(f"{NODE_NAME}: {_label(options, 'characterized_spec')}: {err}") from None
 
 
 @dataclass
@@ -221,6 +282,8 @@ def build_strategy(spec: Any, options: Options, log: Callable[[str], None] = pri
         return AutomatonStrategy(automaton, spec)
     chosen = {name: getattr(options, name) for name in ("robotics_semantics", "cooperative")
               if getattr(options, name) is not None}
+    if characterization_on(options):
+        return _resilient(spec, options, chosen, log)
     log(f"synthesizing {spec.source} ...")
     result = synthesize(spec, **chosen, timeout=options.timeout or None)
     semantics = result.solution.robotics_semantics if result.solution is not None else chosen.get(
@@ -237,6 +300,31 @@ def build_strategy(spec: Any, options: Options, log: Callable[[str], None] = pri
         return primary
     log("recovery on: a violation of the environment assumptions is answered by a recovery step (thesis §4.6)")
     return RecoveringStrategy(primary, strategy)
+
+
+def _resilient(spec: Any, options: Options, chosen: dict[str, Any], log: Callable[[str], None]) -> BackgroundResilience:
+    threshold = threshold_of(options)
+    log(f"synthesizing {spec.source} ...")
+    try:
+        strategy = BackgroundResilience(
+            spec, lock=None, recovery=options.recovery, characterize=True, threshold=threshold,
+            path=options.characterized_spec or None,
+            synthesis_options={**chosen, "timeout": options.timeout or None})
+    except LimitReached:
+        raise
+    except SynthesisError:
+        raise ExecutorError(f"{spec.source}: the specification is unrealizable; nothing to execute "
+                            f"(synthesize {spec.source} --explain tells why)", Exit.UNREALIZABLE) from None
+    when = "at the first violating transition" if not options.recovery or (
+        threshold.transitions is None and threshold.seconds is None) else "once a violation lasted more than " + \
+        " or ".join(x for x in (f"{threshold.transitions} transitions" if threshold.transitions else "",
+                                f"{threshold.seconds:g} s" if threshold.seconds else "") if x)
+    kept = f"kept in {options.characterized_spec}" if options.characterized_spec else \
+        "NOT kept in a file (no ~characterized_spec)"
+    log(f"environment characterization on (thesis §4.7): resynthesizing {when}, "
+        f"{'with' if options.recovery else 'without'} recovery moves meanwhile; what is learned is {kept}; "
+        "running the symbolic strategy (its state ids are not those of an export)")
+    return strategy
 
 
 def _primary(strategy: Any, spec: Any, options: Options, log: Callable[[str], None]) -> Any:
@@ -258,10 +346,13 @@ def make_controller(strategy: Any, options: Options, init: Mapping[str, bool]) -
     """The Controller for ``strategy``; a ``RecoveringStrategy`` also becomes its recovery hook."""
     recovery = strategy.recover if isinstance(strategy, RecoveringStrategy) else None
     try:
-        return Controller(strategy, on_violation=options.on_violation, init_props=init,
-                          running=True, settle_steps=options.settle_steps, recovery=recovery)
+        controller = Controller(strategy, on_violation=options.on_violation, init_props=init,
+                                running=True, settle_steps=options.settle_steps, recovery=recovery)
     except ValueError as err:
         raise ExecutorError(str(err)) from None
+    if isinstance(strategy, BackgroundResilience):
+        strategy.lock = controller.lock
+    return controller
 
 
 def check_summary(spec_path: str, mapping_path: str | None, prepared: Prepared, options: Options,
@@ -271,12 +362,17 @@ def check_summary(spec_path: str, mapping_path: str | None, prepared: Prepared, 
     strategy = build_strategy(prepared.spec, options, log=log)
     controller = make_controller(strategy, options, init)
     primary = strategy.primary if isinstance(strategy, RecoveringStrategy) else strategy
+    if isinstance(strategy, BackgroundResilience):
+        primary = strategy.strategy
     summary: dict[str, Any] = {
         "spec": str(spec_path), "mapping": mapping_path, "namespace": prepared.namespace,
         "inputs": prepared.input_topics, "outputs": prepared.output_topics, "warnings": prepared.warnings,
         "init_props": init, "ready": controller.ready,
         "strategy": "explicit" if isinstance(primary, AutomatonStrategy) else "symbolic",
-        "recovery": isinstance(strategy, RecoveringStrategy)}
+        "recovery": isinstance(strategy, RecoveringStrategy) or (
+            isinstance(strategy, BackgroundResilience) and strategy.recovery),
+        "characterize": isinstance(strategy, BackgroundResilience),
+        "characterized_spec": options.characterized_spec or None}
     if controller.ready:
         update = controller.advance()
         summary["initial_state"] = None if update.state is None else {
@@ -288,5 +384,5 @@ def check_summary(spec_path: str, mapping_path: str | None, prepared: Prepared, 
 
 
 __all__ = ["EXECUTOR_PARAMS", "ExecutorError", "MAX_EXPLICIT_STATES", "Options", "Prepared", "build_strategy",
-           "check_summary", "load_inputs", "make_controller", "merge_options", "parse_init_props", "prepare",
+           "characterization_on", "check_characterized_spec", "check_summary", "threshold_of", "load_inputs", "make_controller", "merge_options", "parse_init_props", "prepare",
            "scenario_namespace"]
