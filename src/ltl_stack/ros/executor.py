@@ -32,7 +32,7 @@ import sys
 import threading
 import time
 import warnings
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import replace
 from typing import Any
 
@@ -222,8 +222,8 @@ class ExecutorNode:
             self.resilient.on_installed = self._on_installed
             self.resilient.on_changed = self._on_resilience_changed
             self.resilient.on_event = self._on_resilience_event
-            if negotiate is not None:
-                self.resilient.negotiate = negotiate
+        if negotiate is not None:
+            self.set_negotiate(negotiate)
         self._last_violation_key: tuple | None = None
         self._warned_publishers: dict[str, tuple[str, ...]] = {}
         self._started_at = time.monotonic()
@@ -305,6 +305,16 @@ class ExecutorNode:
             rospy.loginfo("%s: %s", self.name, "running" if running else "paused: every output is false")
 
     # resilient execution (thesis ch. 4)
+    def set_negotiate(self, negotiate: Negotiate | None) -> bool:
+        """Install the negotiation hook (see the class docstring); False when characterization is off."""
+        if self.resilient is None:
+            rospy.logwarn("%s: a negotiation hook needs environment characterization (--characterize); "
+                          "not installed", self.name)
+            return False
+        with self.controller.lock:
+            self.resilient.negotiate = negotiate
+        return True
+
     def _on_add_env_liveness(self, request: Any) -> AddEnvLivenessResponse:
         """Alg. 3 line 6: the user's environment liveness; synthesis runs in this service thread,
         not under the controller's lock."""
@@ -737,7 +747,8 @@ def _param_lookup(name: str) -> tuple[bool, Any]:
     return (True, rospy.get_param(key)) if rospy.has_param(key) else (False, None)
 
 
-def _run(args: argparse.Namespace, negotiate: Negotiate | None = None) -> int:
+def _run(args: argparse.Namespace, negotiate: Negotiate | None = None,
+         setup: Callable[[ExecutorNode], None] | None = None) -> int:
     """Load the files (errors before touching ROS), then start the node; errors after ``init_node``
     end in one ``[FATAL]`` line."""
     spec, mapping, warnings_ = load_inputs(args.spec, args.mapping)
@@ -757,16 +768,22 @@ def _run(args: argparse.Namespace, negotiate: Negotiate | None = None) -> int:
         rospy.logfatal("%s", err)
         rospy.signal_shutdown("bad configuration")
         return int(err.code)
-    ExecutorNode(controller, prepared, options, json_lines=args.json, negotiate=negotiate)
+    node = ExecutorNode(controller, prepared, options, json_lines=args.json, negotiate=negotiate)
+    if setup is not None:
+        setup(node)
     rospy.spin()
     return Exit.OK
 
 
-def main(argv: Sequence[str] | None = None, negotiate: Negotiate | None = None) -> int:
-    """The ``controller_executor`` command; ``negotiate`` is the negotiation hook (see ``ExecutorNode``)."""
+def main(argv: Sequence[str] | None = None, negotiate: Negotiate | None = None,
+         setup: Callable[[ExecutorNode], None] | None = None) -> int:
+    """The ``controller_executor`` command. Extension points (docs/resilience.md, "Negotiation hook"):
+    ``negotiate`` is the negotiation hook (see ``ExecutorNode``); ``setup(node)`` is called once the
+    node is up (rospy initialised, controller and services in place), e.g. to start a negotiation
+    endpoint on ``node.controller`` and install its hook with ``node.set_negotiate``."""
     raw = list(sys.argv if argv is None else [PROG, *argv])
     args = build_parser().parse_args(rospy.myargv(raw)[1:])
-    return cli.run(PROG, lambda: _check(args) if args.check else _run(args, negotiate))
+    return cli.run(PROG, lambda: _check(args) if args.check else _run(args, negotiate, setup))
 
 
 __all__ = ["ExecutorError", "ExecutorNode", "Options", "ViolationConfirmer", "build_parser", "main"]

@@ -171,7 +171,7 @@ class BackgroundResilience(ResilientStrategy):
                 self._finish(generation, lambda: self._accept(attempt, observation))
                 return
             if self.negotiate is not None:  # S.2 (Alg. 3 line 9, §4.8): a collaborative robot
-                self._finish(generation, lambda: self._count_unrealizable())
+                self._finish(generation, lambda: self._count_unrealizable(observation))
                 spec = self.negotiate(self, observation)
                 result = synthesize(spec, **self.characterizer.synthesis_options) if spec is not None else None
                 if result is not None and result.realizable:
@@ -209,9 +209,9 @@ class BackgroundResilience(ResilientStrategy):
             if self.on_changed is not None:
                 self.on_changed()
 
-    def _count_unrealizable(self) -> None:
+    def _count_unrealizable(self, observation: Observation) -> None:
         self.counters.unrealizable += 1
-        self.job = self.characterizer.observation  # still busy: negotiating
+        self.job = observation  # still busy: negotiating
 
     def _accept(self, attempt: Attempt, observation: Observation, write: bool = True,
                 liveness: list[str] = ()) -> None:
@@ -338,6 +338,20 @@ class BackgroundResilience(ResilientStrategy):
             if self.on_changed is not None:
                 self.on_changed()
         return attempt
+
+    def adopt(self, spec: Any, text: str, strategy: SymbolicStrategy, inputs: Mapping[str, bool],
+              outputs: Mapping[str, bool]) -> State:
+        """``ResilientStrategy.adopt`` (a spec agreed by negotiation, installed by the responder) under
+        ``lock``; a running job's result is dropped."""
+        with self.lock:
+            self._generation += 1
+            self.job = None
+            state = super().adopt(spec, text, strategy, inputs, outputs)
+            self.readings = dict(state.inputs)
+            self.violated_now = []
+            if self.on_changed is not None:
+                self.on_changed()
+            return state
 
     def abort(self, reason: str = "aborted by the user") -> None:
         """Abort (Alg. 3 line 11); a running job's result is dropped."""

@@ -333,3 +333,48 @@ def test_a_structured_spec_with_a_spec_file_is_written_structured(tmp_path):
     controller.report_many({"person": True, "door": False})
     jobs.run_all()
     assert "[ENV_TRANS]" in out.read_text() and load_spec(out).env_safety
+
+
+# --- the negotiation hook ---------------------------------------------------------------------------
+def closed_door_until(rs, controller, jobs, done) -> None:
+    controller.report_many({"door": True})
+    for _ in range(6):
+        controller.report_many({"door": False})
+        controller.tick()
+        jobs.run_all()
+        if done():
+            return
+
+
+@pytest.mark.parametrize("agree", [True, False])
+def test_negotiation_hook_runs_in_the_job_and_its_spec_is_installed_or_the_run_aborts(agree):
+    agreed = parse_structured(DOOR.replace("[ENV_TRANS]\ndoor'", "[ENV_LIVENESS]\ndoor"), "agreed")
+    calls: list = []
+
+    def negotiate(strategy, observation):
+        calls.append((strategy.job, observation.incoming))
+        return agreed if agree else None
+
+    rs, controller, jobs, installed = resilient(DOOR, negotiate=negotiate)
+    closed_door_until(rs, controller, jobs, lambda: calls)
+    assert calls and calls[0][0] is not None  # busy while negotiating: no second job
+    assert calls[0][1] == {"door": False}
+    if agree:
+        assert rs.mode is Mode.NORMAL and installed and rs.counters.resyntheses >= 1
+        assert rs.counters.unrealizable >= 1 and [e for e in rs.events if "negotiation" in e.message]
+    else:
+        assert rs.mode is Mode.ABORTED and not installed
+
+
+def test_adopt_drops_a_running_job():
+    rs, controller, jobs, installed = resilient(PROBE)
+    controller.report_many({"person": False, "door": True})
+    controller.report_many({"person": True, "door": False})
+    assert jobs.queue
+    spec = parse_structured(PROBE.replace("[ENV_TRANS]\ndoor'\n", "").replace("[ENV_INIT]\ndoor\n", ""), "agreed")
+    strategy = synthesize(spec).strategy
+    with controller.lock:
+        controller.state = rs.adopt(spec, "agreed", strategy, {"person": True, "door": False}, {"stop": True})
+    jobs.run_all()
+    assert installed == [] and rs.mode is Mode.NORMAL and rs.counters.resyntheses == 1
+    assert rs.strategy is strategy
