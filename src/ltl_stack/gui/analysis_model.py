@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 
 from ltl_stack.analysis import report
 from ltl_stack.analysis.checks import Analysis, Witness, analyze, e2_groups, feedback_reason
-from ltl_stack.analysis.cli import apply_suggestions, apply_text
+from ltl_stack.analysis.cli import apply_suggestions, apply_text, english_text
 from ltl_stack.analysis.graph import DEFAULT_IGNORED_TOPICS, ComputationGraph
 from ltl_stack.analysis.report import IN_SPEC_NOTE
 from ltl_stack.analysis.snapshot import Snapshot
@@ -234,10 +234,13 @@ def apply_and_check(result: AnalysisResult, out: str, chosen: Sequence[int] | No
     """Write the spec plus the chosen suggestions (1-based; default all) to ``out``, synthesize it
     (robotics init semantics) and, when unrealizable, explain it and try the input-exclusion hint of
     thesis Example 9. The dict is ``analyze_graph --apply``'s; ``text`` is its report. ``out`` naming
-    one of the inputs is refused (``UserError``) before anything is written."""
+    one of the inputs is refused (``UserError``) before anything is written. A Structured English
+    spec and an English ``out`` (``.spec``) get the suggestions appended as sentences, as
+    ``analyze_graph --apply`` does."""
     picked = None if chosen is None else [str(i) for i in chosen]
     check_outputs([result.spec_path, result.mapping_path, result.snapshot_path], [out])  # never over an input
-    applied, text = apply_suggestions(result.spec, result.suggestions, out, picked)
+    english = english_text(result.spec_path, out) if result.spec_path else None
+    applied, text = apply_suggestions(result.spec, result.suggestions, out, picked, english)
     write_output(out, text, "amended spec")
     applied["text"] = apply_text(applied)
     return applied

@@ -231,6 +231,19 @@ def test_expected_feedback_has_its_own_table_not_counted_as_findings(tmp_path):
     assert len(conflict_graph(result, FEEDBACK_KEY, 0).nodes) == 3
 
 
+def test_apply_and_check_appends_english_sentences_to_an_english_spec(tmp_path):
+    path = tmp_path / "simple_graph.json"
+    simple_snapshot().save(path)
+    spec = SIMPLE_SPEC.with_suffix(".spec")
+    result = run_analysis(str(spec), str(SIMPLE_MAPPING), snapshot_path=str(path))
+    out = tmp_path / "simple_exclusive.spec"
+    applied = apply_and_check(result, str(out))
+    assert applied["format"] == "english" and applied["sentences"] == ["move and stop are mutually exclusive"]
+    assert out.read_text() == spec.read_text().rstrip("\n") + "\n" + \
+        "# added by analyze_graph (ROS graph analysis, thesis 3.5.2.3)\nmove and stop are mutually exclusive\n"
+    assert applied["realizable"] is False  # Example 7: always move, stop for a person
+
+
 def test_apply_and_check_shows_example_7_unrealizable(tmp_path):
     result = simple_result(tmp_path)
     out = tmp_path / "simple_amended.slugsin"
