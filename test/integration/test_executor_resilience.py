@@ -8,6 +8,7 @@ violated clauses) and ``/diagnostics`` as JSON lines (see test_executor_node's P
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 import textwrap
@@ -334,3 +335,47 @@ def test_characterized_spec_naming_the_spec_is_refused(ros_master, tmp_path):
                            str(spec)], name="executor")
     code = wait_for(lambda: node.popen.poll(), 60, "the executor to exit")
     assert code == 2 and "--characterized-spec" in node.output() and spec.read_text() == PROBE_SPEC, node.output()
+
+
+def tool(args: list[str], env: dict) -> subprocess.CompletedProcess:
+    return subprocess.run(["rosrun", "ltl_stack", "add_env_liveness", *args], capture_output=True, text=True,
+                          timeout=120, env=env)
+
+
+@pytest.mark.parametrize("args, code, needle", [
+    (["door", "--abort"], 2, "either a formula or --abort"),
+    ([], 2, "either a formula or --abort"),
+    (["  "], 2, "the formula is empty"),
+    (["--node", "a//b", "door"], 2, "not a legal ROS name"),
+    (["--master-uri", "localhost:1", "door"], 2, "is not a ROS master URI"),
+    (["--timeout", "2", "door"], 3, "no service /controller_executor/add_env_liveness"),
+])
+def test_add_env_liveness_tool_bad_input(ros_master, args, code, needle):
+    done = tool(args, dict(ros_master.env))
+    errors = [line for line in done.stderr.splitlines() if "error" in line]
+    assert done.returncode == code and needle in done.stderr and len(errors) == 1, (done.returncode, done.stderr)
+    assert "Traceback" not in done.stderr
+
+
+def test_add_env_liveness_tool_without_a_master_is_exit_3(tmp_path):
+    from helpers import closed_port
+
+    env = {**os.environ, "ROS_MASTER_URI": f"http://127.0.0.1:{closed_port()}/"}
+    done = tool(["--timeout", "1", "door"], env)
+    assert done.returncode == 3 and "no ROS master" in done.stderr, done.stderr
+    helped = tool(["--help"], env)
+    assert helped.returncode == 0 and "usage: add_env_liveness" in helped.stdout, helped.stdout
+
+
+def test_add_env_liveness_with_characterization_off_says_so(ros_master, rprobes, tmp_path):
+    spec, node, probe = probe_start(ros_master, rprobes, tmp_path)
+    answer = probe.liveness("door")
+    assert answer["success"] is False and answer["code"] == 1 and "--characterize" in answer["message"], answer
+    done = tool(["door"], dict(ros_master.env))
+    assert done.returncode == 1 and "characterization is off" in done.stderr, done.stderr
+    # abort works without characterization too
+    probe.publish(PERSON, True)
+    probe.wait_value(STOP, True)
+    assert tool(["--abort", "--json"], dict(ros_master.env)).returncode == 0
+    probe.wait_value(STOP, False, timeout=60)
+    probe.wait_state(lambda s: s["mode"] == "aborted", "mode aborted")
