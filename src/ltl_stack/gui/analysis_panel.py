@@ -337,10 +337,9 @@ class AnalysisPanel(QWidget):
     def _start(self, work, on_done, text: str) -> None:
         self.task = Task(work, self)
         self.task.progress.connect(lambda t: self._status(t))
-        self.task.finished.connect(on_done)
-        self.task.failed.connect(lambda t: self._status(t, error=True))
-        self.task.finished.connect(lambda _r: self._busy(False))
-        self.task.failed.connect(lambda _t: self._busy(False))
+        # one slot per outcome: the panel is idle again before the result shows, with nothing left queued
+        self.task.finished.connect(lambda result: (self._busy(False), on_done(result)))
+        self.task.failed.connect(lambda t: (self._busy(False), self._status(t, error=True)))
         self._busy(True)
         self._status(text)
         self.task.start()

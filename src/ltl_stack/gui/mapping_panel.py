@@ -176,11 +176,11 @@ class MappingPanel(QWidget):
             return
         uri = self.master_line_edit.text().strip() or None
         self.task = Task(lambda progress: self._take_graph(uri), self)
-        self.task.finished.connect(self._on_graph)
-        self.task.failed.connect(lambda text: self._status(f"Refresh failed: {text}", error=True))
+        # one slot per outcome, so nothing is left queued once the result shows
+        self.task.finished.connect(lambda graph: (self.refresh_push_button.setEnabled(True), self._on_graph(graph)))
+        self.task.failed.connect(lambda text: (self.refresh_push_button.setEnabled(True),
+                                               self._status(f"Refresh failed: {text}", error=True)))
         self.refresh_push_button.setEnabled(False)
-        self.task.finished.connect(lambda _r: self.refresh_push_button.setEnabled(True))
-        self.task.failed.connect(lambda _t: self.refresh_push_button.setEnabled(True))
         self._status("Reading nodes and topics from the master…")
         self.task.start()
 
