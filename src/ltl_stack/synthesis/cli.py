@@ -5,6 +5,8 @@ cooperative strategy); the text and ``--json`` output say which were used. ``--j
 summary on stdout; the strategy files are written with ``--strategy-json``, ``--slugs-json``,
 ``--dot``, ``--png`` and ``--counterstrategy``: all of them or none (each is rendered first, then
 every file is written through a temporary file and renamed at the end), never over an input.
+``--recovery`` exports the strategy with recovery transitions (thesis §4.6, Alg. 1 lines 19-25;
+``SymbolicStrategy.explicit(recovery=True)``) and reports the state counts with and without them.
 
 Exit codes (``ltl_stack.errors.Exit``): 0 realizable, 10 unrealizable, 2 bad input, 4 an export
 could not be written, 5 a limit was reached (``--timeout``, ``--max-memory``, ``--max-states``).
@@ -66,6 +68,10 @@ def build_parser() -> cli.ToolParser:
                    help="write the explicit strategy in slugs' --explicitStrategy --jsonOutput layout")
     p.add_argument("--dot", metavar="OUT", help="write the explicit strategy as Graphviz DOT")
     p.add_argument("--png", metavar="OUT", help="render the explicit strategy to PNG (needs Graphviz)")
+    p.add_argument("--recovery", action="store_true",
+                   help="export the strategy with recovery transitions (thesis §4.6: answers to inputs that "
+                        "break the environment assumptions, marked in every format) and report the state "
+                        "counts with and without them")
     p.add_argument("--max-states", type=cli.positive_int, default=200_000, metavar="N",
                    help="give up the explicit strategy beyond N states (default 200000; exit 5)")
     p.add_argument("--timeout", type=cli.positive_float, metavar="S",
@@ -101,7 +107,7 @@ def _synthesize(args: argparse.Namespace) -> int:
         spec = load_spec(args.spec)
         parsed = time.perf_counter()
         options = options_from(args.robotics_semantics, args.cooperative)
-        exports = any([args.strategy_json, args.slugs_json, args.dot, args.png])
+        exports = args.recovery or any([args.strategy_json, args.slugs_json, args.dot, args.png])
         # without an export only the verdict is printed: no strategy, and an early exit when unrealizable
         result = synthesize(spec, robotics_semantics=options.robotics_semantics, cooperative=options.cooperative,
                             progress=progress, deadline=deadline, max_memory=args.max_memory, strategy=exports)
@@ -119,9 +125,14 @@ def _synthesize(args: argparse.Namespace) -> int:
         files: list[tuple[str, str | bytes, str]] = []
         if result.realizable and exports:
             t = time.perf_counter()
-            automaton = result.strategy.explicit(max_states=args.max_states, progress=progress)
+            automaton = result.strategy.explicit(max_states=args.max_states, progress=progress,
+                                                 recovery=args.recovery)
             summary["explicit_seconds"] = round(time.perf_counter() - t, 6)
             summary["states"] = len(automaton)
+            if args.recovery:
+                summary["states_without_recovery"] = automaton.metadata["states_without_recovery"]
+                summary["edges"] = sum(len(s.successors) for s in automaton.states)
+                summary["recovery_edges"] = sum(len(s.recovery) for s in automaton.states)
             files = _strategy_files(automaton, args, deadline)
         elif not result.realizable and exports:
             if not args.quiet:
@@ -139,6 +150,9 @@ def _synthesize(args: argparse.Namespace) -> int:
     elif not args.quiet:
         verdict = "REALIZABLE" if result.realizable else "UNREALIZABLE"
         extra = f", {summary['states']} states" if "states" in summary else ""
+        if "states_without_recovery" in summary:
+            extra = (f", {summary['states']} states with recovery transitions, "
+                     f"{summary['states_without_recovery']} without")
         print(f"{verdict} ({result.seconds:.3f} s{extra}; {options.describe()})")
         if text:
             print(text, end="")

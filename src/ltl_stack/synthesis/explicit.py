@@ -1,15 +1,33 @@
-"""Explicit strategy extraction: thesis Alg. 1, lines 1-18.
+"""Explicit strategy extraction: thesis Alg. 1, lines 1-18 (and 19-25 with ``recovery``).
 
 Starting from every winning initial position with goal 0, breadth first, each state gets exactly
-one successor per next input admissible under env safety; the successor's outputs are chosen by the
-symbolic strategy (earliest Y iterate of the current goal, ``SymbolicStrategy._move``) and the goal
-index advances when the move reaches the goal.
+one successor per next input admissible under env safety. The successor's outputs are a move of the
+symbolic strategy's relation for the current goal (``SymbolicStrategy.relations``: only moves of the
+earliest (Y iterate, assumption) pair, so any of them is a correct move), chosen so that the
+automaton stays small:
+
+1. a move into a state that already exists (same next position and goal), when the relation allows
+   one — slugs' extractor gets small automata by always picking the same canonical outputs; we pick
+   among the allowed moves the one that re-uses a state;
+2. otherwise the move ``SymbolicStrategy.step`` makes (each output keeps its current value when it
+   may, in the spec's output order), with the goal ``step`` gives it.
+
+So the automaton is a correct strategy but not always the one ``step`` follows; the executor steps
+the automaton itself (``runtime.explicit``), so its ``~state`` ids are the export's. The goal index
+advances when the move reaches the goal (and past goals the new position meets, ``_skip_satisfied``);
+a move that also reaches the following goals may advance past them too when that re-uses a state.
+
+Each state's moves are computed at once as a BDD over the next inputs and outputs (the relation
+restricted to the state) and enumerated as integer codes (input k is bit k, output k bit
+n_in + k; ``_codes``), never one dict per valuation.
 
 With ``recovery=True`` (Alg. 1 lines 19-25, ``ltl_stack.synthesis.recovery``) every (state, input)
 for which some move satisfies sys safety gets one edge: inputs that break env safety, and every
 input from states outside W (which only recovery edges reach). Those edges are the recovery
-relation's moves (the same ones ``SymbolicStrategy.step_result`` takes) and are listed in
-``AutomatonState.recovery``; edges from winning states on admissible inputs are the ordinary ones.
+relation's moves (``RecoveryRelations.relation``, the moves ``SymbolicStrategy.step_result`` picks
+from) and are listed in ``AutomatonState.recovery``. The automaton without recovery is built first
+and kept as it is (same ids, same edges: ``metadata["states_without_recovery"]`` says how many), then
+recovery edges are added to every state, and states they reach get both kinds of edges.
 
 This enumerates the automaton and is meant for export, viewing and small specs; executing a
 strategy needs only ``SymbolicStrategy.step``.
@@ -45,15 +63,9 @@ class SymbolicStrategy(Protocol):
 
     def start_state(self, inputs: dict[str, bool], outputs: dict[str, bool]) -> State: ...
 
-    def deterministic(self, j: int) -> Any: ...
-
     def recovery_relations(self) -> Any: ...
 
     def _skip_satisfied(self, inputs: dict[str, bool], outputs: dict[str, bool], goal: int) -> int: ...
-
-
-def _bits_of(values: tuple[bool, ...]) -> int:
-    return sum(int(v) << k for k, v in enumerate(values))
 
 
 def initial_states(strategy: SymbolicStrategy) -> list[State]:
@@ -72,64 +84,7 @@ def extract(strategy: SymbolicStrategy, *, max_states: int | None = None, progre
             recovery: bool = False) -> Automaton:
     """The explicit automaton of ``strategy`` (with recovery edges when ``recovery``);
     ``TooManyStates`` past ``max_states``."""
-    if recovery:
-        return _extract_with_recovery(strategy, max_states, progress)
-    game = strategy.game
-    bdd = game.bdd
-    names = game.variables
-    nxt_names = game.variables_next
-    n_in = len(game.inputs)
-    goals = len(strategy.relations)
-    numbers: dict[tuple[tuple[bool, ...], int], int] = {}
-    states: list[AutomatonState] = []
-    todo: deque[tuple[tuple[bool, ...], int, int]] = deque()
-    skip_cache: dict[tuple[tuple[bool, ...], int], int] = {}
-
-    def number(values: tuple[bool, ...], goal: int) -> int:
-        key = (values, goal)
-        n = numbers.get(key)
-        if n is None:
-            n = numbers[key] = len(states)
-            if max_states is not None and n >= max_states:
-                raise TooManyStates(f"the explicit strategy has more than {max_states} states")
-            states.append(AutomatonState(n, dict(zip(game.inputs, values[:n_in], strict=True)),
-                                         dict(zip(game.outputs, values[n_in:], strict=True)), goal))
-            todo.append((values, goal, n))
-        return n
-
-    def skip(values: tuple[bool, ...], goal: int) -> int:
-        key = (values, goal)
-        g = skip_cache.get(key)
-        if g is None:
-            g = skip_cache[key] = strategy._skip_satisfied(
-                dict(zip(game.inputs, values[:n_in], strict=True)),
-                dict(zip(game.outputs, values[n_in:], strict=True)), goal)
-        return g
-
-    initial = [number(tuple(s.valuation.values()), s.goal) for s in initial_states(strategy)]
-    moves_of = [strategy.deterministic(j) & game.env_trans for j in range(goals)]
-    care = set(nxt_names)
-    check = game.deadline.check
-    while todo:
-        check()
-        values, goal, n = todo.popleft()
-        here = dict(zip(names, values, strict=True))
-        moves = bdd.let(here, moves_of[goal])
-        reached = bdd.let(here, strategy.reached[goal])
-        edges = []
-        for goal_reached, part in ((True, moves & reached), (False, moves & ~reached)):
-            start_goal = (goal + 1) % goals if goal_reached else goal
-            for a in bdd.pick_iter(part, care_vars=care):
-                target = tuple(bool(a[v]) for v in nxt_names)
-                edges.append((_bits_of(target[:n_in]), number(target, skip(target, start_goal))))
-        edges.sort()
-        states[n].successors = [t for _, t in edges]
-        if progress and len(states) % 5000 == 0:
-            progress(f"explicit strategy: {len(states)} states, {len(todo)} to expand")
-    meta = {"cooperative": strategy.cooperative,
-            "robotics_semantics": strategy.solution.robotics_semantics,
-            "source": getattr(game.spec, "source", "")}
-    return Automaton(list(game.inputs), list(game.outputs), states, initial, len(game.sys_goals), meta)
+    return _Extraction(strategy, max_states, progress).run(recovery)
 
 
 def _codes(bdd, u, bit_of: dict[str, int]) -> list[int]:
@@ -138,7 +93,7 @@ def _codes(bdd, u, bit_of: dict[str, int]) -> list[int]:
 
     Bottom-up over the BDD's nodes (each node's valuations of the variables below it computed
     once), skipped variables expanded with integer arithmetic: ``pick_iter`` builds one dict per
-    valuation, which dominated the recovery export (millions of edges on thesis Ex. 8)."""
+    valuation, which dominated extraction (millions of edges on thesis Ex. 8 with recovery)."""
     if u == bdd.false:
         return []
     if BACKEND != "cudd":  # pragma: no cover - the autoref fallback
@@ -180,86 +135,216 @@ def _codes(bdd, u, bit_of: dict[str, int]) -> list[int]:
         memo.clear()  # the recursive closure is a reference cycle: drop its BDD nodes now
 
 
-def _extract_with_recovery(strategy: SymbolicStrategy, max_states: int | None,
-                           progress: Progress | None) -> Automaton:
-    """``extract`` with Alg. 1 lines 19-25: positions are coded as integers (input k is bit k,
-    output k bit n_in + k) because recovery automata answer every input of every state."""
-    game = strategy.game
-    bdd = game.bdd
-    n_in = len(game.inputs)
-    n_vars = len(game.variables)
-    in_mask = (1 << n_in) - 1
-    goals = len(strategy.relations)
-    current_bit = {v: k for k, v in enumerate(game.variables)}
-    next_bit = {v: k for k, v in enumerate(game.variables_next)}
-    input_bit = {v: k for k, v in enumerate(game.inputs_next)}
-    numbers: dict[int, int] = {}
-    states: list[AutomatonState] = []
-    codes: list[int] = []
-    todo: deque[int] = deque()
-    skip_cache: dict[int, int] = {}
-    target_of: dict[int, int] = {}  # next position | goal the move starts it with -> state number
+class _Extraction:
+    """One breadth-first extraction; positions are integer codes (input k bit k, output k bit
+    n_in + k), states are numbered in the order they are created."""
 
-    def valuation(code: int) -> dict[str, bool]:
-        return {v: bool(code >> k & 1) for v, k in current_bit.items()}
+    def __init__(self, strategy: SymbolicStrategy, max_states: int | None, progress: Progress | None) -> None:
+        self.strategy = strategy
+        self.max_states = max_states
+        self.progress = progress
+        game = self.game = strategy.game
+        self.bdd = game.bdd
+        self.n_in = len(game.inputs)
+        self.n_vars = len(game.variables)
+        self.goals = len(strategy.relations)
+        self.current_bit = {v: k for k, v in enumerate(game.variables)}
+        self.next_bit = {v: k for k, v in enumerate(game.variables_next)}
+        self.input_bit = {v: k for k, v in enumerate(game.inputs_next)}
+        self.numbers: dict[int, int] = {}   # position code | goal << n_vars -> state number
+        self.states: list[AutomatonState] = []
+        self.codes: list[int] = []
+        self.todo: deque[int] = deque()
+        self.skip_cache: dict[int, int] = {}
+        self.winning_cache: dict[int, bool] = {}
+        self.met_cache: dict[int, bool] = {}
+        #: per goal s a move starts its target with: next positions p' whose state (p, skip(p, s)) exists
+        self.existing = [self.bdd.false] * self.goals
+        #: per goal: the strategy's moves on admissible inputs
+        self.ordinary = [strategy.relations[j] & game.env_trans for j in range(self.goals)]
+        self.reported = 0
 
-    def number(code: int, goal: int) -> int:
-        key = code | goal << n_vars
-        n = numbers.get(key)
-        if n is None:
-            n = numbers[key] = len(states)
-            if max_states is not None and n >= max_states:
-                raise TooManyStates(f"the explicit strategy has more than {max_states} states")
-            values = valuation(code)
-            states.append(AutomatonState(n, {v: values[v] for v in game.inputs},
-                                         {v: values[v] for v in game.outputs}, goal))
-            codes.append(code)
-            todo.append(n)
-        return n
+    # --- states -----------------------------------------------------------------------------
+    def valuation(self, code: int) -> dict[str, bool]:
+        return {v: bool(code >> k & 1) for v, k in self.current_bit.items()}
 
-    def skip(code: int, goal: int) -> int:
-        key = code | goal << n_vars
-        g = skip_cache.get(key)
+    def _winning(self, code: int) -> bool:
+        w = self.winning_cache.get(code)
+        if w is None:
+            bdd = self.bdd
+            w = self.winning_cache[code] = bdd.let(self.valuation(code), self.strategy.winning) == bdd.true
+        return w
+
+    def _met(self, code: int, k: int) -> bool:
+        key = code | k << self.n_vars
+        m = self.met_cache.get(key)
+        if m is None:
+            bdd = self.bdd
+            m = self.met_cache[key] = bdd.let(self.valuation(code), self.game.sys_goals[k]) == bdd.true
+        return m
+
+    def skip(self, code: int, goal: int) -> int:
+        """``SymbolicStrategy._skip_satisfied`` on a position code (cached)."""
+        key = code | goal << self.n_vars
+        g = self.skip_cache.get(key)
         if g is None:
-            values = valuation(code)
-            g = skip_cache[key] = strategy._skip_satisfied({v: values[v] for v in game.inputs},
-                                                           {v: values[v] for v in game.outputs}, goal)
+            g = goal
+            if self._winning(code):
+                for _ in range(self.goals - 1):
+                    if not self._met(code, g):
+                        break
+                    g = (g + 1) % self.goals
+            self.skip_cache[key] = g
         return g
 
-    initial = []
-    for s in initial_states(strategy):
-        code = sum(1 << current_bit[v] for v, val in s.valuation.items() if val)
-        initial.append(number(code, s.goal))
-    rec = strategy.recovery_relations()
-    # winning position & admissible input: the ordinary move; anything else: recovery
-    ordinary = strategy.winning & game.env_trans
-    moves_of = [(ordinary & strategy.deterministic(j) & game.env_trans) | (~ordinary & rec.deterministic(j))
-                for j in range(goals)]
-    check = game.deadline.check
-    while todo:
-        check()
-        n = todo.popleft()
-        goal = states[n].goal
-        here = valuation(codes[n])
-        moves = bdd.let(here, moves_of[goal])
-        reached = bdd.let(here, strategy.reached[goal])
-        marked = set(_codes(bdd, bdd.let(here, ~ordinary), input_bit))
-        edges = []
-        for goal_reached, part in ((True, moves & reached), (False, moves & ~reached)):
-            start_goal = (goal + 1) % goals if goal_reached else goal
-            shift = start_goal << n_vars
-            for code in _codes(bdd, part, next_bit):
-                t = target_of.get(code | shift)
+    def number(self, code: int, goal: int) -> int:
+        key = code | goal << self.n_vars
+        n = self.numbers.get(key)
+        if n is not None:
+            return n
+        n = self.numbers[key] = len(self.states)
+        if self.max_states is not None and n >= self.max_states:
+            raise TooManyStates(f"the explicit strategy has more than {self.max_states} states")
+        game = self.game
+        values = self.valuation(code)
+        self.states.append(AutomatonState(n, {v: values[v] for v in game.inputs},
+                                          {v: values[v] for v in game.outputs}, goal))
+        self.codes.append(code)
+        self.todo.append(n)
+        bdd = self.bdd
+        cube = bdd.cube({v: bool(code >> k & 1) for v, k in self.next_bit.items()})
+        s = goal  # the start goals s with skip(code, s) == goal: goal and those skipped to it
+        for _ in range(self.goals):
+            if self.skip(code, s) == goal:
+                self.existing[s] |= cube
+            s = (s - 1) % self.goals
+            if s == goal or not self._met(code, s):
+                break
+        return n
+
+    # --- moves ------------------------------------------------------------------------------
+    def split(self, here: dict[str, bool], moves, goal: int) -> list[tuple[Any, tuple[int, ...]]]:
+        """``moves`` split by the goals a move may start its target with. A move that reaches the
+        current goal (``goal & W'``, thesis Alg. 1 line 14) advances it (``SymbolicStrategy._successor``);
+        when it reaches the next ones too it may advance past them as well (slugs' extractor always
+        does), which ``edges`` uses to re-use an existing state. Each part comes with its admissible
+        goals, the furthest last; a move that reaches no goal keeps it."""
+        bdd = self.bdd
+        leaves = []
+        part, g, passed = moves, goal, ()
+        for _ in range(self.goals):
+            reached = bdd.let(here, self.strategy.reached[g])
+            met = part & reached
+            rest = part & ~reached
+            if rest != bdd.false:
+                leaves.append((rest, passed or (g,)))
+            if met == bdd.false:
+                return leaves
+            g = (g + 1) % self.goals
+            part, passed = met, (*passed, g)
+        leaves.append((part, passed))
+        return leaves
+
+    def choose(self, moves, leaves: list[tuple[Any, tuple[int, ...]]], outputs: dict[str, bool]):
+        """One move per next input of ``moves`` (a BDD over the next inputs and outputs): into an
+        existing state when one is allowed, else each output keeping its current value when it may
+        (``keep_current`` restricted to this position)."""
+        bdd = self.bdd
+        game = self.game
+        reuse = bdd.false
+        for part, goals in leaves:
+            existing = bdd.false
+            for g in goals:
+                existing |= self.existing[g]
+            reuse |= part & existing
+        if reuse != bdd.false:
+            moves = reuse | (moves & ~bdd.exist(game.outputs_next, reuse))
+        for name, name_next in zip(game.outputs, game.outputs_next, strict=True):
+            keep = bdd.var(name_next) if outputs[name] else ~bdd.var(name_next)
+            kept = moves & keep
+            if kept == bdd.false:
+                continue
+            if kept != moves:
+                moves = kept | (moves & ~bdd.exist(game.outputs_next, kept))
+        return moves
+
+    def edges(self, n: int, moves, marked: bool) -> list[tuple[int, int, bool]]:
+        """The edges of state n for ``moves`` (a BDD over the next inputs and outputs)."""
+        if moves == self.bdd.false:
+            return []
+        state = self.states[n]
+        here = self.valuation(self.codes[n])
+        leaves = self.split(here, moves, state.goal)
+        moves = self.choose(moves, leaves, state.outputs)
+        in_mask = (1 << self.n_in) - 1
+        numbers = self.numbers
+        shift = self.n_vars
+        result = []
+        for part, goals in leaves:
+            for code in _codes(self.bdd, moves & part, self.next_bit):
+                t = None
+                for g in reversed(goals):  # an existing state, the furthest goal first
+                    t = numbers.get(code | self.skip(code, g) << shift)
+                    if t is not None:
+                        break
                 if t is None:
-                    t = target_of[code | shift] = number(code, skip(code, start_goal))
-                x = code & in_mask
-                edges.append((x, t, x in marked))
-        edges.sort()
-        states[n].successors = [t for _, t, _ in edges]
-        states[n].recovery = [t for _, t, r in edges if r]
-        if progress and len(states) % 5000 == 0:
-            progress(f"explicit strategy: {len(states)} states, {len(todo)} to expand")
-    meta = {"cooperative": strategy.cooperative,
-            "robotics_semantics": strategy.solution.robotics_semantics,
-            "source": getattr(game.spec, "source", ""), "recovery": True}
-    return Automaton(list(game.inputs), list(game.outputs), states, initial, len(game.sys_goals), meta)
+                    t = self.number(code, self.skip(code, goals[0]))
+                result.append((code & in_mask, t, marked))
+        return result
+
+    def run(self, recovery: bool) -> Automaton:
+        strategy = self.strategy
+        game = self.game
+        bdd = self.bdd
+        for s in initial_states(strategy):
+            code = sum(1 << self.current_bit[v] for v, val in s.valuation.items() if val)
+            self.number(code, s.goal)
+        initial = list(range(len(self.states)))
+        check = game.deadline.check
+        while self.todo:  # the ordinary automaton (Alg. 1 lines 1-18)
+            check()
+            n = self.todo.popleft()
+            here = self.valuation(self.codes[n])
+            edges = self.edges(n, bdd.let(here, self.ordinary[self.states[n].goal]), False)
+            edges.sort()
+            self.states[n].successors = [t for _, t, _ in edges]
+            self._report()
+        plain = len(self.states)
+        if recovery:
+            self._add_recovery(plain)
+        meta = {"cooperative": strategy.cooperative,
+                "robotics_semantics": strategy.solution.robotics_semantics,
+                "source": getattr(game.spec, "source", "")}
+        if recovery:
+            meta.update(recovery=True, states_without_recovery=plain)
+        return Automaton(list(game.inputs), list(game.outputs), self.states, initial, len(game.sys_goals), meta)
+
+    def _add_recovery(self, plain: int) -> None:
+        """Alg. 1 lines 19-25: recovery edges for every (state, input) outside (W, admissible)."""
+        game = self.game
+        bdd = self.bdd
+        rec = self.strategy.recovery_relations()
+        normal = self.strategy.winning & game.env_trans
+        self.todo = deque(range(plain))
+        check = game.deadline.check
+        while self.todo:
+            check()
+            n = self.todo.popleft()
+            state = self.states[n]
+            here = self.valuation(self.codes[n])
+            ordinary = bdd.let(here, normal)  # over the next inputs
+            edges = [] if n < plain else self.edges(n, bdd.let(here, self.ordinary[state.goal]) & ordinary, False)
+            edges += self.edges(n, bdd.let(here, rec.relation(state.goal)) & ~ordinary, True)
+            if n < plain:  # keep the ordinary automaton's edges as they are
+                old = self.states[n].successors
+                in_mask = (1 << self.n_in) - 1
+                edges += [(self.codes[t] & in_mask, t, False) for t in old]
+            edges.sort()
+            state.successors = [t for _, t, _ in edges]
+            state.recovery = [t for _, t, r in edges if r]
+            self._report()
+
+    def _report(self) -> None:
+        if self.progress and len(self.states) >= self.reported + 5000:
+            self.reported = len(self.states) // 5000 * 5000
+            self.progress(f"explicit strategy: {len(self.states)} states, {len(self.todo)} to expand")

@@ -170,9 +170,14 @@ def keep_current(game: Game, relation):
     return D
 
 
-def layered_relation(game: Game, solution: Solution, j: int, trans):
+def layered_relation(game: Game, solution: Solution, j: int, trans, choose=None):
     """Goal j's moves under ``trans``, each (x, y, x') answered by its earliest (Y round c,
-    assumption i) pair: the ranking of ``SymbolicStrategy._goal_relation`` (without preferences)."""
+    assumption i) pair (thesis Alg. 1; ``SymbolicStrategy`` module docstring):
+
+        paths[c][i] = trans & ((goal_j & W') | B[c][i]' | (X[c][i]' & !asm_i))
+        B[c][i] = Y[c] | X[c][0] | ... | X[c][i-1]
+
+    ``choose(block, i)``, when given, narrows each pair's block (the cooperative preferences)."""
     bdd = game.bdd
     layers = solution.layers[j]
     reached = game.sys_goals[j] & game.prime(solution.winning)
@@ -180,14 +185,16 @@ def layered_relation(game: Game, solution: Solution, j: int, trans):
     covered = bdd.false
     relation = bdd.false
     for Yc, Xs in zip(layers.Y, layers.X, strict=True):
-        below = Yc
+        below = Yc  # Y[c] and the X sets of the assumptions before i in round c
         for i, X in enumerate(Xs):
+            game.deadline.check()
             paths = trans & (reached | game.prime(below) | (game.prime(X) & not_asm[i]))
             below = below | X
             new = bdd.exist(game.outputs_next, paths) & ~covered
             if new == bdd.false:
                 continue
-            relation |= new & paths
+            block = new & paths
+            relation |= block if choose is None else choose(block, i)
             covered |= new
     return relation
 
@@ -209,7 +216,6 @@ class RecoveryRelations:
         self.recoverable = recoverable
         self._safety = None
         self._relations: dict[int, object] = {}
-        self._deterministic: dict[int, object] = {}
 
     def safety_layers(self) -> list:
         """Primed safety levels, deepest first (case 3's preference)."""
@@ -254,12 +260,6 @@ class RecoveryRelations:
             relation |= prefer(game, block, self.safety_layers())
         self._relations[j] = relation
         return relation
-
-    def deterministic(self, j: int):
-        """``relation(j)`` with the single move stepping picks (computed once)."""
-        if j not in self._deterministic:
-            self._deterministic[j] = keep_current(self.game, self.relation(j))
-        return self._deterministic[j]
 
     def classify(self, target: dict) -> tuple[bool, bool]:
         """(in W, in R) for a complete valuation of the current variables."""

@@ -37,6 +37,9 @@ from ltl_stack.synthesis.recovery import (
     StepKind,
     StepResult,
     UnsafeStep,
+    keep_current,
+    layered_relation,
+    prefer,
     unkeepable_clauses,
 )
 from ltl_stack.synthesis.state import State
@@ -71,32 +74,18 @@ class SymbolicStrategy:
 
     # --- construction ---------------------------------------------------------------------
     def _goal_relation(self, j: int):
+        """``recovery.layered_relation`` with the cooperative preferences on each block."""
+        if not self.cooperative:
+            return layered_relation(self.game, self.solution, j, self.solution.sys_trans)
         game = self.game
-        bdd = game.bdd
-        layers = self.solution.layers[j]
-        trans = self.solution.sys_trans
-        not_asm = [~a for a in game.env_goals]
-        solution_cooperative = self.solution.cooperative
-        alive_next = game.prime(bdd.exist(game.variables_next, game.env_trans))
-        covered = bdd.false
-        relation = bdd.false
-        for Yc, Xs in zip(layers.Y, layers.X, strict=True):
-            below = Yc  # Y[c] and the X sets of the assumptions before i in round c
-            for i, X in enumerate(Xs):
-                game.deadline.check()
-                paths = trans & (self.reached[j] | game.prime(below) | (game.prime(X) & not_asm[i]))
-                below = below | X
-                new = bdd.exist(game.outputs_next, paths) & ~covered
-                if new == bdd.false:
-                    continue
-                block = new & paths
-                if self.cooperative:
-                    if not solution_cooperative:
-                        block = self._prefer(block, [alive_next])
-                    block = self._prefer_helping(block, i)
-                relation |= block
-                covered |= new
-        return relation
+        alive_next = game.prime(game.bdd.exist(game.variables_next, game.env_trans))
+
+        def choose(block, i: int):
+            if not self.solution.cooperative:
+                block = prefer(game, block, [alive_next])
+            return self._prefer_helping(block, i)
+
+        return layered_relation(game, self.solution, j, self.solution.sys_trans, choose)
 
     def _prefer_helping(self, block, i: int):
         """Keep, for each (x, y, x') of ``block``, only the moves that let the environment satisfy
@@ -105,23 +94,7 @@ class SymbolicStrategy:
         bdd = game.bdd
         if game.env_goals[i] == bdd.true:
             return block
-        return self._prefer(block, self._help_layers(i))
-
-    def _prefer(self, block, layers: list):
-        """For each (x, y, x') of ``block`` keep only the moves in the first of ``layers`` that has
-        one (moves in none of them stay when nothing better exists)."""
-        game = self.game
-        bdd = game.bdd
-        result = bdd.false
-        remaining = block
-        for target in layers:
-            chosen = remaining & target
-            if chosen != bdd.false:
-                result |= chosen
-                remaining &= ~bdd.exist(game.outputs_next, chosen)
-                if remaining == bdd.false:
-                    break
-        return result | remaining
+        return prefer(game, block, self._help_layers(i))
 
     def _help_layers(self, i: int) -> list:
         """Transition sets ordered by how soon the environment can then satisfy assumption i:
@@ -149,17 +122,9 @@ class SymbolicStrategy:
         """Goal j's relation with exactly the move ``step`` picks for each (x, y, x'): outputs keep
         their current value when they can, decided in the spec's output order (computed once)."""
         cache = self.__dict__.setdefault("_deterministic", {})
-        if j in cache:
-            return cache[j]
-        game = self.game
-        bdd = game.bdd
-        D = self.relations[j]
-        for name, name_next in zip(game.outputs, game.outputs_next, strict=True):
-            keep = bdd.ite(bdd.var(name), bdd.var(name_next), ~bdd.var(name_next))
-            can_keep = bdd.exist(game.outputs_next, D & keep)
-            D = D & (keep | ~can_keep)
-        cache[j] = D
-        return D
+        if j not in cache:
+            cache[j] = keep_current(self.game, self.relations[j])
+        return cache[j]
 
     # --- execution --------------------------------------------------------------------------
     def _full(self, values: Mapping[str, bool] | None, names: list[str], what: str) -> dict[str, bool]:

@@ -119,21 +119,22 @@ def check_automaton(spec, automaton):
             assert not fair, f"a fair cycle through {sorted(members)[:5]}... never reaches a goal"
 
 
-@pytest.mark.parametrize("folder, name, expected_states", [
-    # slugs' explicit strategies have 472 and 1,142 states; the numbers depend on which output
-    # valuation each extractor picks and when it advances the goal counter (see the docs), so we
-    # pin ours and check the automaton independently.
-    ("move_group_and_move_base", "move_group_and_move_base.slugsin", 358),
-    ("firefighting", "firefighting.slugsin", 1230),
-    ("simple", "simple.slugsin", 32),
+@pytest.mark.parametrize("folder, name, slugs_states", [
+    # slugs' explicit strategies (--explicitStrategy, same machine): 472 and 1,142 states. Which
+    # output valuation each extractor picks and when it advances the goal counter differ, so the
+    # automata differ; ours re-uses existing states where the strategy allows (issue 16: no
+    # larger than slugs'), and is checked independently below.
+    ("move_group_and_move_base", "move_group_and_move_base.slugsin", 472),
+    ("firefighting", "firefighting.slugsin", 1142),
+    ("simple", "simple.slugsin", None),
 ])
-def test_thesis_specs_realizable_with_correct_strategies(folder, name, expected_states):
+def test_thesis_specs_realizable_with_correct_strategies(folder, name, slugs_states):
     spec = load(folder, name)
     for robotics in (False, True):
         result = synthesize(spec, robotics_semantics=robotics, cooperative=False)
         assert result.realizable, (name, robotics)
     automaton = result.strategy.explicit()
-    assert len(automaton) == expected_states, len(automaton)
+    assert slugs_states is None or len(automaton) <= slugs_states, len(automaton)
     check_automaton(spec, automaton)
     cooperative = synthesize(spec, robotics_semantics=True, cooperative=True).strategy.explicit()
     check_automaton(spec, cooperative)
