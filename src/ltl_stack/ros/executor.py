@@ -149,6 +149,11 @@ def build_parser() -> cli.ToolParser:
                         help="report a violation only when the inputs stay inadmissible this long (default 0.2): "
                              "one sensor change often arrives as several topic messages, e.g. leaving one region "
                              "and entering the next; the output policy applies at once either way")
+    parser.add_argument("--input-window", type=float, metavar="S",
+                        help="after an input change, wait S seconds for more before stepping once with all of them "
+                             "(default 0: step on every message); one sensor change often arrives as several "
+                             "messages (leaving a region, entering the next), and a step between them sees inputs "
+                             "the environment assumptions forbid, which characterization would learn")
     parser.add_argument("--timeout", type=float, metavar="S",
                         help="give up synthesizing after S seconds with exit 5 (default 0: no limit)")
     parser.add_argument("--max-explicit-states", type=int, metavar="N",
@@ -225,6 +230,7 @@ class ExecutorNode:
         if negotiate is not None:
             self.set_negotiate(negotiate)
         self._last_violation_key: tuple | None = None
+        self._window_timer = None
         self._warned_publishers: dict[str, tuple[str, ...]] = {}
         self._started_at = time.monotonic()
         self._statuses: dict[str, DiagnosticStatus] = {}
@@ -277,6 +283,12 @@ class ExecutorNode:
 
     # callbacks (each runs in a rospy thread; the controller's lock orders steps and publications)
     def _on_input(self, msg: Bool, prop: str) -> None:
+        if self.options.input_window > 0:
+            with self.controller.lock:
+                if self.controller.record({prop: msg.data}) and self._window_timer is None:
+                    self._window_timer = rospy.Timer(rospy.Duration(self.options.input_window), self._on_window,
+                                                     oneshot=True)
+            return
         with self.controller.lock:
             was_ready = self.controller.ready
             update = self.controller.report(prop, msg.data)
@@ -286,8 +298,21 @@ class ExecutorNode:
                 if self.ready_timer is not None:
                     self.ready_timer.shutdown()
 
+    def _on_window(self, _event: Any) -> None:
+        """The input window closed: step once with every reading that arrived in it."""
+        with self.controller.lock:
+            self._window_timer = None
+            was_ready = self.controller.ready
+            self._publish(self.controller.advance())
+            if not was_ready and self.controller.ready:
+                rospy.loginfo("%s: every input has reported", self.name)
+                if self.ready_timer is not None:
+                    self.ready_timer.shutdown()
+
     def _on_tick(self, _event: Any) -> None:
         with self.controller.lock:
+            if self._window_timer is not None:
+                return  # readings are arriving: the window's step comes
             self._publish(self.controller.tick())
 
     def _on_set_running(self, request: Any) -> SetBoolResponse:

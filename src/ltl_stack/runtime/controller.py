@@ -164,6 +164,11 @@ class Controller:
     def report_many(self, values: Mapping[str, bool]) -> Update:
         """Record several input readings at once (one step at most)."""
         with self.lock:
+            return self._advance(force=False) if self.record(values) else self._result()
+
+    def record(self, values: Mapping[str, bool]) -> bool:
+        """Record input readings without stepping (``advance`` steps later); True if one changed."""
+        with self.lock:
             changed = False
             for prop, value in values.items():
                 if prop not in self.inputs:
@@ -171,7 +176,7 @@ class Controller:
                 if self._readings.get(prop) is not bool(value):
                     self._readings[prop] = bool(value)
                     changed = True
-            return self._advance(force=False) if changed else self._result()
+            return changed
 
     def advance(self) -> Update:
         """Start or step if the readings call for it (e.g. when ``init_props`` already made it ready)."""

@@ -87,6 +87,8 @@ EXECUTOR_PARAMS = [
           bound=Bound.NON_NEGATIVE),
     Param("violation_grace", 0.2, "report a violation only if it lasts this long (s)", bound=Bound.NON_NEGATIVE),
     Param("settle_steps", 16, "steps with unchanged inputs after a step, at most", bound=Bound.NON_NEGATIVE),
+    Param("input_window", 0.0, "after an input change, wait this long (s) for more before stepping once "
+          "(0: step on every message)", bound=Bound.NON_NEGATIVE),
     Param("timeout", 0.0, "give up synthesizing after S seconds: exit 5, Exit.LIMIT (0: no limit)",
           bound=Bound.NON_NEGATIVE),
     Param("max_explicit_states", MAX_EXPLICIT_STATES, "run the explicit automaton (ids of synthesize --strategy-json) "
@@ -116,6 +118,7 @@ class Options:
     publisher_check_period: float = 2.0
     violation_grace: float = 0.2
     settle_steps: int = 16
+    input_window: float = 0.0
     timeout: float = 0.0
     max_explicit_states: int = MAX_EXPLICIT_STATES
     #: where each value came from: "--flag", "~param" or "default"

@@ -8,6 +8,11 @@ its goals the given number of times (for a spec without goals: ``--duration`` se
 controller's first state). For clean_and_patrol it also tells the thesis' story (Fig. 3.10 a-d,
 ``sim.narration``) from the trace and runs until the story is complete. Exit
 code 0 when it did, 1 when it did not in time.
+
+``--scenario NAME`` runs another scenario of the registry ``SCENARIOS`` (``--help`` lists them). A
+scenario with a story (thesis Examples 11 and 12: ``config/<example>/story.yaml`` played by the
+``story_environment`` node) is narrated instead — what the story does, the controller's mode
+changes and resyntheses, the user's steps — and ends when the story is complete.
 """
 from __future__ import annotations
 
@@ -15,21 +20,66 @@ import argparse
 import json
 import os
 import sys
+import threading
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 from ltl_stack import cli
 from ltl_stack.errors import Exit, UserError
+from ltl_stack.runtime.story import load_story, region_of
 from ltl_stack.sim.narration import CleanAndPatrolStory
 from ltl_stack.sim.session import RosSession
 from ltl_stack.spec import load_spec
 
-SCENARIOS = {
-    "clean_and_patrol": "Thesis Example 8 (Fig. 3.10): start in topLane and patrol the four lanes; on the "
-                        "second time in bottomLane the camera sees an object there: stop, pick it up, carry "
-                        "it to rightGround, drop it, patrol again.",
-    "simple": "Thesis Example 7: always move; stop when a person is sensed (move and stop are then "
-              "true together, the conflict of Fig. 3.1).",
+
+@dataclass(frozen=True)
+class Scenario:
+    """One runnable scenario: ``roslaunch ltl_stack <launch> <launch_args>``."""
+
+    description: str
+    launch: str                      # a launch file of launch/
+    namespace: str                   # the scenario's namespace: the executor is /<namespace>/controller_executor
+    launch_args: tuple[str, ...] = ()
+    story: bool = False              # narrated from its story; ends when the story is complete
+    config: str | None = None        # folder of config/ with the spec (default: the namespace)
+
+
+def _alice(what: str, resilience: str) -> Scenario:
+    return Scenario(f"Thesis Example 11 (Spec. 6), {what}", "alice.launch", "alice",
+                    (f"resilience:={resilience}",), story=True)
+
+
+def _patrol(what: str, resilience: str) -> Scenario:
+    return Scenario(f"Thesis Example 12 (patrol and recycling), {what}", "patrol_recycling.launch",
+                    "patrol_recycling", (f"resilience:={resilience}",), story=True)
+
+
+SCENARIOS: dict[str, Scenario] = {
+    "clean_and_patrol": Scenario(
+        "Thesis Example 8 (Fig. 3.10): start in topLane and patrol the four lanes; on the second time in "
+        "bottomLane the camera sees an object there: stop, pick it up, carry it to rightGround, drop it, patrol "
+        "again.", "clean_and_patrol.launch", "clean_and_patrol"),
+    "simple": Scenario(
+        "Thesis Example 7: always move; stop when a person is sensed (move and stop are then true together, "
+        "the conflict of Fig. 3.1).", "simple.launch", "simple"),
+    "alice_ec": _alice(
+        "environment characterization only (§4.10.1.1): the broken door is characterized (EC1, then EC2); "
+        "the closed door leaves the spec unrealizable, the user adds GF(doorOpen | doorBroken) through "
+        "~add_env_liveness, Alice waits and visits storage when the door opens.", "no-recovery characterize"),
+    "alice_recovery": _alice(
+        "recovery only (§4.10.1.2): with the door broken Alice goes on without resynthesis; with the door "
+        "closed she waits in road until it opens.", "recovery no-characterize"),
+    "alice_recovery_ec": _alice(
+        "recovery + EC (§4.10.2, threshold 120 transitions): the broken door is recovered; the lasting closed "
+        "door is characterized, unrealizable, the user adds GF(doorOpen | doorBroken).", "recovery characterize"),
+    "patrol_recycling": _patrol(
+        "recovery + EC, threshold 150 transitions (§4.10.2): the metal item in paper_deposit and the manager's "
+        "early tap are recovered; the alarm with a lasting spill is characterized, unrealizable, the user adds "
+        "GF !spill and the robot waits until the spill is gone.", "recovery characterize"),
+    "patrol_recycling_ec": _patrol(
+        "environment characterization only: every violation (metal item, alarm + spill, early tap) is "
+        "resynthesized; the spill needs the user's GF !spill.", "no-recovery characterize"),
 }
 
 
@@ -41,8 +91,10 @@ def package_dir() -> Path:
 def build_parser() -> cli.ToolParser:
     parser = cli.ToolParser(
         "demo", __doc__.splitlines()[0], exit_codes=(Exit.OK, Exit.NEGATIVE, Exit.BAD_INPUT),
-        epilog="Exit 1: the goal cycles did not complete within --timeout (the launch log is shown).")
-    parser.add_argument("--scenario", choices=sorted(SCENARIOS), default="clean_and_patrol")
+        epilog="Scenarios (--scenario):\n" + "\n".join(f"  {name}: {s.description}" for name, s in SCENARIOS.items())
+        + "\n\nExit 1: the goal cycles (or the story) did not complete within --timeout (the launch log is shown).")
+    parser.add_argument("--scenario", choices=list(SCENARIOS), default="clean_and_patrol",
+                        help="which scenario (default: %(default)s; listed below)")
     parser.add_argument("--cycles", type=cli.positive_int, default=2, help="goal cycles to run (default: %(default)s)")
     parser.add_argument("--timeout", type=cli.positive_float, default=240.0, metavar="S",
                         help="give up after S seconds (default: %(default)s)")
@@ -50,6 +102,8 @@ def build_parser() -> cli.ToolParser:
                         help="for a spec without system goals: run this many seconds from the controller's first "
                              "state (default: %(default)s)")
     parser.add_json("the trace, one object per line,")
+    parser.add_argument("--master-uri", metavar="URI",
+                        help="run against this master instead of a private one (default: start one on a free port)")
     parser.add_argument("--launch-arg", action="append", default=[], metavar="NAME:=VALUE", type=_launch_arg,
                         help="extra roslaunch argument, e.g. speed:=2.0 (repeatable)")
     return parser
@@ -69,7 +123,8 @@ def main(argv: list[str] | None = None) -> int:
 
 def run(args: argparse.Namespace) -> int:
     """Launch the scenario and follow its trace; ``Exit.NEGATIVE`` when it did not finish in time."""
-    config = package_dir() / "config" / args.scenario
+    scenario = SCENARIOS[args.scenario]
+    config = package_dir() / "config" / (scenario.config or scenario.namespace)
     spec_files = sorted(config.glob("*.structuredslugs")) + sorted(config.glob("*.slugsin"))
     if not spec_files:
         raise UserError(f"no spec in {config}")
@@ -80,11 +135,12 @@ def run(args: argparse.Namespace) -> int:
     def say(text: str) -> None:
         cli.say("demo", text)
 
-    with RosSession() as ros:
-        say(SCENARIOS[args.scenario])
-        say(f"private rosmaster at {ros.uri}; launching {args.scenario}.launch")
+    with RosSession(master_uri=args.master_uri) as ros:
+        say(scenario.description)
+        say(f"{'private ' if ros.own_master else ''}rosmaster at {ros.uri}; launching "
+            f"{' '.join([scenario.launch, *scenario.launch_args])}")
         log_path = ros.workdir / "roslaunch.log"
-        launch = ros.start(["roslaunch", "ltl_stack", f"{args.scenario}.launch", *args.launch_arg],
+        launch = ros.start(["roslaunch", "ltl_stack", scenario.launch, *scenario.launch_args, *args.launch_arg],
                            stdout=open(log_path, "wb"))  # noqa: SIM115 - closed with the process
         for key in ("ROS_MASTER_URI", "ROS_IP", "ROS_LOG_DIR", "ROS_HOME"):
             os.environ[key] = ros.env[key]
@@ -106,7 +162,9 @@ def run(args: argparse.Namespace) -> int:
                         cli.warn("demo", f"controller reports: {status.message}")
 
         rospy.Subscriber("/diagnostics", DiagnosticArray, on_diagnostics)
-        trace = ControllerTrace(f"/{args.scenario}/controller_executor/state", goals, args.json)
+        if scenario.story:
+            return _follow_story(args, scenario, launch, log_path, problems, say)
+        trace = ControllerTrace(f"/{scenario.namespace}/controller_executor/state", goals, args.json)
         # clean_and_patrol: the thesis' story (Fig. 3.10) told from the trace; the run also waits for it
         story = CleanAndPatrolStory() if args.scenario == "clean_and_patrol" else None
         read = 0  # trace steps the story has read
@@ -172,6 +230,109 @@ def _tell(story: CleanAndPatrolStory, steps: list, read: int, json_lines: bool) 
             else:
                 print(f"[{chapter.time:7.2f}s] *** Fig. {chapter.figure}: {chapter.text}", flush=True)
     return read + len(new)
+
+
+class StoryFollower:
+    """Narrates a story scenario: the story node's beats and user steps (``story/fired``), and from the
+    executor's ``~state`` where the robot is, the controller's mode and its resyntheses."""
+
+    def __init__(self, namespace: str, regions: list[str], json_lines: bool, say) -> None:
+        import rospy
+        from std_msgs.msg import Bool, String
+
+        from ltl_stack.msg import ControllerState
+
+        self.json_lines = json_lines
+        self.say = say
+        self.regions = regions
+        self.complete = threading.Event()
+        self.counters: dict[str, int] = {}
+        self.modes: list[str] = []
+        self.at: str | None = None
+        self.states = 0
+        self.lock = threading.Lock()
+        rospy.Subscriber(f"/{namespace}/story/fired", String, self._on_fired, queue_size=100)
+        rospy.Subscriber(f"/{namespace}/story/complete", Bool, self._on_complete, queue_size=10)
+        rospy.Subscriber(f"/{namespace}/controller_executor/state", ControllerState, self._on_state, queue_size=100)
+
+    def _emit(self, event: dict, text: str) -> None:
+        if self.json_lines:
+            print(json.dumps(event), flush=True)
+        else:
+            self.say(text)
+
+    def _on_fired(self, msg) -> None:
+        with self.lock:
+            self._emit({"event": "story", "message": msg.data}, msg.data)
+
+    def _on_complete(self, msg) -> None:
+        if msg.data:
+            self.complete.set()
+
+    def _on_state(self, msg) -> None:
+        from ltl_stack.ros.valuation import msg_to_valuation
+
+        with self.lock:
+            self.states += 1
+            inputs = msg_to_valuation(msg.inputs)
+            at = region_of(inputs, self.regions, "_c")
+            if at is not None and at != self.at:
+                self.at = at
+                self._emit({"event": "at", "region": at}, f"robot: in {at}")
+            counters = {k: int(getattr(msg, k, 0)) for k in COUNTERS}
+            mode = getattr(msg, "mode", "") or "normal"
+            for key in ("resyntheses_ec1", "resyntheses_ec2", "resyntheses_user"):
+                if counters[key] > self.counters.get(key, 0):
+                    kind = key.rsplit("_", 1)[1].upper() if key != "resyntheses_user" else "the user's liveness"
+                    self._emit({"event": "resynthesis", "variant": key.rsplit("_", 1)[1], **counters},
+                               f"controller: resynthesized ({kind}); {counters['resyntheses']} so far")
+            if counters["unrealizable"] > self.counters.get("unrealizable", 0):
+                self._emit({"event": "unrealizable", **counters},
+                           "controller: the characterized spec is unrealizable (EC1 and EC2)")
+            if not self.modes or mode != self.modes[-1]:
+                previous = self.modes[-1] if self.modes else None
+                self.modes.append(mode)
+                self._emit({"event": "mode", "mode": mode, "previous": previous, **counters},
+                           f"controller: mode {previous} -> {mode}" if previous else f"controller: mode {mode}")
+            self.counters = counters
+
+
+COUNTERS = ("violations", "recovery_steps", "resyntheses", "resyntheses_ec1", "resyntheses_ec2", "resyntheses_user",
+            "unrealizable")
+
+
+def _follow_story(args, scenario: Scenario, launch, log_path: Path, problems: list[str], say) -> int:
+    """Follow a story scenario until its story is complete (Exit.OK) or --timeout (Exit.NEGATIVE)."""
+    import rospy
+
+    config = package_dir() / "config" / (scenario.config or scenario.namespace)
+    story = load_story(config / "story.yaml")
+    follower = StoryFollower(scenario.namespace, story.regions, args.json, say)
+    say(f"synthesizing and starting; the run ends when the story's {len(story.beats)} beats have played")
+    started = time.monotonic()
+    while time.monotonic() - started < args.timeout and launch.poll() is None:
+        if follower.complete.wait(0.5):
+            break
+    elapsed = time.monotonic() - started
+    rospy.signal_shutdown("demo finished")
+    reached = follower.complete.is_set()
+    with follower.lock:
+        summary = {"event": "summary", "scenario": args.scenario, "ok": reached, "seconds": round(elapsed, 1),
+                   "states": follower.states, "modes": follower.modes, "problems": len(problems), **follower.counters}
+    if args.json:
+        print(json.dumps(summary), flush=True)
+    elif reached:
+        c = follower.counters
+        say(f"done: story complete in {elapsed:.1f} s; {c.get('resyntheses', 0)} resynthes(es) "
+            f"(EC1 {c.get('resyntheses_ec1', 0)}, EC2 {c.get('resyntheses_ec2', 0)}, "
+            f"user {c.get('resyntheses_user', 0)}), {c.get('violations', 0)} violating transitions")
+    if not reached:
+        why = (f"roslaunch exited with code {launch.returncode} after {elapsed:.0f} s" if launch.poll() is not None
+               else f"the story did not complete within {args.timeout:.0f} s")
+        print("\n".join(log_path.read_text(errors="replace").splitlines()[-30:]), file=sys.stderr)
+        cli.error("demo", f"{why} (the last lines of the launch log are above)")
+        return Exit.NEGATIVE
+    return Exit.OK
 
 
 if __name__ == "__main__":

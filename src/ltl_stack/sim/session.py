@@ -61,15 +61,21 @@ def await_master(uri: str, master: subprocess.Popen, log_path: Path, run_id: str
 class RosSession:
     """A private master and the processes started against it (use as a context manager)."""
 
-    def __init__(self, workdir: Path | None = None, port: int | None = None):
+    def __init__(self, workdir: Path | None = None, port: int | None = None, master_uri: str | None = None):
+        """``master_uri``: use that running master instead of starting a private one."""
         self._tmp = None if workdir else tempfile.TemporaryDirectory(prefix="ltl_stack-")
         self.workdir = Path(workdir or self._tmp.name)
         self.port = port or free_port()
         self.env = master_env(self.port, self.workdir)
+        if master_uri:
+            self.env["ROS_MASTER_URI"] = master_uri
+        self.own_master = not master_uri
         self.uri = self.env["ROS_MASTER_URI"]
         self.processes: list[subprocess.Popen] = []
 
     def __enter__(self) -> RosSession:
+        if not self.own_master:
+            return self
         log_path = self.workdir / "rosmaster.log"
         master = self.start(master_command(self.port), stdout=open(log_path, "wb"))  # noqa: SIM115
         await_master(self.uri, master, log_path, f"ltl_stack-{self.port}")

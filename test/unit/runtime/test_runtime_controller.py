@@ -280,3 +280,18 @@ def test_settling_also_follows_the_initial_state():
     ctl = Controller(AutomatonStrategy(Auto(chain_automaton().states, [1])), settle_steps=16)
     update = ctl.report("go", True)
     assert update.started and update.state.id == 3, update.state
+
+
+def test_record_gathers_readings_and_advance_steps_once_with_all_of_them():
+    """The executor's ``--input-window``: readings that arrive together (leaving one region, entering
+    the next) are recorded without stepping, then one step sees them all."""
+    strategy, controller = make()
+    controller.report_many({"a": False, "lock": True})
+    strategy.steps.clear()
+    assert controller.record({"a": True}) is True and controller.record({"lock": False}) is True
+    assert strategy.steps == [], "recording never steps"
+    assert controller.record({"a": True}) is False, "an unchanged reading is no change"
+    update = controller.advance()
+    assert strategy.steps == [{"a": True, "lock": False}] and update.violation is not None
+    with pytest.raises(ValueError, match="'nope' is not an input"):
+        controller.record({"nope": True})
