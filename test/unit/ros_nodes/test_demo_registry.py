@@ -1,0 +1,50 @@
+"""``./tools/demo``'s scenario registry (``sim.demo.SCENARIOS``): every entry runs something that
+exists, ``--help`` lists them all, and the story scenarios' stories fit their specs."""
+from __future__ import annotations
+
+import re
+
+import pytest
+
+from ltl_stack.runtime.story import load_story
+from ltl_stack.sim.demo import SCENARIOS, build_parser, package_dir
+from ltl_stack.spec import load_spec
+
+ROOT = package_dir()
+
+
+def test_default_scenario_is_still_clean_and_patrol():
+    assert build_parser().parse_args([]).scenario == "clean_and_patrol"
+
+
+def test_help_lists_every_scenario_with_its_description():
+    text = build_parser().format_help()
+    for name, scenario in SCENARIOS.items():
+        assert f"  {name}: {scenario.description[:40]}" in text
+
+
+@pytest.mark.parametrize("name", list(SCENARIOS))
+def test_each_scenario_names_a_launch_file_and_its_arguments(name):
+    scenario = SCENARIOS[name]
+    launch = (ROOT / "launch" / scenario.launch).read_text()
+    assert f'<group ns="{scenario.namespace}">' in launch or f"ns=\"{scenario.namespace}\"" in launch
+    for arg in scenario.launch_args:
+        key = arg.partition(":=")[0]
+        assert f'<arg name="{key}"' in launch, (name, key)
+    if scenario.story:
+        config = ROOT / "config" / (scenario.config or scenario.namespace)
+        specs = list(config.glob("*.structuredslugs"))
+        load_story(config / "story.yaml").check(load_spec(specs[0]))
+
+
+@pytest.mark.parametrize("name", [n for n, s in SCENARIOS.items() if s.story])
+def test_story_scenarios_pass_only_executor_flags_that_exist(name):
+    """resilience:= words become --flags of controller_executor (see the launch file's eval)."""
+    flags = {"recovery", "no-recovery", "characterize", "no-characterize"}
+    for arg in SCENARIOS[name].launch_args:
+        key, _, value = arg.partition(":=")
+        if key == "resilience":
+            assert set(value.split()) <= flags and len(value.split()) == 2, value
+    executor = (ROOT / "src" / "ltl_stack" / "ros" / "executor.py").read_text()
+    for flag in flags | {"characterize-after-transitions", "input-window", "rate"}:
+        assert re.search(rf'"--{flag}"', executor), flag
