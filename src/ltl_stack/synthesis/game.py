@@ -38,6 +38,7 @@ the environment breaks its safety assumptions first, so
 """
 from __future__ import annotations
 
+import operator
 import sys
 from collections.abc import Iterable, Iterator, Mapping
 from contextlib import contextmanager
@@ -79,12 +80,6 @@ finally:
 
 #: node count from which building the game and solving it use dynamic reordering
 REORDER_THRESHOLD = 2_000
-
-#: BDD variables (current and next) above which no dynamic reordering is done: one sifting pass
-#: costs time in the square of the variables, and the specs that profit (slugs' families, the
-#: thesis specs) have at most a few hundred; a long integer sum over 400 integers (2,402 variables)
-#: took minutes of sifting for a BDD of 7,000 nodes that builds in 0.2 s without it
-REORDER_MAX_VARIABLES = 1_000
 
 #: BDD variables (current and next) above which no dynamic reordering is done: one sifting pass
 #: costs time in the square of the variables, and the specs that profit (slugs' families, the
@@ -157,7 +152,10 @@ class Game:
         and every later computation on the game."""
         self.max_memory = memory_cap(max_memory)
         self.deadline = deadline
-        race = interleave is None and bdd is None and BACKEND == "cudd"
+        # the rival order of the race is sifted freely and built clause by clause; with thousands of
+        # variables one clause such as x_i -> x_i' over all i is exponential in the block order
+        race = (interleave is None and bdd is None and BACKEND == "cudd"
+                and 2 * len(spec.inputs + spec.outputs) <= REORDER_MAX_VARIABLES)
         with memory_guard(self.max_memory):
             try:
                 self._build(spec, bdd, interleave is not False, fused, race)
@@ -174,11 +172,11 @@ class Game:
         self.outputs_next = [prime_name(v) for v in self.outputs]
         self.variables = self.inputs + self.outputs
         self.variables_next = self.inputs_next + self.outputs_next
-        self._declare()
         #: dynamic reordering is allowed (few enough variables, see ``REORDER_MAX_VARIABLES``)
         self.may_reorder = BACKEND == "cudd" and 2 * len(self.variables) <= REORDER_MAX_VARIABLES
         if BACKEND == "cudd" and not self.may_reorder:
             self.bdd.configure(reordering=False)
+        self._declare()
         self._to_next = dict(zip(self.variables, self.variables_next, strict=True))
         self._to_current = dict(zip(self.variables_next, self.variables, strict=True))
 
@@ -214,8 +212,16 @@ class Game:
         else:
             names = self.variables + [prime_name(v) for v in self.variables]
         existing = set(self.bdd.vars)
-        self.bdd.declare(*[n for n in names if n not in existing])
-        if BACKEND == "cudd" and not existing and self.interleave:
+        if BACKEND == "cudd" and not existing and names:
+            # the last index first: CUDD then sizes its tables once instead of growing them every
+            # few variables (each growth copies all of them: quadratic in thousands of variables)
+            self.bdd.add_var(names[-1], index=len(names) - 1)
+            for index, name in enumerate(names[:-1]):
+                self.bdd.add_var(name, index=index)
+        else:
+            self.bdd.declare(*[n for n in names if n not in existing])
+        # groups only matter to reordering, and each costs time linear in the groups before it
+        if BACKEND == "cudd" and not existing and self.interleave and self.may_reorder:
             try:
                 self.bdd.group({v: 2 for v in self.variables})
             except Exception:  # pragma: no cover - grouping is an optimisation only
@@ -260,15 +266,9 @@ class Game:
             if isinstance(node, Not):
                 done[key] = ~vals[0]
             elif isinstance(node, And):
-                acc = bdd.true
-                for v in vals:
-                    acc &= v
-                done[key] = acc
+                done[key] = _balanced(vals, bdd.true, operator.and_)
             elif isinstance(node, Or):
-                acc = bdd.false
-                for v in vals:
-                    acc |= v
-                done[key] = acc
+                done[key] = _balanced(vals, bdd.false, operator.or_)
             elif isinstance(node, Xor):
                 done[key] = bdd.ite(vals[0], ~vals[1], vals[1])
             elif isinstance(node, Implies):
@@ -386,6 +386,31 @@ class Game:
         """Number of valuations of ``u`` over the current (and optionally next) variables."""
         nvars = len(self.variables) * (2 if next_too else 1)
         return int(self.bdd.count(u, nvars=nvars))
+
+
+#: operands from which an n-ary conjunction or disjunction is combined as a balanced tree
+BALANCED_FROM = 8
+
+
+def _balanced(vals: list, unit, combine):
+    """``vals[0] op vals[1] op ...`` as a balanced tree of pairs when there are many operands.
+
+    One long left-to-right chain costs time in the square of its length when the operands sit one
+    below the other in the variable order (each step copies the whole accumulated BDD above the new
+    operand: 4,000 clauses ``x_i -> x_i'`` took seconds); pairing neighbours first makes that linear
+    times log, and a few operands keep the chain.
+    """
+    if len(vals) < BALANCED_FROM:
+        acc = unit
+        for v in vals:
+            acc = combine(acc, v)
+        return acc
+    while len(vals) > 1:
+        paired = [combine(vals[i], vals[i + 1]) for i in range(0, len(vals) - 1, 2)]
+        if len(vals) % 2:
+            paired.append(vals[-1])
+        vals = paired
+    return vals[0] if vals else unit
 
 
 def _children(node: Formula) -> Iterable[Formula]:
