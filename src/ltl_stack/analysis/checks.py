@@ -276,14 +276,12 @@ def motion_outputs(a: Analysis, blocked: Collection[int] = ()) -> set[str]:
     lanes_of = channel_lanes(a.graph)
     moving = set(regions)
     for g in a.e2:
+        partners = {y2 if y1 in regions else y1 for y1, y2 in g.pairs if y1 in regions or y2 in regions} - moving
+        if not partners:
+            continue  # no region competes here, or its partners are known to move already
         v = a.graph.channel_vertex(g.channel)
-        if v is None or v in sensed or not sensed.intersection(downstream(a.graph, v, lanes_of, blocked)):
-            continue
-        for y1, y2 in g.pairs:
-            if y1 in regions:
-                moving.add(y2)
-            if y2 in regions:
-                moving.add(y1)
+        if v is not None and v not in sensed and sensed.intersection(downstream(a.graph, v, lanes_of, blocked)):
+            moving |= partners
     return moving
 
 
