@@ -46,6 +46,7 @@ from ltl_stack import cli
 from ltl_stack.errors import Exit, UserError
 from ltl_stack.msg import ControllerState, PropositionValuation
 from ltl_stack.ros.master_watch import MasterWatch
+from ltl_stack.ros.negotiation import NegotiationEndpoint, prepare_negotiation
 from ltl_stack.ros.valuation import valuation_to_msg
 from ltl_stack.runtime.characterize import Counters, Event, ExecutionAborted, Mode, Negotiate
 from ltl_stack.runtime.controller import HOLD, VIOLATION_POLICIES, Controller, Update
@@ -65,6 +66,7 @@ from ltl_stack.runtime.executor_setup import (
     scenario_namespace,
 )
 from ltl_stack.runtime.mapping import resolve_topics
+from ltl_stack.runtime.negotiation import negotiation_classes
 from ltl_stack.runtime.recovery import RecoveringStrategy
 from ltl_stack.runtime.resilient_executor import BackgroundResilience, Busy, thread_runner
 from ltl_stack.spec import SpecError
@@ -156,6 +158,10 @@ def build_parser() -> cli.ToolParser:
                              "the environment assumptions forbid, which characterization would learn")
     parser.add_argument("--timeout", type=float, metavar="S",
                         help="give up synthesizing after S seconds with exit 5 (default 0: no limit)")
+    parser.add_argument("--negotiation-timeout", type=float, metavar="S",
+                        help="integrative negotiation with the robots the mapping's negotiation: key names "
+                             "(thesis §4.8, docs/negotiation.md; needs characterization): seconds one message "
+                             "exchange may take (default 5)")
     parser.add_argument("--max-explicit-states", type=int, metavar="N",
                         help="run the explicit automaton, whose state ids and goals are those of synthesize "
                              "--json/--dot, when it has at most N states (default 20000; 0: always symbolic)")
@@ -248,6 +254,8 @@ class ExecutorNode:
             if options.violation_grace > 0 else None
         with controller.lock:
             self._publish(controller.set_running(not options.start_paused), force_outputs=True)
+        # before the subscribers: a latched input may arrive (and _on_input run) at once
+        self.tick_timer = self.ready_timer = self.publisher_timer = self.poll_timer = None
         self.subscribers = [rospy.Subscriber(topic, Bool, self._on_input, callback_args=prop, queue_size=10,
                                              tcp_nodelay=True)
                             for prop, topic in prepared.input_topics.items()]
@@ -255,7 +263,6 @@ class ExecutorNode:
         self.liveness_service = rospy.Service("~add_env_liveness", AddEnvLiveness, self._on_add_env_liveness)
         self.abort_service = rospy.Service("~abort", Trigger, self._on_abort)
         self.running_sub = rospy.Subscriber("~running", Bool, self._on_running_topic, queue_size=10)
-        self.tick_timer = self.ready_timer = self.publisher_timer = self.poll_timer = None
         if self.resilient is not None and self.resilient.threshold.seconds is not None:
             self.poll_timer = rospy.Timer(rospy.Duration(POLL_PERIOD), self._on_poll)
         if options.rate > 0:
@@ -789,13 +796,20 @@ def _run(args: argparse.Namespace, negotiate: Negotiate | None = None,
         init = parse_init_props(options.init_props, spec)
         strategy = build_strategy(spec, options, log=lambda text: rospy.loginfo("%s: %s", rospy.get_name(), text))
         controller = make_controller(strategy, options, init)
+        classes = negotiation_classes(mapping, spec)
     except UserError as err:
         rospy.logfatal("%s", err)
         rospy.signal_shutdown("bad configuration")
         return int(err.code)
-    node = ExecutorNode(controller, prepared, options, json_lines=args.json, negotiate=negotiate)
+    negotiator = None  # the mapping's negotiation: key (docs/negotiation.md), unless a hook is given
+    if classes is not None and negotiate is None and setup is None:
+        negotiator = prepare_negotiation(classes, controller.strategy, options.negotiation_timeout)
+    node = ExecutorNode(controller, prepared, options, json_lines=args.json,
+                        negotiate=negotiator.hook if negotiator is not None else negotiate)
     if setup is not None:
         setup(node)
+    elif negotiator is not None:
+        NegotiationEndpoint(negotiator, node.resilient, controller, timeout=options.negotiation_timeout)
     rospy.spin()
     return Exit.OK
 

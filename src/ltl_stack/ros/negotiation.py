@@ -29,7 +29,8 @@ import rospy
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from std_msgs.msg import String
 
-from ltl_stack.runtime.negotiation import Message, Negotiation, Negotiator, Outcome, Peer
+from ltl_stack.runtime.characterize import ResilientStrategy
+from ltl_stack.runtime.negotiation import Classes, Message, Negotiation, Negotiator, Outcome, Peer
 from ltl_stack.srv import Negotiate, NegotiateRequest, NegotiateResponse
 
 FIELDS = ("kind", "sender", "session", "round", "text", "english", "realizable", "reason")
@@ -53,32 +54,17 @@ def default_service(peer: str, namespace: str | None = None) -> str:
     return rosgraph.names.ns_join(parent, f"{peer}/controller_executor/negotiate")
 
 
-class NegotiationEndpoint:
-    """The ROS side of one robot's negotiations (see the module docstring). Create after ``init_node``."""
+def service_of(peer: Peer) -> str:
+    """The peer's ``~negotiate`` service: its ``service:`` (resolved), else ``default_service``."""
+    return rospy.resolve_name(peer.service) if peer.service else default_service(peer.name)
 
-    def __init__(self, negotiator: Negotiator, strategy: Any, controller: Any, *, timeout: float = DEFAULT_TIMEOUT,
-                 service_name: str = "~negotiate", on_report: Callable[[Negotiation], None] | None = None) -> None:
-        self.negotiator = negotiator
-        self.strategy = strategy
-        self.controller = controller
-        self.timeout = timeout
-        self.on_report = on_report
-        self.name = rospy.get_name()
-        self.pub = rospy.Publisher("~negotiations", String, queue_size=10, latch=True)
-        self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=10)
-        negotiator.transport = self.transport
-        negotiator.on_change = self._changed
-        self.service = rospy.Service(service_name, Negotiate, self._on_request)
-        self.expiry = rospy.Timer(rospy.Duration(max(timeout / 2.0, 0.1)), self._expire)
-        self._publish()
 
-    # --- initiator: one service call per message ---------------------------------------------------------
-    def service_of(self, peer: Peer) -> str:
-        return rospy.resolve_name(peer.service) if peer.service else default_service(peer.name)
-
-    def transport(self, peer: Peer) -> Callable[[Message], Message]:
-        name = self.service_of(peer)
-        timeout = self.timeout
+def service_transport(timeout: float = DEFAULT_TIMEOUT) -> Callable[[Peer], Callable[[Message], Message]]:
+    """The initiator's transport: one ``Negotiate`` service call per message, bounded by ``timeout``
+    (a service that does not appear, or a call that does not return, in time is a ``TimeoutError``;
+    any other failure a ``ConnectionError``: both are faults of the negotiation)."""
+    def transport(peer: Peer) -> Callable[[Message], Message]:
+        name = service_of(peer)
 
         def call(message: Message) -> Message:
             result: dict[str, Any] = {}
@@ -103,6 +89,32 @@ class NegotiationEndpoint:
             return from_ros(result["reply"])
 
         return call
+
+    return transport
+
+
+class NegotiationEndpoint:
+    """The ROS side of one robot's negotiations (see the module docstring). Create after ``init_node``."""
+
+    def __init__(self, negotiator: Negotiator, strategy: Any, controller: Any, *, timeout: float = DEFAULT_TIMEOUT,
+                 service_name: str = "~negotiate", on_report: Callable[[Negotiation], None] | None = None) -> None:
+        self.negotiator = negotiator
+        self.strategy = strategy
+        self.controller = controller
+        self.timeout = timeout
+        self.on_report = on_report
+        self.name = rospy.get_name()
+        self.pub = rospy.Publisher("~negotiations", String, queue_size=10, latch=True)
+        self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=10)
+        if negotiator.transport is None:
+            negotiator.transport = service_transport(timeout)
+        negotiator.on_change = self._changed
+        self.service = rospy.Service(service_name, Negotiate, self._on_request)
+        self.expiry = rospy.Timer(rospy.Duration(max(timeout / 2.0, 0.1)), self._expire)
+        self._publish()
+
+    def service_of(self, peer: Peer) -> str:
+        return service_of(peer)
 
     # --- responder -------------------------------------------------------------------------------------------
     def _on_request(self, request: Any) -> NegotiateResponse:
@@ -164,4 +176,22 @@ class NegotiationEndpoint:
             pass  # shutting down
 
 
-__all__ = ["DEFAULT_TIMEOUT", "NegotiationEndpoint", "default_service", "from_ros", "to_ros"]
+def prepare_negotiation(classes: Classes, strategy: Any, timeout: float = DEFAULT_TIMEOUT) -> Negotiator | None:
+    """The negotiator of a ``controller_executor`` whose mapping declares ``negotiation:``, made before
+    the node starts stepping (its ``hook`` goes to ``ExecutorNode(negotiate=…)``, so a conflict at the
+    first step already negotiates). Needs environment characterization (negotiation starts when it
+    fails, Alg. 3 line 9): without it a warning, and None."""
+    if not isinstance(strategy, ResilientStrategy):
+        rospy.logwarn("%s: the mapping declares negotiation peers (%s) but environment characterization is off "
+                      "(--characterize or --characterized-spec FILE): not negotiating", rospy.get_name(),
+                      ", ".join(classes.peers) or "none")
+        return None
+    negotiator = Negotiator(classes, transport=service_transport(timeout),
+                            synthesis_options=strategy.characterizer.synthesis_options)
+    rospy.loginfo("%s: negotiating as %s with %s (~negotiate, timeout %g s)", rospy.get_name(), classes.robot,
+                  ", ".join(f"{p} ({service_of(peer)})" for p, peer in classes.peers.items()) or "nobody", timeout)
+    return negotiator
+
+
+__all__ = ["DEFAULT_TIMEOUT", "NegotiationEndpoint", "default_service", "from_ros", "prepare_negotiation",
+           "service_of", "service_transport", "to_ros"]

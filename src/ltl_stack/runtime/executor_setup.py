@@ -91,6 +91,8 @@ EXECUTOR_PARAMS = [
           "(0: step on every message)", bound=Bound.NON_NEGATIVE),
     Param("timeout", 0.0, "give up synthesizing after S seconds: exit 5, Exit.LIMIT (0: no limit)",
           bound=Bound.NON_NEGATIVE),
+    Param("negotiation_timeout", 5.0, "integrative negotiation (thesis §4.8; the mapping's negotiation: key): "
+          "seconds one message exchange with a peer may take", bound=Bound.POSITIVE),
     Param("max_explicit_states", MAX_EXPLICIT_STATES, "run the explicit automaton (ids of synthesize --strategy-json) "
           "when it has at most this many states (0: always the symbolic strategy)", bound=Bound.NON_NEGATIVE),
 ]
@@ -120,6 +122,7 @@ class Options:
     settle_steps: int = 16
     input_window: float = 0.0
     timeout: float = 0.0
+    negotiation_timeout: float = 5.0
     max_explicit_states: int = MAX_EXPLICIT_STATES
     #: where each value came from: "--flag", "~param" or "default"
     sources: dict[str, str] = field(default_factory=dict)

@@ -44,6 +44,7 @@ the peer's realizable second status (``adopted`` is None otherwise).
 """
 from __future__ import annotations
 
+import contextlib
 import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
@@ -187,6 +188,17 @@ def classes_from_mapping(mapping: MappingFile) -> Classes | None:
     if mapping.negotiation is None:
         return None
     return classes_from_data(mapping.negotiation, mapping.file, mapping.negotiation_line)
+
+
+def negotiation_classes(mapping: MappingFile | None, spec: Spec) -> Classes | None:
+    """The classes a mapping declares, checked against ``spec`` (``NegotiationError`` listing every
+    problem); None without a mapping or a ``negotiation:`` key."""
+    classes = classes_from_mapping(mapping) if mapping is not None else None
+    if classes is not None:
+        problems = classes.check(spec)
+        if problems:
+            raise NegotiationError(classes.file, 0, "; ".join(p.split(": ", 1)[1] if ": " in p else p for p in problems))
+    return classes
 
 
 def assumptions_about(spec: Spec, classes: Classes, peer: str) -> list[Clause]:
@@ -701,8 +713,9 @@ class Negotiator:
         adopted = self.initiate(star, peer, observation.incoming, observation.current_outputs).adopted
         if adopted is None:
             return None
-        old = strategy.characterizer
-        strategy.characterizer = type(old)(adopted.spec, path=old.path, synthesis_options=old.synthesis_options)
+        with getattr(strategy, "lock", None) or contextlib.nullcontext():  # the executor steps meanwhile
+            old = strategy.characterizer
+            strategy.characterizer = type(old)(adopted.spec, path=old.path, synthesis_options=old.synthesis_options)
         if old.path is not None:
             write_adopted(adopted, old.path)
         return adopted.spec
@@ -720,8 +733,12 @@ class Negotiator:
             reply, n = self.respond(message, strategy.characterizer.original, state.inputs, state.outputs)
             if n is not None and n.done:
                 if n.adopted is not None:  # from the position the negotiation started at (its init)
-                    controller.state = strategy.adopt(n.adopted.spec, n.adopted.text, n.adopted.strategy,
-                                                      n.incoming, n.outputs)
+                    state = strategy.adopt(n.adopted.spec, n.adopted.text, n.adopted.strategy, n.incoming, n.outputs)
+                    installed = getattr(strategy, "on_installed", None)
+                    if installed is not None:  # the executor node: continue with the current readings, publish
+                        installed(state)
+                    else:
+                        controller.state = state
                 elif n.outcome in (Outcome.BOTH_ABORT, Outcome.ABORT_LINE_20):
                     strategy.abort(f"negotiation with {n.peer.name}: {n.outcome.value}")
             return reply
