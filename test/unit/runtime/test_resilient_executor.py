@@ -6,6 +6,8 @@ from __future__ import annotations
 import threading
 
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from ltl_stack.runtime.characterize import ExecutionAborted, Mode, Observation, Threshold
 from ltl_stack.runtime.controller import Controller
@@ -378,3 +380,28 @@ def test_adopt_drops_a_running_job():
     jobs.run_all()
     assert installed == [] and rs.mode is Mode.NORMAL and rs.counters.resyntheses == 1
     assert rs.strategy is strategy
+
+
+# --- property: the guarantees hold at every step, whenever the jobs run ------------------------------
+@settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(st.tuples(st.booleans(), st.booleans(), st.booleans()), min_size=1, max_size=12),
+       st.booleans())
+def test_outputs_keep_the_guarantees_while_resynthesizing(moves, recovery):
+    """Random readings of the probe (person, door: door' is the assumption) with the resynthesis jobs
+    run at random moments: every published valuation keeps person -> stop (recovery on; off: when the
+    controller is not holding after a violation), the counters add up, nothing raises."""
+    rs, controller, jobs, _ = resilient(PROBE, recovery=recovery)
+    controller.report_many({"person": False, "door": True})
+    for person, door, run_jobs in moves:
+        update = controller.report_many({"person": person, "door": door})
+        if run_jobs:
+            jobs.run_all()
+        if controller.state is not None and (recovery or controller.violation is None):
+            outputs = controller.current_outputs()
+            assert not controller.readings["person"] or outputs["stop"] or update.violation is not None, \
+                (controller.readings, outputs, rs.events)
+        assert rs.mode in set(Mode)
+        c = rs.counters
+        assert c.resyntheses == c.ec1 + c.ec2 + c.user
+    jobs.run_all()
+    assert rs.job is None and rs.mode is not Mode.CHARACTERIZING
