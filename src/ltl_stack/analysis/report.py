@@ -15,7 +15,7 @@ CHECKS = {
     "C2": "Robots that no output proposition controls (thesis 3.5.2.6)",
 }
 IN_SPEC_NOTE = "[already guaranteed by the spec: adding it changes nothing]"
-FEEDBACK_TITLE = ("Expected feedback, not findings: outputs reaching their own completion inputs "
+FEEDBACK_TITLE = ("Expected feedback, not findings: completions and the robot's own location sensing "
                   "(activation-completion [75])")
 
 
