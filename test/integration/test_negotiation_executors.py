@@ -5,6 +5,7 @@ and 4.8.3 (neither can: both abort, every output false)."""
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import pytest
 from helpers import wait_for
@@ -121,3 +122,21 @@ def test_neither_incorporates_4_8_3_both_abort(ros_master, tmp_path):
                                            if x.startswith('{"event": "aborted"')], 60, f"{robot} aborted")
         assert events
         assert procs[robot].running()  # the node stays up, every output false
+
+
+def test_demo_tells_the_kitchen_story(ros_master):
+    """``./tools/demo --scenario kitchen --json``: the world's events and both negotiations, then the summary."""
+    demo = ros_master.run([str(Path(__file__).resolve().parents[2] / "tools" / "demo"), "--scenario", "kitchen",
+                           "--json", "--timeout", "150", "--master-uri", ros_master.env["ROS_MASTER_URI"]],
+                          name="demo")
+    demo.wait_output('"event": "summary"', timeout=180)
+    events = [json.loads(x) for x in demo.output().splitlines() if x.startswith("{")]
+    summary = events[-1]
+    assert summary["ok"] and summary["negotiations"] == 2, demo.output()[-4000:]
+    negotiations = [(e["robot"], e["session"], e["case"]) for e in events if e["event"] == "negotiation"]
+    assert sorted(negotiations) == [("A", "C->A", "BOTH_ADOPT"), ("A", "D->A", "BOTH_ADOPT"),
+                                    ("C", "C->A", "BOTH_ADOPT"), ("D", "D->A", "BOTH_ADOPT")], negotiations
+    world = [e["text"] for e in events if e["event"] == "world"]
+    assert world.index("A opens the door") > world.index(
+        "D waits in road with the ingredients: the door to storage is closed (A does not open it)")
+    assert "C cooked the ingredients" in world

@@ -43,6 +43,7 @@ class Scenario:
     launch_args: tuple[str, ...] = ()
     story: bool = False              # narrated from its story; ends when the story is complete
     config: str | None = None        # folder of config/ with the spec (default: the namespace)
+    negotiation: bool = False        # several robots negotiating (docs/negotiation.md): narrated from their reports
 
 
 def _alice(what: str, resilience: str) -> Scenario:
@@ -77,6 +78,11 @@ SCENARIOS: dict[str, Scenario] = {
         "recovery + EC, threshold 150 transitions (§4.10.2): the metal item in paper_deposit and the manager's "
         "early tap are recovered; the alarm with a lasting spill is characterized, unrealizable, the user adds "
         "GF !spill and the robot waits until the spill is gone.", "recovery characterize"),
+    "kitchen": Scenario(
+        "Thesis Example 13 (§4.10.3): DeliveryAgent D, KitchenAssistant A and Chef C. D is blocked at the closed "
+        "door, characterization fails, D negotiates with A (A opens the door when D is in road or storage), D "
+        "delivers; C negotiates with A to have the ingredients passed, A passes, C cooks, D returns to company.",
+        "kitchen.launch", "kitchen", negotiation=True),
     "patrol_recycling_ec": _patrol(
         "environment characterization only: every violation (metal item, alarm + spill, early tap) is "
         "resynthesized; the spill needs the user's GF !spill.", "no-recovery characterize"),
@@ -140,7 +146,8 @@ def run(args: argparse.Namespace) -> int:
         say(f"{'private ' if ros.own_master else ''}rosmaster at {ros.uri}; launching "
             f"{' '.join([scenario.launch, *scenario.launch_args])}")
         log_path = ros.workdir / "roslaunch.log"
-        launch = ros.start(["roslaunch", "ltl_stack", scenario.launch, *scenario.launch_args, *args.launch_arg],
+        out = [f"out:={ros.workdir}"] if scenario.negotiation else []  # the negotiated specs are written there
+        launch = ros.start(["roslaunch", "ltl_stack", scenario.launch, *scenario.launch_args, *out, *args.launch_arg],
                            stdout=open(log_path, "wb"))  # noqa: SIM115 - closed with the process
         for key in ("ROS_MASTER_URI", "ROS_IP", "ROS_LOG_DIR", "ROS_HOME"):
             os.environ[key] = ros.env[key]
@@ -164,6 +171,8 @@ def run(args: argparse.Namespace) -> int:
         rospy.Subscriber("/diagnostics", DiagnosticArray, on_diagnostics)
         if scenario.story:
             return _follow_story(args, scenario, launch, log_path, problems, say)
+        if scenario.negotiation:
+            return _follow_negotiation(args, launch, log_path, problems, say)
         trace = ControllerTrace(f"/{scenario.namespace}/controller_executor/state", goals, args.json)
         # clean_and_patrol: the thesis' story (Fig. 3.10) told from the trace; the run also waits for it
         story = CleanAndPatrolStory() if args.scenario == "clean_and_patrol" else None
@@ -329,6 +338,88 @@ def _follow_story(args, scenario: Scenario, launch, log_path: Path, problems: li
     if not reached:
         why = (f"roslaunch exited with code {launch.returncode} after {elapsed:.0f} s" if launch.poll() is not None
                else f"the story did not complete within {args.timeout:.0f} s")
+        print("\n".join(log_path.read_text(errors="replace").splitlines()[-30:]), file=sys.stderr)
+        cli.error("demo", f"{why} (the last lines of the launch log are above)")
+        return Exit.NEGATIVE
+    return Exit.OK
+
+
+KITCHEN_ROBOTS = {"D": "DeliveryAgent", "A": "KitchenAssistant", "C": "Chef"}
+KITCHEN_DONE = "C cooked the ingredients"
+
+
+def _follow_negotiation(args, launch, log_path: Path, problems: list[str], say) -> int:
+    """Example 13: narrate the world's events (``/kitchen/kitchen_world/events``) and each negotiation
+    (``/kitchen/<robot>/controller_executor/negotiations``: with whom, what was sent and received in
+    Structured English, the outcome) until C has cooked and D is back in company."""
+    import rospy
+    from std_msgs.msg import String
+
+    lock = threading.Lock()
+    done = threading.Event()
+    seen: set[tuple[str, str]] = set()
+    state = {"delivered": False, "cooked": False, "back": False, "negotiations": 0}
+    started = time.monotonic()
+
+    def stamp() -> str:
+        return f"[{time.monotonic() - started:7.2f}s]"
+
+    def on_event(msg: String) -> None:
+        with lock:
+            text = msg.data
+            if args.json:
+                print(json.dumps({"event": "world", "text": text}), flush=True)
+            else:
+                print(f"{stamp()} {text}", flush=True)
+            state["delivered"] |= text.startswith("D delivered")
+            state["cooked"] |= text == KITCHEN_DONE
+            state["back"] |= state["delivered"] and text == "D is in company"
+            if state["cooked"] and state["back"]:
+                done.set()
+
+    def on_reports(msg: String, robot: str) -> None:
+        with lock:
+            for report in json.loads(msg.data):
+                key = (robot, report["session"])
+                if report["outcome"] is None or key in seen:
+                    continue
+                seen.add(key)
+                if report["initiator"]:
+                    state["negotiations"] += 1
+                if args.json:
+                    print(json.dumps({"event": "negotiation", "robot": robot, **{k: report[k] for k in (
+                        "peer", "session", "case", "outcome", "reason", "sent", "received", "dropped")}}), flush=True)
+                    continue
+                role = "started" if report["initiator"] else "answered"
+                print(f"{stamp()} *** {KITCHEN_ROBOTS[robot]} ({robot}) {role} negotiation {report['session']}: "
+                      f"{report['outcome']}", flush=True)
+                for line in report["sent"]:
+                    print(f"{' ' * 14}sent to {report['peer']}: {line}", flush=True)
+                for line in report["received"]:
+                    print(f"{' ' * 14}received from {report['peer']}: {line}", flush=True)
+                if report["explanation"]:
+                    print(report["explanation"], flush=True)
+
+    rospy.Subscriber("/kitchen/kitchen_world/events", String, on_event, queue_size=100)
+    for robot in KITCHEN_ROBOTS:
+        rospy.Subscriber(f"/kitchen/{robot}/controller_executor/negotiations", String, on_reports,
+                         callback_args=robot, queue_size=100)
+    say("synthesizing and starting three controllers; the run ends when C has cooked and D is back in company")
+    while time.monotonic() - started < args.timeout and launch.poll() is None:
+        if done.wait(0.5):
+            break
+    elapsed = time.monotonic() - started
+    rospy.signal_shutdown("demo finished")
+    reached = done.is_set()
+    summary = {"event": "summary", "scenario": args.scenario, "ok": reached, "seconds": round(elapsed, 1),
+               "negotiations": state["negotiations"], "problems": len(problems)}
+    if args.json:
+        print(json.dumps(summary), flush=True)
+    elif reached:
+        say(f"done: {state['negotiations']} negotiation(s), C cooked and D is back in company after {elapsed:.1f} s")
+    if not reached:
+        why = (f"roslaunch exited with code {launch.returncode} after {elapsed:.0f} s" if launch.poll() is not None
+               else f"the kitchen did not finish within {args.timeout:.0f} s")
         print("\n".join(log_path.read_text(errors="replace").splitlines()[-30:]), file=sys.stderr)
         cli.error("demo", f"{why} (the last lines of the launch log are above)")
         return Exit.NEGATIVE

@@ -110,12 +110,17 @@ class KitchenWorld:
             self.moving = (target, now)
         elif now - self.moving[1] >= self.config["move_time"]:
             if target == "storage" and self.where == "road" and not self.out("A/outputs/openDoor"):
-                if not self._blocked:
-                    self.say("D is blocked at the door: A does not open it")
-                    self._blocked = True
+                pass  # the door is closed: D stays in road
             else:
-                self.where, self.moving, self._blocked = target, None, False
+                self.where, self.moving = target, None
                 self.say(f"D is in {target}")
+        door_closed = self.where == "road" and not self.out("A/outputs/openDoor")
+        if door_closed and self.out("D/outputs/orderReceived") and not self._blocked:
+            self.say("D waits in road with the ingredients: the door to storage is closed (A does not open it)")
+            self._blocked = True
+        elif not door_closed and self._blocked:
+            self.say("A opens the door")
+            self._blocked = False
         for robot, actions in ACTIONS.items():
             for action in actions:
                 key = f"{robot}/{action}"
