@@ -379,3 +379,32 @@ def test_add_env_liveness_with_characterization_off_says_so(ros_master, rprobes,
     assert tool(["--abort", "--json"], dict(ros_master.env)).returncode == 0
     probe.wait_value(STOP, False, timeout=60)
     probe.wait_state(lambda s: s["mode"] == "aborted", "mode aborted")
+
+
+ENGLISH_PROBE = ("Sensors: person, door\nActions: stop\n\nEnvironment starts with door\n"
+                 "Assume always you are sensing door\nIf you are sensing person then do stop\n")
+
+
+def test_transitions_threshold_at_a_fixed_rate_and_an_english_characterized_spec(ros_master, rprobes, tmp_path):
+    spec = tmp_path / "probe.spec"
+    spec.write_text(ENGLISH_PROBE)
+    out = tmp_path / "learned.spec"
+    node = executor(ros_master, spec, "--rate", "20", "--characterized-spec", str(out),
+                    "--characterize-after-transitions", "10", inputs=(PERSON, DOOR))
+    probe = rprobes([f"bool:{STOP}", f"state:{STATE}", "diag:/diagnostics"])
+    probe.publish(PERSON, True)
+    probe.publish(DOOR, True)
+    probe.wait_value(STOP, True)
+    probe.publish(DOOR, False)  # at 20 Hz the violation outlasts 10 transitions in about half a second
+    state = probe.wait_state(lambda s: s["resyntheses"] >= 1, "the resynthesis", timeout=90)
+    recovering = [s for s in probe.states() if s["mode"] == "recovering"]
+    assert recovering and all(s["outputs"] == {"stop": True} for s in recovering), probe.states()
+    assert max(s["violations"] for s in recovering) >= 1, recovering
+    assert state["outputs"] == {"stop": True}, state
+    text = wait_for(lambda: out.exists() and out.read_text(), 30, "the characterized spec")
+    assert "# replaced by environment characterization: Assume always you are sensing door" in text, text
+    assert "If you are sensing person then do stop" in text and "[ENV_TRANS]" not in text, text
+    done = subprocess.run(["rosrun", "ltl_stack", "synthesize", str(out)], capture_output=True, text=True,
+                          timeout=120, env=dict(ros_master.env))
+    assert done.returncode == 0, done.stderr
+    assert node.running() and "Traceback" not in node.output(), node.output()
