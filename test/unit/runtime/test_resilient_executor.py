@@ -6,7 +6,7 @@ from __future__ import annotations
 import threading
 
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from ltl_stack.runtime.characterize import ExecutionAborted, Mode, Observation, Threshold
@@ -383,7 +383,9 @@ def test_adopt_drops_a_running_job():
 
 
 # --- property: the guarantees hold at every step, whenever the jobs run ------------------------------
-@settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=20, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@example([(False, False, False), (True, False, False), (True, True, True)], True)  # person while a job runs
+@example([(True, False, False), (False, False, True), (True, False, False)], False)
 @given(st.lists(st.tuples(st.booleans(), st.booleans(), st.booleans()), min_size=1, max_size=12),
        st.booleans())
 def test_outputs_keep_the_guarantees_while_resynthesizing(moves, recovery):
