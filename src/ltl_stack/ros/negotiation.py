@@ -136,6 +136,8 @@ class NegotiationEndpoint:
 
     # --- reports --------------------------------------------------------------------------------------------
     def _changed(self, n: Negotiation) -> None:
+        if n.initiator and n.phase.value == "new":
+            rospy.loginfo("%s: negotiation %s: starting with %s", self.name, n.session, n.peer.name)
         if n.done:
             level = rospy.loginfo if n.outcome is not None and n.outcome.adopts else rospy.logwarn
             level("%s: negotiation %s with %s: %s (%s)", self.name, n.session, n.peer.name,
