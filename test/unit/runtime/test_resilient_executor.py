@@ -407,3 +407,15 @@ def test_outputs_keep_the_guarantees_while_resynthesizing(moves, recovery):
         assert c.resyntheses == c.ec1 + c.ec2 + c.user
     jobs.run_all()
     assert rs.job is None and rs.mode is not Mode.CHARACTERIZING
+
+
+def test_is_english_and_english_text_refuses_a_structured_running_spec(tmp_path):
+    from ltl_stack.runtime.characterize import Characterizer
+    from ltl_stack.runtime.characterized_english import english_text, is_english
+
+    assert is_english("a/b.spec") and is_english("x.ENGLISH") and not is_english("x.structuredslugs")
+    ch = Characterizer(parse_structured(PROBE, str(tmp_path / "probe.structuredslugs")), path=tmp_path / "o.spec")
+    seen = Observation(1, 0.0, {"person": False, "door": True}, {"stop": False}, {"person": True, "door": False})
+    ch.record(seen)
+    text, why = english_text(ch, "EC1", seen, ch.parse(ch.text("EC1", seen)), [])
+    assert text is None and "not a Structured English file" in why
