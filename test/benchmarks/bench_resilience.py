@@ -1,6 +1,6 @@
 """Resilience benchmarks (on demand): resynthesis latency and explicit recovery export.
 
-    python test/benchmarks/bench_resilience.py [--repeat 15]
+    python test/benchmarks/bench_resilience.py [--repeat 15] [--slugs PATH] [--only ec|export]
     python test/benchmarks/bench_resilience.py --through-master [--repeat 10]
 
 1. Environment characterization (thesis Alg. 2) in process on the Ex. 11 and Ex. 12 specs: the
@@ -10,9 +10,11 @@
    Goal: median < 100 ms.
 2. ``explicit(recovery=True)`` on thesis Ex. 8, firefighting, two_customer_waiter and
    error_resilience A/B (``../shared/specs``, slugs' default init, not cooperative): wall and CPU
-   time of the export alone, states and edges, next to slugs' ``--explicitStrategy --simpleRecovery``
-   whole-process figures measured on our machine kind (``../shared/specs/benchmarks/README.md``).
-   Goal: each under 5 s.
+   time of the export alone, states and edges; then, as whole processes in the same run, alternating,
+   medians of ``--export-repeat``: ``synthesize SPEC --recovery --no-robotics-semantics
+   --no-cooperative --slugs-json OUT`` against ``slugs --explicitStrategy --simpleRecovery
+   --jsonOutput SPEC OUT`` (``--slugs PATH``; skipped without it; ``--slugs-timeout``, 120 s; a run
+   that timed out is not repeated). Goal: each under 5 s, >= 10x faster than slugs where it finishes.
 
 3. ``--through-master`` (only this one then): violation -> new strategy running, through a real master.
    A fresh ``controller_executor --characterize`` per repeat (resynthesis at the first violation, in
@@ -46,6 +48,9 @@ SHARED = ROOT.parent.parent / "shared" if (ROOT.parent.parent / "shared").is_dir
 OUT = ROOT / "docs" / "benchmarks" / "resilience.md"
 OUT_MASTER = ROOT / "docs" / "benchmarks" / "resilience_master.md"
 sys.path.insert(0, str(ROOT / "test"))
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_explicit import HEADER, measure, row  # noqa: E402
 
 from ltl_stack.runtime.characterize import Characterizer, Observation  # noqa: E402
 from ltl_stack.spec import load_spec  # noqa: E402
@@ -102,13 +107,13 @@ def bench_export() -> list[str]:
             continue
         spec = load_spec(path)
         result = synthesize(spec, robotics_semantics=False, cooperative=False)
-        plain = result.strategy.explicit()
         wall, cpu = time.perf_counter(), time.process_time()
         automaton = result.strategy.explicit(recovery=True, max_states=2_000_000)
         wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
         edges = sum(len(s.successors) for s in automaton.states)
         marked = sum(len(s.recovery) for s in automaton.states)
-        rows.append(f"| {name} | {wall:.2f} s ({cpu:.2f} s CPU) | {len(plain):,} / {len(automaton):,} | "
+        plain = automaton.metadata["states_without_recovery"]
+        rows.append(f"| {name} | {wall:.2f} s ({cpu:.2f} s CPU) | {plain:,} / {len(automaton):,} | "
                     f"{edges:,} ({marked:,} recovery) | {slugs} |")
         print(rows[-1], flush=True)
     return rows
@@ -300,36 +305,68 @@ def main_master(repeat: int) -> int:
     return 0
 
 
+def bench_export_vs_slugs(slugs: str | None, repeat: int, timeout: float) -> list[str]:
+    """Whole processes, ours and slugs alternating (``bench_explicit.measure``)."""
+    rows = []
+    print("\n".join(HEADER), flush=True)
+    for name, rel, _ in EXPORT_CASES:
+        path = SHARED / "specs" / rel
+        if path.exists():
+            rows.append(row(name, measure(path, slugs, repeat, timeout, ["--recovery"], ["--simpleRecovery"]),
+                            slugs, timeout))
+            print(rows[-1], flush=True)
+    return rows
+
+
+def _section(text: str, heading: str) -> list[str]:
+    """The lines of the section of ``text`` whose heading starts with ``heading`` (kept from an earlier run)."""
+    lines = text.splitlines()
+    start = next((k for k, line in enumerate(lines) if line.startswith(heading)), None)
+    if start is None:
+        return []
+    end = next((k for k in range(start + 1, len(lines)) if lines[k].startswith("## ")), len(lines))
+    return lines[start:end]
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=15)
     parser.add_argument("--through-master", action="store_true",
                         help="only the violation -> new strategy benchmark through a real master")
+    parser.add_argument("--only", choices=["ec", "export"], help="run one part (the page keeps the other's figures)")
+    parser.add_argument("--slugs", help="path of the slugs binary (the slugs columns are skipped without it)")
+    parser.add_argument("--export-repeat", type=int, default=3)
+    parser.add_argument("--slugs-timeout", type=float, default=120.0)
     args = parser.parse_args(argv)
     if args.through_master:
         return main_master(args.repeat)
-    ec = bench_ec(args.repeat)
-    export = bench_export()
-    text = "\n".join([
-        "# Resilience benchmarks",
-        "",
-        f"`python test/benchmarks/bench_resilience.py --repeat {args.repeat}` on {platform.machine()}, "
-        f"Python {platform.python_version()}, {time.strftime('%Y-%m-%d')} (machine shared with other work: "
-        "times drift up to 2x; CPU time is the steadier figure).",
-        "",
-        "## Environment characterization (Alg. 2), in process",
-        "",
-        "| observation | median (wall, CPU) | range (wall) | outcome |",
-        "|---|---|---|---|",
-        *ec,
-        "",
-        "## Explicit export with recovery transitions",
-        "",
-        "| spec | export time | states without / with recovery | edges | slugs `--simpleRecovery` (whole process) |",
-        "|---|---|---|---|---|",
-        *export,
-        "",
-    ])
+    slugs = args.slugs if args.slugs and Path(args.slugs).exists() else None
+    old = OUT.read_text() if OUT.exists() else ""
+    when = (f"on {platform.machine()}, Python {platform.python_version()}, {time.strftime('%Y-%m-%d %H:%M')} "
+            "(machine shared with other work: times drift up to 2x; CPU time is the steadier figure).")
+    if args.only == "export":
+        ec = _section(old, "## Environment characterization")
+    else:
+        ec = ["## Environment characterization (Alg. 2), in process", "",
+              f"`python test/benchmarks/bench_resilience.py --only ec --repeat {args.repeat}` {when}", "",
+              "| observation | median (wall, CPU) | range (wall) | outcome |", "|---|---|---|---|",
+              *bench_ec(args.repeat)]
+    if args.only == "ec":
+        export = _section(old, "## Explicit export")
+    else:
+        export = ["## Explicit export with recovery transitions", "",
+                  f"`python test/benchmarks/bench_resilience.py --only export --slugs SLUGS --export-repeat "
+                  f"{args.export_repeat}` {when}", "",
+                  "In process, the export alone (slugs' default init semantics, not cooperative):", "",
+                  "| spec | export time | states without / with recovery | edges | slugs `--simpleRecovery` "
+                  "(reference figures, whole process) |", "|---|---|---|---|---|",
+                  *bench_export(), "",
+                  "Whole processes in the same run, alternating, medians (ours `synthesize SPEC --recovery "
+                  "--no-robotics-semantics --no-cooperative --slugs-json OUT`; slugs `--explicitStrategy "
+                  "--simpleRecovery --jsonOutput`, which adds recovery edges into W only; slugs' limit "
+                  f"{args.slugs_timeout:.0f} s, a run that timed out is not repeated):", "",
+                  *bench_export_vs_slugs(slugs, args.export_repeat, args.slugs_timeout)]
+    text = "\n".join(["# Resilience benchmarks", "", *ec, "", *export, ""])
     OUT.write_text(text)
     print(f"written {OUT}")
     return 0

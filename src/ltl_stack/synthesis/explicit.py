@@ -9,13 +9,15 @@ automaton stays small:
 1. a move into a state that already exists (same next position and goal), when the relation allows
    one — slugs' extractor gets small automata by always picking the same canonical outputs; we pick
    among the allowed moves the one that re-uses a state;
-2. otherwise the move ``SymbolicStrategy.step`` makes (each output keeps its current value when it
-   may, in the spec's output order), with the goal ``step`` gives it.
+2. otherwise the outputs ``SymbolicStrategy.step`` picks (each output keeps its current value when it
+   may, in the spec's output order).
 
 So the automaton is a correct strategy but not always the one ``step`` follows; the executor steps
 the automaton itself (``runtime.explicit``), so its ``~state`` ids are the export's. The goal index
-advances when the move reaches the goal (and past goals the new position meets, ``_skip_satisfied``);
-a move that also reaches the following goals may advance past them too when that re-uses a state.
+advances when the move reaches the goal, and past the following goals the same move reaches as
+well (slugs' extractor does the same; ``step`` stops after the first), then past goals the new
+position meets whatever comes (``_skip_satisfied``); a move into an existing state may stop earlier
+in that chain when that state has the smaller goal.
 
 Each state's moves are computed at once as a BDD over the next inputs and outputs (the relation
 restricted to the state) and enumerated as integer codes (input k is bit k, output k bit
@@ -100,9 +102,11 @@ def _codes(bdd, u, bit_of: dict[str, int]) -> list[int]:
         return [sum(1 << bit_of[v] for v, val in a.items() if val)
                 for a in bdd.pick_iter(u, care_vars=set(bit_of))]
     order = sorted(bit_of, key=bdd.level_of_var)
-    position = {v: k for k, v in enumerate(order)}
+    position = {bdd.level_of_var(v): k for k, v in enumerate(order)}
     bits = [1 << bit_of[v] for v in order]
     end = len(order)
+    true = bdd.true
+    terminal = true.level
     memo: dict = {}
 
     def expand(codes: list[int], start: int, stop: int) -> list[int]:
@@ -110,27 +114,32 @@ def _codes(bdd, u, bit_of: dict[str, int]) -> list[int]:
             codes = codes + [c | bits[k] for c in codes]
         return codes
 
-    def index(f) -> int:
-        return end if f == bdd.true or f == bdd.false else position[f.var]
-
     def below(f) -> list[int]:
-        """Valuations of the variables from f's own on."""
-        if f == bdd.true:
-            return [0]
-        if f == bdd.false:
-            return []
+        """Valuations of the variables from f's own on (f not constant)."""
         found = memo.get(f)
         if found is not None:
             return found
-        k = position[f.var]
+        k = position[f.level]
         low, high = (~f.low, ~f.high) if f.negated else (f.low, f.high)
-        codes = expand(below(low), k + 1, index(low)) + \
-            [c | bits[k] for c in expand(below(high), k + 1, index(high))]
+        codes: list[int] = []
+        for child, bit in ((low, 0), (high, bits[k])):
+            level = child.level
+            if level == terminal:
+                if child != true:
+                    continue
+                sub, j = [0], end
+            else:
+                sub, j = below(child), position[level]
+            if j > k + 1:
+                sub = expand(sub, k + 1, j)
+            codes.extend([c | bit for c in sub] if bit else sub)
         memo[f] = codes
         return codes
 
     try:
-        return expand(below(u), 0, index(u))
+        if u == true:
+            return expand([0], 0, end)
+        return expand(below(u), 0, position[u.level])
     finally:
         memo.clear()  # the recursive closure is a reference cycle: drop its BDD nodes now
 
@@ -157,6 +166,7 @@ class _Extraction:
         self.todo: deque[int] = deque()
         self.skip_cache: dict[int, int] = {}
         self.winning_cache: dict[int, bool] = {}
+        self.values: dict[int, dict[str, bool]] = {}
         self.met_cache: dict[int, bool] = {}
         #: per goal s a move starts its target with: next positions p' whose state (p, skip(p, s)) exists
         self.existing = [self.bdd.false] * self.goals
@@ -166,7 +176,12 @@ class _Extraction:
 
     # --- states -----------------------------------------------------------------------------
     def valuation(self, code: int) -> dict[str, bool]:
-        return {v: bool(code >> k & 1) for v, k in self.current_bit.items()}
+        """The position as an assignment of the current variables (cached: the BDDs are
+        restricted to it several times)."""
+        values = self.values.get(code)
+        if values is None:
+            values = self.values[code] = {v: bool(code >> k & 1) for v, k in self.current_bit.items()}
+        return values
 
     def _winning(self, code: int) -> bool:
         w = self.winning_cache.get(code)
@@ -227,8 +242,8 @@ class _Extraction:
         """``moves`` split by the goals a move may start its target with. A move that reaches the
         current goal (``goal & W'``, thesis Alg. 1 line 14) advances it (``SymbolicStrategy._successor``);
         when it reaches the next ones too it may advance past them as well (slugs' extractor always
-        does), which ``edges`` uses to re-use an existing state. Each part comes with its admissible
-        goals, the furthest last; a move that reaches no goal keeps it."""
+        does; ``edges`` does unless stopping earlier re-uses a state). Each part comes with its
+        admissible goals, the furthest last; a move that reaches no goal keeps it."""
         bdd = self.bdd
         leaves = []
         part, g, passed = moves, goal, ()
@@ -288,7 +303,7 @@ class _Extraction:
                     if t is not None:
                         break
                 if t is None:
-                    t = self.number(code, self.skip(code, goals[0]))
+                    t = self.number(code, self.skip(code, goals[-1]))
                 result.append((code & in_mask, t, marked))
         return result
 

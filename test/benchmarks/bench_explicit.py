@@ -1,0 +1,182 @@
+"""Explicit strategy export vs slugs, whole process (run on demand; issue 16).
+
+    python test/benchmarks/bench_explicit.py --slugs /root/.cache/slugs/src/src/slugs [--repeat 3]
+
+For each shared spec: ``synthesize SPEC --no-robotics-semantics --no-cooperative --slugs-json OUT``
+(slugs' default init semantics, any winning move: what slugs computes) against
+``slugs --explicitStrategy --jsonOutput SPEC OUT``, both as whole processes, alternating, medians of
+``--repeat`` runs; states counted in the written files. Our in-process export time
+(``explicit_seconds`` of ``--json``) is listed too. slugs runs with a ``--slugs-timeout`` (120 s);
+without ``--slugs`` (or when the path does not exist) its columns are skipped.
+
+Specs: the thesis' (../shared/specs), slugs' examples (benchmarks/slugsin, realizable ones), and the
+generated family members for which slugs' explicit strategy finished in its reference run
+(``generated/slugs_times.csv``). Goal: no slower than slugs, and no more states, wherever slugs
+finishes. Writes docs/benchmarks/explicit.md.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import platform
+import resource
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+SHARED = ROOT.parent.parent / "shared" if (ROOT.parent.parent / "shared").is_dir() else Path("/work/shared")
+SPECS = SHARED / "specs"
+OUT = ROOT / "docs" / "benchmarks" / "explicit.md"
+
+THESIS = ["move_group_and_move_base/move_group_and_move_base.slugsin", "firefighting/firefighting.slugsin",
+          "simple/simple.slugsin"]
+GENERATED = ["factory_assembly_4x3_1_1errors", "factory_assembly_5x3_1_0errors", "factory_assembly_5x3_1_4errors",
+             "moving_obstacle_8x8_0glitches"]
+SKIP = {"basicEvasion"}  # realizability alone takes slugs minutes
+
+
+def synthesize_command() -> list[str]:
+    """The installed script when it is on PATH (as a user runs it), else the module."""
+    script = shutil.which("synthesize")
+    return [script] if script else [sys.executable, "-m", "ltl_stack.synthesis.cli"]
+
+
+def specs(selected: list[str] | None) -> list[Path]:
+    if selected:
+        return [Path(s) for s in selected]
+    found = [SPECS / s for s in THESIS]
+    found += sorted(p for p in (SPECS / "benchmarks" / "slugsin").glob("*.slugsin") if p.stem not in SKIP)
+    found += [SPECS / "benchmarks" / "generated" / f"{g}.slugsin" for g in GENERATED]
+    return [p for p in found if p.exists()]
+
+
+def cpu_of_children() -> float:
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
+
+
+def run_ours(spec: Path, out: Path, extra: list[str]) -> dict:
+    cmd = [*synthesize_command(), str(spec), "--no-robotics-semantics", "--no-cooperative", "--slugs-json", str(out),
+           "--json", "--quiet", "--max-states", "3000000", *extra]
+    start, cpu = time.perf_counter(), cpu_of_children()
+    done = subprocess.run(cmd, capture_output=True, text=True, check=False)
+    wall, cpu = time.perf_counter() - start, cpu_of_children() - cpu
+    if done.returncode not in (0, 10):
+        raise RuntimeError(f"{' '.join(cmd)}: exit {done.returncode}: {done.stderr.strip()}")
+    summary = json.loads(done.stdout)
+    summary["wall"], summary["cpu"] = wall, cpu
+    return summary
+
+
+def run_slugs(slugs: str, spec: Path, out: Path, timeout: float, extra: list[str]) -> dict:
+    cmd = [slugs, "--explicitStrategy", *extra, "--jsonOutput", str(spec), str(out)]
+    out.unlink(missing_ok=True)
+    start, cpu = time.perf_counter(), cpu_of_children()
+    try:
+        done = subprocess.run(cmd, capture_output=True, text=True, check=False, timeout=timeout)
+    except subprocess.TimeoutExpired:
+        return {"wall": None}
+    wall, cpu = time.perf_counter() - start, cpu_of_children() - cpu
+    if done.returncode != 0 or not out.exists():
+        return {"wall": wall, "error": done.stderr.strip()[-200:]}
+    return {"wall": wall, "cpu": cpu, "states": len(json.loads(out.read_text())["nodes"])}
+
+
+def measure(spec: Path, slugs: str | None, repeat: int, timeout: float, ours_extra: list[str],
+            slugs_extra: list[str]) -> dict:
+    """Alternating runs; slugs is not repeated once it timed out."""
+    ours, theirs = [], []
+    with tempfile.TemporaryDirectory() as tmp:
+        for _ in range(repeat):
+            ours.append(run_ours(spec, Path(tmp) / "ours.json", ours_extra))
+            if not ours[-1]["realizable"]:
+                return {"realizable": False}
+            if slugs and (not theirs or theirs[-1]["wall"] is not None):
+                theirs.append(run_slugs(slugs, spec, Path(tmp) / "slugs.json", timeout, slugs_extra))
+    result = {"realizable": True, "ours_wall": statistics.median(r["wall"] for r in ours),
+              "ours_cpu": statistics.median(r["cpu"] for r in ours),
+              "ours_explicit": statistics.median(r["explicit_seconds"] for r in ours),
+              "ours_states": ours[-1]["states"], "ours_plain": ours[-1].get("states_without_recovery")}
+    if theirs:
+        finished = [r for r in theirs if r["wall"] is not None and "states" in r]
+        result["slugs_timeout"] = any(r["wall"] is None for r in theirs)
+        result["slugs_error"] = next((r["error"] for r in theirs if "error" in r), None)
+        if finished:
+            result["slugs_wall"] = statistics.median(r["wall"] for r in finished)
+            result["slugs_cpu"] = statistics.median(r["cpu"] for r in finished)
+            result["slugs_states"] = finished[-1]["states"]
+            result["slugs_runs"] = len(finished)
+    return result
+
+
+def fmt_s(value: float | None) -> str:
+    return "–" if value is None else f"{value:.3f} s" if value < 10 else f"{value:.1f} s"
+
+
+def row(name: str, r: dict, slugs: str | None, timeout: float) -> str:
+    if not r["realizable"]:
+        return f"| {name} | unrealizable | | | | | | |"
+    ours = f"{fmt_s(r['ours_wall'])} / {fmt_s(r['ours_cpu'])} ({fmt_s(r['ours_explicit'])})"
+    states = f"{r['ours_states']:,}" + (f" ({r['ours_plain']:,} without recovery)" if r.get("ours_plain") else "")
+    if not slugs:
+        return f"| {name} | {ours} | {states} | (no slugs) | | | | |"
+    if "slugs_wall" not in r:
+        what = f"> {timeout:.0f} s" if r.get("slugs_timeout") else f"failed: {r.get('slugs_error')}"
+        return f"| {name} | {ours} | {states} | {what} | – | – | – | – |"
+    size = r["ours_states"] / r["slugs_states"] if r["slugs_states"] else float("nan")
+    return (f"| {name} | {ours} | {states} | {fmt_s(r['slugs_wall'])} / {fmt_s(r['slugs_cpu'])} "
+            f"({r['slugs_runs']} runs) | {r['slugs_states']:,} | **{r['ours_wall'] / r['slugs_wall']:.2f}** | "
+            f"**{r['ours_cpu'] / max(r['slugs_cpu'], 1e-3):.2f}** | {size:.2f} |")
+
+
+HEADER = ["| spec | ours: wall / CPU, whole process (in-process export) | our states | slugs: wall / CPU | "
+          "slugs states | wall ours / slugs | CPU ours / slugs | states ours / slugs |",
+          "|---|---|---|---|---|---|---|---|"]
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--slugs", help="path of the slugs binary (its columns are skipped without it)")
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--slugs-timeout", type=float, default=120.0)
+    parser.add_argument("specs", nargs="*", help="spec files (default: the shared specs above)")
+    args = parser.parse_args(argv)
+    slugs = args.slugs if args.slugs and Path(args.slugs).exists() else None
+    if args.slugs and not slugs:
+        print(f"slugs not found at {args.slugs}: its columns are skipped", file=sys.stderr)
+    rows = []
+    print("\n".join(HEADER), flush=True)
+    for spec in specs(args.specs):
+        name = spec.stem if "generated" in spec.parts or "slugsin" in spec.parts else f"{spec.parent.name} (thesis)"
+        rows.append(row(name, measure(spec, slugs, args.repeat, args.slugs_timeout, [], []), slugs,
+                        args.slugs_timeout))
+        print(rows[-1], flush=True)
+    text = "\n".join([
+        "# Explicit strategy export vs slugs",
+        "",
+        f"`python test/benchmarks/bench_explicit.py --slugs SLUGS --repeat {args.repeat}` on {platform.machine()}, "
+        f"Python {platform.python_version()}, {time.strftime('%Y-%m-%d %H:%M')} (machine shared with other work; "
+        "ours and slugs alternate, so the ratio of one row is a same-run figure; CPU is user + system time of "
+        "the process, the steadier figure on a loaded machine).",
+        "",
+        f"Ours: `{' '.join(Path(c).name for c in synthesize_command())} SPEC --no-robotics-semantics --no-cooperative "
+        "--slugs-json OUT`; slugs: `slugs --explicitStrategy --jsonOutput SPEC OUT`. Medians of the runs; "
+        f"slugs' time limit {args.slugs_timeout:.0f} s.",
+        "",
+        *HEADER,
+        *rows,
+        "",
+    ])
+    if not args.specs:
+        OUT.write_text(text)
+        print(f"written {OUT}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
