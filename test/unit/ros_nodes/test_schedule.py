@@ -172,3 +172,29 @@ def test_bad_when_gives_one_clear_error_with_the_line(when, message):
 def test_a_looping_schedule_cannot_have_when_events():
     with pytest.raises(ScheduleError, match="cannot replay events with 'when:'"):
         parse_schedule("loop: true\nperiod: 2\nevents:\n  - {at: 1, topic: /b, value: 1, when: {topic: /a, value: 1}}\n")
+
+
+@given(st.lists(st.booleans(), max_size=30), st.integers(1, 5), st.floats(0, 3))
+def test_a_when_event_fires_once_at_the_count_th_rising_edge_plus_at(values, count, delay):
+    """Whatever the messages, the event is due exactly from (time of the count-th change to true) + at."""
+    text = (f"events:\n  - when: {{topic: /r, value: true, count: {count}}}\n"
+            f"    at: {delay!r}\n    topic: /out\n    value: true\n")
+    scheduler = Scheduler(parse_schedule(text))
+    edges, before = [], False
+    for t, value in enumerate(values):
+        scheduler.observe("/r", {"data": value}, float(t))
+        if value and not before:
+            edges.append(float(t))
+        before = value
+    fired = scheduler.due(1000.0)
+    if len(edges) >= count:
+        start = edges[count - 1]
+        assert len(fired) == 1 and scheduler.finished()
+        late = Scheduler(parse_schedule(text))  # the same messages, polled just before and at the time
+        for t, value in enumerate(values):
+            late.observe("/r", {"data": value}, float(t))
+        if delay > 1e-6:
+            assert late.due(start + delay - 1e-6) == []
+        assert len(late.due(start + delay)) == 1
+    else:
+        assert fired == [] and not scheduler.finished()
