@@ -103,8 +103,15 @@ def negotiations(proc) -> str:
 def test_only_one_incorporates_4_8_2_both_keep_running(ros_master, tmp_path):
     """P cannot promise Q never to do p (its goal); Q can promise P to do x: Q adopts P's assumption,
     P resynthesizes its own spec from where it is; both run on, x is done and p too."""
+    trace = ros_master.run(["rosrun", "ltl_stack", "controller_trace", "/t/Q/controller_executor/state", "--json"],
+                           name="trace")
     procs = start_pair(ros_master, tmp_path, q_refuses=False)
     wait_for(lambda: negotiations(procs["P"]) and negotiations(procs["Q"]), 90, "both negotiation reports")
+    # controller_trace shows the negotiation of Q (from its ~negotiations)
+    line = trace.wait_output('"event": "negotiation"', timeout=60)
+    event = next(json.loads(x) for x in line.splitlines() if x.startswith('{"event": "negotiation"'))
+    assert event["session"] == "P->Q" and event["case"] == "ADOPTED_PEERS" and not event["initiator"]
+    assert event["received"][0] == "assumption of P: always next x", event
     assert "4.8.2: the peer incorporated this robot's specification" in negotiations(procs["P"])
     assert "4.8.2: this robot incorporated the peer's specification" in negotiations(procs["Q"])
     procs["Q"].wait_output('"x": true', timeout=60)

@@ -3,7 +3,9 @@
 Subscribes to the executor's ``~state`` (``ltl_stack/ControllerState``) and prints one line per new
 state: what the controller senses, what it does and what changed; and one line per change of the
 resilience mode (normal, recovering, holding, characterizing, waiting_for_user, aborted; thesis ch. 4)
-and per resynthesis (EC1/EC2/user counters), with the violated environment-safety clauses. With ``--cycles N`` it exits after
+and per resynthesis (EC1/EC2/user counters), with the violated environment-safety clauses; and each
+finished integrative negotiation (the executor's ``~negotiations``: with whom, the clauses sent and
+received in Structured English, the outcome; thesis §4.8, docs/negotiation.md). With ``--cycles N`` it exits after
 the strategy has gone N times through all system goals (the spec tells how many there are).
 """
 from __future__ import annotations
@@ -13,12 +15,14 @@ import sys
 import threading
 
 import rospy
+from std_msgs.msg import String
 
 from ltl_stack import cli
 from ltl_stack.errors import Exit, UserError
 from ltl_stack.msg import ControllerState
 from ltl_stack.ros.master import master_uri, ros_name, wait_for_master
 from ltl_stack.ros.valuation import msg_to_valuation
+from ltl_stack.runtime.negotiation import report_lines
 from ltl_stack.runtime.trace import GoalCycles, TraceStep, describe
 from ltl_stack.spec import load_spec
 
@@ -47,6 +51,27 @@ class ControllerTrace:
         self.changed = threading.Condition()
         self._start = rospy.get_time()
         self._sub = rospy.Subscriber(topic, ControllerState, self._on_state, queue_size=100)
+        self.negotiations: set[str] = set()
+        resolved = rospy.resolve_name(topic)
+        self._negotiation_sub = rospy.Subscriber(resolved.rsplit("/", 1)[0] + "/negotiations", String,
+                                                 self._on_negotiations, queue_size=10)
+
+    def _on_negotiations(self, msg) -> None:
+        """One block per negotiation that ended (the executor republishes every report each time)."""
+        for report in json.loads(msg.data):
+            if report.get("outcome") is None or report["session"] in self.negotiations:
+                continue
+            self.negotiations.add(report["session"])
+            if self.json_lines:
+                print(json.dumps({"event": "negotiation", **{k: report.get(k) for k in (
+                    "peer", "session", "initiator", "case", "outcome", "reason", "sent", "received", "dropped")}}),
+                    file=self.out, flush=True)
+            else:
+                when = rospy.get_time() - self._start
+                first, *rest = report_lines(report)
+                print(f"[{when:7.2f}s] {first}", file=self.out, flush=True)
+                for line in rest:
+                    print(f"{' ' * 11}{line}", file=self.out, flush=True)
 
     def _on_state(self, msg) -> None:
         self._resilience(msg)

@@ -123,7 +123,7 @@ class NegotiationEndpoint:
         except (KeyError, TypeError, ValueError) as err:
             reply = Message("abort", self.negotiator.classes.robot, "", reason=f"malformed request: {err}")
         else:
-            reply = self.negotiator.serve(message, self.strategy, self.controller)
+            reply = self.negotiator.serve(message, self.strategy, self.controller, start_wait=self.timeout / 2)
         return to_ros(reply, NegotiateResponse)
 
     def _expire(self, _event: Any) -> None:

@@ -560,6 +560,19 @@ def write_adopted(adoption: Adoption, path: str | Path) -> None:
         write_atomic(path, adoption.text)
 
 
+def report_lines(report: Mapping[str, Any], robot: str = "") -> list[str]:
+    """A finished negotiation's report (``Negotiation.report()``) as lines for people: who started or
+    answered it and the outcome, then each clause sent and received (Structured English)."""
+    role = "started" if report["initiator"] else "answered"
+    who = f"{robot} " if robot else ""
+    lines = [f"{who}{role} negotiation {report['session']}: {report['outcome']}"
+             + (f" ({report['reason']})" if report.get("case") == Outcome.FAILED.name else "")]
+    lines += [f"  sent to {report['peer']}: {line}" for line in report["sent"]]
+    lines += [f"  received from {report['peer']}: {line}" for line in report["received"]]
+    lines += [f"  not sent (not observable by {report['peer']}): {line}" for line in report.get("dropped", [])]
+    return lines
+
+
 # --- the transport-independent drivers ----------------------------------------------------------------
 def answer(responder: Negotiation, message: Message) -> Message:
     """The responder's side of one exchange: take ``message``, return ours (an abort on a fault)."""
@@ -720,12 +733,17 @@ class Negotiator:
             write_adopted(adopted, old.path)
         return adopted.spec
 
-    def serve(self, message: Message, strategy: Any, controller: Any) -> Message:
+    def serve(self, message: Message, strategy: Any, controller: Any, start_wait: float = 0.0) -> Message:
         """Answer a peer's message for the robot running ``controller`` (a ``runtime.Controller`` over
         ``strategy``, a ``ResilientStrategy``), under the controller's lock. An adopted spec is installed
         at once (``strategy.adopt``) from the position the negotiation started at (the adopted spec's
         init; the robot keeps running between messages, and the controller's next step continues from
-        there with the current readings); 4.8.3 / line 20 abort the strategy (its safe outputs)."""
+        there with the current readings); 4.8.3 / line 20 abort the strategy (its safe outputs). A
+        controller that has not started yet (inputs still silent) is waited for up to ``start_wait``
+        seconds; then the answer is an abort."""
+        deadline = time.monotonic() + start_wait
+        while controller.state is None and time.monotonic() < deadline:
+            time.sleep(0.02)  # our controller starts once every input has reported (not under the lock)
         with controller.lock:
             state = controller.state
             if state is None:

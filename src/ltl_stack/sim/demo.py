@@ -27,6 +27,7 @@ from pathlib import Path
 
 from ltl_stack import cli
 from ltl_stack.errors import Exit, UserError
+from ltl_stack.runtime.negotiation import report_lines
 from ltl_stack.runtime.story import load_story, region_of
 from ltl_stack.sim.narration import CleanAndPatrolStory
 from ltl_stack.sim.session import RosSession
@@ -390,13 +391,10 @@ def _follow_negotiation(args, launch, log_path: Path, problems: list[str], say) 
                     print(json.dumps({"event": "negotiation", "robot": robot, **{k: report[k] for k in (
                         "peer", "session", "case", "outcome", "reason", "sent", "received", "dropped")}}), flush=True)
                     continue
-                role = "started" if report["initiator"] else "answered"
-                print(f"{stamp()} *** {KITCHEN_ROBOTS[robot]} ({robot}) {role} negotiation {report['session']}: "
-                      f"{report['outcome']}", flush=True)
-                for line in report["sent"]:
-                    print(f"{' ' * 14}sent to {report['peer']}: {line}", flush=True)
-                for line in report["received"]:
-                    print(f"{' ' * 14}received from {report['peer']}: {line}", flush=True)
+                first, *rest = report_lines(report, f"{KITCHEN_ROBOTS[robot]} ({robot})")
+                print(f"{stamp()} *** {first}", flush=True)
+                for line in rest:
+                    print(f"{' ' * 12}{line}", flush=True)
                 if report["explanation"]:
                     print(report["explanation"], flush=True)
 

@@ -25,6 +25,7 @@ from ltl_stack.runtime.negotiation import (
     classes_from_data,
     classes_from_mapping,
     drive,
+    report_lines,
 )
 from ltl_stack.spec import parse_structured
 from ltl_stack.synthesis import synthesize
@@ -108,6 +109,14 @@ def test_both_adopt_4_8_1_and_the_received_assumption_is_guaranteed():
     # init from the current position (Alg. 4 lines 6-7)
     assert [c.text.strip() for c in b.adopted.spec.env_init] == ["!p_P"]
     assert a.syntheses == 1 and b.syntheses == 1  # §4.9: at most two each
+
+
+def test_report_lines_say_who_what_and_how_it_ended():
+    a, b = pair(p_spec(), q_spec())
+    drive(a, direct(b))
+    lines = report_lines(b.report(), "Q")
+    assert lines[0] == "Q answered negotiation P->Q: " + Outcome.BOTH_ADOPT.value
+    assert "  received from P: assumption of P: always next x" in lines
 
 
 def test_only_one_incorporates_4_8_2():
