@@ -97,7 +97,7 @@ def start_pair(ros_master, tmp_path, q_refuses: bool):
 
 
 def negotiations(proc) -> str:
-    return "\n".join(x for x in proc.output().splitlines() if "negotiation P->Q" in x)
+    return "\n".join(x for x in proc.output().splitlines() if "negotiation P->Q with" in x)
 
 
 def test_only_one_incorporates_4_8_2_both_keep_running(ros_master, tmp_path):
