@@ -102,7 +102,8 @@ def build_parser() -> cli.ToolParser:
         + "\n\nExit 1: the goal cycles (or the story) did not complete within --timeout (the launch log is shown).")
     parser.add_argument("--scenario", choices=list(SCENARIOS), default="clean_and_patrol",
                         help="which scenario (default: %(default)s; listed below)")
-    parser.add_argument("--cycles", type=cli.positive_int, default=2, help="goal cycles to run (default: %(default)s)")
+    parser.add_argument("--cycles", type=cli.positive_int, default=2, help="goal cycles to run (default: %(default)s; clean_and_patrol also runs until its "
+                             "Fig. 3.10 story is told)")
     parser.add_argument("--timeout", type=cli.positive_float, default=240.0, metavar="S",
                         help="give up after S seconds (default: %(default)s)")
     parser.add_argument("--duration", type=cli.positive_float, default=12.0, metavar="S",
