@@ -107,10 +107,18 @@ class Task(QObject):
         super().__init__(parent)
         self._work = work
         self.thread: threading.Thread | None = None
+        self._pending = False
+        # connected first, so it runs on the GUI thread before any slot a panel connects
+        self.finished.connect(self._settle)
+        self.failed.connect(self._settle)
 
     def start(self) -> None:
+        self._pending = True
         self.thread = threading.Thread(target=self._run, name="ltl_stack_gui_task", daemon=True)
         self.thread.start()
+
+    def _settle(self, _outcome: object) -> None:
+        self._pending = False
 
     def _run(self) -> None:
         try:
@@ -124,7 +132,9 @@ class Task(QObject):
 
     @property
     def running(self) -> bool:
-        return self.thread is not None and self.thread.is_alive()
+        """Started and its outcome not yet delivered on the GUI thread (the worker thread may have
+        ended already, or may still be winding down after delivering)."""
+        return self._pending
 
 
 class RowsModel(QAbstractTableModel):
