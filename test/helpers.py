@@ -50,7 +50,7 @@ def require_shared(*parts: str) -> Path:
 
 # How long a test waits for something that must happen. Generous: on a busy 2-core machine a node
 # can take many seconds to start. A test never asserts how fast something happens (benchmarks do).
-WAIT = 30.0
+WAIT = 60.0
 
 
 def wait_for(predicate: Callable[[], object], timeout: float = WAIT, what: str = "a condition",

@@ -87,7 +87,7 @@ def launch(tmp_path_factory, name: str, world: set[tuple[str, str, str]]):
 
 def analyze(master: RosMaster, spec: Path, mapping: Path, *args: str, code: int = 0) -> dict:
     done = subprocess.run(["rosrun", "ltl_stack", "analyze_graph", "--spec", str(spec), "--mapping", str(mapping),
-                           "--live", "--json", *args], env=master.env, capture_output=True, text=True, timeout=180)
+                           "--live", "--json", *args], env=master.env, capture_output=True, text=True, timeout=300)
     assert done.returncode == code, done.stderr
     report = json.loads(done.stdout)
     assert report["missing_nodes"] == [] and report["mapping_warnings"] == [], report["mapping_warnings"]

@@ -203,7 +203,7 @@ def test_state_ids_on_state_are_those_of_synthesize_json(ros_master, probes, tmp
     spec = REPO_ROOT / spec_file
     exported = tmp_path / "strategy.json"
     synth = subprocess.run(["rosrun", "ltl_stack", "synthesize", str(spec), "--strategy-json", str(exported)],
-                           capture_output=True, text=True, timeout=120)
+                           capture_output=True, text=True, timeout=300)
     assert synth.returncode == 0, synth.stderr
     automaton = json.loads(exported.read_text())
     by_id = {s["id"]: s for s in automaton["states"]}

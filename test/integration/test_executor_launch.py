@@ -18,15 +18,15 @@ def test_roslaunch_reads_the_generated_file(scenario, tmp_path):
     mapping = require_shared("specs", scenario, f"{scenario}.yaml")
     launch = tmp_path / f"{scenario}.launch"
     gen = subprocess.run(["rosrun", "ltl_stack", "generate_launch", str(mapping), "-o", str(launch)],
-                         capture_output=True, text=True, timeout=60)
+                         capture_output=True, text=True, timeout=300)
     assert gen.returncode == 0, gen.stderr
-    listed = subprocess.run(["roslaunch", "--nodes", str(launch)], capture_output=True, text=True, timeout=60)
+    listed = subprocess.run(["roslaunch", "--nodes", str(launch)], capture_output=True, text=True, timeout=300)
     assert listed.returncode == 0, listed.stderr
     m = load_mapping(mapping)
     ns = m.scenario_namespace()
     expected = {resolve_node_name(e.node, ns) for e in m.entries() if e.node and e.pkg} | {f"/{ns}/controller_executor"}
     assert set(listed.stdout.split()) == expected, listed.stdout
-    params = subprocess.run(["roslaunch", "--dump-params", str(launch)], capture_output=True, text=True, timeout=60)
+    params = subprocess.run(["roslaunch", "--dump-params", str(launch)], capture_output=True, text=True, timeout=300)
     assert params.returncode == 0, params.stderr
     first = m.entries()[-1]
     for key in first.parameters:
@@ -70,7 +70,7 @@ def test_generated_launch_runs_nodes_and_executor(ros_master, tmp_path):
         """))
     launch = tmp_path / "lock.launch"
     gen = subprocess.run(["rosrun", "ltl_stack", "generate_launch", str(mapping), "--spec", str(spec),
-                          "-o", str(launch)], capture_output=True, text=True, timeout=60)
+                          "-o", str(launch)], capture_output=True, text=True, timeout=300)
     assert gen.returncode == 0, gen.stderr
     probe = Probe(ros_master, tmp_path, ["bool:/lock/outputs/out", "bool:/lock/outputs/busy"])
     try:

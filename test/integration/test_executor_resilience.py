@@ -213,10 +213,10 @@ def test_violation_past_the_threshold_resynthesizes_and_the_file_loads(ros_maste
     assert "EC1 (Eq. 4.3) observed" in text or "EC2 (Eq. 4.4) observed" in text, text
     assert f"{spec}:{DOOR_CLAUSE_LINE}: door'" in text, text
     done = subprocess.run(["rosrun", "ltl_stack", "synthesize", str(out)], capture_output=True, text=True,
-                          timeout=120, env=dict(ros_master.env))
+                          timeout=300, env=dict(ros_master.env))
     assert done.returncode == 0, done.stderr
     check = subprocess.run(["rosrun", "ltl_stack", "controller_executor", str(out), "--check"], capture_output=True,
-                           text=True, timeout=120, env=dict(ros_master.env))
+                           text=True, timeout=300, env=dict(ros_master.env))
     assert check.returncode == 0, check.stderr
     # and the node keeps working: the person leaves, stop may drop
     probe.publish(PERSON, False)
@@ -256,7 +256,7 @@ def test_user_liveness_round_trip(ros_master, rprobes, tmp_path):
     assert all(s["mode"] == "waiting_for_user" for s in probe.states()[before:]), probe.states()[before:]
 
     good = subprocess.run(["rosrun", "ltl_stack", "add_env_liveness", "--json", "door"], capture_output=True,
-                          text=True, timeout=180, env=dict(ros_master.env))
+                          text=True, timeout=300, env=dict(ros_master.env))
     assert good.returncode == 0, (good.stdout, good.stderr)
     answer = json.loads(good.stdout)
     assert answer["success"] is True and answer["mode"] in ("normal", "recovering", "holding"), answer
@@ -275,7 +275,7 @@ def test_abort_drives_every_output_false_and_reports_error(ros_master, rprobes, 
     probe.publish(PERSON, True)
     probe.wait_value(STOP, True)
     done = subprocess.run(["rosrun", "ltl_stack", "add_env_liveness", "--abort"], capture_output=True, text=True,
-                          timeout=120, env=dict(ros_master.env))
+                          timeout=300, env=dict(ros_master.env))
     assert done.returncode == 0, (done.stdout, done.stderr)
     probe.wait_value(STOP, False, timeout=60)
     probe.wait_state(lambda s: s["mode"] == "aborted", "mode aborted on ~state")
@@ -339,7 +339,7 @@ def test_characterized_spec_naming_the_spec_is_refused(ros_master, tmp_path):
 
 def tool(args: list[str], env: dict) -> subprocess.CompletedProcess:
     return subprocess.run(["rosrun", "ltl_stack", "add_env_liveness", *args], capture_output=True, text=True,
-                          timeout=120, env=env)
+                          timeout=300, env=env)
 
 
 @pytest.mark.parametrize("args, code, needle", [
@@ -405,6 +405,6 @@ def test_transitions_threshold_at_a_fixed_rate_and_an_english_characterized_spec
     assert "# replaced by environment characterization: Assume always you are sensing door" in text, text
     assert "If you are sensing person then do stop" in text and "[ENV_TRANS]" not in text, text
     done = subprocess.run(["rosrun", "ltl_stack", "synthesize", str(out)], capture_output=True, text=True,
-                          timeout=120, env=dict(ros_master.env))
+                          timeout=300, env=dict(ros_master.env))
     assert done.returncode == 0, done.stderr
     assert node.running() and "Traceback" not in node.output(), node.output()

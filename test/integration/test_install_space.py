@@ -26,7 +26,7 @@ def test_scripts_folder_is_what_the_suite_checks():
 def bootstrap_paths() -> dict[str, Path]:
     out = subprocess.run(["bash", "-c", 'source tools/paths.sh && echo "$LTL_STACK_HOME" && '
                           'echo "$LTL_STACK_VENV" && echo "$LTL_STACK_WS"'], cwd=REPO_ROOT, capture_output=True,
-                         text=True, check=True, timeout=60).stdout.split("\n")
+                         text=True, check=True, timeout=300).stdout.split("\n")
     return {"home": Path(out[0]), "venv": Path(out[1]), "ws": Path(out[2])}
 
 
@@ -59,7 +59,7 @@ def install_env(install, tmp_path_factory) -> dict[str, str]:
     Python process of its own)."""
     proc = subprocess.run(["bash", "-c", f'source "{install}/setup.bash" && env -0'],
                           env=clean_env(tmp_path_factory.mktemp("install_env")), capture_output=True, text=True,
-                          timeout=120, check=True)
+                          timeout=300, check=True)
     return dict(item.split("=", 1) for item in proc.stdout.split("\0") if "=" in item)
 
 

@@ -217,7 +217,7 @@ def test_rosnode_kill_stops_an_active_output_node_promptly_and_drives_it_off(ros
     ros.set_bool(ros.topic("outputs/move"), True)
     cmd.wait(lambda ms: len(ms) >= 2, what="Twists while true")
     subprocess.run(["rosnode", "kill", f"{ros.ns.strip('/')}_killme"], env=ros.master.env, check=True,
-                   capture_output=True, timeout=60)
+                   capture_output=True, timeout=300)
     wait_for(lambda: not node.running(), 30, "set_velocity to exit after rosnode kill")  # by itself, not stop()
     assert node.popen.returncode == 0, node.output()
     cmd.wait_last(lambda t: not nonzero(t), what="a zero Twist when killed")

@@ -142,7 +142,7 @@ def test_pause_stops_the_robot_within_one_step_and_resume_moves_it_again():
         # Pause through the service (called as a user would), resume through the topic.
         states_before, commands_before = len(state.snapshot()), len(commands.snapshot())
         call = subprocess.run(["rosservice", "call", "/clean_and_patrol/controller_executor/set_running",
-                               "data: false"], env=master.env, capture_output=True, text=True, timeout=30)
+                               "data: false"], env=master.env, capture_output=True, text=True, timeout=300)
         assert call.returncode == 0 and "success: True" in call.stdout, call.stdout + call.stderr
         paused = state.wait_last(lambda m: not m.running, timeout=30, what="a paused state")
         assert paused.state_id >= 0
@@ -179,7 +179,7 @@ def test_pause_stops_the_robot_within_one_step_and_resume_moves_it_again():
 
 def test_simple_scenario_moves_always_and_stops_for_the_person():
     proc = subprocess.run([sys.executable, "-m", "ltl_stack.sim.demo", "--scenario", "simple", "--json",
-                           "--duration", "8", "--timeout", "60"], capture_output=True, text=True, timeout=120,
+                           "--duration", "8", "--timeout", "200"], capture_output=True, text=True, timeout=300,
                           cwd=REPO_ROOT)
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
     states = _states([json.loads(line) for line in proc.stdout.splitlines() if line.startswith("{")])
@@ -219,7 +219,7 @@ def test_live_analysis_of_the_simple_scenario_finds_move_and_stop_on_the_velocit
         out = tmp_path / "simple_with_suggestion.slugsin"
         proc = subprocess.run(["rosrun", "ltl_stack", "analyze_graph", "--spec", str(config / "simple.structuredslugs"),
                                "--mapping", str(config / "simple.yaml"), "--live", "--json", "--apply", str(out)],
-                              env=master.env, capture_output=True, text=True, timeout=120)
+                              env=master.env, capture_output=True, text=True, timeout=300)
         assert proc.returncode == Exit.UNREALIZABLE, proc.stdout[-3000:] + proc.stderr[-3000:]
         text = proc.stdout
         assert '"/simple/cmd_vel"' in text, text[:2000]

@@ -28,7 +28,7 @@ def test_controller_executor_checks_a_saved_strategy_from_the_command_line(tmp_p
     strategy.write_text(json.dumps(synthesize(parse_slugsin(LOCK, str(spec_file))).strategy.explicit().to_json()))
     proc = subprocess.run(["rosrun", "ltl_stack", "controller_executor", str(spec_file), "--check", "--json",
                            "--strategy", str(strategy), "--init-props", "a=0,lock=1"],
-                          capture_output=True, text=True, timeout=60, env=no_master_env())
+                          capture_output=True, text=True, timeout=300, env=no_master_env())
     assert proc.returncode == 0, proc.stderr
     summary = json.loads(proc.stdout)
     assert summary["initial_state"]["outputs"] == {"out": False, "busy": True}, summary

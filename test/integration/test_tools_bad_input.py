@@ -152,7 +152,7 @@ def _run(master: RosMaster, folder: Path, command: list[str], files: dict[str, b
     before = _files(folder)
     args = [a.format(d=folder) for a in command]
     done = subprocess.run(["rosrun", "ltl_stack", *args], env=master.env, capture_output=True, text=True,
-                          timeout=120, cwd=folder)
+                          timeout=300, cwd=folder)
     return done, before
 
 
@@ -187,7 +187,7 @@ def test_node_bad_parameter_or_file_one_fatal_and_exit_2(master, tmp_path, case)
                                   "proposition_monitor", "send_proposition_goal", "controller_trace"])
 def test_help_prints_help_and_starts_nothing(master, tool):
     done = subprocess.run(["rosrun", "ltl_stack", tool, "--help"], env=master.env, capture_output=True, text=True,
-                          timeout=60)
+                          timeout=300)
     assert done.returncode == 0 and "usage:" in done.stdout and "exit codes:" in done.stdout, done
     nodes = {n for _, who in master.system_state()[0] for n in who}
     assert not any(tool in n for n in nodes), nodes
@@ -208,7 +208,7 @@ def test_master_uri_of_a_node_is_refused_not_waited_on(master, tmp_path, tool):
         uri = wait_for(node_uri, 60, "the probe node to register")
         args = {"set_propositions": ["/x", "a=1"], "proposition_monitor": ["/x"], "controller_trace": []}[tool]
         done = subprocess.run(["rosrun", "ltl_stack", tool, *args, "--master-uri", uri], env=master.env,
-                              capture_output=True, text=True, timeout=120, cwd=tmp_path)
+                              capture_output=True, text=True, timeout=300, cwd=tmp_path)
         assert done.returncode == Exit.NO_ROS, (done.returncode, done.stdout[-1000:], done.stderr[-2000:])
         assert done.stderr.strip().splitlines()[-1].startswith(f"{tool}: error: {uri} answers but is not a ROS master"), \
             done.stderr[-2000:]

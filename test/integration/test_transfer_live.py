@@ -38,7 +38,7 @@ def start_target_robot(ros_master, twist_topics, actions=()):
 def transfer(ros_master, tmp_path, program, source, target, *extra, answer=""):
     args = ["rosrun", "ltl_stack", "ros_code_transfer", str(DATA / program), "--from", source, "--to", target,
             "--robots", str(require_shared("robots")), "-o", str(tmp_path / "out.py"), "--live", *extra]
-    return subprocess.run(args, env=ros_master.env, input=answer, capture_output=True, text=True, timeout=60)
+    return subprocess.run(args, env=ros_master.env, input=answer, capture_output=True, text=True, timeout=300)
 
 
 def test_live_listing_has_topics_with_types_and_actions(ros_master):
@@ -118,7 +118,7 @@ def test_transferred_keyboard_program_drives_the_simulated_turtlebot_within_limi
     args = ["rosrun", "ltl_stack", "ros_code_transfer", str(DATA / "keyboard_jackal.py"), "--from", "jackal",
             "--to", "turtlebot", "--robots", str(require_shared("robots")), "-o", str(tmp_path / "kb.py"),
             "--codebase", str(codebase), "--non-interactive", "-q"]
-    done = subprocess.run(args, env=ros_master.env, capture_output=True, text=True, timeout=60)
+    done = subprocess.run(args, env=ros_master.env, capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr
     topic = "/cmd_vel_mux/input/navi"
     ros_master.run(["rosrun", "ltl_stack", "sim_robot", f"cmd_vel:={topic}", "_cmd_timeout:=0"], name="sim_robot")

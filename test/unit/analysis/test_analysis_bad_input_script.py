@@ -124,7 +124,7 @@ def _run(folder: Path, extra: list[str]) -> subprocess.CompletedProcess:
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(REPO / "src"), os.environ.get("PYTHONPATH", "")]))
     env.pop("ROS_MASTER_URI", None)
     return subprocess.run([sys.executable, str(SCRIPT), *args, *extra], capture_output=True, text=True,
-                          timeout=120, env=env, cwd=folder)
+                          timeout=300, env=env, cwd=folder)
 
 
 def _files(folder: Path) -> dict[str, bytes]:
@@ -173,7 +173,7 @@ def test_the_good_files_pass_and_both_outputs_are_written(folder):
 
 
 def test_help_exits_0_and_lists_the_exit_codes():
-    done = subprocess.run([sys.executable, str(SCRIPT), "--help"], capture_output=True, text=True, timeout=60,
+    done = subprocess.run([sys.executable, str(SCRIPT), "--help"], capture_output=True, text=True, timeout=300,
                           env=dict(os.environ, PYTHONPATH=os.pathsep.join([str(REPO / "src"),
                                                                            os.environ.get("PYTHONPATH", "")])))
     assert done.returncode == 0 and "exit codes: 0 " in done.stdout and "10 the specification is unrealizable" \

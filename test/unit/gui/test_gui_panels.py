@@ -280,12 +280,12 @@ def test_own_renderer_draws_when_qt_dotgraph_is_absent(qtbot):
 def test_standalone_hosts_need_no_rqt():
     for name in ("mapping_panel", "analysis_panel", "controller_view"):
         done = subprocess.run([sys.executable, str(ROOT / "scripts" / name), "--help"], capture_output=True,
-                              text=True, timeout=120)
+                              text=True, timeout=300)
         assert done.returncode == 0 and "--spec" in done.stdout, done.stderr
     code = ("import sys; import ltl_stack.gui.mapping_panel, ltl_stack.gui.analysis_panel, "
             "ltl_stack.gui.controller_view, ltl_stack.gui.standalone; "
             "print([m for m in sys.modules if m.startswith(('rqt_gui', 'qt_gui'))])")
-    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
     assert done.returncode == 0 and done.stdout.strip() == "[]", done.stdout + done.stderr
 
 

@@ -160,5 +160,5 @@ def test_the_pure_layers_of_the_nodes_import_without_ros():
             "import ltl_stack.runtime.node_params, ltl_stack.runtime.edges, ltl_stack.runtime.sensing\n"
             "import ltl_stack.runtime.executor_setup, ltl_stack.runtime.ros_names, ltl_stack.sim.kinematics\n"
             "import ltl_stack.sim.schedule\n")
-    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr

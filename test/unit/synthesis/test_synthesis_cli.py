@@ -215,7 +215,7 @@ def test_timeout_ends_long_work_with_the_limit_code(spec_file, tmp_path):
     spec = spec_file(COUNTER, "counter.structuredslugs")
     out = tmp_path / "s.json"
     run = subprocess.run([sys.executable, str(SCRIPT), spec, "--timeout", "0.5", "--strategy-json", str(out)],
-                         capture_output=True, text=True, timeout=120, env={**os.environ, "PYTHONWARNINGS": "ignore"})
+                         capture_output=True, text=True, timeout=300, env={**os.environ, "PYTHONWARNINGS": "ignore"})
     err = [line for line in run.stderr.splitlines() if "error" in line]
     assert run.returncode == Exit.LIMIT, (run.returncode, run.stderr)
     assert err == ["synthesize: error: gave up after 0.5 s (the time limit, --timeout)"], run.stderr

@@ -78,7 +78,7 @@ def test_the_live_listing_is_injected(tmp_path, capsys):
 def test_the_cli_module_does_not_import_ros():
     code = ("import sys; import ltl_stack.transfer.cli; "
             "print(sorted(m for m in sys.modules if m.startswith(('ltl_stack.ros', 'rospy', 'rosgraph'))))")
-    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60,
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300,
                           env={**os.environ, "PYTHONPATH": str(REPO_ROOT / "src")})
     assert done.returncode == 0 and done.stdout.strip() == "[]", (done.stdout, done.stderr)
 
@@ -281,7 +281,7 @@ def test_bad_input_through_the_real_script(tmp_path, case):
     env = {k: v for k, v in os.environ.items() if k != "ROS_MASTER_URI"}
     env["PYTHONPATH"] = os.pathsep.join([str(REPO_ROOT / "src"), env.get("PYTHONPATH", "")])
     done = subprocess.run([sys.executable, str(REPO_ROOT / "scripts" / "ros_code_transfer"), *argv],
-                          capture_output=True, text=True, timeout=120, env=env)
+                          capture_output=True, text=True, timeout=300, env=env)
     _check(case, done.returncode, done.stderr, tmp_path, named, snapshot)
     assert done.stdout == ""
 
@@ -317,6 +317,6 @@ def test_mine_channels_through_the_real_script_refuses_output_over_a_program(tmp
     (folder / "a.py").write_text("import rospy\n")
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(REPO_ROOT / "src"), os.environ.get("PYTHONPATH", "")])}
     done = subprocess.run([sys.executable, str(REPO_ROOT / "scripts" / "mine_channels"), str(folder), "--robot",
-                           "bot", "-o", str(folder / "a.py")], capture_output=True, text=True, timeout=60, env=env)
+                           "bot", "-o", str(folder / "a.py")], capture_output=True, text=True, timeout=300, env=env)
     assert done.returncode == Exit.BAD_INPUT and done.stderr.startswith("mine_channels: error: "), done.stderr
     assert (folder / "a.py").read_text() == "import rospy\n"

@@ -98,7 +98,7 @@ def test_example_4_through_the_real_script_with_the_shared_files(tmp_path):
         [sys.executable, str(REPO_ROOT / "scripts" / "ros_code_transfer"), str(DATA / "greet_pepper.py"),
          "--from", "pepper", "--to", "nao", "--robots", str(robots), "-o", str(tmp_path / "greet_nao.py"),
          "--topics", str(DATA / "topics" / "nao.yaml"), "--json", "-q"],
-        input="2\n", capture_output=True, text=True, timeout=120,
+        input="2\n", capture_output=True, text=True, timeout=300,
         env={**os.environ, "PYTHONPATH": os.pathsep.join([str(REPO_ROOT / "src"), os.environ.get("PYTHONPATH", "")])})
     assert done.returncode == Exit.OK, done.stderr
     summary = json.loads(done.stdout)["summary"]
@@ -231,7 +231,7 @@ def _env():
 
 def test_choose_by_distribution_prompts_through_a_pipe(tmp_path):
     done = subprocess.run([sys.executable, *_keyboard_args(tmp_path, "--choose-by-distribution")],
-                          input="x\n2\n", capture_output=True, text=True, timeout=120, env=_env())
+                          input="x\n2\n", capture_output=True, text=True, timeout=300, env=_env())
     assert done.returncode == Exit.OK, done.stderr
     assert ("Please select a topic for Twist from the list.\n"
             "The original topic was 'cmd_vel'. Input Example: 1\n"
@@ -250,13 +250,13 @@ def test_choose_by_distribution_prompts_through_a_pipe(tmp_path):
 def test_choose_by_distribution_with_a_given_answer_and_without_one(tmp_path):
     done = subprocess.run([sys.executable, *_keyboard_args(tmp_path, "--choose-by-distribution", "--choose",
                                                            "Twist=3", "--non-interactive")],
-                          capture_output=True, text=True, timeout=120, env=_env(), stdin=subprocess.DEVNULL)
+                          capture_output=True, text=True, timeout=300, env=_env(), stdin=subprocess.DEVNULL)
     assert done.returncode == Exit.OK, done.stderr
     channel = json.loads(done.stdout)["channels"][0]
     assert channel["replacement"] == "mobile_base/commands/velocity" and channel["user_input"], channel
     # no answer at all from a closed stdin: one clear error, nothing written
     done = subprocess.run([sys.executable, *_keyboard_args(tmp_path, "--choose-by-distribution")],
-                          capture_output=True, text=True, timeout=120, env=_env(), stdin=subprocess.DEVNULL)
+                          capture_output=True, text=True, timeout=300, env=_env(), stdin=subprocess.DEVNULL)
     assert done.returncode == Exit.BAD_INPUT and "no answer to the question about the topic 'cmd_vel'" in done.stderr
     assert not (tmp_path / "kb.py").exists() or "teleop" not in (tmp_path / "kb.py").read_text()
 
