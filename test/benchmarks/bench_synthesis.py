@@ -3,6 +3,7 @@
     python test/benchmarks/bench_synthesis.py                 # everything, writes docs/benchmarks/synthesis.md
     python test/benchmarks/bench_synthesis.py --quick         # thesis specs and small family members only
     python test/benchmarks/bench_synthesis.py --grid 16:4:3   # grid patrol vs omega, alternating runs
+    python test/benchmarks/bench_synthesis.py --scale 1000 4000   # 2 x N propositions in 4 clauses
 
 Every measurement runs in a fresh subprocess (``--worker``) with a time limit, so a slow case cannot
 stall the run and memory does not accumulate. Times are in-process wall times (``perf_counter``),
@@ -61,10 +62,37 @@ def load_case(case: str):
     return spec, time.perf_counter() - start
 
 
+def scaled_spec_text(n: int) -> str:
+    """2 x n propositions in 4 clauses: inputs stay on once on, outputs toggle, all outputs start
+    false, one system goal (realizable; each clause is one n-ary conjunction over all propositions)."""
+    def conj(parts: list[str]) -> str:
+        return " ".join(["&"] * (len(parts) - 1) + parts)
+
+    xs, ys = [f"x{i}" for i in range(n)], [f"y{i}" for i in range(n)]
+    return "\n".join(["[INPUT]", *xs, "[OUTPUT]", *ys,
+                      "[ENV_TRANS]", conj([f"| ! {x} {x}'" for x in xs]),
+                      "[SYS_INIT]", conj([f"! {y}" for y in ys]),
+                      "[SYS_TRANS]", conj([f"^ {y}' {y}" for y in ys]),
+                      "[SYS_LIVENESS]", "y0", ""])
+
+
 def worker(job: dict) -> dict:
     from ltl_stack.synthesis import Game, Options, SymbolicStrategy
     from ltl_stack.synthesis.fixpoint import solve
 
+    if job["task"] == "scale":
+        from ltl_stack.spec import parse_slugsin
+        from ltl_stack.synthesis import synthesize
+
+        text = scaled_spec_text(job["n"])
+        start = time.perf_counter()
+        spec = parse_slugsin(text)
+        parsed = time.perf_counter()
+        quick = synthesize(spec, strategy=False)
+        checked = time.perf_counter()
+        full = synthesize(spec)
+        return {"realizable": quick.realizable and full.realizable, "parse": parsed - start,
+                "seconds": checked - parsed, "full": time.perf_counter() - checked, "bytes": len(text)}
     spec, parse = load_case(job["case"])
     task = job["task"]
     robotics = job.get("robotics", False)
@@ -115,7 +143,7 @@ def measure(job: dict, timeout: float, repeat: int, key: str = "seconds") -> dic
     results = [first] + [run(job, timeout) for _ in range(repeat - 1)]
     ok = [r for r in results if key in r]
     out = dict(ok[len(ok) // 2]) if ok else dict(first)
-    for k in ("seconds", "explicit", "end_to_end", "parse"):
+    for k in ("seconds", "explicit", "end_to_end", "parse", "full"):
         values = [r[k] for r in ok if k in r]
         if values:
             out[k] = statistics.median(values)
@@ -187,9 +215,20 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--grid", nargs="+", metavar="N:K:M",
                    help="only the grid patrol family vs omega for these members (e.g. 16:4:3), "
                         "ours and omega alternating, and print a table")
+    p.add_argument("--scale", nargs="+", type=int, metavar="N",
+                   help="only the 2 x N propositions / 4 clauses spec (parse, realizability, full synthesis "
+                        "with strategy; fresh process each) and print a table")
     args = p.parse_args(argv)
     if args.worker:
         print(json.dumps(worker(json.loads(args.worker))))
+        return 0
+    if args.scale:
+        print("| propositions | spec size | realizable | parse | realizability | synthesis with strategy |")
+        print("|---|---|---|---|---|---|")
+        for n in args.scale:
+            r = measure({"case": "", "task": "scale", "n": n}, args.timeout, args.repeat)
+            print(f"| 2 × {n:,} | {r.get('bytes', 0) / 1024:.0f} KiB | {r.get('realizable', '?')} | "
+                  f"{show(r, 'parse')} | {show(r)} | {show(r, 'full')} |", flush=True)
         return 0
     if args.order:
         print("| spec | realizable | order chosen | auto | interleaved | auto / interleaved |")

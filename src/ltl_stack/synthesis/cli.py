@@ -5,6 +5,9 @@ cooperative strategy); the text and ``--json`` output say which were used. ``--j
 summary on stdout; the strategy files are written with ``--strategy-json``, ``--slugs-json``,
 ``--dot``, ``--png`` and ``--counterstrategy``: all of them or none (each is rendered first, then
 every file is written through a temporary file and renamed at the end), never over an input.
+Without an export only the verdict is computed (``synthesize(strategy=False)``: no strategy, and
+the fixpoint stops as soon as the answer is "unrealizable"; ``z_iterations`` is then the number of
+Z iterations that took).
 ``--recovery`` exports the strategy with recovery transitions (thesis §4.6, Alg. 1 lines 19-25;
 ``SymbolicStrategy.explicit(recovery=True)``) and reports the state counts with and without them.
 
