@@ -19,7 +19,8 @@ subscribe to its output topic::
       stop:                        # ... or a list of nodes
         - {node: '/ns/outputs/r1/stop', node_subscribe_topic: '/ns/outputs/stop', ...}
 
-Compatible extensions: an optional top-level ``namespace:``; per node ``type:`` (the executable,
+Compatible extensions: an optional top-level ``namespace:``; ``negotiation:`` (the proposition
+classes for integrative negotiation, read by ``runtime.negotiation``, docs/negotiation.md); per node ``type:`` (the executable,
 otherwise taken from ``filename``) and ``args:`` (command-line arguments for the launch file).
 
 ``load_mapping`` reads a file as it is (structure errors raise ``MappingError`` naming file and line);

@@ -197,7 +197,8 @@ def negotiation_classes(mapping: MappingFile | None, spec: Spec) -> Classes | No
     if classes is not None:
         problems = classes.check(spec)
         if problems:
-            raise NegotiationError(classes.file, 0, "; ".join(p.split(": ", 1)[1] if ": " in p else p for p in problems))
+            raise NegotiationError(classes.file, classes.line,
+                                   "; ".join(p.split(": ", 1)[1] if ": " in p else p for p in problems))
     return classes
 
 

@@ -25,6 +25,7 @@ from ltl_stack.runtime.negotiation import (
     classes_from_data,
     classes_from_mapping,
     drive,
+    negotiation_classes,
     report_lines,
 )
 from ltl_stack.spec import parse_structured
@@ -240,6 +241,13 @@ def test_proposition_classes_from_the_mapping():
     assert any("'nope' is not an input" in p for p in problems)
     assert any("also a global sensor" in p for p in problems)
     assert any("both translate to 'y'" in p for p in problems)
+
+
+def test_a_declaration_that_does_not_fit_the_spec_names_the_mapping_line():
+    mapping = parse_mapping("inputs: {}\nnegotiation:\n  robot: P\n  peers:\n    Q: {eap: {nope: x}}\n", "P.yaml")
+    with pytest.raises(NegotiationError, match=r"^P.yaml:2: negotiation.peers.Q.eap: 'nope' is not an input"):
+        negotiation_classes(mapping, parse_structured(p_spec(), "P"))
+    assert negotiation_classes(None, parse_structured(p_spec(), "P")) is None
 
 
 # --- the invariant, under every fault ------------------------------------------------------------------
