@@ -408,3 +408,20 @@ def test_transitions_threshold_at_a_fixed_rate_and_an_english_characterized_spec
                           timeout=300, env=dict(ros_master.env))
     assert done.returncode == 0, done.stderr
     assert node.running() and "Traceback" not in node.output(), node.output()
+
+
+def test_a_one_step_violation_shows_as_recovering_on_state(ros_master, rprobes, tmp_path):
+    """door -> door': closing the door breaks it once; staying closed is admissible again, so the
+    settling step after the recovery move is normal. ~state still says the update recovered."""
+    spec = tmp_path / "probe.structuredslugs"
+    spec.write_text(PROBE_SPEC.replace("[ENV_TRANS]\ndoor'", "[ENV_TRANS]\ndoor -> door'"))
+    executor(ros_master, spec, "--characterize", "--characterize-after-transitions", "100000",
+             inputs=(PERSON, DOOR))
+    probe = rprobes([f"bool:{STOP}", f"state:{STATE}", "diag:/diagnostics"])
+    probe.publish(PERSON, False)
+    probe.publish(DOOR, True)
+    probe.wait_state(lambda s: s["inputs"] == {"person": False, "door": True}, "the initial state")
+    probe.publish(DOOR, False)
+    state = probe.wait_state(lambda s: s["mode"] == "recovering", "a recovering ~state")
+    assert any(f"{spec}:{DOOR_CLAUSE_LINE}: door -> door'" in c for c in state["violated"]), state
+    assert state["recovery_steps"] >= 1 and state["resyntheses"] == 0, state

@@ -228,6 +228,10 @@ class ExecutorNode:
         self._recovering = False
         self._violated_now: list[str] = []
         self._mode = "normal"
+        #: recovery moves counted at the last publication, and whether the current update took one:
+        #: a one-step violation followed by a normal settling step still shows as "recovering" once
+        self._seen_recovery_steps = 0
+        self._recovered_in_update = False
         if self.resilient is not None:
             self.resilient.runner = thread_runner
             self.resilient.on_installed = self._on_installed
@@ -436,6 +440,8 @@ class ExecutorNode:
                 mode = self.resilient.mode.value
                 if mode in ("normal", "recovering") and controller.violation is not None:
                     return "holding"
+                if mode == "normal" and self._recovered_in_update:
+                    return "recovering"
                 return mode
             if controller.violation is not None:
                 return "holding"
@@ -485,7 +491,9 @@ class ExecutorNode:
     def _violated_clauses(self) -> list[str]:
         """The env-safety clauses the current inputs violate, ``file:line: text (English)``."""
         if self.resilient is not None:
-            return [_shown(c) for c in self.resilient.violated_now]
+            clauses = self.resilient.violated_now or (self.resilient.last_violated if self._recovered_in_update
+                                                      else [])
+            return [_shown(c) for c in clauses]
         return list(self._violated_now)
 
     def _on_ready_timeout(self, _event: Any) -> None:
@@ -559,7 +567,8 @@ class ExecutorNode:
             for pub in self.output_pubs[prop]:
                 pub.publish(Bool(True))
         update = self._account(update)
-        if changed or update.stepped or force_state or force_outputs or update.violation is not None:
+        if (changed or update.stepped or force_state or force_outputs or update.violation is not None
+                or self._current_mode() != self._mode):
             self._publish_state(update)
         if update.stepped:
             self._report_step(update)
@@ -585,9 +594,14 @@ class ExecutorNode:
 
     def _account(self, update: Update) -> Update:
         """Count what the update did (without characterization the node counts), and make a
-        violation the resilient strategy recovered from internally visible as one."""
+        violation the resilient strategy recovered from internally visible as one (also when the
+        settling steps after the recovery move were normal again)."""
         if self.resilient is not None:
-            violated = self.resilient.violated_now
+            steps = self.resilient.counters.recovery_steps
+            self._recovered_in_update = steps > self._seen_recovery_steps
+            self._seen_recovery_steps = steps
+            violated = self.resilient.violated_now or (self.resilient.last_violated if self._recovered_in_update
+                                                       else [])
             if update.stepped and update.violation is None and violated and self.controller.aborted is None:
                 update = replace(update, violation=AssumptionViolation(violated, self.controller.readings),
                                  recovered=True)

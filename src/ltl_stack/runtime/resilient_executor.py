@@ -105,6 +105,8 @@ class BackgroundResilience(ResilientStrategy):
         self.on_changed = on_changed
         #: the env-safety clauses the latest step's inputs broke (empty: admissible)
         self.violated_now: list[Clause] = []
+        #: the clauses of the latest violating step (kept after it, for reports of a brief violation)
+        self.last_violated: list[Clause] = []
         #: the latest readings passed to ``step`` (with the current outputs: the position P)
         self.readings: dict[str, bool] = {}
         #: set while a job runs (the observation it started from)
@@ -125,6 +127,8 @@ class BackgroundResilience(ResilientStrategy):
             self.readings = {n: bool(inputs[n]) for n in self.inputs}
             self.violated_now = self.strategy.game.violated("env_safety", state.valuation, self.readings) \
                 if self.mode is not Mode.ABORTED else []
+            if self.violated_now:
+                self.last_violated = self.violated_now
             try:
                 return super().step(state, inputs)
             finally:
