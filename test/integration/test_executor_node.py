@@ -95,7 +95,7 @@ class Probe:
         self.events: list[dict] = []
         self._reader = threading.Thread(target=self._read, daemon=True)
         self._reader.start()
-        wait_for(lambda: self.of("up"), 20, "the probe to start")
+        wait_for(lambda: self.of("up"), 90, "the probe to start")
 
     def _read(self) -> None:
         for line in self.popen.stdout:
@@ -112,12 +112,12 @@ class Probe:
     def publish(self, topic: str, value: bool) -> None:
         count = len(self.of("published", topic=topic))
         self.send(op="pub", topic=topic, value=value)
-        wait_for(lambda: len(self.of("published", topic=topic)) > count, 30, f"publishing {topic}={value}")
+        wait_for(lambda: len(self.of("published", topic=topic)) > count, 90, f"publishing {topic}={value}")
 
     def call(self, service: str, value: bool) -> dict:
         count = len(self.of("called"))
         self.send(op="call", service=service, value=value)
-        return wait_for(lambda: self.of("called")[count:], 30, f"calling {service}")[0]
+        return wait_for(lambda: self.of("called")[count:], 90, f"calling {service}")[0]
 
     def last(self, topic: str) -> bool | None:
         values = self.of("bool", topic=topic)
@@ -171,14 +171,14 @@ def test_ready_handshake_names_silent_inputs_then_steps_on_changes(ros_master, p
     probe = probes(LISTEN)
     probe.wait_value(OUT, False)  # every output starts false (latched)
     probe.publish(A, True)
-    log = executor.wait_output("from input(s) lock (/lock/inputs/lock)", timeout=30)
+    log = executor.wait_output("from input(s) lock (/lock/inputs/lock)", timeout=90)
     assert "no message after" in log, log
     assert [s["state"] for s in probe.of("state")] == [-1] * len(probe.of("state")), probe.of("state")
     assert probe.last(OUT) is False, probe.of("bool")
 
     probe.publish(LOCK, False)
     probe.wait_value(OUT, True)
-    first = wait_for(lambda: [s for s in probe.of("state") if s["state"] >= 0], 30, "the initial state")[0]
+    first = wait_for(lambda: [s for s in probe.of("state") if s["state"] >= 0], 90, "the initial state")[0]
     assert first["inputs"] == {"a": True, "lock": False} and first["outputs"] == {"out": True, "busy": False}, first
     executor.wait_output("initial state")
 
@@ -188,7 +188,7 @@ def test_ready_handshake_names_silent_inputs_then_steps_on_changes(ros_master, p
         probe.publish(A, True)
     probe.publish(A, False)
     probe.wait_value(OUT, False)
-    wait_for(lambda: len([s for s in probe.of("state") if s["state"] >= 0]) == steps + 1, 30, "one more state")
+    wait_for(lambda: len([s for s in probe.of("state") if s["state"] >= 0]) == steps + 1, 90, "one more state")
     probe.publish(LOCK, True)
     probe.wait_value(BUSY, True)
     states = [s for s in probe.of("state") if s["state"] >= 0]
@@ -209,7 +209,7 @@ def test_pause_by_service_and_topic_drives_every_output_false(ros_master, probes
     assert reply == {**reply, "success": True, "message": "paused"}, reply
     probe.wait_value(OUT, False)
     probe.wait_value(BUSY, False)
-    wait_for(lambda: probe.of("state") and probe.of("state")[-1]["running"] is False, 30, "running false in ~state")
+    wait_for(lambda: probe.of("state") and probe.of("state")[-1]["running"] is False, 90, "running false in ~state")
     # While paused, input changes do not move the outputs.
     probe.publish(A, False)
     probe.publish(A, True)
@@ -233,7 +233,7 @@ def test_assumption_violation_is_diagnosed_and_outputs_follow_the_policy(ros_mas
     probe.wait_value(BUSY, True)
 
     probe.publish(LOCK, False)  # breaks lock -> lock'
-    diag = wait_for(lambda: [d for d in probe.of("diag") if d["level"] == 2], 30, "an ERROR diagnostic")[0]
+    diag = wait_for(lambda: [d for d in probe.of("diag") if d["level"] == 2], 90, "an ERROR diagnostic")[0]
     assert f"{lock_spec}:{LOCK_CLAUSE_LINE}: | ! lock lock' (always, if lock then next lock)" in diag["message"], diag
     assert ["meaning", "always, if lock then next lock"] in diag["values"], diag
     assert ["clause", f"{lock_spec}:{LOCK_CLAUSE_LINE}: | ! lock lock'"] in diag["values"], diag
@@ -258,7 +258,7 @@ def test_init_props_with_true_and_false_values_start_without_waiting(ros_master,
     probe = probes(LISTEN)
     probe.wait_value(OUT, True)
     probe.wait_value(BUSY, False)
-    first = wait_for(lambda: [s for s in probe.of("state") if s["state"] >= 0], 30, "the initial state")[0]
+    first = wait_for(lambda: [s for s in probe.of("state") if s["state"] >= 0], 90, "the initial state")[0]
     assert first["inputs"] == {"a": True, "lock": False}, first
     # A live reading replaces the assumed one.
     probe.publish(A, False)
@@ -268,7 +268,7 @@ def test_init_props_with_true_and_false_values_start_without_waiting(ros_master,
     def json_events():
         return [json.loads(x) for x in executor.output().splitlines() if x.startswith("{")]
 
-    wait_for(lambda: len(json_events()) >= 3, 30, "three JSON events from --json")
+    wait_for(lambda: len(json_events()) >= 3, 90, "three JSON events from --json")
     events = json_events()
     assert [(e["event"], e["inputs"], e["outputs"]) for e in events] == [
         ("start", {"a": True, "lock": False}, {"out": True, "busy": False}),
@@ -284,7 +284,7 @@ def test_second_publisher_on_an_input_topic_is_warned_about(ros_master, probes, 
     first, second = probes([], "one"), probes([], "two")
     first.publish(A, True)
     second.publish(A, True)
-    log = executor.wait_output("has 2 publishers", timeout=30)
+    log = executor.wait_output("has 2 publishers", timeout=90)
     line = next(x for x in log.splitlines() if "has 2 publishers" in x)
     assert "input 'a': topic /lock/inputs/a" in line and line.count("/probe_") == 2, line
 
@@ -346,11 +346,11 @@ def test_rate_steps_without_input_changes_and_start_paused_waits(ros_master, pro
     ros_master.wait_for_subscriber("/blink/inputs/a")
     probe = probes(["bool:/blink/outputs/out", f"state:{STATE}"])
     probe.publish("/blink/inputs/a", True)
-    wait_for(lambda: probe.of("state") and probe.of("state")[-1]["running"] is False, 30, "a paused ~state")
+    wait_for(lambda: probe.of("state") and probe.of("state")[-1]["running"] is False, 90, "a paused ~state")
     assert [s["state"] for s in probe.of("state")] == [-1] * len(probe.of("state")), probe.of("state")
     probe.call("/controller_executor/set_running", True)
     # With the input constant, the 20 Hz steps alone make out blink.
-    wait_for(lambda: len(probe.of("bool", topic="/blink/outputs/out")) >= 5, 30, "out to change 4 times")
+    wait_for(lambda: len(probe.of("bool", topic="/blink/outputs/out")) >= 5, 90, "out to change 4 times")
     values = [e["value"] for e in probe.of("bool", topic="/blink/outputs/out")]
     assert all(x != y for x, y in zip(values, values[1:], strict=False)), values
     assert len(probe.of("published")) == 1
@@ -367,7 +367,7 @@ def test_thesis_simple_example_runs_with_its_own_mapping(ros_master, probes):
     # The initial state only has to meet the (empty) sys_init; the safety clauses bind every step after it.
     probe.publish("/simple/inputs/person", False)
     probe.publish("/simple/inputs/sense_object", False)
-    wait_for(lambda: [s for s in probe.of("state") if s["state"] >= 0], 30, "the initial state")
+    wait_for(lambda: [s for s in probe.of("state") if s["state"] >= 0], 90, "the initial state")
     for person, sense_object in ((True, False), (True, True), (False, True), (False, False)):
         seen = len(probe.of("state"))
         probe.publish("/simple/inputs/person", person)
@@ -401,7 +401,7 @@ def test_transient_violation_between_two_messages_is_not_reported(ros_master, pr
     probe.wait_value("/regions/outputs/at1", False)
     # Now a lasting violation (no region at all): reported after the grace time, once.
     probe.publish("/regions/inputs/r2", False)
-    wait_for(lambda: [d for d in probe.of("diag") if d["level"] == 2], 30, "the violation diagnostic")
+    wait_for(lambda: [d for d in probe.of("diag") if d["level"] == 2], 90, "the violation diagnostic")
     log = executor.output()
     reported = [x for x in log.splitlines() if "environment assumption violated" in x]
     assert len(reported) == 1 and "inputs !r1 !r2" in reported[0], log

@@ -120,7 +120,7 @@ class ResilienceProbe(Probe):
         self.events: list[dict] = []
         self._reader = threading.Thread(target=self._read, daemon=True)
         self._reader.start()
-        wait_for(lambda: self.of("up"), 20, "the probe to start")
+        wait_for(lambda: self.of("up"), 90, "the probe to start")
 
     def liveness(self, formula: str) -> dict:
         count = len(self.of("called"))
@@ -209,7 +209,7 @@ def test_violation_past_the_threshold_resynthesizes_and_the_file_loads(ros_maste
     modes = [s["mode"] for s in probe.states()]
     assert "characterizing" in modes or "recovering" in modes, modes
     assert all(s["outputs"] == {"stop": True} for s in probe.states() if s["inputs"].get("person")), probe.states()
-    text = wait_for(lambda: out.exists() and out.read_text(), 30, "the characterized spec")
+    text = wait_for(lambda: out.exists() and out.read_text(), 90, "the characterized spec")
     assert "EC1 (Eq. 4.3) observed" in text or "EC2 (Eq. 4.4) observed" in text, text
     assert f"{spec}:{DOOR_CLAUSE_LINE}: door'" in text, text
     done = subprocess.run(["rosrun", "ltl_stack", "synthesize", str(out)], capture_output=True, text=True,
@@ -401,7 +401,7 @@ def test_transitions_threshold_at_a_fixed_rate_and_an_english_characterized_spec
     assert recovering and all(s["outputs"] == {"stop": True} for s in recovering), probe.states()
     assert max(s["violations"] for s in recovering) >= 1, recovering
     assert state["outputs"] == {"stop": True}, state
-    text = wait_for(lambda: out.exists() and out.read_text(), 30, "the characterized spec")
+    text = wait_for(lambda: out.exists() and out.read_text(), 90, "the characterized spec")
     assert "# replaced by environment characterization: Assume always you are sensing door" in text, text
     assert "If you are sensing person then do stop" in text and "[ENV_TRANS]" not in text, text
     done = subprocess.run(["rosrun", "ltl_stack", "synthesize", str(out)], capture_output=True, text=True,

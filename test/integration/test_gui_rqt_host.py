@@ -51,7 +51,7 @@ def test_rqt_loads_each_panel_offscreen(rqt_host, rqt_env, ros_master, tmp_path,
         proc.wait_output("PluginHandler.emit_restore_settings_completed()", timeout=60)
     finally:
         proc.stop(timeout=30)  # SIGINT: rqt closes its window, saving the plugin's settings
-    wait_for(lambda: not proc.running(), 30, "rqt_gui to exit")
+    wait_for(lambda: not proc.running(), 90, "rqt_gui to exit")
     out = proc.output()
     assert "PluginHandler.save_settings()" in out, out[-3000:]
     lines = [line for line in out.splitlines() if any(b in line for b in BAD)]

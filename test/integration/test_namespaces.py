@@ -64,7 +64,7 @@ def test_two_copies_of_the_simple_scenario_run_side_by_side(ros_master, tmp_path
             sorted(ours_params)
         # Pausing robot1 leaves robot2 running.
         probe.call("/robot1/simple/controller_executor/set_running", False)
-        wait_for(lambda: probe.of("state", topic=states["robot1"], running=False), 30, "robot1 paused")
+        wait_for(lambda: probe.of("state", topic=states["robot1"], running=False), 90, "robot1 paused")
         assert probe.of("state", topic=states["robot2"])[-1]["running"] is True
         assert roslaunch.running(), roslaunch.output()[-3000:]
     finally:

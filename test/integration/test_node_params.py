@@ -108,5 +108,5 @@ def test_the_namespace_param_is_honoured(ros_master):
     ros_master.run(["rosrun", "ltl_stack", "controller_executor", str(LOCK_SPEC), "_namespace:=plant/cell2"],
                    name="executor")
     ros_master.wait_for_subscriber("/plant/cell2/inputs/a", timeout=60)
-    ros_master.wait_for_publisher("/plant/cell2/outputs/busy", timeout=30)
+    ros_master.wait_for_publisher("/plant/cell2/outputs/busy", timeout=90)
     assert ros_master.subscribers("/lock/inputs/a") == []

@@ -100,7 +100,7 @@ def test_navigation_goal_from_params_reaches_the_region(ros):
 def test_bad_goal_for_the_action_type_is_one_clear_error(ros):
     node = ros.run("action_proposition", "_action:=/navigate", "_action_type:=ltl_stack/Navigate",
                    "_goal:={room: kitchen}")
-    wait_for(lambda: not node.running(), 30, "the node to exit")
+    wait_for(lambda: not node.running(), 90, "the node to exit")
     out = node.output()
     assert node.popen.returncode == 2, out
     assert "~goal {'room': 'kitchen'} does not fit ltl_stack/NavigateGoal" in out, out

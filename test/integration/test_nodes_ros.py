@@ -63,7 +63,7 @@ def test_set_velocity_reads_the_thesis_mapping_parameter_names_and_stops_on_shut
 
 def test_set_velocity_bad_parameter_is_one_clear_error(ros):
     node = ros.run("set_velocity", "_vx:=fast")
-    wait_for(lambda: not node.running(), 30, "set_velocity to exit")
+    wait_for(lambda: not node.running(), 90, "set_velocity to exit")
     out = node.output()
     assert node.popen.returncode == 2, out
     assert "~vx must be a number" in out, out
@@ -133,7 +133,7 @@ def test_threshold_sensor_publishes_the_stale_value_while_sensing_stops(ros):
 def test_negative_stale_after_is_one_clear_error(ros):
     node = ros.run("topic_threshold_sensor", "_topic:=/x", "_type:=sensor_msgs/Range",
                    "_stale_after:=-1")
-    wait_for(lambda: not node.running(), 30, "the sensor to exit")
+    wait_for(lambda: not node.running(), 90, "the sensor to exit")
     assert node.popen.returncode == 2, node.output()
     assert "~stale_after must be a number >= 0" in node.output(), node.output()
     assert "Traceback" not in node.output(), node.output()
@@ -155,7 +155,7 @@ def test_threshold_sensor_learns_the_type_from_the_master_and_forwards_a_bool(ro
 
 def test_threshold_sensor_unknown_type_is_one_clear_error(ros):
     node = ros.run("topic_threshold_sensor", "_topic:=/x", "_type:=nosuch_msgs/Thing")
-    wait_for(lambda: not node.running(), 30, "the sensor to exit")
+    wait_for(lambda: not node.running(), 90, "the sensor to exit")
     assert node.popen.returncode == 2, node.output()
     assert "unknown message type 'nosuch_msgs/Thing'" in node.output(), node.output()
     assert "Traceback" not in node.output(), node.output()
@@ -187,7 +187,7 @@ def test_region_sensor_with_a_real_regions_file(ros):
 def test_region_sensor_unknown_region_names_the_file_and_the_known_regions(ros):
     path = require_shared("specs", "move_group_and_move_base", "lab_loop.regions")
     node = ros.run("region_sensor", f"_regions_file:={path}", "_region:=kitchen")
-    wait_for(lambda: not node.running(), 30, "the sensor to exit")
+    wait_for(lambda: not node.running(), 90, "the sensor to exit")
     out = node.output()
     assert node.popen.returncode == 2, out
     assert f"{path}: no region named 'kitchen'" in out and "left_ground" in out, out
@@ -218,7 +218,7 @@ def test_rosnode_kill_stops_an_active_output_node_promptly_and_drives_it_off(ros
     cmd.wait(lambda ms: len(ms) >= 2, what="Twists while true")
     subprocess.run(["rosnode", "kill", f"{ros.ns.strip('/')}_killme"], env=ros.master.env, check=True,
                    capture_output=True, timeout=300)
-    wait_for(lambda: not node.running(), 30, "set_velocity to exit after rosnode kill")  # by itself, not stop()
+    wait_for(lambda: not node.running(), 90, "set_velocity to exit after rosnode kill")  # by itself, not stop()
     assert node.popen.returncode == 0, node.output()
     cmd.wait_last(lambda t: not nonzero(t), what="a zero Twist when killed")
 

@@ -136,7 +136,7 @@ def test_pause_stops_the_robot_within_one_step_and_resume_moves_it_again():
     try:
         try:
             odom.wait(lambda msgs: msgs and _speed(msgs[-1]) > 0.2, timeout=60, what="the robot moving")
-            commands.wait(lambda msgs: msgs and not _is_zero(msgs[-1]), timeout=30, what="a motion command")
+            commands.wait(lambda msgs: msgs and not _is_zero(msgs[-1]), timeout=90, what="a motion command")
         except AssertionError:
             raise AssertionError(launch.output()[-4000:]) from None
         # Pause through the service (called as a user would), resume through the topic.
@@ -144,7 +144,7 @@ def test_pause_stops_the_robot_within_one_step_and_resume_moves_it_again():
         call = subprocess.run(["rosservice", "call", "/clean_and_patrol/controller_executor/set_running",
                                "data: false"], env=master.env, capture_output=True, text=True, timeout=300)
         assert call.returncode == 0 and "success: True" in call.stdout, call.stdout + call.stderr
-        paused = state.wait_last(lambda m: not m.running, timeout=30, what="a paused state")
+        paused = state.wait_last(lambda m: not m.running, timeout=90, what="a paused state")
         assert paused.state_id >= 0
         # "Within one step": the first state that reports the pause already has every output false,
         # and no running state follows it while paused.
@@ -152,13 +152,13 @@ def test_pause_stops_the_robot_within_one_step_and_resume_moves_it_again():
         first_paused = next(i for i, m in enumerate(after) if not m.running)
         assert all(not m.running and not any(m.outputs.values) for m in after[first_paused:]), after[first_paused:]
         # The stop command reaches the robot.
-        commands.wait(lambda msgs: any(_is_zero(t) for t in msgs[commands_before:]), timeout=30,
+        commands.wait(lambda msgs: any(_is_zero(t) for t in msgs[commands_before:]), timeout=90,
                       what="a zero velocity command after the pause")
-        still = odom.wait_last(lambda m: _speed(m) < 1e-3, timeout=30, what="the robot standing still")
+        still = odom.wait_last(lambda m: _speed(m) < 1e-3, timeout=90, what="the robot standing still")
         # The robot must stay where it is while paused, not merely slow down: watch 20 more odometry
         # messages (a count, not a sleep, so a slow machine watches just as long in robot time).
         seen = len(odom.snapshot())
-        odom.wait(lambda msgs: len(msgs) >= seen + 20, timeout=30, what="20 odometry messages while paused")
+        odom.wait(lambda msgs: len(msgs) >= seen + 20, timeout=90, what="20 odometry messages while paused")
         here = still.pose.pose.position
         for m in odom.snapshot()[seen:]:
             there = m.pose.pose.position
@@ -169,7 +169,7 @@ def test_pause_stops_the_robot_within_one_step_and_resume_moves_it_again():
         running = rospy.Publisher("/clean_and_patrol/controller_executor/running", Bool, queue_size=1, latch=True)
         running.publish(Bool(True))
         odom.wait(lambda msgs: msgs and _speed(msgs[-1]) > 0.2, timeout=60, what="the robot moving again")
-        wait_for(lambda: state.last() is not None and state.last().running, 30, "a running state")
+        wait_for(lambda: state.last() is not None and state.last().running, 90, "a running state")
         running.unregister()
     finally:
         for recorder in (state, odom, commands):

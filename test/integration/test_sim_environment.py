@@ -97,7 +97,7 @@ def test_bad_schedule_is_one_clear_error(ros, tmp_path):
     schedule = tmp_path / "bad.yaml"
     schedule.write_text("events:\n  - {at: 1, topic: /a, type: std_msgs/Nope, value: 1}\n")
     node = ros.run("scripted_environment", f"_schedule:={schedule}")
-    wait_for(lambda: not node.running(), 30, "the node to exit")
+    wait_for(lambda: not node.running(), 90, "the node to exit")
     out = node.output()
     assert node.popen.returncode == 2, out
     assert f"{schedule}: topic /a: unknown message type 'std_msgs/Nope'" in out, out

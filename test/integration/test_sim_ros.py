@@ -142,7 +142,7 @@ def test_manipulation_server_pick_sets_holding_and_drop_can_be_cancelled_or_fail
     holding.wait_last(lambda b: b.data is True, what="holding after pick")
 
     drop.send_goal(PropositionGoal(activate=True))
-    wait_for(lambda: drop.get_state() == 1, 30, "drop to be active")
+    wait_for(lambda: drop.get_state() == 1, 90, "drop to be active")
     drop.cancel_goal()
     assert drop.wait_for_result(rospy.Duration(60))
     assert (drop.get_state(), drop.get_result().completed) == (2, False), drop.get_goal_status_text()

@@ -32,7 +32,7 @@ def start_target_robot(ros_master, twist_topics, actions=()):
                     f"_twist_topics:=[{', '.join(twist_topics)}]", "_scan_topic:=/scan",
                     f"_actions:=[{', '.join(actions)}]"], name="target_robot")
     expected = set(twist_topics) | set(actions) | {"/scan"}
-    wait_for(lambda: expected <= {name for name, _ in live(ros_master)}, 20, "the target robot's channels")
+    wait_for(lambda: expected <= {name for name, _ in live(ros_master)}, 90, "the target robot's channels")
 
 
 def transfer(ros_master, tmp_path, program, source, target, *extra, answer=""):
@@ -125,8 +125,8 @@ def test_transferred_keyboard_program_drives_the_simulated_turtlebot_within_limi
     record = tmp_path / "twists.jsonl"
     recorder = ros_master.run([sys.executable, str(DATA / "twist_recorder.py"), f"_topic:={topic}",
                                f"_out:={record}"], name="recorder")
-    recorder.wait_output("recording", timeout=20)
-    wait_for(lambda: len(ros_master.subscribers(topic)) >= 2, 20, f"the robot and the recorder on {topic}")
+    recorder.wait_output("recording", timeout=90)
+    wait_for(lambda: len(ros_master.subscribers(topic)) >= 2, 90, f"the robot and the recorder on {topic}")
     # Both must be connected before the first key, or the recorder can miss it.
     program = ros_master.run([sys.executable, str(tmp_path / "kb.py"), "_keys:=udlr", "_listeners:=2"],
                              name="keyboard")
