@@ -11,6 +11,7 @@ import subprocess
 from pathlib import Path
 
 import pytest
+from helpers import direct_script
 
 from ltl_stack.errors import Exit
 
@@ -67,7 +68,7 @@ def test_a_bad_parameter_ends_the_node_with_one_fatal_line(ros_master, node, arg
 def test_help_prints_and_exits_0_without_ros(node, tmp_path):
     # A master URI where nothing listens: --help must not even try to reach it.
     env = dict(os.environ, ROS_MASTER_URI="http://127.0.0.1:9/", ROS_HOME=str(tmp_path), ROS_LOG_DIR=str(tmp_path))
-    proc = subprocess.run(["rosrun", "ltl_stack", node, "--help"], capture_output=True, text=True, timeout=300,
+    proc = subprocess.run(direct_script(["rosrun", "ltl_stack", node, "--help"], os.environ), capture_output=True, text=True, timeout=300,
                           env=env)
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.startswith("usage: ") and "exit codes: 0" in proc.stdout, proc.stdout
@@ -83,7 +84,7 @@ def test_propositions_that_are_not_ros_names_are_refused_naming_them(tmp_path):
             mapping = tmp_path / "names.yaml"
             mapping.write_text("outputs:\n  move:\n    node: move\n")
             tool[1] = str(mapping)
-        proc = subprocess.run(["rosrun", "ltl_stack", *tool], capture_output=True, text=True, timeout=300)
+        proc = subprocess.run(direct_script(["rosrun", "ltl_stack", *tool], os.environ), capture_output=True, text=True, timeout=300)
         assert proc.returncode == Exit.BAD_INPUT, proc
         assert "'see.person', 'stop@now'" in proc.stderr and "'move'" not in proc.stderr, proc.stderr
         assert proc.stderr.startswith(f"{tool[0]}: error: {spec}: "), proc.stderr

@@ -12,7 +12,7 @@ import subprocess
 from pathlib import Path
 
 import pytest
-from helpers import RosMaster, closed_port, wait_for
+from helpers import RosMaster, closed_port, direct_script, wait_for
 
 from ltl_stack.errors import Exit
 
@@ -151,7 +151,7 @@ def _run(master: RosMaster, folder: Path, command: list[str], files: dict[str, b
         (folder / name).write_bytes(data)
     before = _files(folder)
     args = [a.format(d=folder) for a in command]
-    done = subprocess.run(["rosrun", "ltl_stack", *args], env=master.env, capture_output=True, text=True,
+    done = subprocess.run(direct_script(["rosrun", "ltl_stack", *args], master.env), env=master.env, capture_output=True, text=True,
                           timeout=300, cwd=folder)
     return done, before
 
@@ -186,7 +186,7 @@ def test_node_bad_parameter_or_file_one_fatal_and_exit_2(master, tmp_path, case)
 @pytest.mark.parametrize("tool", ["timed_proposition_server", "scripted_environment", "set_propositions",
                                   "proposition_monitor", "send_proposition_goal", "controller_trace"])
 def test_help_prints_help_and_starts_nothing(master, tool):
-    done = subprocess.run(["rosrun", "ltl_stack", tool, "--help"], env=master.env, capture_output=True, text=True,
+    done = subprocess.run(direct_script(["rosrun", "ltl_stack", tool, "--help"], master.env), env=master.env, capture_output=True, text=True,
                           timeout=300)
     assert done.returncode == 0 and "usage:" in done.stdout and "exit codes:" in done.stdout, done
     nodes = {n for _, who in master.system_state()[0] for n in who}
