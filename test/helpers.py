@@ -14,7 +14,14 @@ from pathlib import Path
 
 import pytest
 
-from ltl_stack.sim.session import free_port, master_command, master_env, stop_process  # noqa: F401 - free_port for tests
+from ltl_stack.sim.session import (  # noqa: F401 - free_port for tests
+    descendants,
+    free_port,
+    master_command,
+    master_env,
+    stop_leftovers,
+    stop_process,
+)
 
 _HELD: list[socket.socket] = []
 
@@ -223,7 +230,9 @@ class RosMaster:
 
 
 def stop_all(processes: Sequence[RosProcess], timeout: float = 5.0) -> None:
-    """Stop every process as ``RosProcess.stop`` does, all at once (a scenario has dozens of nodes)."""
+    """Stop every process as ``RosProcess.stop`` does, all at once (a scenario has dozens of nodes),
+    and what they leave behind (the nodes of a roslaunch that had to be killed)."""
+    trees = [node for p in processes if p.running() for node in descendants(p.popen.pid)]
     for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGKILL):
         alive = [p for p in processes if p.running()]
         for proc in alive:
@@ -237,6 +246,7 @@ def stop_all(processes: Sequence[RosProcess], timeout: float = 5.0) -> None:
                 proc.popen.wait(max(0.0, deadline - time.monotonic()))
             except subprocess.TimeoutExpired:
                 pass
+    stop_leftovers(trees, timeout)
     for proc in processes:
         proc.stop()  # closes the log; the process is gone already
 

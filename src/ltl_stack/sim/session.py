@@ -96,15 +96,71 @@ class RosSession:
 
 
 def stop_process(proc: subprocess.Popen, timeout: float = 5.0) -> None:
-    """SIGINT the process group (as Ctrl-C would), escalating to SIGKILL."""
+    """SIGINT the process group (as Ctrl-C would), escalating to SIGKILL; then stop whatever it left
+    behind (``stop_leftovers``: roslaunch starts every node in a session of its own)."""
+    tree = descendants(proc.pid)
     for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGKILL):
         if proc.poll() is not None:
-            return
+            break
         try:
             os.killpg(proc.pid, sig)
         except ProcessLookupError:
-            return
+            break
         try:
             proc.wait(timeout)
+            break
         except subprocess.TimeoutExpired:
             continue
+    stop_leftovers(tree, timeout)
+
+
+def _stat(pid: int) -> list[str] | None:
+    """The fields of /proc/PID/stat after the command name (state, ppid, …), or None."""
+    try:
+        text = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return None
+    return text[text.rindex(")") + 2:].split()
+
+
+def descendants(pid: int) -> list[tuple[int, str]]:
+    """Every process below ``pid`` as (pid, start time) pairs, read from /proc (empty elsewhere).
+
+    Signalling a process group does not reach them all: roslaunch puts each node in a session of
+    its own, and a roslaunch killed before it has stopped its nodes leaves them running."""
+    children: dict[int, list[int]] = {}
+    started: dict[int, str] = {}
+    try:
+        entries = [int(e.name) for e in os.scandir("/proc") if e.name.isdigit()]
+    except OSError:
+        return []
+    for child in entries:
+        fields = _stat(child)
+        if fields and len(fields) > 19:
+            children.setdefault(int(fields[1]), []).append(child)
+            started[child] = fields[19]
+    found, todo = [], [pid]
+    while todo:
+        for child in children.get(todo.pop(), []):
+            found.append((child, started[child]))
+            todo.append(child)
+    return found
+
+
+def stop_leftovers(tree: Sequence[tuple[int, str]], timeout: float = 5.0) -> None:
+    """SIGINT, then SIGKILL, the processes of ``tree`` that still run (the same process: same start time)."""
+    for sig in (signal.SIGINT, signal.SIGKILL):
+        alive = _running(tree)
+        for pid in alive:
+            try:
+                os.kill(pid, sig)
+            except ProcessLookupError:
+                pass
+        deadline = time.monotonic() + timeout
+        while alive and time.monotonic() < deadline:
+            alive = _running(tree)
+            time.sleep(0.05)
+
+
+def _running(tree: Sequence[tuple[int, str]]) -> list[int]:
+    return [pid for pid, start in tree if (fields := _stat(pid)) and fields[19] == start and fields[0] != "Z"]

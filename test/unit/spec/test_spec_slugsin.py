@@ -264,8 +264,8 @@ def _chain_seconds(n: int, nesting: str) -> float:
 
 @pytest.mark.parametrize("nesting", ["left", "right", "infix"])
 def test_long_chains_read_in_linear_time(nesting):
-    small = min(_chain_seconds(2000, nesting) for _ in range(3))
-    large = min(_chain_seconds(16000, nesting) for _ in range(2))
+    small = min(_chain_seconds(5000, nesting) for _ in range(3))
+    large = min(_chain_seconds(40000, nesting) for _ in range(2))
     # 8x the input: about 8x the time when linear, about 64x when quadratic
     assert large / small < 20, (small, large)
 

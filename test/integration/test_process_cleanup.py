@@ -1,0 +1,29 @@
+"""Stopping a roslaunch stops its nodes, even when roslaunch itself has to be killed: roslaunch starts
+each node in a session of its own, so a signal to roslaunch's process group does not reach them."""
+from __future__ import annotations
+
+import os
+import signal
+
+import pytest
+from helpers import REPO_ROOT, wait_for
+
+from ltl_stack.sim.session import _running, descendants, stop_leftovers
+
+pytestmark = pytest.mark.ros
+
+
+def test_nodes_of_a_killed_roslaunch_are_stopped_too(ros_master):
+    launch = ros_master.run(["roslaunch", str(REPO_ROOT / "launch" / "simple.launch"), "start_executor:=false"],
+                            name="simple")
+    try:
+        tree = wait_for(lambda: (t := descendants(launch.popen.pid)) and len(t) >= 3 and t, 90,
+                        "roslaunch to start its nodes")
+        os.killpg(launch.popen.pid, signal.SIGKILL)
+        launch.popen.wait(60)
+        # roslaunch is gone, its nodes are not: each runs in a session of its own
+        assert _running(tree), "no node outlived roslaunch; the test shows nothing"
+        stop_leftovers(tree, timeout=30)
+        assert _running(tree) == []
+    finally:
+        launch.stop()
