@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import signal
+import subprocess
 
 import pytest
 from helpers import REPO_ROOT, wait_for
@@ -14,11 +15,14 @@ pytestmark = pytest.mark.ros
 
 
 def test_nodes_of_a_killed_roslaunch_are_stopped_too(ros_master):
-    launch = ros_master.run(["roslaunch", str(REPO_ROOT / "launch" / "simple.launch"), "start_executor:=false"],
-                            name="simple")
+    args = [str(REPO_ROOT / "launch" / "simple.launch"), "start_executor:=false"]
+    nodes = subprocess.run(["roslaunch", "--nodes", *args], capture_output=True, text=True, check=True,
+                           timeout=300).stdout.split()
+    launch = ros_master.run(["roslaunch", *args], name="simple")
     try:
-        tree = wait_for(lambda: (t := descendants(launch.popen.pid)) and len(t) >= 3 and t, 90,
-                        "roslaunch to start its nodes")
+        # every node started (one process each), so none can start after the snapshot
+        tree = wait_for(lambda: (t := descendants(launch.popen.pid)) and len(t) >= len(nodes) and t, 90,
+                        f"roslaunch to start its {len(nodes)} nodes")
         os.killpg(launch.popen.pid, signal.SIGKILL)
         launch.popen.wait(60)
         # roslaunch is gone, its nodes are not: each runs in a session of its own
