@@ -48,3 +48,29 @@ def test_story_scenarios_pass_only_executor_flags_that_exist(name):
     executor = (ROOT / "src" / "ltl_stack" / "ros" / "executor.py").read_text()
     for flag in flags | {"characterize-after-transitions", "input-window", "rate"}:
         assert re.search(rf'"--{flag}"', executor), flag
+
+
+def test_lines_printed_by_many_threads_never_share_a_line():
+    import io
+    import json
+    import threading
+
+    from ltl_stack.sim.demo import LineAtomicOutput
+
+    sink = io.StringIO()
+    out = LineAtomicOutput(sink)
+
+    def talk(n: int) -> None:
+        for i in range(300):
+            print(json.dumps({"thread": n, "i": i, "pad": "x" * (i % 50)}), file=out, flush=True)
+
+    threads = [threading.Thread(target=talk, args=(n,)) for n in range(6)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    lines = sink.getvalue().splitlines()
+    assert len(lines) == 6 * 300
+    seen = [json.loads(line) for line in lines]  # every line is one whole document
+    for n in range(6):
+        assert [d["i"] for d in seen if d["thread"] == n] == list(range(300))
