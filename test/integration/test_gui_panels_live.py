@@ -32,7 +32,7 @@ WAIT = 90_000  # ms
 def scenario():
     """clean_and_patrol.launch on the process's shared master, up to the executor's first state."""
     master = shared_master()
-    launch = master.run(["roslaunch", "ltl_stack", "clean_and_patrol.launch"], name="gui_clean_and_patrol")
+    launch = master.run(["roslaunch", "ltl_stack", "clean_and_patrol.launch", "input_window:=0.2"], name="gui_clean_and_patrol")
     try:
         master.wait_for_publisher(STATE, timeout=120)
         for prop in ("object", "rightGround_rc"):
