@@ -1,8 +1,8 @@
 """The controller executor node against a real master, with the real synthesizer.
 
 A *probe* (a small rospy process started by the test, fed JSON commands on stdin) plays the input
-proposition nodes and listens to the output topics, ``~state`` and ``/diagnostics``; everything it
-receives comes back as JSON lines.
+proposition nodes, listens to the output topics, ``~state`` (with the resilience fields) and
+``/diagnostics``, and calls the executor's services; everything it receives comes back as JSON lines.
 """
 from __future__ import annotations
 
@@ -28,9 +28,10 @@ PROBE = textwrap.dedent('''\
     import json, sys, threading, time
     import rospy
     from std_msgs.msg import Bool
-    from std_srvs.srv import SetBool
+    from std_srvs.srv import SetBool, Trigger
     from diagnostic_msgs.msg import DiagnosticArray
     from ltl_stack.msg import ControllerState
+    from ltl_stack.srv import AddEnvLiveness
 
     rospy.init_node("probe", anonymous=True, disable_signals=True)
     out_lock = threading.Lock()
@@ -49,7 +50,10 @@ PROBE = textwrap.dedent('''\
 
     def on_state(msg, topic):
         emit(kind="state", topic=topic, state=msg.state_id, goal=msg.goal_index, running=msg.running,
-             inputs=valuation(msg.inputs), outputs=valuation(msg.outputs))
+             inputs=valuation(msg.inputs), outputs=valuation(msg.outputs), mode=msg.mode,
+             violations=msg.violations, recovery_steps=msg.recovery_steps, unsafe_steps=msg.unsafe_steps,
+             resyntheses=msg.resyntheses, ec1=msg.resyntheses_ec1, ec2=msg.resyntheses_ec2,
+             user=msg.resyntheses_user, unrealizable=msg.unrealizable, violated=list(msg.violated_clauses))
 
     def on_diag(msg, topic):
         for s in msg.status:
@@ -61,7 +65,7 @@ PROBE = textwrap.dedent('''\
     for arg in sys.argv[1:]:
         kind, topic = arg.split(":", 1)
         cls, cb = handlers[kind]
-        subs.append(rospy.Subscriber(topic, cls, cb, callback_args=topic, queue_size=100))
+        subs.append(rospy.Subscriber(topic, cls, cb, callback_args=topic, queue_size=1000))
     pubs = {}
     emit(kind="up")
     for line in sys.stdin:
@@ -79,6 +83,14 @@ PROBE = textwrap.dedent('''\
             rospy.wait_for_service(cmd["service"], 30)
             resp = rospy.ServiceProxy(cmd["service"], SetBool)(cmd["value"])
             emit(kind="called", success=resp.success, message=resp.message)
+        elif cmd["op"] == "liveness":
+            rospy.wait_for_service(cmd["service"], 30)
+            r = rospy.ServiceProxy(cmd["service"], AddEnvLiveness)(cmd["formula"])
+            emit(kind="called", success=r.success, message=r.message, mode=r.mode, code=r.code)
+        elif cmd["op"] == "abort":
+            rospy.wait_for_service(cmd["service"], 30)
+            r = rospy.ServiceProxy(cmd["service"], Trigger)()
+            emit(kind="called", success=r.success, message=r.message)
     ''')
 
 

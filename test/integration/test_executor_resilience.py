@@ -3,16 +3,13 @@ environment characterization, the threshold, the characterized spec file, the us
 through ``~add_env_liveness`` (and the ``add_env_liveness`` tool), ``~abort``, UNSAFE steps.
 
 A probe process plays the input proposition nodes and reports outputs, ``~state`` (mode, counters,
-violated clauses) and ``/diagnostics`` as JSON lines (see test_executor_node's Probe).
+violated clauses) and ``/diagnostics`` as JSON lines (test_executor_node's Probe).
 """
 from __future__ import annotations
 
 import json
 import os
 import subprocess
-import sys
-import textwrap
-import threading
 from pathlib import Path
 
 import pytest
@@ -41,86 +38,8 @@ UNSAFE_SPEC = "[INPUT]\na\nb\n\n[OUTPUT]\nx\n\n[ENV_INIT]\n!a & !b\n\n[ENV_TRANS
               "[SYS_TRANS]\na' -> x'\nb' -> !x'\n"
 A_IN, B_IN, X_OUT = "/unsafe/inputs/a", "/unsafe/inputs/b", "/unsafe/outputs/x"
 
-RPROBE = textwrap.dedent('''\
-    import json, sys, threading, time
-    import rospy
-    from std_msgs.msg import Bool
-    from std_srvs.srv import Trigger
-    from diagnostic_msgs.msg import DiagnosticArray
-    from ltl_stack.msg import ControllerState
-    from ltl_stack.srv import AddEnvLiveness
-
-    rospy.init_node("rprobe", anonymous=True, disable_signals=True)
-    out_lock = threading.Lock()
-
-    def emit(**kw):
-        kw["t"] = time.monotonic()
-        with out_lock:
-            sys.stdout.write(json.dumps(kw) + "\\n")
-            sys.stdout.flush()
-
-    def valuation(v):
-        return dict(zip(v.keys, [bool(x) for x in v.values]))
-
-    def on_bool(msg, topic):
-        emit(kind="bool", topic=topic, value=msg.data)
-
-    def on_state(msg, topic):
-        emit(kind="state", topic=topic, state=msg.state_id, goal=msg.goal_index, running=msg.running,
-             inputs=valuation(msg.inputs), outputs=valuation(msg.outputs), mode=msg.mode,
-             violations=msg.violations, recovery_steps=msg.recovery_steps, unsafe_steps=msg.unsafe_steps,
-             resyntheses=msg.resyntheses, ec1=msg.resyntheses_ec1, ec2=msg.resyntheses_ec2,
-             user=msg.resyntheses_user, unrealizable=msg.unrealizable, violated=list(msg.violated_clauses))
-
-    def on_diag(msg, topic):
-        for s in msg.status:
-            emit(kind="diag", level=s.level, name=s.name, message=s.message,
-                 values=[[kv.key, kv.value] for kv in s.values])
-
-    handlers = {"bool": (Bool, on_bool), "state": (ControllerState, on_state), "diag": (DiagnosticArray, on_diag)}
-    subs = []
-    for arg in sys.argv[1:]:
-        kind, topic = arg.split(":", 1)
-        cls, cb = handlers[kind]
-        subs.append(rospy.Subscriber(topic, cls, cb, callback_args=topic, queue_size=1000))
-    pubs = {}
-    emit(kind="up")
-    for line in sys.stdin:
-        cmd = json.loads(line)
-        if cmd["op"] == "pub":
-            pub = pubs.get(cmd["topic"])
-            if pub is None:
-                pub = pubs[cmd["topic"]] = rospy.Publisher(cmd["topic"], Bool, queue_size=10, latch=True)
-            deadline = time.monotonic() + 30
-            while pub.get_num_connections() < 1 and time.monotonic() < deadline:
-                time.sleep(0.01)
-            pub.publish(Bool(cmd["value"]))
-            emit(kind="published", topic=cmd["topic"], value=cmd["value"])
-        elif cmd["op"] == "liveness":
-            rospy.wait_for_service(cmd["service"], 30)
-            r = rospy.ServiceProxy(cmd["service"], AddEnvLiveness)(cmd["formula"])
-            emit(kind="called", success=r.success, message=r.message, mode=r.mode, code=r.code)
-        elif cmd["op"] == "abort":
-            rospy.wait_for_service(cmd["service"], 30)
-            r = rospy.ServiceProxy(cmd["service"], Trigger)()
-            emit(kind="called", success=r.success, message=r.message)
-    ''')
-
-
 class ResilienceProbe(Probe):
-    """``Probe`` with the ControllerState resilience fields and the two services."""
-
-    def __init__(self, master, workdir: Path, listen: list[str], name: str = "rprobe"):
-        script = workdir / "rprobe.py"
-        script.write_text(RPROBE)
-        self.popen = subprocess.Popen([sys.executable, str(script), *listen], env=dict(master.env),
-                                      stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                                      stderr=open(workdir / f"{name}.err", "wb"),  # noqa: SIM115
-                                      text=True, start_new_session=True)
-        self.events: list[dict] = []
-        self._reader = threading.Thread(target=self._read, daemon=True)
-        self._reader.start()
-        wait_for(lambda: self.of("up"), 90, "the probe to start")
+    """``Probe`` with the resilience services and views of ``~state``."""
 
     def liveness(self, formula: str) -> dict:
         count = len(self.of("called"))
