@@ -533,7 +533,8 @@ class ResilientStrategy:
                     "(add_env_liveness) or abort")
         return None
 
-    def _install(self, attempt: Attempt, observation: Observation) -> State:
+    def _switch_to(self, attempt: Attempt) -> SymbolicStrategy:
+        """Make ``attempt``'s strategy the running one (mode normal, nothing pending)."""
         strategy = attempt.strategy
         strategy.recovery = self.recovery
         self.strategy = strategy
@@ -541,6 +542,10 @@ class ResilientStrategy:
         self._pending = None
         self.explanation = None
         self.mode = Mode.NORMAL
+        return strategy
+
+    def _install(self, attempt: Attempt, observation: Observation) -> State:
+        strategy = self._switch_to(attempt)
         state = self._state if self._state is not None else None
         inputs = observation.incoming if observation.incoming else (state.inputs if state else {})
         outputs = observation.current_outputs if observation.current_outputs else (state.outputs if state else {})

@@ -231,13 +231,7 @@ class BackgroundResilience(ResilientStrategy):
         elif attempt.variant == EC2:
             self.counters.ec2 += 1
         self.threshold.reset()
-        strategy = attempt.strategy
-        strategy.recovery = self.recovery
-        self.strategy = strategy
-        self.inputs, self.outputs = list(attempt.spec.inputs), list(attempt.spec.outputs)
-        self._pending = None
-        self.explanation = None
-        self.mode = Mode.NORMAL
+        strategy = self._switch_to(attempt)
         current = self._state
         position = ({**(current.inputs if current else {}), **self.readings}, current.outputs if current else {})
         state = adopt(strategy, position, observation, self.recovery)
