@@ -253,11 +253,15 @@ def run(args: argparse.Namespace) -> int:
                 why = f"{args.cycles} goal cycle(s) not completed within {args.timeout:.0f} s"
             else:
                 why = f"the controller did not start within {args.timeout:.0f} s"
-            launch_log = log_path.read_text(errors="replace").splitlines()
-            print("\n".join(launch_log[-30:]), file=sys.stderr)
-            cli.error("demo", f"{why} (the last lines of the launch log are above)")
+            _not_reached(why, log_path)
             return Exit.NEGATIVE
     return Exit.OK
+
+
+def _not_reached(why: str, log_path: Path) -> None:
+    """Say why a scenario did not finish, after the last lines of its launch log."""
+    print("\n".join(log_path.read_text(errors="replace").splitlines()[-30:]), file=sys.stderr)
+    cli.error("demo", f"{why} (the last lines of the launch log are above)")
 
 
 def _tell(story: CleanAndPatrolStory, steps: list, read: int, json_lines: bool) -> int:
@@ -369,8 +373,7 @@ def _follow_story(args, scenario: Scenario, launch, log_path: Path, problems: li
     if not reached:
         why = (f"roslaunch exited with code {launch.returncode} after {elapsed:.0f} s" if launch.poll() is not None
                else f"the story did not complete within {args.timeout:.0f} s")
-        print("\n".join(log_path.read_text(errors="replace").splitlines()[-30:]), file=sys.stderr)
-        cli.error("demo", f"{why} (the last lines of the launch log are above)")
+        _not_reached(why, log_path)
         return Exit.NEGATIVE
     return Exit.OK
 
@@ -448,8 +451,7 @@ def _follow_negotiation(args, launch, log_path: Path, problems: list[str], say) 
     if not reached:
         why = (f"roslaunch exited with code {launch.returncode} after {elapsed:.0f} s" if launch.poll() is not None
                else f"the kitchen did not finish within {args.timeout:.0f} s")
-        print("\n".join(log_path.read_text(errors="replace").splitlines()[-30:]), file=sys.stderr)
-        cli.error("demo", f"{why} (the last lines of the launch log are above)")
+        _not_reached(why, log_path)
         return Exit.NEGATIVE
     return Exit.OK
 
