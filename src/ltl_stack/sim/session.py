@@ -98,6 +98,8 @@ class RosSession:
 def stop_process(proc: subprocess.Popen, timeout: float = 5.0) -> None:
     """SIGINT the process group (as Ctrl-C would), escalating to SIGKILL; then stop whatever it left
     behind (``stop_leftovers``: roslaunch starts every node in a session of its own)."""
+    if proc.poll() is not None:
+        return  # its children, if any, are no longer below it: nothing to find
     tree = descendants(proc.pid)
     for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGKILL):
         if proc.poll() is not None:
