@@ -8,11 +8,13 @@ gives the Controller a ``recovery`` hook: on a violation it takes one recovery-m
 symbolic strategy (``SymbolicStrategy.step_result``: into W, towards W, or only safe; thesis §4.6.1,
 §4.6.2, Alg. 1 lines 19-25) from the current state with the current readings.
 
-States: a recovered state is mapped back to the explicit state with the same goal and valuation
-when the automaton has one (the explicit extraction numbers goals as the symbolic strategy does,
-``synthesis.explicit``), so ``~state`` keeps the ids of ``synthesize --strategy-json``. Otherwise the
-symbolic ``State`` is used, and its ``id`` is the symbolic one (valuation bits and goal), not an
-export's; stepping from it uses the symbolic strategy until a step lands on an explicit state again.
+States: ``~state`` keeps the ids of ``synthesize --strategy-json`` wherever it can. A move taken
+by the symbolic strategy (the recovery step, and every step from a symbolic state) goes, among the
+moves the strategy allows there, to one whose successor (goal and valuation) the automaton has;
+the explicit extraction numbers goals as the symbolic strategy does (``synthesis.explicit``) and
+re-uses states, so the symbolic pick itself is often not one of them. Only when no allowed move
+lands in the automaton the symbolic ``State`` is kept, with its symbolic ``id`` (valuation bits and
+goal), and the next step tries again.
 """
 from __future__ import annotations
 
@@ -36,7 +38,7 @@ class RecoveringStrategy:
         self.outputs = list(primary.outputs)
         #: the StepResult of the last recovery (kind, broken env clauses, unkeepable sys clauses)
         self.last: StepResult | None = None
-        self._index: dict[tuple, ExplicitState] | None = None
+        self._index: dict[tuple, list[ExplicitState]] | None = None
 
     def initial_state(self, inputs: Mapping[str, bool] | None = None,
                       outputs: Mapping[str, bool] | None = None) -> Any:
@@ -48,7 +50,7 @@ class RecoveringStrategy:
         move, i.e. it is outside W: the Controller then recovers again)."""
         if isinstance(state, State):
             try:
-                return self._map_back(self.symbolic.step(state, inputs))
+                return self._map_back(state, inputs, self.symbolic.step(state, inputs))
             except AssumptionViolation:
                 raise
             except SynthesisError:
@@ -63,17 +65,32 @@ class RecoveringStrategy:
         self.last = self.symbolic.step_result(here, controller.readings)
         if self.last.state is None:
             return None
-        return self._map_back(self.last.state)
+        return self._map_back(here, controller.readings, self.last.state)
 
-    def _map_back(self, state: State) -> Any:
+    def _map_back(self, source: State, inputs: Mapping[str, bool], picked: State) -> Any:
+        """The automaton's state for the symbolic move ``source`` -> ``picked``: ``picked`` itself
+        when the automaton has it; else, among the automaton's states with the same inputs (lowest
+        id first), one the strategy's relation allows, else one the move reaches keeping the system
+        safety (every automaton state is winning, and the automaton is a strategy from each of its
+        states, whatever its goal number); else ``picked`` (symbolic)."""
         if not isinstance(self.primary, AutomatonStrategy):
-            return state
+            return picked
         if self._index is None:
-            self._index = {self._key(s.goal, s.inputs, s.outputs): s for s in self.primary._states.values()}
-        return self._index.get(self._key(state.goal, state.inputs, state.outputs), state)
+            self._index = {}
+            for s in sorted(self.primary._states.values(), key=lambda s: s.id):
+                self._index.setdefault(self._bits(s.inputs), []).append(s)
+        candidates = self._index.get(self._bits(picked.inputs), [])
+        for s in candidates:
+            if s.goal == picked.goal and s.outputs == picked.outputs:
+                return s
+        for check in (self.symbolic.allows, self.symbolic.keeps_safety):
+            for s in candidates:
+                if check(source, picked.inputs, s.outputs):
+                    return s
+        return picked
 
-    def _key(self, goal: int, inputs: Mapping[str, bool], outputs: Mapping[str, bool]) -> tuple:
-        return (goal, tuple(bool(inputs[p]) for p in self.inputs), tuple(bool(outputs[p]) for p in self.outputs))
+    def _bits(self, inputs: Mapping[str, bool]) -> tuple:
+        return tuple(bool(inputs[p]) for p in self.inputs)
 
 
 __all__ = ["RecoveringStrategy"]

@@ -254,6 +254,30 @@ class SymbolicStrategy:
         kind = StepKind.RECOVER_TO_W if in_w else StepKind.RECOVER_TOWARDS_W if in_r else StepKind.SAFE_ONLY
         return StepResult(self._successor(state, new_inputs, outputs), kind, violated, [], in_w, in_r)
 
+    def allows(self, state: State, inputs: Mapping[str, bool], outputs: Mapping[str, bool]) -> bool:
+        """Whether this strategy may answer ``inputs`` from ``state`` with ``outputs``: the move is
+        in the relation ``step_result`` picks from (the goal's relation from a winning position with
+        admissible inputs and a move there, else the recovery relation). Lets a runner prefer,
+        among equally good moves, one whose successor an exported automaton has."""
+        game = self.game
+        bdd = game.bdd
+        new_inputs = self._full(inputs, self.inputs, "inputs")
+        new_outputs = self._full(outputs, self.outputs, "outputs")
+        assign = game.assignment(state.valuation, new_inputs)
+        relation = self.relations[state.goal]
+        normal = (bdd.let(assign, game.env_trans) != bdd.false
+                  and bdd.let(game.assignment(state.valuation), self.winning) == bdd.true
+                  and bdd.let(assign, relation) != bdd.false)
+        if not normal:
+            relation = self.recovery_relations().relation(state.goal)
+        return bdd.let(game.assignment(state.valuation, {**new_inputs, **new_outputs}), relation) == bdd.true
+
+    def keeps_safety(self, state: State, inputs: Mapping[str, bool], outputs: Mapping[str, bool]) -> bool:
+        """Whether the move from ``state`` to (``inputs``, ``outputs``) satisfies the system safety."""
+        game = self.game
+        move = game.assignment(state.valuation, {**inputs, **outputs})
+        return game.bdd.let(move, self.solution.sys_trans) == game.bdd.true
+
     def _successor(self, state: State, new_inputs: dict[str, bool], outputs: dict[str, bool]) -> State:
         game = self.game
         bdd = game.bdd
