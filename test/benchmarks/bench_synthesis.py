@@ -18,9 +18,11 @@ import csv
 import json
 import os
 import platform
+import resource
 import statistics
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -150,6 +152,29 @@ def measure(job: dict, timeout: float, repeat: int, key: str = "seconds") -> dic
     return out
 
 
+def whole_process(text: str, repeat: int, timeout: float) -> str:
+    """``python -m ltl_stack.synthesis.cli FILE`` (realizability, as a user runs it): median wall
+    and CPU (user + sys of the child) of ``repeat`` fresh processes."""
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "scaled.slugsin"
+        path.write_text(text)
+        walls, cpus = [], []
+        for _ in range(repeat):
+            before = resource.getrusage(resource.RUSAGE_CHILDREN)
+            start = time.perf_counter()
+            try:
+                proc = subprocess.run([sys.executable, "-m", "ltl_stack.synthesis.cli", str(path)],
+                                      capture_output=True, text=True, timeout=timeout, check=False)
+            except subprocess.TimeoutExpired:
+                return f"> {timeout:.0f} s"
+            walls.append(time.perf_counter() - start)
+            after = resource.getrusage(resource.RUSAGE_CHILDREN)
+            cpus.append(after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime)
+            if proc.returncode != 0:
+                return f"exit {proc.returncode}"
+    return f"{fmt(statistics.median(walls))} ({fmt(statistics.median(cpus))})"
+
+
 def fmt(seconds) -> str:
     if seconds is None:
         return "–"
@@ -223,12 +248,15 @@ def main(argv: list[str] | None = None) -> int:
         print(json.dumps(worker(json.loads(args.worker))))
         return 0
     if args.scale:
-        print("| propositions | spec size | realizable | parse | realizability | synthesis with strategy |")
-        print("|---|---|---|---|---|---|")
+        print("| propositions | spec size | realizable | parse | realizability | synthesis with strategy | "
+              "`synthesize FILE` whole process, wall (CPU) |")
+        print("|---|---|---|---|---|---|---|")
         for n in args.scale:
             r = measure({"case": "", "task": "scale", "n": n}, args.timeout, args.repeat)
+            whole = whole_process(scaled_spec_text(n), args.repeat, args.timeout)
             print(f"| 2 × {n:,} | {r.get('bytes', 0) / 1024:.0f} KiB | {r.get('realizable', '?')} | "
-                  f"{show(r, 'parse')} | {show(r)} | {show(r, 'full')} |", flush=True)
+                  f"{show(r, 'parse')} | {show(r)} | {show(r, 'full')} | {whole} |", flush=True)
+        print(f"\nload average {' / '.join(f'{v:.1f}' for v in os.getloadavg())} (1 / 5 / 15 min) at the end")
         return 0
     if args.order:
         print("| spec | realizable | order chosen | auto | interleaved | auto / interleaved |")

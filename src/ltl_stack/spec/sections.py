@@ -81,6 +81,8 @@ class SpecBuilder:
         self.clause_lines: list[tuple[str, Line]] = []
         self.sections: dict[str, list[Clause]] = {name: [] for name in SLUGSIN_SECTIONS}
         self.vars: dict[tuple[str, bool], Var] = {}  # one object per variable, shared by all clauses
+        # the variables clauses used so far by their word (x, x'): in init sections / in others
+        self._words: tuple[dict[str, Var], dict[str, Var]] = ({}, {})
 
     def error(self, line: int, column: int, message: str) -> SpecError:
         return SpecError(self.file, line, column, message)
@@ -217,6 +219,15 @@ class Names:
             header = SLUGSIN_SECTIONS[self.section]
             raise self.error(column, f"next-state variable {name}' in an init clause ([{header}] "
                                      "describes only the first state)")
+
+    def known_variables(self) -> dict[str, Var]:
+        """Words (``x``, ``x'``) this section may use that a reader has already looked up, with
+        their variables: a reader may fill it with what ``boolean`` returned and skip the checks."""
+        return self.builder._words[0 if self.init else 1]
+
+    def allowed(self, name: str, primed: bool) -> bool:
+        """True when ``boolean(name, primed, ...)`` returns without an error."""
+        return name in self.builder.declared_at and not (primed and self.init)
 
     def boolean(self, name: str, primed: bool, column: int) -> Var:
         """The variable ``name`` (primed or not), checked against the declarations."""

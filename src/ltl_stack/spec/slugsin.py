@@ -38,13 +38,13 @@ def parse_slugsin(text: str, file: str = "<string>") -> Spec:
 
 
 class _Frame:
-    """An operator (or ``$`` buffer) still waiting for operands."""
+    """An operator (or ``$`` buffer) still waiting for operands; ``token`` is its word's index."""
 
-    __slots__ = ("op", "column", "need", "args")
+    __slots__ = ("op", "token", "need", "args")
 
-    def __init__(self, op: str, column: int, need: int):
+    def __init__(self, op: str, token: int, need: int):
         self.op = op
-        self.column = column
+        self.token = token
         self.need = need
         self.args: list[Formula] = []
 
@@ -54,50 +54,74 @@ def tokens_of(line: Line) -> list[tuple[str, int]]:
     return [(m.group(), m.start() + 1) for m in _TOKEN.finditer(line.text)]
 
 
+class _Columns:
+    """The 1-based column of each word of a line (or of the line's end), computed on first use:
+    only an error message needs one, so a correct line is split once with ``str.split``."""
+
+    __slots__ = ("line", "_starts")
+
+    def __init__(self, line: Line):
+        self.line = line
+        self._starts: list[int] | None = None
+
+    def __getitem__(self, token: int) -> int:
+        if self._starts is None:
+            self._starts = [column for _, column in tokens_of(self.line)]
+        return self._starts[token] if token < len(self._starts) else len(self.line.text) + 1
+
+
 def parse_prefix(line: Line, names: Names) -> Formula:
-    """One prefix formula that must fill the whole line."""
-    tokens = tokens_of(line)
+    """One prefix formula that must fill the whole line (time linear in the line's length)."""
+    words = line.text.split()  # the same words as ``tokens_of``: both split at Unicode whitespace
+    columns = _Columns(line)
+    known = names.known_variables()
     stack: list[_Frame] = []
+    n = len(words)
     i = 0
     while True:
-        if i >= len(tokens):
-            raise _incomplete(stack, names, len(line.text) + 1)
-        word, column = tokens[i]
+        if i >= n:
+            raise _incomplete(stack, names, columns, n)
+        word = words[i]
         i += 1
-        glued = _GLUED.match(word) if word[0] in "$?" else None
-        if glued:
-            word, count_word, count_column = glued[1], glued[2], column + 1
-        elif word in ("$", "?"):
-            if i >= len(tokens):
-                raise names.error(len(line.text) + 1, f"expected a number after '{word}'")
-            count_word, count_column = tokens[i]
-            i += 1
-        if word in OPERATORS:
-            stack.append(_Frame(word, column, OPERATORS[word]))
-            continue
-        if word == "$":
-            if not _NUMBER.match(count_word) or int(count_word) < 1:
-                raise names.error(count_column, f"expected a positive number of entries after '$', got '{count_word}'")
-            stack.append(_Frame("$", column, int(count_word)))
-            continue
-        if word == "?":
-            value = _recall(stack, count_word, count_column, column, names)
-        elif word == "1":
-            value = TRUE
-        elif word == "0":
-            value = FALSE
-        else:
-            value = _variable(word, column, names)
+        value = known.get(word)  # a variable this spec's clauses already used
+        if value is None:
+            need = OPERATORS.get(word)
+            if need is not None:
+                stack.append(_Frame(word, i - 1, need))
+                continue
+            token = i - 1
+            glued = _GLUED.match(word) if word[0] in "$?" else None
+            # the count's column: that of word ``count_at`` plus ``count_shift`` (1 when glued, as in $3)
+            if glued:
+                word, count_word, count_at, count_shift = glued[1], glued[2], token, 1
+            elif word in ("$", "?"):
+                if i >= n:
+                    raise names.error(columns[n], f"expected a number after '{word}'")
+                count_word, count_at, count_shift = words[i], i, 0
+                i += 1
+            if word == "$":
+                if not _NUMBER.match(count_word) or int(count_word) < 1:
+                    raise names.error(columns[count_at] + count_shift,
+                                      f"expected a positive number of entries after '$', got '{count_word}'")
+                stack.append(_Frame("$", token, int(count_word)))
+                continue
+            if word == "?":
+                value = _recall(stack, count_word, (count_at, count_shift), token, columns, names)
+            elif word == "1":
+                value = TRUE
+            elif word == "0":
+                value = FALSE
+            else:
+                value = known[word] = _variable(word, token, columns, names)
         # Reduce: hand the finished operand to the operators waiting for it.
         while True:
             if not stack:
-                if i < len(tokens):
-                    extra, extra_column = tokens[i]
-                    raise names.error(extra_column, f"unexpected '{extra}' after a complete formula "
-                                                    "(a slugsin clause is one prefix formula per line)")
+                if i < n:
+                    raise names.error(columns[i], f"unexpected '{words[i]}' after a complete formula "
+                                                  "(a slugsin clause is one prefix formula per line)")
                 return settle(value)
             frame = stack[-1]
-            if frame.op == "$" or (isinstance(value, Pending) and frame.op not in ("&", "|")):
+            if frame.op == "$" or (type(value) is Pending and frame.op not in ("&", "|")):
                 value = settle(value)
             frame.args.append(value)
             if len(frame.args) < frame.need:
@@ -119,45 +143,54 @@ def _build(frame: _Frame) -> Formula:
     return args[-1]  # a $ buffer is worth its last entry
 
 
-def _recall(stack: list[_Frame], index_word: str, index_column: int, column: int, names: Names) -> Formula:
+def _recall(stack: list[_Frame], index_word: str, index_at: tuple[int, int], token: int, columns: _Columns,
+            names: Names) -> Formula:
+    """Entry ``index_word`` of the innermost ``$`` buffer; ``index_at`` is (word, shift) of its column."""
+    def index_column() -> int:
+        return columns[index_at[0]] + index_at[1]
+
     buffer = next((f for f in reversed(stack) if f.op == "$"), None)
     if buffer is None:
-        raise names.error(column, "'?' outside a '$' buffer (? i refers to entry i of the enclosing $ n)")
+        raise names.error(columns[token], "'?' outside a '$' buffer (? i refers to entry i of the enclosing $ n)")
     if not _NUMBER.match(index_word):
-        raise names.error(index_column, f"expected an entry number after '?', got '{index_word}'")
+        raise names.error(index_column(), f"expected an entry number after '?', got '{index_word}'")
     index = int(index_word)
     if index >= len(buffer.args):
         done = len(buffer.args)
-        raise names.error(index_column, f"'? {index}' refers to an entry that is not complete yet: the buffer "
-                                        f"at column {buffer.column} has {done} complete "
-                                        f"entr{'y' if done == 1 else 'ies'} (0...{done - 1})"
-                          if done else f"'? {index}' used before the buffer at column {buffer.column} "
+        at = columns[buffer.token]
+        raise names.error(index_column(), f"'? {index}' refers to an entry that is not complete yet: the buffer "
+                                          f"at column {at} has {done} complete "
+                                          f"entr{'y' if done == 1 else 'ies'} (0...{done - 1})"
+                          if done else f"'? {index}' used before the buffer at column {at} "
                                        "has any complete entry")
     return buffer.args[index]
 
 
-def _variable(word: str, column: int, names: Names) -> Var:
+def _variable(word: str, token: int, columns: _Columns, names: Names) -> Var:
     name, primed = word, False
     if word.endswith("'"):
         name, primed = word[:-1], True
         if name.endswith("'"):
-            raise names.error(column, f"'{word}' has more than one prime; x' is the next state of x")
+            raise names.error(columns[token], f"'{word}' has more than one prime; x' is the next state of x")
     if not name:
-        raise names.error(column, "a prime must follow a proposition name, as in x'")
-    return names.boolean(name, primed, column)
+        raise names.error(columns[token], "a prime must follow a proposition name, as in x'")
+    # the column is only needed for an error (and finding it costs a scan of the line)
+    return names.boolean(name, primed, 0 if names.allowed(name, primed) else columns[token])
 
 
-def _incomplete(stack: list[_Frame], names: Names, column: int) -> SpecError:
+def _incomplete(stack: list[_Frame], names: Names, columns: _Columns, token: int) -> SpecError:
+    column = columns[token]
     if not stack:
         return names.error(column, "expected a formula")
     frame = stack[-1]
+    at = columns[frame.token]
     if frame.op == "$":
         missing = frame.need - len(frame.args)
         return names.error(column, f"expected {missing} more entr{'y' if missing == 1 else 'ies'} "
-                                   f"of the '$ {frame.need}' buffer at column {frame.column}")
+                                   f"of the '$ {frame.need}' buffer at column {at}")
     if not frame.args:
-        return names.error(column, f"expected an operand after '{frame.op}' at column {frame.column}")
-    return names.error(column, f"expected a second operand for '{frame.op}' at column {frame.column}")
+        return names.error(column, f"expected an operand after '{frame.op}' at column {at}")
+    return names.error(column, f"expected a second operand for '{frame.op}' at column {at}")
 
 
 # -- writer -------------------------------------------------------------------------------------

@@ -40,7 +40,7 @@ from __future__ import annotations
 
 import operator
 import sys
-from collections.abc import Iterable, Iterator, Mapping
+from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 
 from ltl_stack.spec.formula import And, Const, Formula, Iff, Implies, Not, Or, Var, Xor
@@ -179,6 +179,7 @@ class Game:
         self._declare()
         self._to_next = dict(zip(self.variables, self.variables_next, strict=True))
         self._to_current = dict(zip(self.variables_next, self.variables, strict=True))
+        self._variable_bdds: dict[tuple[str, bool], object] = {}  # (name, primed) -> its BDD, for to_bdd
 
     def _build(self, spec: Spec, bdd, interleave: bool, fused: bool, race: bool) -> None:
         self._setup(spec, bdd, interleave)
@@ -237,46 +238,65 @@ class Game:
 
     # --- formulas ---------------------------------------------------------------------------
     def to_bdd(self, formula: Formula):
-        """The BDD of a formula (iterative: slugsin formulas can nest thousands deep)."""
+        """The BDD of a formula (iterative: slugsin formulas can nest thousands deep).
+
+        Each node is visited twice (children first, then itself), shared subformulas once; time
+        is linear in the formula's nodes plus the BDD operations (``deadline`` checked before each).
+        """
         bdd = self.bdd
         check = self.deadline.check
+        variables = self._variable_bdds
         done: dict[int, object] = {}
-        stack: list[tuple[Formula, bool]] = [(formula, False)]
+        stack: list[Formula] = [formula]
         while stack:
-            node, expanded = stack.pop()
+            node = stack[-1]
             key = id(node)
             if key in done:
+                stack.pop()
                 continue
-            check()
-            if isinstance(node, Var):
-                name = prime_name(node.name) if node.primed else node.name
-                if node.name not in self._to_next:
-                    raise KeyError(f"unknown proposition {node.name!r} (not an input or output)")
-                done[key] = bdd.var(name)
+            kind = type(node)
+            if kind is Var:
+                stack.pop()
+                u = variables.get((node.name, node.primed))
+                if u is None:
+                    if node.name not in self._to_next:
+                        raise KeyError(f"unknown proposition {node.name!r} (not an input or output)")
+                    u = variables[(node.name, node.primed)] = bdd.var(
+                        prime_name(node.name) if node.primed else node.name)
+                done[key] = u
                 continue
-            if isinstance(node, Const):
+            if kind is Const:
+                stack.pop()
                 done[key] = bdd.true if node.value else bdd.false
                 continue
-            kids = _children(node)
-            if not expanded:
-                stack.append((node, True))
-                stack.extend((k, False) for k in kids if id(k) not in done)
-                continue
-            vals = [done[id(k)] for k in kids]
-            if isinstance(node, Not):
-                done[key] = ~vals[0]
-            elif isinstance(node, And):
-                done[key] = _balanced(vals, bdd.true, operator.and_)
-            elif isinstance(node, Or):
-                done[key] = _balanced(vals, bdd.false, operator.or_)
-            elif isinstance(node, Xor):
-                done[key] = bdd.ite(vals[0], ~vals[1], vals[1])
-            elif isinstance(node, Implies):
-                done[key] = ~vals[0] | vals[1]
-            elif isinstance(node, Iff):
-                done[key] = bdd.ite(vals[0], vals[1], ~vals[1])
-            else:  # pragma: no cover
+            if kind is Not:
+                kids: tuple = (node.arg,)
+            elif kind is And or kind is Or:
+                kids = node.args
+            elif kind in _BINARY:
+                kids = (node.left, node.right)
+            else:
                 raise TypeError(f"not a formula node: {node!r}")
+            waiting = [k for k in kids if id(k) not in done]
+            if waiting:
+                stack.extend(waiting)
+                continue
+            stack.pop()
+            check()
+            if kind is Not:
+                done[key] = ~done[id(kids[0])]
+            elif kind is And:
+                done[key] = _balanced([done[id(k)] for k in kids], bdd.true, operator.and_)
+            elif kind is Or:
+                done[key] = _balanced([done[id(k)] for k in kids], bdd.false, operator.or_)
+            else:
+                left, right = done[id(kids[0])], done[id(kids[1])]
+                if kind is Xor:
+                    done[key] = bdd.ite(left, ~right, right)
+                elif kind is Implies:
+                    done[key] = ~left | right
+                else:
+                    done[key] = bdd.ite(left, right, ~right)
         return done[id(formula)]
 
     def _conjoin(self, section: str):
@@ -413,9 +433,5 @@ def _balanced(vals: list, unit, combine):
     return vals[0] if vals else unit
 
 
-def _children(node: Formula) -> Iterable[Formula]:
-    if isinstance(node, Not):
-        return (node.arg,)
-    if isinstance(node, (And, Or)):
-        return node.args
-    return (node.left, node.right)
+#: formula nodes with ``left`` and ``right`` operands
+_BINARY = (Xor, Implies, Iff)

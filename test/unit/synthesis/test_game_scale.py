@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import functools
 import operator
+import sys
+import warnings
 
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -54,3 +56,31 @@ def test_balanced_combination_equals_the_chain(literals, conjunction) -> None:
     vals = [bdd.var(f"v{a}") | (bdd.var(f"v{b}") if sign else ~bdd.var(f"v{b}")) for a, b, sign in literals]
     unit, op = (bdd.true, operator.and_) if conjunction else (bdd.false, operator.or_)
     assert _balanced(list(vals), unit, op) == functools.reduce(op, vals, unit)
+
+
+def _game_work(n: int) -> tuple[int, float]:
+    """(Python calls, CUDD cache lookups) to build the game of ``scaled_spec(n)``: counts, not times."""
+    spec = parse_slugsin(scaled_spec(n))
+    calls = 0
+
+    def profile(frame, event, arg) -> None:
+        nonlocal calls
+        calls += event in ("call", "c_call")
+
+    sys.setprofile(profile)
+    try:
+        game = Game(spec)
+    finally:
+        sys.setprofile(None)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # dd warns that one unrelated key changed its unit
+        return calls, game.bdd.statistics()["cache_lookups"]
+
+
+def test_doubling_the_propositions_doubles_the_game_construction_work() -> None:
+    # each clause is one n-ary conjunction over all propositions: balanced combination makes the BDD
+    # work n log n (a chain was quadratic); the Python side is linear (declaration, to_bdd)
+    for n in (300, 1200):
+        (calls, lookups), (calls2, lookups2) = _game_work(n), _game_work(2 * n)
+        assert 1.8 < calls2 / calls < 2.2, (n, calls, calls2)
+        assert 1.8 < lookups2 / lookups < 2.5, (n, lookups, lookups2)
