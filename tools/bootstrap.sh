@@ -2,7 +2,9 @@
 # Install what ltl_stack needs on a Debian bookworm machine, idempotently:
 #   1. Debian's ROS 1 packages (only the missing ones; apt runs only when something is missing),
 #   2. a venv made by /usr/bin/python3 -m venv --system-site-packages with requirements.txt,
-#   3. a catkin workspace whose src/ltl_stack links to this repository, built with catkin_make.
+#   3. a catkin workspace whose src/ltl_stack links to this repository, built with catkin_make,
+#   4. byte-compiled sources (every node and tool is a new Python process; where PYTHONDONTWRITEBYTECODE
+#      is set, as on many CI machines, each would otherwise compile the package again at start-up).
 # Each step is skipped when a stamp says its inputs have not changed, so a re-run takes a second.
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/paths.sh"
@@ -83,6 +85,12 @@ build_workspace() {
   echo "$want" > "$LTL_STACK_WS/.ltl_stack_stamp"
 }
 
+compile_sources() {
+  # compileall skips files whose .pyc is up to date, and Python ignores a .pyc older than its source.
+  "$LTL_STACK_VENV/bin/python" -m compileall -q -j 0 "$LTL_STACK_ROOT/src/ltl_stack" \
+      "$LTL_STACK_WS/devel/lib/python3/dist-packages/ltl_stack" > /dev/null || say "byte-compiling failed (not needed)"
+}
+
 install_debian_packages
 # Two shells bootstrapping at once (two terminals, parallel tests) must not build over each other.
 mkdir -p "$LTL_STACK_HOME"
@@ -90,3 +98,4 @@ exec 9>"$LTL_STACK_HOME/.bootstrap.lock"
 flock 9
 make_venv
 build_workspace
+compile_sources
