@@ -12,12 +12,15 @@ import json
 import os
 import re
 from itertools import accumulate
-from pathlib import Path
 from typing import Any
 
 import yaml
 
 from ltl_stack.errors import InputError
+from ltl_stack.textio import decode_text, read_text
+
+__all__ = ["MAX_ALIASES", "MAX_DEPTH", "MAX_INT_DIGITS", "construct_yaml", "decode_text", "load_json", "load_yaml",
+           "parse_json", "parse_yaml", "parse_yaml_node", "read_text"]
 
 #: nesting deeper than this (YAML or JSON) is refused: no file of ours needs a tenth of it, and the
 #: recursive parsers of PyYAML and json would otherwise end in RecursionError
@@ -30,38 +33,6 @@ MAX_INT_DIGITS = 4000
 _LOADER = getattr(yaml, "CSafeLoader", yaml.SafeLoader)  # libyaml when present: big files load fast
 _STR_TAG = "tag:yaml.org,2002:str"
 _INT_TAG = "tag:yaml.org,2002:int"
-
-
-def read_text(path: str | os.PathLike, what: str = "file", max_bytes: int | None = None) -> str:
-    """The text of ``path`` (UTF-8, a byte-order mark tolerated).
-
-    Raises ``InputError`` naming the file for a missing file, a folder, a binary file (a NUL byte),
-    text that is not UTF-8 (with the line of the first bad byte) or a file above ``max_bytes``.
-    """
-    file = str(path)
-    try:
-        if max_bytes is not None and os.path.getsize(path) > max_bytes:
-            raise InputError(file, f"{what} is larger than {max_bytes} bytes")
-        raw = Path(path).read_bytes()
-    except FileNotFoundError:
-        raise InputError(file, "no such file") from None
-    except IsADirectoryError:
-        raise InputError(file, f"is a directory, not a {what}") from None
-    except OSError as e:
-        raise InputError(file, f"cannot read: {e.strerror or e}") from None
-    return decode_text(raw, file, what)
-
-
-def decode_text(raw: bytes, file: str, what: str = "file") -> str:
-    """``raw`` as UTF-8 text, or ``InputError`` for binary data or bytes that are not UTF-8."""
-    nul = raw.find(b"\0")
-    if nul >= 0:
-        raise InputError(file, f"not a text {what}: it holds a NUL byte", raw.count(b"\n", 0, nul) + 1)
-    try:
-        return raw.decode("utf-8-sig")
-    except UnicodeDecodeError as e:
-        line = raw.count(b"\n", 0, e.start) + 1
-        raise InputError(file, f"not a text {what}: not UTF-8 at byte {e.start}", line) from None
 
 
 def parse_yaml_node(text: str, file: str) -> yaml.Node | None:

@@ -61,6 +61,7 @@ from ltl_stack.runtime.executor_setup import (
     load_inputs,
     make_controller,
     merge_options,
+    params_lookup,
     parse_init_props,
     prepare,
     scenario_namespace,
@@ -788,9 +789,10 @@ def _check(args: argparse.Namespace) -> int:
     return Exit.OK
 
 
-def _param_lookup(name: str) -> tuple[bool, Any]:
-    key = "~" + name
-    return (True, rospy.get_param(key)) if rospy.has_param(key) else (False, None)
+def _private_params() -> dict[str, Any]:
+    """Every ``~param`` of the node, in one call to the master ({} when none is set)."""
+    params = rospy.get_param("~", {})
+    return params if isinstance(params, dict) else {}
 
 
 def _run(args: argparse.Namespace, negotiate: Negotiate | None = None,
@@ -802,7 +804,7 @@ def _run(args: argparse.Namespace, negotiate: Negotiate | None = None,
         cli.warn(PROG, warning)
     rospy.init_node(NODE_NAME)
     try:
-        options = merge_options(_cli_values(args), _param_lookup)
+        options = merge_options(_cli_values(args), params_lookup(_private_params()))
         check_characterized_spec(options, [args.spec, args.mapping, options.strategy or None])
         namespace = scenario_namespace(options.namespace, rospy.get_namespace(), mapping, args.spec)
         in_topics, out_topics = resolve_topics(mapping, spec.inputs, spec.outputs, namespace.strip("/"))

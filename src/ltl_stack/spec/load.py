@@ -4,11 +4,11 @@ from __future__ import annotations
 from pathlib import Path
 
 from ltl_stack.errors import InputError
-from ltl_stack.inputs import read_text
 from ltl_stack.spec.errors import SpecError
 from ltl_stack.spec.model import Spec
 from ltl_stack.spec.slugsin import parse_slugsin
 from ltl_stack.spec.structured import parse_structured
+from ltl_stack.textio import read_text
 
 STRUCTURED_SUFFIXES = (".structuredslugs", ".ltl")
 

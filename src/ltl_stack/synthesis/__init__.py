@@ -13,14 +13,21 @@ Modules, bottom up: ``options`` (defaults, limits), ``game`` (the BDD game), ``f
 Eq. 4.2), ``automaton`` (explicit automaton and its JSON / slugs JSON / DOT files, checked against
 a spec on load), ``explicit`` (thesis Alg. 1), ``strategy`` (symbolic strategy and ``step``),
 ``explain`` (why a spec is unrealizable) and ``explain_render`` (its text / dict / DOT), ``cli``.
+
+``Automaton``, ``AutomatonState``, ``SymbolicStrategy`` and ``State`` are imported on first use
+(PEP 562 module ``__getattr__``, as in ``ltl_stack.spec``): a realizability check (``synthesize
+SPEC`` without an export) needs neither the strategy nor the automaton modules, nor the YAML and
+JSON readers they pull in (~10 ms of a command's start-up).
 """
 from __future__ import annotations
 
+import importlib
+import sys
 import time
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from ltl_stack.spec.model import Spec
-from ltl_stack.synthesis.automaton import Automaton, AutomatonState
 from ltl_stack.synthesis.errors import (
     AssumptionViolation,
     LimitReached,
@@ -34,7 +41,12 @@ from ltl_stack.synthesis.errors import (
 from ltl_stack.synthesis.fixpoint import Options, Progress, Solution, solve
 from ltl_stack.synthesis.game import BACKEND, Game, memory_guard
 from ltl_stack.synthesis.options import DEFAULT_OPTIONS, Deadline, SynthesisOptions
-from ltl_stack.synthesis.strategy import State, SymbolicStrategy
+
+if TYPE_CHECKING:  # pragma: no cover - for type checkers and readers only
+    from ltl_stack.synthesis.automaton import Automaton, AutomatonState
+    from ltl_stack.synthesis.strategy import State, SymbolicStrategy
+
+_LAZY = {"Automaton": "automaton", "AutomatonState": "automaton", "State": "strategy", "SymbolicStrategy": "strategy"}
 
 __all__ = [
     "BACKEND", "DEFAULT_OPTIONS", "Automaton", "AutomatonState", "AssumptionViolation", "Deadline", "Game",
@@ -88,7 +100,9 @@ def synthesize(spec: Spec, *, robotics_semantics: bool = DEFAULT_OPTIONS.robotic
             if progress:
                 progress("no strategy avoids trapping the environment; solving the ordinary game")
             solution = solve(game, robotics_semantics=robotics_semantics, options=options, progress=progress)
-        strategy = SymbolicStrategy(game, solution, cooperative=cooperative) if solution.realizable else None
+        # looked up on the module: resolved on first use (module ``__getattr__``) and replaceable in tests
+        strategy_class = sys.modules[__name__].SymbolicStrategy
+        strategy = strategy_class(game, solution, cooperative=cooperative) if solution.realizable else None
     return SynthesisResult(solution.realizable, strategy, time.perf_counter() - start, game, solution,
                            SynthesisOptions(robotics_semantics, cooperative))
 
@@ -100,3 +114,16 @@ def is_realizable(spec: Spec, *, robotics_semantics: bool = DEFAULT_OPTIONS.robo
     game = Game(spec, max_memory=max_memory, deadline=Deadline(timeout))
     with memory_guard(game.max_memory):
         return solve(game, robotics_semantics=robotics_semantics, early_exit=True, options=options).realizable
+
+
+def __getattr__(name: str) -> object:
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"{__name__}.{module}"), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

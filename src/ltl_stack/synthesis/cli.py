@@ -22,13 +22,13 @@ import os
 import sys
 import threading
 import time
+from typing import TYPE_CHECKING
 
 from ltl_stack import cli
 from ltl_stack.errors import Exit, OutputError
 from ltl_stack.spec.load import load_spec
 from ltl_stack.spec.model import Spec
 from ltl_stack.synthesis import synthesize
-from ltl_stack.synthesis.automaton import Automaton
 from ltl_stack.synthesis.explain import explain
 from ltl_stack.synthesis.explain_render import (
     counterstrategy_dot,
@@ -43,6 +43,9 @@ from ltl_stack.synthesis.options import (
     options_from,
     parse_size,
 )
+
+if TYPE_CHECKING:  # pragma: no cover - the automaton module is only needed when a strategy is exported
+    from ltl_stack.synthesis.automaton import Automaton
 
 PROG = "synthesize"
 EXIT_CODES = (Exit.OK, Exit.UNREALIZABLE, Exit.BAD_INPUT, Exit.WRITE_FAILED, Exit.LIMIT)

@@ -46,7 +46,7 @@ from contextlib import contextmanager
 from ltl_stack.spec.formula import And, Const, Formula, Iff, Implies, Not, Or, Var, Xor
 from ltl_stack.spec.model import SECTIONS, Clause, Spec
 from ltl_stack.synthesis.errors import MemoryLimitReached
-from ltl_stack.synthesis.options import MANAGER_ESTIMATE, NO_DEADLINE, Deadline, memory_cap
+from ltl_stack.synthesis.options import LOOSE_UP_TO, MANAGER_ESTIMATE, NO_DEADLINE, Deadline, memory_cap
 
 # dd imports networkx for one thing only, its ``to_nx`` graph export, which ltl_stack never calls;
 # importing networkx costs ~90 ms, as much as the rest of a ``synthesize`` run on a small spec.
@@ -118,7 +118,7 @@ def new_manager(max_memory: int):
         return _backend.BDD()
     with memory_guard(max_memory):
         bdd = _backend.BDD(memory_estimate=min(max_memory, MANAGER_ESTIMATE), initial_cache_size=2**16)
-        bdd.configure(max_memory=max_memory)
+        bdd.configure(max_memory=max_memory, loose_up_to=LOOSE_UP_TO)
     return bdd
 
 

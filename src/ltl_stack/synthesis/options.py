@@ -22,8 +22,13 @@ from ltl_stack.synthesis.errors import TimeLimitReached
 
 #: the cap when nothing else is said: the machine is shared, so fail rather than swap
 DEFAULT_MAX_MEMORY = 4 * 2**30
-#: CUDD's own estimate for sizing its tables (bigger estimates make creating a manager slow)
-MANAGER_ESTIMATE = 2**30
+#: CUDD's own estimate for sizing its tables. Creating a manager also reserves and writes a
+#: "stash" of 1/128 of it (kept for running out of memory): 2**30 wrote 8 MB, ~7 ms of every
+#: ``synthesize`` process (issue 16); 2**24 writes 128 KB. The cap itself is ``max_memory``.
+MANAGER_ESTIMATE = 2**24
+#: nodes up to which CUDD's unique table grows eagerly (``loose_up_to``): the value a 2**30 estimate
+#: gave (bytes / 32-byte node / 5), kept when the estimate was lowered so large specs run as before
+LOOSE_UP_TO = 2**30 // 160
 
 
 @dataclass(frozen=True)

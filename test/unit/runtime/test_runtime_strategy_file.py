@@ -19,6 +19,7 @@ from ltl_stack.runtime.executor_setup import (
     build_strategy,
     check_summary,
     merge_options,
+    params_lookup,
     parse_init_props,
     prepare,
 )
@@ -106,6 +107,22 @@ def test_cli_flags_win_over_private_params():
     spec = parse_slugsin(LOCK, "lock.slugsin")
     assert parse_init_props(options.init_props, spec) == {"a": True, "lock": False}
     assert merge_options({}).on_violation is ViolationPolicy.HOLD
+
+
+def test_private_params_fetched_at_once_are_looked_up_by_name():
+    """The node fetches its whole ``~`` namespace in one call (the master's dict, other keys and nested
+    values included); merging from it gives what one ``has_param``/``get_param`` per name gave."""
+    fetched = {"rate": 5.0, "init_props": {"a": True, "lock": 0}, "not_an_option": 1, "ready_timeout": 9.0}
+    options = merge_options({"ready_timeout": 2.0}, params_lookup(fetched))
+    assert (options.rate, options.ready_timeout, options.settle_steps) == (5.0, 2.0, merge_options({}).settle_steps)
+    assert options.sources["rate"] == "~rate" and options.sources["ready_timeout"] == "--ready-timeout"
+    assert options.sources["settle_steps"] == "default"
+    spec = parse_slugsin(LOCK, "lock.slugsin")
+    assert parse_init_props(options.init_props, spec) == {"a": True, "lock": False}
+    assert params_lookup({})("rate") == (False, None)
+    assert params_lookup({"rate": None})("rate") == (True, None)
+    with pytest.raises(ExecutorError, match="parameter ~settle_steps must be an integer"):
+        merge_options({}, params_lookup({"settle_steps": 2.5}))
 
 
 @pytest.mark.parametrize("name, value, fragment", [

@@ -14,6 +14,7 @@ from pathlib import Path
 import pytest
 from helpers import shared_dir
 
+import ltl_stack.errors
 import ltl_stack.spec
 import ltl_stack.synthesis.cli as synthesis_cli
 from ltl_stack.errors import Exit
@@ -106,3 +107,49 @@ def test_english_spec_files_still_load(tmp_path) -> None:
     path.write_text("Sensors: person\nActions: camera\n\nIf you are sensing person then do camera\n")
     spec = load_spec(path)
     assert "person" in spec.inputs and "camera" in spec.outputs
+
+
+def test_verdict_start_up_skips_strategy_automaton_and_yaml() -> None:
+    """A realizability check needs neither the strategy/automaton modules nor PyYAML (~12 ms CPU)."""
+    proc = run_python("import sys\n"
+                      "import ltl_stack.synthesis.cli\n"
+                      "skipped = ['yaml', 'ltl_stack.inputs', 'ltl_stack.synthesis.strategy',\n"
+                      "           'ltl_stack.synthesis.automaton', 'ltl_stack.synthesis.explicit']\n"
+                      "print([m for m in skipped if m in sys.modules])")
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip() == "[]"
+
+
+def test_every_name_of_the_synthesis_package_resolves() -> None:
+    import ltl_stack.synthesis as synthesis
+    from ltl_stack.synthesis.automaton import Automaton
+    from ltl_stack.synthesis.strategy import SymbolicStrategy
+
+    for name in synthesis.__all__:
+        assert getattr(synthesis, name) is not None
+    assert synthesis.Automaton is Automaton and synthesis.SymbolicStrategy is SymbolicStrategy
+    assert set(dir(synthesis)) >= set(synthesis.__all__)
+    with pytest.raises(AttributeError):
+        synthesis.no_such_name  # noqa: B018
+
+
+def test_inputs_still_offers_read_text(tmp_path) -> None:
+    import ltl_stack.inputs as inputs
+    import ltl_stack.textio as textio
+
+    assert inputs.read_text is textio.read_text and inputs.decode_text is textio.decode_text
+    (tmp_path / "bin").write_bytes(b"a\n\0")
+    with pytest.raises(ltl_stack.errors.InputError, match="NUL byte"):
+        inputs.read_text(tmp_path / "bin")
+
+
+def test_manager_creation_writes_no_large_stash() -> None:
+    """CUDD writes a stash of 1/128 of the manager's memory estimate on creation (8 MB and ~7 ms per
+    process at a 1 GiB estimate); the estimate is small now, the eager-growth limit as before."""
+    from ltl_stack.synthesis.game import new_manager
+    from ltl_stack.synthesis.options import LOOSE_UP_TO
+
+    bdd = new_manager(2**32)
+    assert bdd.statistics()["mem"] < 4 * 2**20
+    assert bdd.configure()["loose_up_to"] == LOOSE_UP_TO
+    assert bdd.configure()["max_memory"] == 2**32
