@@ -6,6 +6,8 @@ import mode).
 - Nothing a test starts talks to a master it did not start, nor logs into ``~/.ros``: ROS_MASTER_URI
   points at a closed port and ROS_HOME/ROS_LOG_DIR at a temporary folder of this pytest process
   (``ros_master`` gives each test its own).
+- Modules with slow tests run first, then those with ROS tests (``pytest_collection_modifyitems``): under
+  pytest-xdist's ``--dist loadscope`` the scenario runs then overlap and short modules fill the end.
 - ``test/unit`` needs no ROS master and no catkin workspace: a unit test that starts a master fails,
   and in unit tests ROS_PACKAGE_PATH is empty, so ``rosrun``/``roslaunch`` cannot find the package.
 """
@@ -37,6 +39,18 @@ def _closed_port() -> int:
     with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
         s.bind(("127.0.0.1", 0))
         return s.getsockname()[1]
+
+
+def pytest_collection_modifyitems(session: pytest.Session, config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Longest modules first (a module with a ``slow`` test, then one with a ``ros`` test, then the rest;
+    the order within each group and within a module is kept): xdist hands modules to workers in this
+    order, so a minute-long scenario module never starts last while the other workers idle."""
+    weight: dict[str, int] = {}
+    for item in items:
+        module = item.nodeid.split("::")[0]
+        w = 2 if item.get_closest_marker("slow") else 1 if item.get_closest_marker("ros") else 0
+        weight[module] = max(weight.get(module, 0), w)
+    items.sort(key=lambda item: -weight[item.nodeid.split("::")[0]])
 
 
 @pytest.fixture(scope="session", autouse=True)

@@ -29,7 +29,7 @@ from ltl_stack.runtime.mapping import load_mapping, resolve_node_name
 from ltl_stack.spec import load_spec
 from ltl_stack.synthesis import is_realizable
 
-pytestmark = pytest.mark.ros
+pytestmark = [pytest.mark.ros, pytest.mark.slow]
 
 ROOT = Path(__file__).resolve().parents[2]
 CONFIG = ROOT / "config"

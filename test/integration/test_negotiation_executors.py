@@ -13,7 +13,7 @@ from helpers import wait_for
 from ltl_stack.spec import load_spec
 from ltl_stack.synthesis import synthesize
 
-pytestmark = pytest.mark.ros
+pytestmark = [pytest.mark.ros, pytest.mark.slow]
 
 
 def occurrences(log: str, text: str) -> list[float]:
