@@ -108,10 +108,31 @@ def ms(value: float | None) -> str:
     return "–" if value is None else f"{value * 1000:.0f}"
 
 
-def executor_start(repeat: int, timeout: float, env: dict[str, str]) -> list[str]:
+#: the executor's log lines that end a start-up phase (``--phases``), in order
+PHASES = [("synthesizing ", "process start -> files read, node registered, params fetched"),
+          ("synthesized in ", "synthesis"),
+          ("running the ", "explicit strategy built")]
+
+
+def log_phases(text: str, start: float) -> list[tuple[str, float]]:
+    """When each phase ended, in seconds after ``start`` (wall clock), from rospy's ``[INFO] [t]: msg`` lines."""
+    import re
+
+    found = []
+    for line in text.splitlines():
+        m = re.match(r"\[INFO\] \[(\d+\.\d+)\]: \S+: (.*)", line)
+        if m:
+            for prefix, name in PHASES:
+                if m.group(2).startswith(prefix) and name not in dict(found):
+                    found.append((name, float(m.group(1)) - start))
+    return found
+
+
+def executor_start(repeat: int, timeout: float, env: dict[str, str], phases: bool = False) -> list[str]:
     """``controller_executor`` on thesis Ex. 8 (config/clean_and_patrol) through a real master: from
     starting the process to its first ``~state`` with a state (latched; received by a subscriber
-    started before it), the robot assumed in topLane and every other input false (``--init-props``), so no sensor node is needed."""
+    started before it), the robot assumed in topLane and every other input false (``--init-props``), so no sensor node is needed.
+    With ``phases``, the node's own log says when its start-up phases ended."""
     sys.path.insert(0, str(REPO / "test"))
     import rospy  # ROS only for this mode: the latency table needs no master
     from helpers import RosMaster
@@ -137,13 +158,16 @@ def executor_start(repeat: int, timeout: float, env: dict[str, str]) -> list[str
     subs = [rospy.Subscriber(f"{ns}/controller_executor/state", ControllerState, on_state)
             for ns in ("/clean_and_patrol", "")]
     times = []
+    phase_times: dict[str, list[float]] = {}
     try:
         for k in range(repeat + 1):  # the first run only warms the bytecode cache
             first.clear()
+            log = tempfile.TemporaryFile()
+            wall_start = time.time()
             start = time.perf_counter()
             proc = subprocess.Popen([str(script), str(spec), str(config / "clean_and_patrol.yaml"), "--init-props",
                                      ",".join(f"{v}={int(v == 'topLane_rc')}" for v in inputs)], env=env,
-                                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                                    stdout=log, stderr=subprocess.STDOUT)
             while not first and time.perf_counter() - start < timeout and proc.poll() is None:
                 time.sleep(0.001)
             if first and k:
@@ -155,6 +179,11 @@ def executor_start(repeat: int, timeout: float, env: dict[str, str]) -> list[str
             except subprocess.TimeoutExpired:
                 proc.kill()
                 proc.wait()
+            log.seek(0)
+            if k and phases:
+                for name, at in log_phases(log.read().decode(errors="replace"), wall_start):
+                    phase_times.setdefault(name, []).append(at)
+            log.close()
             deadline = time.perf_counter() + 30
             while any(master.publishers(f"{ns}/controller_executor/state") for ns in ("/clean_and_patrol", "")) \
                     and time.perf_counter() < deadline:
@@ -169,7 +198,12 @@ def executor_start(repeat: int, timeout: float, env: dict[str, str]) -> list[str
             f"median {statistics.median(times) * 1000:.0f} ms over {len(times)} runs "
             f"({', '.join(f'{t * 1000:.0f}' for t in times)} ms), load average {os.getloadavg()[0]:.1f}"
             if times else "controller_executor: no state received")
-    return [line]
+    lines = [line]
+    if phase_times:
+        lines += [f"  phase ended (median after process start): {name} {statistics.median(v) * 1000:.0f} ms"
+                  for name, v in phase_times.items()]
+        lines.append(f"  first ~state received {statistics.median(times) * 1000:.0f} ms")
+    return lines
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -184,8 +218,13 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--pythonpath", help="put this source folder first on PYTHONPATH (measure another checkout)")
     p.add_argument("--timeout", type=float, default=120.0)
     p.add_argument("--out", default=str(OUT), help=f"the table (default {OUT.relative_to(REPO)})")
+    p.add_argument("--variants", action=argparse.BooleanOptionalAction, default=True,
+                   help="also ours without .pyc and without .pth files (python -S), and the start-up floor "
+                        "(default on)")
     p.add_argument("--executor", action="store_true",
                    help="only controller_executor's start-up on thesis Ex. 8 through a real master")
+    p.add_argument("--phases", action="store_true",
+                   help="with --executor: also print when each start-up phase ended in the node (from its log)")
     args = p.parse_args(argv)
 
     ws = os.environ.get("LTL_STACK_WS")
@@ -205,67 +244,197 @@ def main(argv: list[str] | None = None) -> int:
         env["PYTHONPATH"] = os.pathsep.join([str(Path(args.pythonpath).resolve()), env.get("PYTHONPATH", "")])
 
     if args.executor:
-        print("\n".join(executor_start(args.repeat, args.timeout, env)))
+        lines = executor_start(args.repeat, args.timeout, env, phases=args.phases)
+        print("\n".join(lines))
+        section = [EXECUTOR_HEADING, "", f"Command: `python test/benchmarks/bench_cli_latency.py --executor "
+                   f"--repeat {args.repeat}{' --phases' if args.phases else ''}`, "
+                   f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}. The node's own log gives the phases; "
+                   "the first `~state` is taken when the benchmark's subscriber receives it.", "",
+                   *[f"- {line.strip()}" for line in lines], ""]
+        write_sections(Path(args.out), executor=section)
         shutil.rmtree(cache, ignore_errors=True)
         return 0
-    specs = shared_specs() + generated_specs(args.generated)
+    specs = shared_specs() + [ex8_slugsin(Path(cache))] + generated_specs(args.generated)
     if args.only:
         specs = [s for s in specs if any(o in name_of(s) for o in args.only)]
-    columns: dict[str, list[str]] = {"ours": [str(script)]}
+    columns: dict[str, tuple[list[str], dict[str, str]]] = {"ours": ([str(script)], env)}
     if slugs:
-        columns["slugs"] = [slugs, "--sysInitRoboticsSemantics"]
+        columns["slugs"] = ([slugs, "--sysInitRoboticsSemantics"], env)
+    run(columns["ours"][0] + [str(specs[0])], env, args.timeout)  # warm the bytecode cache
+    if args.variants:
+        run([sys.executable, "-S", str(script), str(specs[0])], no_site_env(env), args.timeout)
+        columns["ours, no .pyc"] = ([str(script)], no_pyc_env(env, Path(cache)))
+        columns["ours, no .pth"] = ([sys.executable, "-S", str(script)], no_site_env(env))
     if rosrun:
-        columns["rosrun"] = [rosrun, "ltl_stack", "synthesize"]
-        columns["rosrun itself"] = [rosrun, "--prefix", "true", "ltl_stack", "synthesize"]
-
-    run(columns["ours"] + [str(specs[0])], env, args.timeout)  # warm the bytecode cache
+        columns["rosrun"] = ([rosrun, "ltl_stack", "synthesize"], env)
+        columns["rosrun itself"] = ([rosrun, "--prefix", "true", "ltl_stack", "synthesize"], env)
+    floor = start_up_floor(env, args.repeat, args.timeout) if args.variants else []
     started = time.time()
+    load_start = os.getloadavg()[0]
     rows = []
     for spec in specs:
         runs: dict[str, list[dict]] = {c: [] for c in columns}
         for _ in range(args.repeat):
-            for column, cmd in columns.items():  # alternate, so drift hits every column alike
-                runs[column].append(run(cmd + [str(spec)], env, args.timeout))
+            for column, (cmd, cenv) in columns.items():  # alternate, so drift hits every column alike
+                runs[column].append(run(cmd + [str(spec)], cenv, args.timeout))
         row = {"spec": name_of(spec), "runs": runs}
         ours_v = {verdict_ours(r) for r in runs["ours"]}
         row["verdict"] = "/".join(sorted(ours_v))
+        for variant in ("ours, no .pyc", "ours, no .pth"):
+            if variant in runs and {verdict_ours(r) for r in runs[variant]} != ours_v:
+                row["verdict"] += f" DIFFERENT ({variant})"
         if slugs:
             slugs_v = {verdict_slugs(r) for r in runs["slugs"]}
             if slugs_v != ours_v:
                 row["verdict"] += f" DIFFERENT (slugs {'/'.join(sorted(slugs_v))})"
         rows.append(row)
-        print(f"{row['spec']}: " + ", ".join(f"{c} {ms(med(runs[c], 'wall'))} ms" for c in columns),
+        print(f"{row['spec']}: " + ", ".join(f"{c} {ms(med(runs[c], 'cpu'))} ms CPU" for c in columns),
               file=sys.stderr, flush=True)
+    lines = table(rows, args, slugs=bool(slugs), rosrun=bool(rosrun), started=started, load=load_start)
+    if floor:
+        lines += ["## Where a small run's CPU time goes", "",
+                  f"Same run, medians of {args.repeat}: what a Python process costs before any of our work "
+                  "(`.pyc` cached).", "", "| process | wall ms | CPU ms |", "|---|---|---|"]
+        lines += [f"| {name} | {ms(med(r, 'wall'))} | {ms(med(r, 'cpu'))} |" for name, r in floor] + [""]
+    lines += [f"Total benchmark time {time.time() - started:.0f} s; load average at the end "
+              f"{os.getloadavg()[0]:.1f}.", ""]
+    write_sections(Path(args.out), synthesize=lines)
+    print("\n".join(lines))
+    shutil.rmtree(cache, ignore_errors=True)
+    shutil.rmtree(cache + "-without-ours", ignore_errors=True)
+    return 0
 
+
+EXECUTOR_HEADING = "## `controller_executor` start-up"
+
+
+def write_sections(out: Path, synthesize: list[str] | None = None, executor: list[str] | None = None) -> None:
+    """Write the table file; the part a run does not measure (the synthesize tables or the executor
+    section) is kept from the file as it was."""
+    old = out.read_text() if out.exists() else ""
+    head, _, tail = old.partition(EXECUTOR_HEADING)
+    old_executor = (EXECUTOR_HEADING + tail).splitlines() if tail else []
+    text = "\n".join(synthesize if synthesize is not None else head.rstrip("\n").splitlines())
+    text = text.rstrip("\n") + "\n\n" + "\n".join(executor if executor is not None else old_executor)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(text.rstrip("\n") + "\n")
+
+
+def ex8_slugsin(folder: Path) -> Path:
+    """Thesis Example 8 as the executor runs it (``config/clean_and_patrol``), written as ``.slugsin``
+    so that both tools read the same file."""
+    from ltl_stack.spec import load_spec, write_slugsin
+
+    path = folder / "clean_and_patrol.slugsin"
+    path.write_text(write_slugsin(load_spec(REPO / "config" / "clean_and_patrol" / "clean_and_patrol.structuredslugs")))
+    return path
+
+
+def no_pyc_env(env: dict[str, str], cache: Path) -> dict[str, str]:
+    """Our sources compiled on every run (a source checkout under ``PYTHONDONTWRITEBYTECODE`` whose
+    ``.pyc`` nobody wrote): a copy of the warmed bytecode folder without our package's sources, which
+    is not written to. Every other module (stdlib, venv, generated messages) keeps its ``.pyc``."""
+    bare = cache.parent / (cache.name + "-without-ours")
+    if not bare.exists():
+        shutil.copytree(cache, bare)
+        for folder in [d for d in bare.rglob("ltl_stack") if d.is_dir() and d.parent.name == "src"]:
+            shutil.rmtree(folder, ignore_errors=True)
+    return dict(env, PYTHONDONTWRITEBYTECODE="1", PYTHONPYCACHEPREFIX=str(bare))
+
+
+def no_site_env(env: dict[str, str]) -> dict[str, str]:
+    """``python -S`` with the same ``sys.path``: no ``site`` module, so no ``.pth`` file runs — on this
+    machine a sandbox ``.pth`` imports certifi in every Python process, which a user's machine does not."""
+    import site
+
+    dirs = [d for d in site.getsitepackages() if Path(d).is_dir()]
+    return dict(env, PYTHONPATH=os.pathsep.join([env.get("PYTHONPATH", ""), *dirs]))
+
+
+def start_up_floor(env: dict[str, str], repeat: int, timeout: float) -> list[tuple[str, list[dict]]]:
+    """The bare interpreter, with and without ``site`` (.pth files), and the imports of a verdict run."""
+    py = sys.executable
+    nosite = no_site_env(env)
+    cases = [("`python -c pass` (venv, site and .pth files)", [py, "-c", "pass"], env),
+             ("`python -S -c pass` (no site, no .pth)", [py, "-S", "-c", "pass"], nosite),
+             ("`/usr/bin/python3 -c pass` (system python, its site)", ["/usr/bin/python3", "-c", "pass"], env),
+             ("`python -c 'import ltl_stack.synthesis.cli'`", [py, "-c", "import ltl_stack.synthesis.cli"], env),
+             ("`python -S -c 'import ltl_stack.synthesis.cli'`", [py, "-S", "-c", "import ltl_stack.synthesis.cli"],
+              nosite),
+             ("`python -S -c 'import ltl_stack.synthesis.game'` (dd.cudd and the spec model)",
+              [py, "-S", "-c", "import ltl_stack.synthesis.game"], nosite)]
+    runs: dict[str, list[dict]] = {name: [] for name, _, _ in cases}
+    for _ in range(repeat):
+        for name, cmd, cenv in cases:
+            if Path(cmd[0]).exists():
+                runs[name].append(run(cmd, cenv, timeout))
+    return [(name, r) for name, r in runs.items() if r]
+
+
+def table(rows: list[dict], args: argparse.Namespace, *, slugs: bool, rosrun: bool, started: float,
+          load: float) -> list[str]:
+    variants = args.variants
     head = ["spec", "realizable", "ours wall ms", "ours CPU ms"]
     if slugs:
-        head += ["slugs wall ms", "slugs CPU ms", "ours / slugs (wall)"]
+        head += ["slugs wall ms", "slugs CPU ms", "ours / slugs (wall)", "ours / slugs (CPU)"]
+    if variants:
+        head += ["ours, no .pyc: CPU ms", "ours, no .pth: CPU ms"]
+        if slugs:
+            head += ["no .pth / slugs (CPU)"]
     if rosrun:
         head += ["rosrun wall ms", "rosrun itself ms", "ours through rosrun, rosrun's own cost taken out, ms"]
         if slugs:
             head += ["that / slugs"]
     lines = ["# `synthesize` whole-process latency", "",
-             f"Command: `python test/benchmarks/bench_cli_latency.py{' --slugs SLUGS' if slugs else ''} "
-             f"--repeat {args.repeat}{f' --generated {args.generated:g}' if args.generated else ''}"
-             f"{' --pythonpath ' + args.pythonpath if args.pythonpath else ''}`, "
+             f"Command: `python test/benchmarks/bench_cli_latency.py {command_line(args)}`, "
              f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime(started))}, {platform.machine()}, "
-             f"{os.cpu_count()} cores shared with other jobs (load average at the start "
-             f"{os.getloadavg()[0]:.1f}). Medians of {args.repeat} alternating runs per column; "
-             "realizability only, robotics init semantics on both sides.", "",
-             "| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
-    summary = {"over": [], "slower_than_slugs_over_100ms": []}
+             f"{os.cpu_count()} cores shared with other jobs (load average at the start {load:.1f}). "
+             f"Medians of {args.repeat} alternating runs per column; realizability only, robotics init "
+             "semantics on both sides; CPU is user + system time of the process and its children "
+             "(`os.wait4`), the steadier figure on a loaded machine. `clean_and_patrol` is thesis Ex. 8 as "
+             "`config/clean_and_patrol` has it, written as .slugsin for both tools (the shared README calls "
+             "`move_group_and_move_base` Ex. 8).", ""]
+    if variants:
+        lines += ["Variants of ours: *no .pyc* compiles our sources on every run (a source checkout under "
+                  "`PYTHONDONTWRITEBYTECODE`, as the devel space is in this environment unless the bootstrap "
+                  "compiles it); *no .pth* runs the same script with `python -S` and the same `sys.path`, "
+                  "so no `.pth` file runs — this machine's sandbox puts one in the system site-packages "
+                  "that imports certifi in every Python process (~25 ms CPU of a bare interpreter, but most "
+                  "of what it imports — re, pathlib, typing — our imports need anyway), which a user's "
+                  "machine does not have.", ""]
+    lines += ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    summary: dict[str, list] = {"over": [], "over_cpu": [], "slow": [], "slow_cpu": [], "cpu_ratios": [],
+                                "nopth_ratios": [], "over_nopth": []}
     for row in rows:
         runs = row["runs"]
         ours, ours_cpu = med(runs["ours"], "wall"), med(runs["ours"], "cpu")
         cells = [f"`{row['spec']}`", row["verdict"], ms(ours), ms(ours_cpu)]
         slugs_wall = med(runs["slugs"], "wall") if slugs else None
+        slugs_cpu = med(runs["slugs"], "cpu") if slugs else None
         if slugs:
             ratio = ours / slugs_wall if ours and slugs_wall else None
-            cells += [ms(slugs_wall), ms(med(runs["slugs"], "cpu")), "–" if ratio is None else f"{ratio:.2f}"]
+            cpu_ratio = ours_cpu / slugs_cpu if ours_cpu and slugs_cpu else None
+            cells += [ms(slugs_wall), ms(slugs_cpu), _ratio(ratio), _ratio(cpu_ratio)]
             if ratio is not None and ratio > 1.5:
                 summary["over"].append(row["spec"])
+            if cpu_ratio is not None:
+                summary["cpu_ratios"].append(cpu_ratio)
+                if cpu_ratio > 1.5:
+                    summary["over_cpu"].append(row["spec"])
             if ratio is not None and slugs_wall > 0.1 and ratio >= 1:
-                summary["slower_than_slugs_over_100ms"].append(row["spec"])
+                summary["slow"].append(row["spec"])
+            if cpu_ratio is not None and slugs_cpu > 0.1 and cpu_ratio >= 1:
+                summary["slow_cpu"].append(row["spec"])
+        if variants:
+            nopth = med(runs["ours, no .pth"], "cpu")
+            cells += [ms(med(runs["ours, no .pyc"], "cpu")), ms(nopth)]
+            if slugs:
+                nopth_ratio = nopth / slugs_cpu if nopth and slugs_cpu else None
+                cells.append(_ratio(nopth_ratio))
+                if nopth_ratio is not None:
+                    summary["nopth_ratios"].append(nopth_ratio)
+                    if nopth_ratio > 1.5:
+                        summary["over_nopth"].append(row["spec"])
         if rosrun:
             total, own = med(runs["rosrun"], "wall"), med(runs["rosrun itself"], "wall")
             share = total - own if total is not None and own is not None else None
@@ -274,16 +443,30 @@ def main(argv: list[str] | None = None) -> int:
                 cells.append("–" if share is None or not slugs_wall else f"{share / slugs_wall:.2f}")
         lines.append("| " + " | ".join(cells) + " |")
     if slugs:
-        lines += ["", f"Over 1.5× slugs (wall): {', '.join(summary['over']) or 'none'}. "
-                      f"Not faster than slugs where slugs needs > 100 ms: "
-                      f"{', '.join(summary['slower_than_slugs_over_100ms']) or 'none'}."]
-    lines += ["", f"Total benchmark time {time.time() - started:.0f} s.", ""]
-    out = Path(args.out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text("\n".join(lines))
-    print("\n".join(lines))
-    shutil.rmtree(cache, ignore_errors=True)
-    return 0
+        n = len(rows)
+        lines += ["", f"Over 1.5× slugs: wall {len(summary['over'])} of {n} specs, CPU {len(summary['over_cpu'])} "
+                      f"of {n} ({', '.join(summary['over_cpu']) or 'none'}). Not faster than slugs where slugs "
+                      f"needs > 100 ms: wall {', '.join(summary['slow']) or 'none'}; CPU "
+                      f"{', '.join(summary['slow_cpu']) or 'none'}."]
+        if summary["cpu_ratios"]:
+            lines[-1] += (f" CPU ours / slugs: median {statistics.median(summary['cpu_ratios']):.2f} "
+                          f"({min(summary['cpu_ratios']):.2f}–{max(summary['cpu_ratios']):.2f}).")
+        if summary["nopth_ratios"]:
+            lines[-1] += (f" Without the sandbox's .pth (no .pth column): median "
+                          f"{statistics.median(summary['nopth_ratios']):.2f} "
+                          f"({min(summary['nopth_ratios']):.2f}–{max(summary['nopth_ratios']):.2f}), over 1.5×: "
+                          f"{len(summary['over_nopth'])} of {n}.")
+    return lines + [""]
+
+
+def command_line(args: argparse.Namespace) -> str:
+    """The benchmark's arguments as given, the slugs binary's path shown as SLUGS."""
+    shown = ["SLUGS" if args.slugs and a == args.slugs else a for a in sys.argv[1:]]
+    return " ".join(shown) or f"--repeat {args.repeat}"
+
+
+def _ratio(value: float | None) -> str:
+    return "–" if value is None else f"{value:.2f}"
 
 
 if __name__ == "__main__":
