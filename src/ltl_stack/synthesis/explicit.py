@@ -91,57 +91,124 @@ def extract(strategy: SymbolicStrategy, *, max_states: int | None = None, progre
 
 def _codes(bdd, u, bit_of: dict[str, int]) -> list[int]:
     """Every satisfying valuation of ``u`` over the variables of ``bit_of`` (which must cover its
-    support) as an integer with bit ``bit_of[v]`` set when v is true.
+    support) as an integer with bit ``bit_of[v]`` set when v is true (see ``_Codes``)."""
+    codes = _Codes(bdd, bit_of)
+    try:
+        return codes(u)
+    finally:
+        codes.clear()
 
-    Bottom-up over the BDD's nodes (each node's valuations of the variables below it computed
-    once), skipped variables expanded with integer arithmetic: ``pick_iter`` builds one dict per
-    valuation, which dominated extraction (millions of edges on thesis Ex. 8 with recovery)."""
-    if u == bdd.false:
-        return []
-    if BACKEND != "cudd":  # pragma: no cover - the autoref fallback
-        return [sum(1 << bit_of[v] for v, val in a.items() if val)
-                for a in bdd.pick_iter(u, care_vars=set(bit_of))]
-    order = sorted(bit_of, key=bdd.level_of_var)
-    position = {bdd.level_of_var(v): k for k, v in enumerate(order)}
-    bits = [1 << bit_of[v] for v in order]
-    end = len(order)
-    true = bdd.true
-    terminal = true.level
-    memo: dict = {}
 
-    def expand(codes: list[int], start: int, stop: int) -> list[int]:
+class _Codes:
+    """Valuations of BDDs as integer codes, bottom-up over their nodes: each node's valuations of
+    the variables below it are computed once and kept (until ``clear``) for every later BDD that
+    shares the node (the moves of neighbouring states share most of theirs); variables skipped
+    between two nodes are expanded with integer arithmetic. ``pick_iter`` builds one dict per
+    valuation, which dominated extraction (millions of edges on thesis Ex. 8 with recovery).
+
+    The kept results depend on the variable order, so it must not change while they are kept
+    (``_Extraction`` switches dynamic reordering off meanwhile).
+    """
+
+    def __init__(self, bdd, bit_of: dict[str, int]) -> None:
+        self.bdd = bdd
+        order = sorted(bit_of, key=bdd.level_of_var)
+        self.position = {bdd.level_of_var(v): k for k, v in enumerate(order)}
+        self.bits = [1 << bit_of[v] for v in order]
+        self.end = len(order)
+        self.memo: dict = {}
+        self.bit_of = bit_of
+
+    def clear(self) -> None:
+        self.memo.clear()
+
+    def expand(self, codes: list[int], start: int, stop: int) -> list[int]:
+        bits = self.bits
         for k in range(start, stop):  # variables skipped between two nodes are free
             codes = codes + [c | bits[k] for c in codes]
         return codes
 
-    def below(f) -> list[int]:
-        """Valuations of the variables from f's own on (f not constant)."""
-        found = memo.get(f)
+    def __call__(self, u) -> list[int]:
+        bdd = self.bdd
+        if u == bdd.false:
+            return []
+        if BACKEND != "cudd":  # pragma: no cover - the autoref fallback
+            return [sum(1 << self.bit_of[v] for v, val in a.items() if val)
+                    for a in bdd.pick_iter(u, care_vars=set(self.bit_of))]
+        if u == bdd.true:
+            return self.expand([0], 0, self.end)
+        return self.expand(self.below(u), 0, self.position[u.level])
+
+    def below(self, u) -> list[int]:
+        """Valuations of the variables from u's own on (u not constant), iteratively."""
+        memo = self.memo
+        found = memo.get(u)
         if found is not None:
             return found
-        k = position[f.level]
-        low, high = (~f.low, ~f.high) if f.negated else (f.low, f.high)
-        codes: list[int] = []
-        for child, bit in ((low, 0), (high, bits[k])):
-            level = child.level
-            if level == terminal:
-                if child != true:
-                    continue
-                sub, j = [0], end
-            else:
-                sub, j = below(child), position[level]
-            if j > k + 1:
-                sub = expand(sub, k + 1, j)
-            codes.extend([c | bit for c in sub] if bit else sub)
-        memo[f] = codes
-        return codes
+        position, bits, end = self.position, self.bits, self.end
+        true = self.bdd.true
+        terminal = true.level
+        stack = [u]
+        while stack:
+            f = stack[-1]
+            if f in memo:
+                stack.pop()
+                continue
+            low, high = (~f.low, ~f.high) if f.negated else (f.low, f.high)
+            waiting = [c for c in (low, high) if c.level != terminal and c not in memo]
+            if waiting:
+                stack.extend(waiting)
+                continue
+            stack.pop()
+            k = position[f.level]
+            codes: list[int] = []
+            for child, bit in ((low, 0), (high, bits[k])):
+                level = child.level
+                if level == terminal:
+                    if child != true:
+                        continue
+                    sub, j = [0], end
+                else:
+                    sub, j = memo[child], position[level]
+                if j > k + 1:
+                    sub = self.expand(sub, k + 1, j)
+                codes.extend([c | bit for c in sub] if bit else sub)
+            memo[f] = codes
+        return memo[u]
 
-    try:
-        if u == true:
-            return expand([0], 0, end)
-        return expand(below(u), 0, position[u.level])
-    finally:
-        memo.clear()  # the recursive closure is a reference cycle: drop its BDD nodes now
+
+class _Restricted:
+    """A BDD restricted to positions (integer codes of the current variables), cached by the
+    values of only the current variables it depends on: a goal mentions a few propositions, so
+    its restrictions repeat across thousands of states. With ``truth`` the result is whether the
+    restriction is true. Without, results stay uncached when it depends on more than
+    ``MAX_CACHED_BITS`` current variables (one BDD kept per position would be too many)."""
+
+    MAX_CACHED_BITS = 16
+
+    def __init__(self, bdd, u, current_bit: dict[str, int], truth: bool = False) -> None:
+        self.bdd = bdd
+        self.u = u
+        support = bdd.support(u)
+        self.bits = [(v, k) for v, k in current_bit.items() if v in support]
+        self.mask = sum(1 << k for _, k in self.bits)
+        self.truth = truth
+        self.cache: dict[int, Any] | None = {} if truth or len(self.bits) <= self.MAX_CACHED_BITS else None
+
+    def __call__(self, code: int):
+        cache = self.cache
+        key = code & self.mask
+        if cache is not None:
+            found = cache.get(key)
+            if found is not None:
+                return found
+        bdd = self.bdd
+        result = bdd.let({v: bool(key >> k & 1) for v, k in self.bits}, self.u) if self.bits else self.u
+        if self.truth:
+            result = result == bdd.true
+        if cache is not None:
+            cache[key] = result
+        return result
 
 
 class _Extraction:
@@ -165,14 +232,20 @@ class _Extraction:
         self.codes: list[int] = []
         self.todo: deque[int] = deque()
         self.skip_cache: dict[int, int] = {}
-        self.winning_cache: dict[int, bool] = {}
         self.values: dict[int, dict[str, bool]] = {}
-        self.met_cache: dict[int, bool] = {}
+        bdd = self.bdd
+        self._winning = _Restricted(bdd, strategy.winning, self.current_bit, truth=True)
+        #: per goal k: is it met at a position (code)
+        self._met_at = [_Restricted(bdd, g, self.current_bit, truth=True) for g in game.sys_goals]
+        #: per goal g: the moves from a position that reach it (``goal_g & W'`` restricted)
+        self._reached_at = [_Restricted(bdd, r, self.current_bit) for r in strategy.reached]
         #: per goal s a move starts its target with: next positions p' whose state (p, skip(p, s)) exists
         self.existing = [self.bdd.false] * self.goals
         #: per goal: the strategy's moves on admissible inputs
         self.ordinary = [strategy.relations[j] & game.env_trans for j in range(self.goals)]
         self.reported = 0
+        #: valuations of move BDDs over the next variables (node results kept for the extraction)
+        self.next_codes = _Codes(self.bdd, self.next_bit)
 
     # --- states -----------------------------------------------------------------------------
     def valuation(self, code: int) -> dict[str, bool]:
@@ -183,20 +256,8 @@ class _Extraction:
             values = self.values[code] = {v: bool(code >> k & 1) for v, k in self.current_bit.items()}
         return values
 
-    def _winning(self, code: int) -> bool:
-        w = self.winning_cache.get(code)
-        if w is None:
-            bdd = self.bdd
-            w = self.winning_cache[code] = bdd.let(self.valuation(code), self.strategy.winning) == bdd.true
-        return w
-
     def _met(self, code: int, k: int) -> bool:
-        key = code | k << self.n_vars
-        m = self.met_cache.get(key)
-        if m is None:
-            bdd = self.bdd
-            m = self.met_cache[key] = bdd.let(self.valuation(code), self.game.sys_goals[k]) == bdd.true
-        return m
+        return self._met_at[k](code)
 
     def skip(self, code: int, goal: int) -> int:
         """``SymbolicStrategy._skip_satisfied`` on a position code (cached)."""
@@ -238,7 +299,7 @@ class _Extraction:
         return n
 
     # --- moves ------------------------------------------------------------------------------
-    def split(self, here: dict[str, bool], moves, goal: int) -> list[tuple[Any, tuple[int, ...]]]:
+    def split(self, code: int, moves, goal: int) -> list[tuple[Any, tuple[int, ...]]]:
         """``moves`` split by the goals a move may start its target with. A move that reaches the
         current goal (``goal & W'``, thesis Alg. 1 line 14) advances it (``SymbolicStrategy._successor``);
         when it reaches the next ones too it may advance past them as well (slugs' extractor always
@@ -248,7 +309,7 @@ class _Extraction:
         leaves = []
         part, g, passed = moves, goal, ()
         for _ in range(self.goals):
-            reached = bdd.let(here, self.strategy.reached[g])
+            reached = self._reached_at[g](code)
             met = part & reached
             rest = part & ~reached
             if rest != bdd.false:
@@ -288,15 +349,14 @@ class _Extraction:
         if moves == self.bdd.false:
             return []
         state = self.states[n]
-        here = self.valuation(self.codes[n])
-        leaves = self.split(here, moves, state.goal)
+        leaves = self.split(self.codes[n], moves, state.goal)
         moves = self.choose(moves, leaves, state.outputs)
         in_mask = (1 << self.n_in) - 1
         numbers = self.numbers
         shift = self.n_vars
         result = []
         for part, goals in leaves:
-            for code in _codes(self.bdd, moves & part, self.next_bit):
+            for code in self.next_codes(moves & part):
                 t = None
                 for g in reversed(goals):  # an existing state, the furthest goal first
                     t = numbers.get(code | self.skip(code, g) << shift)
@@ -308,6 +368,20 @@ class _Extraction:
         return result
 
     def run(self, recovery: bool) -> Automaton:
+        """The automaton, with dynamic reordering off meanwhile (``_Codes`` keeps results that
+        depend on the variable order; the manager's setting is restored afterwards)."""
+        bdd = self.bdd
+        reordering = BACKEND == "cudd" and bdd.configure()["reordering"]
+        if reordering:
+            bdd.configure(reordering=False)
+        try:
+            return self._run(recovery)
+        finally:
+            self.next_codes.clear()
+            if reordering:
+                bdd.configure(reordering=True)
+
+    def _run(self, recovery: bool) -> Automaton:
         strategy = self.strategy
         game = self.game
         bdd = self.bdd
