@@ -104,12 +104,14 @@ def worker(job: dict) -> dict:
         realizable, seconds = run_omega(spec, robotics_semantics=robotics)
         return {"realizable": realizable, "seconds": seconds}
     opts = Options(**job.get("options", {}))
+    cpu_start = time.process_time()
     start = time.perf_counter()
     game = Game(spec, interleave=job.get("interleave"), fused=job.get("fused", True))
     early = task == "realizability"
     sol = solve(game, robotics_semantics=robotics, early_exit=early, options=opts)
     solved = time.perf_counter()
     out = {"realizable": sol.realizable, "parse": parse, "seconds": solved - start, "interleaved": game.interleave,
+           "game_nodes": game.nodes, "cpu": time.process_time() - cpu_start,
            "z": sol.z_iterations, "complete": sol.complete}
     if task == "explicit" and sol.realizable:
         from ltl_stack.synthesis.explicit import TooManyStates
@@ -173,6 +175,63 @@ def whole_process(text: str, repeat: int, timeout: float) -> str:
             if proc.returncode != 0:
                 return f"exit {proc.returncode}"
     return f"{fmt(statistics.median(walls))} ({fmt(statistics.median(cpus))})"
+
+
+def run_slugs(slugs: str, spec: str, timeout: float) -> dict:
+    """``slugs SPEC`` (realizability, default semantics) as a whole process: wall and CPU."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    start = time.perf_counter()
+    try:
+        proc = subprocess.run([slugs, spec], capture_output=True, text=True, timeout=timeout, check=False)
+    except subprocess.TimeoutExpired:
+        return {"timeout": timeout}
+    wall = time.perf_counter() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    text = proc.stdout + proc.stderr
+    realizable = "RESULT: Specification is realizable" in text
+    if not realizable and "RESULT: Specification is unrealizable" not in text:
+        return {"error": text.strip()[-80:] or f"exit {proc.returncode}"}
+    return {"realizable": realizable, "seconds": wall,
+            "cpu": after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime}
+
+
+def reorder_table(args) -> int:
+    """Same-run comparison of the reordering policies (and slugs) on the named specs."""
+    slugs = args.slugs if args.slugs and Path(args.slugs).exists() else None
+    variants = [("adaptive", {}), ("previous", {"options": {"big_game": 10**12}}),
+                ("no reordering in the fixpoint", {"options": {"reorder": False}})]
+    print("In-process CPU seconds of game construction + fixpoint (medians); slugs as a whole process.\n")
+    print("| spec | game nodes | realizable | " + " | ".join(v for v, _ in variants)
+          + " | slugs (whole process: wall / CPU) | adaptive / previous | adaptive (in process) / slugs CPU |")
+    print("|---|---|---|" + "---|" * (len(variants) + 3))
+    for name in args.reorder:
+        case = case_path(name)
+        results: dict[str, list] = {v: [] for v, _ in variants}
+        theirs: list = []
+        for _ in range(args.repeat):  # alternate, so drift hits every column alike
+            for label, extra in variants:
+                results[label].append(run({"case": case, "task": "realizability", **extra}, args.timeout))
+            if slugs and (not theirs or "timeout" not in theirs[-1]):
+                theirs.append(run_slugs(slugs, case, args.timeout))
+        cells, med = [], {}
+        for label, _ in variants:
+            ok = [r["cpu"] for r in results[label] if "cpu" in r]
+            med[label] = statistics.median(ok) if ok else None
+            cells.append(fmt(med[label]) if ok else show(results[label][-1]))
+        verdicts = {r["realizable"] for rs in results.values() for r in rs if "realizable" in r}
+        verdicts |= {r["realizable"] for r in theirs if "realizable" in r}
+        nodes = next((r.get("game_nodes") for r in results["adaptive"] if "game_nodes" in r), "?")
+        done = [r for r in theirs if "cpu" in r]
+        slugs_txt = (f"{fmt(statistics.median(r['seconds'] for r in done))} / "
+                     f"{fmt(statistics.median(r['cpu'] for r in done))}" if done
+                     else show(theirs[-1]) if theirs else "–")
+        ratio = (f"{med['adaptive'] / med['previous']:.2f}" if med["adaptive"] and med["previous"] else "–")
+        vs = (f"{med['adaptive'] / statistics.median(r['cpu'] for r in done):.2f}"
+              if done and med["adaptive"] else "–")
+        verdict = next(iter(verdicts)) if len(verdicts) == 1 else f"DIFFERENT {verdicts}"
+        print(f"| `{name}` | {nodes} | {verdict} | {' | '.join(cells)} | {slugs_txt} | {ratio} | {vs} |", flush=True)
+    print(f"\nload average {' / '.join(f'{v:.1f}' for v in os.getloadavg())} (1 / 5 / 15 min) at the end")
+    return 0
 
 
 def fmt(seconds) -> str:
@@ -240,6 +299,12 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--grid", nargs="+", metavar="N:K:M",
                    help="only the grid patrol family vs omega for these members (e.g. 16:4:3), "
                         "ours and omega alternating, and print a table")
+    p.add_argument("--reorder", nargs="+", metavar="SPEC",
+                   help="only the dynamic-reordering policy: realizability (early exit, default semantics) "
+                        "with the adaptive policy, with the previous one (reordering from 2,000 nodes whatever "
+                        "the game's size) and without reordering in the fixpoint, beside slugs (--slugs) "
+                        "in the same run, alternating; spec names (see --order) and print a table")
+    p.add_argument("--slugs", help="slugs binary for --reorder (its column is skipped when absent)")
     p.add_argument("--scale", nargs="+", type=int, metavar="N",
                    help="only the 2 x N propositions / 4 clauses spec (parse, realizability, full synthesis "
                         "with strategy; fresh process each) and print a table")
@@ -258,6 +323,8 @@ def main(argv: list[str] | None = None) -> int:
                   f"{show(r, 'parse')} | {show(r)} | {show(r, 'full')} | {whole} |", flush=True)
         print(f"\nload average {' / '.join(f'{v:.1f}' for v in os.getloadavg())} (1 / 5 / 15 min) at the end")
         return 0
+    if args.reorder:
+        return reorder_table(args)
     if args.order:
         print("| spec | realizable | order chosen | auto | interleaved | auto / interleaved |")
         print("|---|---|---|---|---|---|")

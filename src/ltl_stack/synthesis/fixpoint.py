@@ -12,9 +12,14 @@ Techniques (each can be switched off to measure it, see ``Options``):
   in the previous Z iteration; we start the X iteration there instead of at ``true``.
 - *early exit* for realizability-only queries: Z only shrinks, so as soon as an upper bound of W
   fails the initial condition the answer is "unrealizable".
-- *dynamic reordering* during the fixpoints (CUDD sifting with each x/x' pair grouped), switched on
-  once the manager is big enough to profit and off afterwards, so that strategy enumeration and
-  stepping see a stable order.
+- *dynamic reordering* during the fixpoints (CUDD sifting with each x/x' pair grouped), adaptive:
+  off at the start of ``solve``; switched on once the manager holds ``Options.reorder_threshold``
+  live nodes when the game is small (its order then fits only the transition relation and the
+  fixpoint's sets grow far past it), and only once they pass ``Options.big_game_growth`` times the
+  game's own nodes when the game is big (``Game.nodes >= Options.big_game``: construction already
+  sifted it into an order that suits the fixpoint too). ``solve`` restores the manager's setting on
+  return (CUDD's default is on: ``SymbolicStrategy`` builds its relations with reordering, and
+  switches it off once they are built, so that enumeration and stepping see a stable order).
 - conjunction fused with quantification inside ``cpre_sys`` (``and_exists``/``or_forall``).
 - *Gauss-Seidel rounds* of mu Y: the X set of assumption i is computed with Y already grown by the
   X sets of assumptions 0..i-1 of the same round (a chaotic iteration of the same least fixpoint:
@@ -37,7 +42,7 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from ltl_stack.synthesis.game import BACKEND, REORDER_THRESHOLD, Game
+from ltl_stack.synthesis.game import BACKEND, BIG_GAME, BIG_GAME_GROWTH, REORDER_THRESHOLD, Game
 
 Progress = Callable[[str], None]
 
@@ -48,9 +53,12 @@ class Options:
 
     recycle: bool = True
     #: dynamic reordering, switched on once the manager holds ``reorder_threshold`` nodes (tiny
-    #: games lose more to sifting than they gain)
+    #: games lose more to sifting than they gain) ...
     reorder: bool = True
     reorder_threshold: int = REORDER_THRESHOLD
+    #: ... or, for a game of at least ``big_game`` nodes, ``big_game_growth`` times its nodes
+    big_game: int = BIG_GAME
+    big_game_growth: float = BIG_GAME_GROWTH
     early_exit: bool = False
     #: None: state-based iterates when no liveness formula mentions next-state variables
     state_based: bool | None = None
@@ -105,6 +113,13 @@ def initial_positions(game: Game, winning):
     return game.env_init & game.sys_init & winning
 
 
+def reorder_threshold(game: Game, opts: Options) -> int:
+    """Live nodes from which ``solve`` switches dynamic reordering on (see the module docstring)."""
+    if game.nodes >= opts.big_game:
+        return max(opts.reorder_threshold, int(opts.big_game_growth * game.nodes))
+    return opts.reorder_threshold
+
+
 def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = False,
           cooperative: bool = False, options: Options | None = None,
           progress: Progress | None = None) -> Solution:
@@ -122,12 +137,13 @@ def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = Fa
     old_reordering = bdd.configure()["reordering"] if BACKEND == "cudd" else False
     reordering_on = False
     calls = 0
+    threshold = reorder_threshold(game, opts)
 
     def maybe_reorder() -> None:
         # len(bdd) makes CUDD collect garbage: look only every 8th call
         nonlocal reordering_on, calls
         calls += 1
-        if reorder and not reordering_on and calls % 8 == 1 and len(bdd) >= opts.reorder_threshold:
+        if reorder and not reordering_on and calls % 8 == 1 and len(bdd) >= threshold:
             bdd.configure(reordering=True)
             reordering_on = True
             if progress:

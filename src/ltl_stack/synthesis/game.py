@@ -81,6 +81,18 @@ finally:
 #: node count from which building the game and solving it use dynamic reordering
 REORDER_THRESHOLD = 2_000
 
+#: live nodes after game construction from which the fixpoint starts without dynamic reordering
+#: (``fixpoint.solve``): construction has then sifted a big transition relation several times and
+#: its order suits the fixpoint's sets, which stay within a few times its size, so more sifting
+#: costs more than it saves (slugs' factory_assembly members with 16,000-80,000 nodes: 1.3-2.2x
+#: faster without), while small games (moving_obstacle, cinderella: 1,000-5,000 nodes) grow
+#: 10-500x in the fixpoint and need reordering from its start (2-25x slower without)
+BIG_GAME = 10_000
+#: ... until the live nodes pass this multiple of the game's nodes; then reordering is switched on
+#: (a safety net for big games whose fixpoint does explode; switching later costs more, as one
+#: sifting pass grows with the manager: at 8x factory_assembly_5x6_2_0 took > 200 s instead of 22 s)
+BIG_GAME_GROWTH = 4
+
 #: BDD variables (current and next) above which no dynamic reordering is done: one sifting pass
 #: costs time in the square of the variables, and the specs that profit (slugs' families, the
 #: thesis specs) have at most a few hundred; a sum over 400 integers (2,402 variables) took over
@@ -200,6 +212,8 @@ class Game:
         nxt = set(self.variables_next)
         #: True when some liveness formula mentions next-state variables (a transition goal)
         self.liveness_has_next = any(nxt & self.bdd.support(u) for u in self.env_goals + self.sys_goals)
+        #: live BDD nodes once the game is built (the fixpoint's reordering policy starts from it)
+        self.nodes = len(self.bdd)
         env_support = self.bdd.support(self.env_trans)
         # slugs forbids primed outputs in env safety; if a spec has them, use the general cpre.
         self._env_sees_outputs_next = any(v in env_support for v in self.outputs_next)
