@@ -385,9 +385,10 @@ class _Extraction:
         strategy = self.strategy
         game = self.game
         bdd = self.bdd
-        for s in initial_states(strategy):
-            code = sum(1 << self.current_bit[v] for v, val in s.valuation.items() if val)
-            self.number(code, s.goal)
+        # ``initial_states`` as codes: ordered by ``State.id`` (goal, then the position's bits)
+        starts = _Codes(bdd, self.current_bit)(strategy.initial)
+        for goal, code in sorted((self.skip(code, 0), code) for code in starts):
+            self.number(code, goal)
         initial = list(range(len(self.states)))
         check = game.deadline.check
         while self.todo:  # the ordinary automaton (Alg. 1 lines 1-18)
