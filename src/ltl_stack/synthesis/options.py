@@ -24,11 +24,11 @@ from ltl_stack.synthesis.errors import TimeLimitReached
 DEFAULT_MAX_MEMORY = 4 * 2**30
 #: CUDD's own estimate for sizing its tables. Creating a manager also reserves a "stash" of 1/64
 #: of it (kept for running out of memory): 2**30 cost ~1-7 ms of every ``synthesize`` process
-#: (issue 16). It also bounds the computed table (estimate / 32 bytes / 3 entries), so it must not
-#: be small: 2**24 made factory_assembly_7x5_2_0 3x slower (7.0 -> 22 s CPU, a 0.5 M-entry cache
-#: instead of 1 M); 2**27 keeps 7.5 s (7.0 s at 2**30) with a 2 MiB stash, 3 MiB in all.
-#: The cap itself is ``max_memory``.
-MANAGER_ESTIMATE = 2**27
+#: (issue 16). The estimate also sizes CUDD's computed table and unique-table policies, so it must
+#: not be small: 2**24 made factory_assembly_7x5_2_0 3x slower (7.0 -> 22 s CPU), 2**27 made
+#: basicEvasion 1.3x slower (21-27 s at 2**30, 28-36 s at 2**27, 21-29 s at 2**28, load ~1).
+#: 2**28: a 4 MiB stash, ~0.5 ms to create. The cap itself is ``max_memory``.
+MANAGER_ESTIMATE = 2**28
 #: nodes up to which CUDD's unique table grows eagerly (``loose_up_to``): the value a 2**30 estimate
 #: gave (bytes / 32-byte node / 5), kept when the estimate was lowered so large specs run as before
 LOOSE_UP_TO = 2**30 // 160

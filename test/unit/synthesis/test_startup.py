@@ -154,6 +154,8 @@ def test_manager_creation_writes_no_large_stash() -> None:
     with warnings.catch_warnings():  # dd notes that "mem" is in bytes since 0.5.7
         warnings.simplefilter("ignore", UserWarning)
         mem = bdd.statistics()["mem"]
-    assert mem < 4 * 2**20
+    # 2**28 estimate: a 4 MiB stash, ~4.04 MiB in all (a 1 GiB estimate gives ~10 MiB); smaller
+    # estimates slow big fixpoints down (options.MANAGER_ESTIMATE)
+    assert mem < 5 * 2**20
     assert bdd.configure()["loose_up_to"] == LOOSE_UP_TO
     assert bdd.configure()["max_memory"] == 2**32
