@@ -138,12 +138,14 @@ def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = Fa
     reordering_on = False
     calls = 0
     threshold = reorder_threshold(game, opts)
+    # len(bdd) makes CUDD collect garbage (and so drop cache entries): look only every 8th call, and
+    # every 64th in a big game, where the check is only a safety net
+    every = 8 if threshold == opts.reorder_threshold else 64
 
     def maybe_reorder() -> None:
-        # len(bdd) makes CUDD collect garbage: look only every 8th call
         nonlocal reordering_on, calls
         calls += 1
-        if reorder and not reordering_on and calls % 8 == 1 and len(bdd) >= threshold:
+        if reorder and not reordering_on and calls % every == 1 and len(bdd) >= threshold:
             bdd.configure(reordering=True)
             reordering_on = True
             if progress:
