@@ -7,7 +7,8 @@ proposition (``finished a``, the thesis' ``a_ac`` / ``loc_rc`` inputs) becomes t
 - rising edge of the activation topic: send a goal (built from ``~goal``) to ``~action``;
 - result SUCCEEDED (and, if set, the result field ``~result_field`` true): completion := true;
 - result aborted or rejected while still activated: send the goal again after ``~retry_delay``;
-- falling edge: cancel the goal if it is still running, and completion := false.
+- falling edge: cancel the goal if it is still running, and completion := false;
+- shutdown while activated: cancel the goal and wait (``~cancel_timeout``) until the server ends it.
 
 The completion is published latched on ``~completion_topic`` (default: relative name
 ``completion``), at once on change and every 1/``~rate`` s. A goal that cannot be sent yet, because
@@ -25,6 +26,7 @@ from actionlib_msgs.msg import GoalStatus
 
 from ltl_stack.ros.proposition_node import (
     OUTPUT_PARAMS,
+    Bound,
     NodeConfigError,
     NodeSpec,
     OutputPropositionNode,
@@ -62,6 +64,8 @@ ACTION_PROPOSITION = NodeSpec(
         Param("retry_delay", 1.0, "resend an aborted or rejected goal after this long while activated "
               "(s; negative: never)"),
         Param("reset_on_deactivate", True, "set the completion false on the falling edge"),
+        Param("cancel_timeout", 5.0, "on shutdown with a goal running: wait at most this long (s) for the "
+              "server to confirm the cancel before the node's connections close", bound=Bound.POSITIVE),
     ],
 )
 
@@ -137,6 +141,16 @@ class ActionProposition(OutputPropositionNode):
             self.in_flight = False
         if self.config["reset_on_deactivate"]:
             self.completion.set(False)
+
+    def on_shutdown(self) -> None:
+        """Cancel as on the falling edge, then wait (``~cancel_timeout`` at most) until the server has
+        ended the goal: rospy closes the node's connections right after the shutdown hooks, and a
+        cancel still queued for sending would be lost, leaving the action running."""
+        running = self.in_flight
+        self.on_falling()
+        if running and not self.client.wait_for_result(rospy.Duration(self.config["cancel_timeout"])):
+            rospy.logwarn("%s: %s did not confirm the cancel within %.1f s", rospy.get_name(),
+                          self.config["action"], self.config["cancel_timeout"])
 
     def _send_if_ready(self) -> None:
         if self.in_flight or not self.client.wait_for_server(rospy.Duration(0.01)):

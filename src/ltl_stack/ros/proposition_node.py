@@ -230,8 +230,9 @@ class OutputPropositionNode:
     """Base of output proposition nodes.
 
     Subclasses override ``on_rising`` (start the behaviour), ``while_true`` (called every 1/rate s
-    while the proposition is true, after the rising edge) and ``on_falling`` (stop the behaviour;
-    also called on shutdown while active). The hooks run under one lock, so they never overlap.
+    while the proposition is true, after the rising edge), ``on_falling`` (stop the behaviour) and
+    ``on_shutdown`` (the node stops while active; by default ``on_falling``). The hooks run under one
+    lock, so they never overlap.
     """
 
     def __init__(self, config: dict[str, Any]) -> None:
@@ -257,6 +258,11 @@ class OutputPropositionNode:
     def on_falling(self) -> None:
         """Stop the behaviour."""
 
+    def on_shutdown(self) -> None:
+        """Stop the behaviour because the node stops (rospy's client shutdown hook: topics and
+        services still work here, and are closed right after)."""
+        self.on_falling()
+
     def _on_value(self, msg: Any) -> None:
         with self._lock:
             if self._stopped:
@@ -273,7 +279,7 @@ class OutputPropositionNode:
         with self._lock:
             if self.edges.value and not self._stopped:
                 self.edges.update(False)
-                self.on_falling()
+                self.on_shutdown()
             self._stopped = True
 
     def spin(self) -> None:
