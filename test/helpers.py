@@ -144,6 +144,12 @@ def direct_script(args: Sequence[str], env: Mapping[str, str]) -> list[str]:
     return list(args)
 
 
+def run_script(args: Sequence[str], **kwargs) -> subprocess.CompletedProcess:
+    """``subprocess.run`` of ``rosrun ltl_stack SCRIPT ARGS`` through ``direct_script`` (with the
+    ``env`` given, else this process's)."""
+    return subprocess.run(direct_script(args, kwargs.get("env") or os.environ), **kwargs)
+
+
 class RosMaster:
     """A real rosmaster on a free loopback port, and the processes started against it.
 

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import pytest
 import yaml
-from helpers import RosMaster, closed_port, require_shared, wait_for
+from helpers import RosMaster, closed_port, require_shared, run_script, wait_for
 
 from ltl_stack.analysis.checks import analyze
 from ltl_stack.analysis.graph import ComputationGraph
@@ -93,7 +93,7 @@ def test_live_clean_and_patrol_reproduces_figs_3_6_to_3_8(clean_and_patrol):
 
 
 def run_cli(master: RosMaster, *args: str, timeout: float = 120) -> subprocess.CompletedProcess:
-    return subprocess.run(["rosrun", "ltl_stack", "analyze_graph", *args], env=master.env, capture_output=True,
+    return run_script(["rosrun", "ltl_stack", "analyze_graph", *args], env=master.env, capture_output=True,
                           text=True, timeout=timeout)
 
 

@@ -17,12 +17,11 @@ robots, the controller running) on a private master, and ``analyze_graph --live 
 from __future__ import annotations
 
 import json
-import subprocess
 from pathlib import Path
 
 import pytest
 import yaml
-from helpers import RosMaster, wait_for
+from helpers import RosMaster, run_script, wait_for
 
 from ltl_stack.analysis.suggest import ENVIRONMENT, MutualExclusion, add_to_spec
 from ltl_stack.runtime.mapping import load_mapping, resolve_node_name
@@ -86,7 +85,7 @@ def launch(tmp_path_factory, name: str, world: set[tuple[str, str, str]]):
 
 
 def analyze(master: RosMaster, spec: Path, mapping: Path, *args: str, code: int = 0) -> dict:
-    done = subprocess.run(["rosrun", "ltl_stack", "analyze_graph", "--spec", str(spec), "--mapping", str(mapping),
+    done = run_script(["rosrun", "ltl_stack", "analyze_graph", "--spec", str(spec), "--mapping", str(mapping),
                            "--live", "--json", *args], env=master.env, capture_output=True, text=True, timeout=300)
     assert done.returncode == code, done.stderr
     report = json.loads(done.stdout)

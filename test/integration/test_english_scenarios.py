@@ -52,8 +52,9 @@ def test_the_running_controller_is_the_english_one(tmp_path):
 
 def test_clean_and_patrol_from_the_english_spec_patrols_picks_up_and_drops():
     """What test_scenarios checks of the structured spec's demo run, on the English spec's run."""
+    # a faster robot and arm than the demo's (what is checked does not depend on speed)
     states = _demo("clean_and_patrol", CONFIG / "clean_and_patrol" / "clean_and_patrol.spec", "--cycles", "2",
-                   timeout=180)
+                   "--launch-arg", "speed:=2.0", "--launch-arg", "action_duration:=0.5", timeout=180)
     visited = {r for s in states for r in REGIONS if s["inputs"][f"{r}_rc"]}
     assert {"topLane", "rightLane", "bottomLane", "leftLane"} <= visited, visited
     assert any(s["outputs"]["pickup"] for s in states) and any(s["outputs"]["drop"] for s in states)

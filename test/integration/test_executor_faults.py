@@ -12,7 +12,7 @@ import threading
 from pathlib import Path
 
 import pytest
-from helpers import REPO_ROOT, wait_for
+from helpers import REPO_ROOT, run_script, wait_for
 from test_executor_node import BUSY, LISTEN, LOCK, OUT, STATE, A, lock_spec, probes, start_executor  # noqa: F401
 
 pytestmark = pytest.mark.ros
@@ -202,7 +202,7 @@ def test_after_a_master_restart_new_nodes_reach_the_executor_and_the_nodes(ros_m
 def test_state_ids_on_state_are_those_of_synthesize_json(ros_master, probes, tmp_path, spec_file, steps):
     spec = REPO_ROOT / spec_file
     exported = tmp_path / "strategy.json"
-    synth = subprocess.run(["rosrun", "ltl_stack", "synthesize", str(spec), "--strategy-json", str(exported)],
+    synth = run_script(["rosrun", "ltl_stack", "synthesize", str(spec), "--strategy-json", str(exported)],
                            capture_output=True, text=True, timeout=300)
     assert synth.returncode == 0, synth.stderr
     automaton = json.loads(exported.read_text())

@@ -5,7 +5,7 @@ import subprocess
 import textwrap
 
 import pytest
-from helpers import require_shared, wait_for
+from helpers import require_shared, run_script, wait_for
 from test_executor_node import LOCK_SPEC, Probe
 
 from ltl_stack.runtime.mapping import load_mapping, resolve_node_name
@@ -17,7 +17,7 @@ pytestmark = pytest.mark.ros
 def test_roslaunch_reads_the_generated_file(scenario, tmp_path):
     mapping = require_shared("specs", scenario, f"{scenario}.yaml")
     launch = tmp_path / f"{scenario}.launch"
-    gen = subprocess.run(["rosrun", "ltl_stack", "generate_launch", str(mapping), "-o", str(launch)],
+    gen = run_script(["rosrun", "ltl_stack", "generate_launch", str(mapping), "-o", str(launch)],
                          capture_output=True, text=True, timeout=300)
     assert gen.returncode == 0, gen.stderr
     listed = subprocess.run(["roslaunch", "--nodes", str(launch)], capture_output=True, text=True, timeout=300)
@@ -69,7 +69,7 @@ def test_generated_launch_runs_nodes_and_executor(ros_master, tmp_path):
               publish_topic: '/robot/cmd_vel_busy'
         """))
     launch = tmp_path / "lock.launch"
-    gen = subprocess.run(["rosrun", "ltl_stack", "generate_launch", str(mapping), "--spec", str(spec),
+    gen = run_script(["rosrun", "ltl_stack", "generate_launch", str(mapping), "--spec", str(spec),
                           "-o", str(launch)], capture_output=True, text=True, timeout=300)
     assert gen.returncode == 0, gen.stderr
     probe = Probe(ros_master, tmp_path, ["bool:/lock/outputs/out", "bool:/lock/outputs/busy"])

@@ -16,7 +16,7 @@ import threading
 from pathlib import Path
 
 import pytest
-from helpers import wait_for
+from helpers import run_script, wait_for
 
 pytestmark = pytest.mark.ros
 
@@ -344,7 +344,7 @@ def test_bad_spec_and_mapping_exit_2_naming_file_and_line(tmp_path, lock_spec):
     bad_map.write_text("inputs:\n  a:\n    node: x\n  ghost:\n    node: y\n")
     for args, fragment in (([str(bad_spec)], f"{bad_spec}:5"),
                            ([str(lock_spec), str(bad_map)], f"{bad_map}:4: error: input 'ghost' is not a proposition")):
-        proc = subprocess.run(["rosrun", "ltl_stack", "controller_executor", *args, "--check"], capture_output=True,
+        proc = run_script(["rosrun", "ltl_stack", "controller_executor", *args, "--check"], capture_output=True,
                               text=True, timeout=300)
         assert proc.returncode == 2, proc
         assert fragment in proc.stderr and "Traceback" not in proc.stderr, proc.stderr

@@ -13,7 +13,7 @@ import subprocess
 from pathlib import Path
 
 import pytest
-from helpers import wait_for
+from helpers import run_script, wait_for
 from test_executor_node import Probe
 
 pytestmark = pytest.mark.ros
@@ -131,10 +131,10 @@ def test_violation_past_the_threshold_resynthesizes_and_the_file_loads(ros_maste
     text = wait_for(lambda: out.exists() and out.read_text(), 90, "the characterized spec")
     assert "EC1 (Eq. 4.3) observed" in text or "EC2 (Eq. 4.4) observed" in text, text
     assert f"{spec}:{DOOR_CLAUSE_LINE}: door'" in text, text
-    done = subprocess.run(["rosrun", "ltl_stack", "synthesize", str(out)], capture_output=True, text=True,
+    done = run_script(["rosrun", "ltl_stack", "synthesize", str(out)], capture_output=True, text=True,
                           timeout=300, env=dict(ros_master.env))
     assert done.returncode == 0, done.stderr
-    check = subprocess.run(["rosrun", "ltl_stack", "controller_executor", str(out), "--check"], capture_output=True,
+    check = run_script(["rosrun", "ltl_stack", "controller_executor", str(out), "--check"], capture_output=True,
                            text=True, timeout=300, env=dict(ros_master.env))
     assert check.returncode == 0, check.stderr
     # and the node keeps working: the person leaves, stop may drop
@@ -174,7 +174,7 @@ def test_user_liveness_round_trip(ros_master, rprobes, tmp_path):
     assert bad["mode"] == "waiting_for_user", bad
     assert all(s["mode"] == "waiting_for_user" for s in probe.states()[before:]), probe.states()[before:]
 
-    good = subprocess.run(["rosrun", "ltl_stack", "add_env_liveness", "--json", "door"], capture_output=True,
+    good = run_script(["rosrun", "ltl_stack", "add_env_liveness", "--json", "door"], capture_output=True,
                           text=True, timeout=300, env=dict(ros_master.env))
     assert good.returncode == 0, (good.stdout, good.stderr)
     answer = json.loads(good.stdout)
@@ -193,7 +193,7 @@ def test_abort_drives_every_output_false_and_reports_error(ros_master, rprobes, 
     spec, node, probe = probe_start(ros_master, rprobes, tmp_path, "--characterize")
     probe.publish(PERSON, True)
     probe.wait_value(STOP, True)
-    done = subprocess.run(["rosrun", "ltl_stack", "add_env_liveness", "--abort"], capture_output=True, text=True,
+    done = run_script(["rosrun", "ltl_stack", "add_env_liveness", "--abort"], capture_output=True, text=True,
                           timeout=300, env=dict(ros_master.env))
     assert done.returncode == 0, (done.stdout, done.stderr)
     probe.wait_value(STOP, False, timeout=60)
@@ -257,7 +257,7 @@ def test_characterized_spec_naming_the_spec_is_refused(ros_master, tmp_path):
 
 
 def tool(args: list[str], env: dict) -> subprocess.CompletedProcess:
-    return subprocess.run(["rosrun", "ltl_stack", "add_env_liveness", *args], capture_output=True, text=True,
+    return run_script(["rosrun", "ltl_stack", "add_env_liveness", *args], capture_output=True, text=True,
                           timeout=300, env=env)
 
 
@@ -323,7 +323,7 @@ def test_transitions_threshold_at_a_fixed_rate_and_an_english_characterized_spec
     text = wait_for(lambda: out.exists() and out.read_text(), 90, "the characterized spec")
     assert "# replaced by environment characterization: Assume always you are sensing door" in text, text
     assert "If you are sensing person then do stop" in text and "[ENV_TRANS]" not in text, text
-    done = subprocess.run(["rosrun", "ltl_stack", "synthesize", str(out)], capture_output=True, text=True,
+    done = run_script(["rosrun", "ltl_stack", "synthesize", str(out)], capture_output=True, text=True,
                           timeout=300, env=dict(ros_master.env))
     assert done.returncode == 0, done.stderr
     assert node.running() and "Traceback" not in node.output(), node.output()

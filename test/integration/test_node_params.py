@@ -11,7 +11,7 @@ import subprocess
 from pathlib import Path
 
 import pytest
-from helpers import direct_script
+from helpers import direct_script, run_script
 
 from ltl_stack.errors import Exit
 
@@ -88,7 +88,7 @@ def test_propositions_that_are_not_ros_names_are_refused_naming_them(tmp_path):
         assert proc.returncode == Exit.BAD_INPUT, proc
         assert "'see.person', 'stop@now'" in proc.stderr and "'move'" not in proc.stderr, proc.stderr
         assert proc.stderr.startswith(f"{tool[0]}: error: {spec}: "), proc.stderr
-    synth = subprocess.run(["rosrun", "ltl_stack", "synthesize", str(spec)], capture_output=True, text=True,
+    synth = run_script(["rosrun", "ltl_stack", "synthesize", str(spec)], capture_output=True, text=True,
                            timeout=300)
     assert synth.returncode == Exit.OK, synth.stderr
 
@@ -96,7 +96,7 @@ def test_propositions_that_are_not_ros_names_are_refused_naming_them(tmp_path):
 def test_unrealizable_spec_exits_10_from_the_one_table(ros_master, tmp_path):
     spec = tmp_path / "never.slugsin"
     spec.write_text("[INPUT]\nx\n\n[OUTPUT]\ny\n\n[SYS_TRANS]\n& y' ! y'\n")
-    check = subprocess.run(["rosrun", "ltl_stack", "controller_executor", str(spec), "--check"],
+    check = run_script(["rosrun", "ltl_stack", "controller_executor", str(spec), "--check"],
                            capture_output=True, text=True, timeout=300)
     assert check.returncode == Exit.UNREALIZABLE, check
     assert check.stderr.count("controller_executor: error: ") == 1 and "unrealizable" in check.stderr, check.stderr

@@ -14,7 +14,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from helpers import REPO_ROOT, wait_for
+from helpers import REPO_ROOT, run_script, wait_for
 from test_nodes_probe import Recorder, shared_master
 
 from ltl_stack.errors import Exit
@@ -217,7 +217,7 @@ def test_live_analysis_of_the_simple_scenario_finds_move_and_stop_on_the_velocit
         master.wait_for_publisher("/simple/cmd_vel", timeout=60)
         config = REPO_ROOT / "config" / "simple"
         out = tmp_path / "simple_with_suggestion.slugsin"
-        proc = subprocess.run(["rosrun", "ltl_stack", "analyze_graph", "--spec", str(config / "simple.structuredslugs"),
+        proc = run_script(["rosrun", "ltl_stack", "analyze_graph", "--spec", str(config / "simple.structuredslugs"),
                                "--mapping", str(config / "simple.yaml"), "--live", "--json", "--apply", str(out)],
                               env=master.env, capture_output=True, text=True, timeout=300)
         assert proc.returncode == Exit.UNREALIZABLE, proc.stdout[-3000:] + proc.stderr[-3000:]

@@ -12,7 +12,7 @@ import subprocess
 from pathlib import Path
 
 import pytest
-from helpers import RosMaster, closed_port, direct_script, wait_for
+from helpers import RosMaster, closed_port, direct_script, run_script, wait_for
 
 from ltl_stack.errors import Exit
 
@@ -207,7 +207,7 @@ def test_master_uri_of_a_node_is_refused_not_waited_on(master, tmp_path, tool):
 
         uri = wait_for(node_uri, 60, "the probe node to register")
         args = {"set_propositions": ["/x", "a=1"], "proposition_monitor": ["/x"], "controller_trace": []}[tool]
-        done = subprocess.run(["rosrun", "ltl_stack", tool, *args, "--master-uri", uri], env=master.env,
+        done = run_script(["rosrun", "ltl_stack", tool, *args, "--master-uri", uri], env=master.env,
                               capture_output=True, text=True, timeout=300, cwd=tmp_path)
         assert done.returncode == Exit.NO_ROS, (done.returncode, done.stdout[-1000:], done.stderr[-2000:])
         assert done.stderr.strip().splitlines()[-1].startswith(f"{tool}: error: {uri} answers but is not a ROS master"), \
