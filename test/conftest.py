@@ -14,6 +14,7 @@ import mode).
 from __future__ import annotations
 
 import os
+import signal
 import socket
 import sys
 from pathlib import Path
@@ -32,6 +33,21 @@ settings.register_profile("suite", derandomize=True, database=None, deadline=Non
 settings.register_profile("explore", max_examples=1000, deadline=None,
                           suppress_health_check=[HealthCheck.too_slow])
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "suite"))
+
+
+def _processes_stop_on_sigint() -> None:
+    """A suite started in the background by a non-interactive shell (as a CI runner may do) inherits
+    SIGINT ignored, and so would every process it starts: rosmaster, the probes and every node without
+    rospy's own handler would then outlast the SIGINT that stops them, and each teardown would wait
+    out its grace period (~5 s) before SIGTERM. Handled signals are reset to the default in children."""
+    if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+        try:
+            signal.signal(signal.SIGINT, signal.default_int_handler)
+        except ValueError:  # not the main thread: nothing to restore from here
+            pass
+
+
+_processes_stop_on_sigint()
 
 
 def _closed_port() -> int:
