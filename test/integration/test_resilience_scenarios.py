@@ -59,7 +59,9 @@ def test_alice_environment_characterization_only(ros_master):
     assert closed < asked < answered
     opens = index(events, lambda e: e.get("message", "") == "story: the door opens")
     assert "storage" not in regions_between(events, closed, opens)
-    assert "storage" in regions_between(events, opens, len(events))
+    # she visits it once it opens: the story's last beat fires on the ~state that shows her in storage
+    # (the demo ends with that beat, so its own "at storage" line, from ~state, may never be printed)
+    assert index(events, lambda e: e.get("message", "") == "story: Alice visits storage") > opens
 
 
 def test_alice_recovery_only_goes_on_without_resynthesis(ros_master):
