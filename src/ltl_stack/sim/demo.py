@@ -290,6 +290,9 @@ class StoryFollower:
         self.say = say
         self.regions = regions
         self.complete = threading.Event()
+        #: the story's beats seen on story/fired ("story: ..."); story/complete is another topic and
+        #: may arrive before the last beat's message
+        self.beats_told = 0
         self.counters: dict[str, int] = {}
         self.modes: list[str] = []
         self.at: str | None = None
@@ -307,6 +310,7 @@ class StoryFollower:
 
     def _on_fired(self, msg) -> None:
         with self.lock:
+            self.beats_told += msg.data.startswith("story: ")
             self._emit({"event": "story", "message": msg.data}, msg.data)
 
     def _on_complete(self, msg) -> None:
@@ -357,6 +361,10 @@ def _follow_story(args, scenario: Scenario, launch, log_path: Path, problems: li
     while time.monotonic() - started < args.timeout and launch.poll() is None:
         if follower.complete.wait(0.5):
             break
+    # the last beat's message travels on story/fired, the completion on story/complete: tell it too
+    deadline = time.monotonic() + 10.0
+    while follower.complete.is_set() and follower.beats_told < len(story.beats) and time.monotonic() < deadline:
+        time.sleep(0.05)
     elapsed = time.monotonic() - started
     rospy.signal_shutdown("demo finished")
     reached = follower.complete.is_set()
