@@ -6,8 +6,9 @@ slugsin file does not pay for the English writer and reader (~30 ms of a command
 """
 from __future__ import annotations
 
-import importlib
 from typing import TYPE_CHECKING
+
+from ltl_stack.lazy import lazy_exports
 
 if TYPE_CHECKING:  # pragma: no cover - for type checkers and readers only
     from ltl_stack.spec.english import (
@@ -42,14 +43,4 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str) -> object:
-    module = _MODULE_OF.get(name)
-    if module is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(f"{__name__}.{module}"), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_exports(__name__, _MODULE_OF, __all__)

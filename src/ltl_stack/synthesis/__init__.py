@@ -21,12 +21,12 @@ JSON readers they pull in (~10 ms of a command's start-up).
 """
 from __future__ import annotations
 
-import importlib
 import sys
 import time
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from ltl_stack.lazy import lazy_exports
 from ltl_stack.spec.model import Spec
 from ltl_stack.synthesis.errors import (
     AssumptionViolation,
@@ -116,14 +116,4 @@ def is_realizable(spec: Spec, *, robotics_semantics: bool = DEFAULT_OPTIONS.robo
         return solve(game, robotics_semantics=robotics_semantics, early_exit=True, options=options).realizable
 
 
-def __getattr__(name: str) -> object:
-    module = _LAZY.get(name)
-    if module is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(f"{__name__}.{module}"), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_exports(__name__, _LAZY, __all__)
