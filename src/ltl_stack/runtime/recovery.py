@@ -9,12 +9,12 @@ symbolic strategy (``SymbolicStrategy.step_result``: into W, towards W, or only 
 §4.6.2, Alg. 1 lines 19-25) from the current state with the current readings.
 
 States: ``~state`` keeps the ids of ``synthesize --strategy-json`` wherever it can. A move taken
-by the symbolic strategy (the recovery step, and every step from a symbolic state) goes, among the
-moves the strategy allows there, to one whose successor (goal and valuation) the automaton has;
-the explicit extraction numbers goals as the symbolic strategy does (``synthesis.explicit``) and
-re-uses states, so the symbolic pick itself is often not one of them. Only when no allowed move
-lands in the automaton the symbolic ``State`` is kept, with its symbolic ``id`` (valuation bits and
-goal), and the next step tries again.
+by the symbolic strategy (the recovery step, and every step from a symbolic state) lands, when it
+can, on an automaton state with the new inputs: the symbolic pick itself, else one the strategy's
+relation allows, else one the move reaches keeping the system safety (``_map_back``). The export
+re-uses states, so the symbolic pick itself is often not one of them. Only when no such move
+exists the symbolic ``State`` is kept, with its symbolic ``id`` (valuation bits and goal), and the
+next step tries again.
 """
 from __future__ import annotations
 
