@@ -6,6 +6,7 @@ the Structured English reader and writer), while those modules stay importable o
 """
 from __future__ import annotations
 
+import json
 import os
 import subprocess
 import sys
@@ -159,3 +160,97 @@ def test_manager_creation_writes_no_large_stash() -> None:
     assert mem < 5 * 2**20
     assert bdd.configure()["loose_up_to"] == LOOSE_UP_TO
     assert bdd.configure()["max_memory"] == 2**32
+
+
+def test_verdict_start_up_skips_the_explanation_modules() -> None:
+    """``--explain`` and ``--counterstrategy`` import them when asked (~3 ms of every other run)."""
+    proc = run_python("import sys\n"
+                      "import ltl_stack.synthesis.cli\n"
+                      "print([m for m in sys.modules if m.startswith('ltl_stack.synthesis.explain')])")
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip() == "[]"
+
+
+SCRIPT = Path(__file__).resolve().parents[3] / "scripts" / "synthesize"
+
+
+def _buffered_env() -> dict[str, str]:
+    """This environment sets PYTHONUNBUFFERED; without it stdout to a pipe is block-buffered, so
+    output that is not flushed before the process ends is lost."""
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONUNBUFFERED"}
+    env["PYTHONPATH"] = os.pathsep.join(p for p in sys.path if p)
+    return env
+
+
+@pytest.mark.parametrize("realizable", [True, False])
+def test_the_script_prints_all_its_output_and_keeps_the_exit_code(tmp_path: Path, realizable: bool) -> None:
+    """The script ends without Python's teardown (``cli.exit_now``): its text and ``--json`` output
+    still reach a pipe whole, and the exit code is the verdict's."""
+    spec = _spec(tmp_path, realizable)
+    code = Exit.OK if realizable else Exit.UNREALIZABLE
+    text = subprocess.run([sys.executable, str(SCRIPT), str(spec)], capture_output=True, text=True,
+                          env=_buffered_env(), timeout=300, check=False)
+    assert text.returncode == code, text.stderr
+    assert text.stdout.startswith("REALIZABLE (" if realizable else "UNREALIZABLE ("), text.stdout
+    assert text.stdout.endswith(")\n") and text.stderr == ""
+    out = tmp_path / "s.json"
+    summary = subprocess.run([sys.executable, str(SCRIPT), str(spec), "--json", "--strategy-json", str(out)],
+                             capture_output=True, text=True, env=_buffered_env(), timeout=300, check=False)
+    assert summary.returncode == code, summary.stderr
+    assert json.loads(summary.stdout)["realizable"] is realizable
+    assert out.exists() == realizable
+    if realizable:
+        assert json.loads(out.read_text())["states"]
+
+
+def _exit_now(body: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-c", "import sys\nfrom ltl_stack import cli\n" + body],
+                          capture_output=True, text=True, env=_buffered_env(), timeout=300, check=False)
+
+
+def test_exit_now_flushes_stdout_and_log_handlers_first() -> None:
+    proc = _exit_now("import logging, logging.handlers\n"
+                     "log = logging.getLogger('t')\n"
+                     "log.addHandler(logging.handlers.MemoryHandler(100, target=logging.StreamHandler(sys.stdout)))\n"
+                     "log.warning('logged')\n"
+                     "print('x' * 100000, end='')\n"
+                     "cli.exit_now(7)")
+    assert proc.returncode == 7, proc.stderr
+    assert proc.stdout.startswith("logged\n") or proc.stdout.endswith("logged\n"), proc.stdout[-50:]
+    assert proc.stdout.count("x") == 100000
+
+
+def test_exit_now_waits_like_sys_exit_while_another_thread_runs() -> None:
+    proc = _exit_now("import threading, time\n"
+                     "def late():\n"
+                     "    time.sleep(0.3)\n"
+                     "    print('thread done', flush=True)\n"
+                     "threading.Thread(target=late).start()\n"
+                     "cli.exit_now(3)")
+    assert proc.returncode == 3, proc.stderr
+    assert proc.stdout == "thread done\n"
+
+
+def test_imports_done_enables_the_collector_and_freezes_what_is_loaded() -> None:
+    proc = _exit_now("import gc\n"
+                     "gc.disable()\n"
+                     "import ltl_stack.synthesis.cli\n"
+                     "cli.imports_done()\n"
+                     "print(gc.isenabled(), gc.get_freeze_count() > 1000)\n")
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.split() == ["True", "True"]
+
+
+def test_prime_and_unprime_rename_like_let_with_names() -> None:
+    """The renamings are kept as variable BDDs (``Game._next_bdds``); the result is the same BDD."""
+    from ltl_stack.spec.slugsin import parse_slugsin
+    from ltl_stack.synthesis.game import Game
+
+    game = Game(parse_slugsin("[INPUT]\na\nb\n\n[OUTPUT]\nc\n\n[SYS_TRANS]\n| & a ! c' ^ b c\n"))
+    bdd = game.bdd
+    current = (bdd.var("a") & ~bdd.var("c")) | bdd.apply("xor", bdd.var("b"), bdd.var("c"))
+    nxt = game.prime(current)
+    assert nxt == bdd.let({"a": "a'", "b": "b'", "c": "c'"}, current)
+    assert bdd.support(nxt) == {"a'", "b'", "c'"}
+    assert game.unprime(nxt) == current
+    assert game.prime(bdd.true) == bdd.true
