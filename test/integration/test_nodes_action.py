@@ -119,3 +119,40 @@ def test_shutdown_while_active_cancels_the_goal(ros):
     status.wait_last(lambda m: statuses(m) == [ACTIVE], what="the pick goal running")
     assert node.stop() == 0, node.output()
     status.wait_last(lambda m: statuses(m) == [PREEMPTED], what="the pick goal cancelled on shutdown")
+
+
+def test_a_goal_ended_before_send_goal_returns_still_reaches_the_client(ros):
+    """actionlib's SimpleActionClient takes the new goal's handle only after publishing the goal; a
+    result handled before that was dropped ("a goal handle that we're not tracking") and the client
+    waited out its timeout (seen in a loaded suite run). Here send_goal is held until this process has
+    received the server's result, the widest form of that window; our client must still see it."""
+    import time
+
+    import rospy
+
+    from ltl_stack.msg import NavigateAction, NavigateActionResult, NavigateGoal
+    from ltl_stack.ros.action_client import SimpleActionClient
+
+    # Recorded before the client subscribes: rospy calls the recorder before actionlib's callback.
+    results = ros.record(ros.topic("navigate/result"), NavigateActionResult)
+    ros.run("sim_navigation_server", f"_action:={ros.topic('navigate')}", "_mode:=holonomic")  # no regions
+    client = SimpleActionClient(ros.topic("navigate"), NavigateAction)
+    ros._clients.append(client)
+    assert client.wait_for_server(rospy.Duration(90))
+    manager = client.action_client.manager
+    publish = manager.send_goal_fn
+
+    def publish_and_hold(action_goal) -> None:
+        publish(action_goal)
+        results.wait(lambda msgs: [m for m in msgs if m.status.goal_id.id == action_goal.goal_id.id], 90,
+                     "the server's result")
+        time.sleep(0.3)  # lets actionlib's callbacks run now, inside the window (they must not be lost)
+
+    manager.send_goal_fn = publish_and_hold
+    done: list = []
+    client.send_goal(NavigateGoal(region="kitchen"), done_cb=lambda state, result: done.append(state))
+    assert results.snapshot(), "send_goal returned before the result arrived"
+    assert client.wait_for_result(rospy.Duration(60)), "the result was lost"
+    assert client.get_state() == ABORTED, client.get_state()
+    assert "no ~regions_file" in client.get_goal_status_text(), client.get_goal_status_text()
+    wait_for(lambda: done == [ABORTED], 60, "done_cb with ABORTED")

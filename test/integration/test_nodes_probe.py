@@ -129,11 +129,13 @@ class Session:
         self.publish(topic, Bool(data=value), subscribers=subscribers)
 
     def action_client(self, name: str, action_type: type, timeout: float = WAIT):
-        """A real actionlib SimpleActionClient, connected to its server."""
-        import actionlib
+        """A real actionlib SimpleActionClient (ours: without actionlib's send_goal race, see
+        ltl_stack.ros.action_client), connected to its server."""
         import rospy
 
-        client = actionlib.SimpleActionClient(name, action_type)
+        from ltl_stack.ros.action_client import SimpleActionClient
+
+        client = SimpleActionClient(name, action_type)
         self._clients.append(client)
         assert client.wait_for_server(rospy.Duration(timeout)), f"no action server {name}"
         return client

@@ -17,6 +17,8 @@ if _HIDE_NUMPY:
     sys.modules["numpy"] = None  # type: ignore[assignment]
 try:
     import genpy.message  # noqa: F401 - imported here, before rospy, for the reason above
+except ImportError:
+    pass  # no ROS here: nothing to speed up (the ROS-free parts of ltl_stack.sim import this package)
 finally:
     if _HIDE_NUMPY and sys.modules.get("numpy", False) is None:
         del sys.modules["numpy"]

@@ -20,10 +20,10 @@ import time
 from collections import deque
 from typing import Any
 
-import actionlib
 import rospy
 from actionlib_msgs.msg import GoalStatus
 
+from ltl_stack.ros.action_client import SimpleActionClient
 from ltl_stack.ros.proposition_node import (
     OUTPUT_PARAMS,
     Bound,
@@ -108,7 +108,7 @@ class ActionProposition(OutputPropositionNode):
                 check_field_path(result_cls(), self.result_steps, result_cls._type)
         except (NodeConfigError, ValueError, LookupError) as error:
             raise NodeConfigError(f"{name}: {error}") from None
-        self.client = actionlib.SimpleActionClient(config["action"], action_cls)
+        self.client = SimpleActionClient(config["action"], action_cls)
         self.completion = PropositionPublisher(rospy.resolve_name(config["completion_topic"]),
                                                rate=config["rate"], initial=False)
         self.generation = 0

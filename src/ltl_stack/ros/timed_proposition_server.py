@@ -19,6 +19,7 @@ import rospy
 from ltl_stack import cli
 from ltl_stack.errors import Exit, UserError
 from ltl_stack.msg import PropositionAction, PropositionFeedback, PropositionGoal, PropositionResult
+from ltl_stack.ros.action_client import SimpleActionClient
 from ltl_stack.ros.master import master_uri, ros_name, wait_for_master
 from ltl_stack.ros.proposition_node import NodeSpec, Param, run_node
 from ltl_stack.runtime.node_params import Bound
@@ -122,7 +123,7 @@ def _send_goal(args) -> int:
             sys.stdout.write(line + "\n")
             sys.stdout.flush()
 
-    client = actionlib.SimpleActionClient(args.action, PropositionAction)
+    client = SimpleActionClient(args.action, PropositionAction)
     if not client.wait_for_server(rospy.Duration(args.timeout)):
         raise UserError(f"no action server at {rospy.resolve_name(args.action)} (waited {args.timeout:g} s)",
                             Exit.NO_ROS)
