@@ -362,7 +362,12 @@ def start_up_floor(env: dict[str, str], repeat: int, timeout: float) -> list[tup
              ("`python -S -c 'import ltl_stack.synthesis.cli'`", [py, "-S", "-c", "import ltl_stack.synthesis.cli"],
               nosite),
              ("`python -S -c 'import ltl_stack.synthesis.game'` (dd.cudd and the spec model)",
-              [py, "-S", "-c", "import ltl_stack.synthesis.game"], nosite)]
+              [py, "-S", "-c", "import ltl_stack.synthesis.game"], nosite),
+             ("`python -S -c 'import dd.cudd'` (networkx hidden, as `synthesis.game` does: dd's own floor)",
+              [py, "-S", "-c", "import sys; sys.modules['networkx'] = None; import dd.cudd"], nosite),
+             ("`python -S -c 'gc.disable(); import ltl_stack.synthesis.cli; os._exit(0)'` (what the script "
+              "pays for its imports: no collection while loading, no teardown)",
+              [py, "-S", "-c", "import gc; gc.disable(); import os, ltl_stack.synthesis.cli; os._exit(0)"], nosite)]
     runs: dict[str, list[dict]] = {name: [] for name, _, _ in cases}
     for _ in range(repeat):
         for name, cmd, cenv in cases:

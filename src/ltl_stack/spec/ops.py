@@ -209,17 +209,26 @@ class Pending:
     once, in linear time.
     """
 
-    __slots__ = ("kind", "parts")
+    __slots__ = ("kind", "parts", "formula")
 
     def __init__(self, kind: type, left: object, right: object):
         self.kind = kind
         self.parts = [settle(p) if isinstance(p, Pending) and p.kind is not kind else p for p in (left, right)]
+        self.formula: Formula | None = None  # ``settle``'s result, kept: a slugsin ``? i`` may settle it again
 
 
 def settle(x: Formula | Pending) -> Formula:
-    """The formula of a parser value: a ``Pending`` chain becomes one flat ``And``/``Or``."""
+    """The formula of a parser value: a ``Pending`` chain becomes one flat ``And``/``Or``.
+
+    The result is kept on ``x``, so a chain settled twice (an entry of a slugsin ``$`` buffer that
+    ``? i`` refers to in several places) gives one shared formula, as a formula written once does.
+    Nested chains are walked through their parts, never through their kept results: a buffer whose
+    entries each extend the one before (``& ? i x``) settles in time linear in its size, where
+    copying each entry's flat argument tuple into the next took quadratic time and memory."""
     if not isinstance(x, Pending):
         return x
+    if x.formula is not None:
+        return x.formula
     kind = x.kind
     out: list[Formula] = []
     stack: list = [x]
@@ -231,4 +240,5 @@ def settle(x: Formula | Pending) -> Formula:
             out.extend(item.args)
         else:
             out.append(item)
-    return kind(tuple(out))
+    x.formula = kind(tuple(out))
+    return x.formula

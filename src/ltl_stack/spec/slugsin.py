@@ -121,7 +121,8 @@ def parse_prefix(line: Line, names: Names) -> Formula:
                                                   "(a slugsin clause is one prefix formula per line)")
                 return settle(value)
             frame = stack[-1]
-            if frame.op == "$" or (type(value) is Pending and frame.op not in ("&", "|")):
+            # a ``$`` entry stays a chain until it is used: ``settle`` keeps its result (issue 16)
+            if type(value) is Pending and frame.op not in ("&", "|", "$"):
                 value = settle(value)
             frame.args.append(value)
             if len(frame.args) < frame.need:

@@ -16,7 +16,7 @@ from hypothesis import given, settings
 from spec_testing import formulas
 
 from ltl_stack.spec import parse_slugsin, write_slugsin
-from ltl_stack.spec.formula import And, Or, variables
+from ltl_stack.spec.formula import And, Or, Var, variables
 from ltl_stack.spec.model import Clause, Spec
 from ltl_stack.spec.slugsin import valid_name
 
@@ -60,17 +60,21 @@ def scaled(n: int, shape: str) -> str:
         trans = left("&", [f"| ! {x} {x}'" for x in xs]), left("&", [f"^ {y}' {y}" for y in ys])
     elif shape == "right":
         trans = right("|", [f"& {x} ! {x}'" for x in xs]), right("&", [f"! ^ {y}' {y}" for y in ys])
-    elif shape == "buffers":  # $ n entries, each recalling the one before it (a chain of & recalls
-        # would be flattened into n nested copies: quadratic by design of the flat And, not tested)
+    elif shape == "buffers":  # $ n entries, each recalling the one before it
         entries = [xs[0]] + [f"^ ? {i} {x}'" for i, x in enumerate(xs[1:])]
         trans = f"$ {n} " + " ".join(entries), left("|", ys)
+    elif shape == "and-buffers":  # $ n entries, each the one before it & one more: an entry stays a
+        # chain until used, so only the last (used) one becomes a flat And; flattening every entry
+        # into the next copied 1 + 2 + ... + n operands (issue 16)
+        entries = [f"& {xs[0]} {xs[1]}'"] + [f"& ? {i} {x}'" for i, x in enumerate(xs[2:])]
+        trans = f"$ {n - 1} " + " ".join(entries), left("|", ys)
     else:  # many short lines
         trans = "\n".join(f"| ! {x} {x}'" for x in xs), "\n".join(f"^ {y}' {y}" for y in ys)
     return "\n".join(["[INPUT]", *xs, "[OUTPUT]", *ys, "[ENV_TRANS]", trans[0], "[SYS_INIT]",
                       left("&", [f"! {y}" for y in ys]), "[SYS_TRANS]", trans[1], "[SYS_LIVENESS]", "y0", ""])
 
 
-@pytest.mark.parametrize("shape", ["left", "right", "buffers", "lines"])
+@pytest.mark.parametrize("shape", ["left", "right", "buffers", "and-buffers", "lines"])
 def test_doubling_a_spec_doubles_the_parse_work(shape: str) -> None:
     for n in (200, 800):
         small, large = scaled(n, shape), scaled(2 * n, shape)
@@ -105,3 +109,12 @@ def test_doubling_random_specs_doubles_the_parse_work(safety, goal) -> None:
     assert parse_slugsin(large).sys_safety[20:] and len(parse_slugsin(large).inputs) == 2 * len(spec.inputs)
     ratio = calls(lambda: parse_slugsin(large)) / calls(lambda: parse_slugsin(small))
     assert ratio < LINEAR, ratio
+
+
+def test_a_recalled_chain_is_one_shared_flat_formula() -> None:
+    """``? i`` of an ``&`` chain entry, used twice, gives one flat ``And`` object, shared as an
+    entry settled before it was recalled was."""
+    spec = parse_slugsin("[INPUT]\na\nb\nc\n\n[SYS_TRANS]\n$ 2 & a & b c | ? 0 ! ? 0\n")
+    entry, negated = spec.sys_safety[0].formula.args
+    assert entry == And((Var("a"), Var("b"), Var("c")))
+    assert negated.arg is entry
