@@ -26,6 +26,7 @@ W, still get a move that keeps sys safety; see ``step_result`` and ``explicit(re
 from __future__ import annotations
 
 from collections.abc import Mapping
+from typing import Any
 
 from ltl_stack.synthesis.automaton import Automaton
 from ltl_stack.synthesis.errors import AssumptionViolation, NoInitialState, SynthesisError
@@ -212,9 +213,26 @@ class SymbolicStrategy:
         u = bdd.let(assign, self.relations[state.goal])
         if u == bdd.false:
             return None  # recovery mode answers in ``step_result`` (Alg. 1 lines 19-25)
+        return self._pick_outputs(state, u)
+
+    def _pick_outputs(self, state: State, moves: Any) -> dict[str, bool]:
+        """One move of ``moves`` (a non-empty BDD over the primed outputs), keeping outputs as they are
+        where it can."""
+        game = self.game
         prefer = {game.outputs_next[k]: state.outputs[n] for k, n in enumerate(self.outputs)}
-        picked = self._pick(u, game.outputs_next, prefer)
+        picked = self._pick(moves, game.outputs_next, prefer)
         return {n: picked[game.outputs_next[k]] for k, n in enumerate(self.outputs)}
+
+    def _moves(self, state: State, assign: dict, admissible: bool) -> tuple[Any, bool]:
+        """The moves ``step_result`` picks from after ``assign`` (the current valuation and the new
+        inputs), as a BDD over the primed outputs, and whether they are the goal's own relation (a
+        NORMAL step: a winning position, admissible inputs, a move there) or else the recovery one."""
+        bdd = self.game.bdd
+        if admissible and bdd.let(self.game.assignment(state.valuation), self.winning) == bdd.true:
+            u = bdd.let(assign, self.relations[state.goal])
+            if u != bdd.false:
+                return u, True
+        return bdd.let(assign, self.recovery_relations().relation(state.goal)), False
 
     # --- recovery (thesis §4.6) ----------------------------------------------------------------
     def recovery_relations(self) -> RecoveryRelations:
@@ -237,22 +255,16 @@ class SymbolicStrategy:
         assign = game.assignment(state.valuation, new_inputs)
         admissible = bdd.let(assign, game.env_trans) != bdd.false
         violated = [] if admissible else game.violated("env_safety", state.valuation, new_inputs)
-        here_winning = bdd.let(game.assignment(state.valuation), self.winning) == bdd.true
-        if admissible and here_winning:
-            outputs = self._move(state, new_inputs, assign)
-            if outputs is not None:
-                nxt = self._successor(state, new_inputs, outputs)
-                return StepResult(nxt, StepKind.NORMAL, [], [], True, True)
-        rec = self.recovery_relations()
-        u = bdd.let(assign, rec.relation(state.goal))
+        u, normal = self._moves(state, assign, admissible)
         if u == bdd.false:
             return StepResult(None, StepKind.UNSAFE, violated, unkeepable_clauses(game, assign))
-        prefer = {game.outputs_next[k]: state.outputs[n] for k, n in enumerate(self.outputs)}
-        picked = self._pick(u, game.outputs_next, prefer)
-        outputs = {n: picked[game.outputs_next[k]] for k, n in enumerate(self.outputs)}
-        in_w, in_r = rec.classify(game.assignment({**new_inputs, **outputs}))
+        outputs = self._pick_outputs(state, u)
+        nxt = self._successor(state, new_inputs, outputs)
+        if normal:
+            return StepResult(nxt, StepKind.NORMAL, [], [], True, True)
+        in_w, in_r = self.recovery_relations().classify(game.assignment({**new_inputs, **outputs}))
         kind = StepKind.RECOVER_TO_W if in_w else StepKind.RECOVER_TOWARDS_W if in_r else StepKind.SAFE_ONLY
-        return StepResult(self._successor(state, new_inputs, outputs), kind, violated, [], in_w, in_r)
+        return StepResult(nxt, kind, violated, [], in_w, in_r)
 
     def allows(self, state: State, inputs: Mapping[str, bool], outputs: Mapping[str, bool]) -> bool:
         """Whether this strategy may answer ``inputs`` from ``state`` with ``outputs``: the move is
@@ -264,13 +276,8 @@ class SymbolicStrategy:
         new_inputs = self._full(inputs, self.inputs, "inputs")
         new_outputs = self._full(outputs, self.outputs, "outputs")
         assign = game.assignment(state.valuation, new_inputs)
-        relation = self.relations[state.goal]
-        normal = (bdd.let(assign, game.env_trans) != bdd.false
-                  and bdd.let(game.assignment(state.valuation), self.winning) == bdd.true
-                  and bdd.let(assign, relation) != bdd.false)
-        if not normal:
-            relation = self.recovery_relations().relation(state.goal)
-        return bdd.let(game.assignment(state.valuation, {**new_inputs, **new_outputs}), relation) == bdd.true
+        moves, _ = self._moves(state, assign, bdd.let(assign, game.env_trans) != bdd.false)
+        return bdd.let(game.assignment(state.valuation, {**new_inputs, **new_outputs}), moves) == bdd.true
 
     def keeps_safety(self, state: State, inputs: Mapping[str, bool], outputs: Mapping[str, bool]) -> bool:
         """Whether the move from ``state`` to (``inputs``, ``outputs``) satisfies the system safety."""
