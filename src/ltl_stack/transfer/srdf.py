@@ -13,7 +13,7 @@ from pathlib import Path
 from ltl_stack.inputs import read_text
 
 from .errors import TransferError
-from .urdf import parse_xml
+from .urdf_tree import parse_xml
 
 
 @dataclass

@@ -20,11 +20,10 @@ from .errors import TransferRefused
 from .limits import scale_command
 from .profiles import RobotProfile
 from .report import ChannelChange, ParameterChange, TransferReport, Unresolved
-from .retarget import transfer_joint_commands
 from .rewrite import Edit, apply_edits
 from .source_ast import SourceFile, call_argument, format_number, format_string
 from .srdf import check_against_urdf, load_srdf, rank_groups
-from .urdf import load_urdf_tree
+from .urdf_tree import load_urdf_tree
 
 __all__ = ["TransferOptions", "TransferRefused", "TransferResult", "transfer_program"]
 
@@ -61,6 +60,9 @@ def transfer_program(text: str, source: RobotProfile, target: RobotProfile,
     _velocities(velocity, unresolved_velocity, source, target, report, edits, src)
     joints = find_joint_trajectories(src)
     if joints.names or joints.points:
+        # Imported here: numpy, scipy and yourdfpy cost ~0.6 s of start-up that a program without joint
+        # commands (most of them: velocity and topic changes) never needs.
+        from .retarget import transfer_joint_commands
         transfer_joint_commands(src, joints, source, target, report, edits, options.progress)
     for u in joints.unresolved:
         report.unresolved.append(Unresolved(u.field, u.line, f"'{u.text}': {u.reason}"))

@@ -320,3 +320,11 @@ def test_mine_channels_through_the_real_script_refuses_output_over_a_program(tmp
                            "bot", "-o", str(folder / "a.py")], capture_output=True, text=True, timeout=300, env=env)
     assert done.returncode == Exit.BAD_INPUT and done.stderr.startswith("mine_channels: error: "), done.stderr
     assert (folder / "a.py").read_text() == "import rospy\n"
+
+
+def test_the_command_line_starts_without_numpy_scipy_or_yourdfpy():
+    """Their imports cost ~0.6 s per call; only a program with joint commands needs them (retarget)."""
+    code = ("import sys, ltl_stack.transfer.cli\n"
+            "print(sorted(m for m in ('numpy', 'scipy', 'yourdfpy') if m in sys.modules))")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0 and done.stdout.strip() == "[]", done.stdout + done.stderr

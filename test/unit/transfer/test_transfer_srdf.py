@@ -9,7 +9,7 @@ from ltl_stack.transfer.errors import TransferError
 from ltl_stack.transfer.profiles import load_profile
 from ltl_stack.transfer.srdf import check_against_urdf, load_srdf, parse_srdf, rank_groups, similarity
 from ltl_stack.transfer.transfer import TransferOptions, transfer_program
-from ltl_stack.transfer.urdf import load_urdf_tree
+from ltl_stack.transfer.urdf_tree import load_urdf_tree
 
 DATA = Path(__file__).resolve().parents[2] / "data" / "transfer"
 
