@@ -1,12 +1,13 @@
-"""analyze_graph on a real ROS master with real nodes: the thesis' Figs. 3.6-3.9, 3.14 and 3.15.
+"""analyze_graph on a real ROS master with real nodes: the thesis' Figs. 3.6-3.9.
 
 Clean and patrol (Example 8): every node of test/data/analysis/clean_and_patrol.yaml runs as a real
 rospy node (topics, actionlib clients and servers) under the names of the shared mapping.
 The same setup with ltl_stack's own proposition nodes (action_proposition, set_velocity,
 topic_threshold_sensor) and simulated robot and servers, launched as
 test/data/analysis/clean_and_patrol_sim_mapping.yaml says.
-Spheros (Example 9): ltl_stack's own set_velocity / set_color proposition nodes and one sim_robot
-per robot, launched as the mapping in test/data/analysis/spheros_mapping.yaml says.
+Figs. 3.13-3.15 (Example 9, spheros) are checked live on the launched scenario in
+test_analysis_scenarios.py, and on the thesis' own spheros mapping offline in
+test/unit/analysis/test_analysis_checks.py.
 """
 from __future__ import annotations
 
@@ -33,7 +34,6 @@ sys.path.insert(0, str(DATA))
 import scenario_graph  # noqa: E402
 
 MGMB = "/move_group_and_move_base"
-ROBOTS = ["sphero_wpw", "sphero_ggw", "sphero_rgw", "sphero_wpp"]
 
 
 def registrations(master: RosMaster) -> set[tuple[str, str, str]]:
@@ -192,43 +192,6 @@ def test_live_sim_clean_and_patrol_figs_3_6_to_3_9(clean_and_patrol_sim, tmp_pat
     assert sorted((f["output"], f["topic"], f["nodes"]) for f in e3) == [
         ("pickup", "/holding", ["/pickup", "/drop"]),  # downstream: the arm server's state
         ("pickup", "arm_1/arm_controller/follow_joint_trajectory/action_topics", ["/pickup", "/drop"])]
-
-
-@pytest.fixture(scope="module")
-def spheros(tmp_path_factory):
-    master = RosMaster(tmp_path_factory.mktemp("spheros"))
-    try:
-        commands, expected = mapping_commands(DATA / "spheros_mapping.yaml")
-        commands += [["rosrun", "ltl_stack", "sim_robot", f"__ns:=/{r}", "__name:=sim_robot"] for r in ROBOTS]
-        for i, command in enumerate(commands):
-            master.run(command, name=f"sphero_{i:02d}")
-        mapping = yaml.safe_load((DATA / "spheros_mapping.yaml").read_text())
-        expected |= {("sub", f"/{r}/cmd_vel", f"/{r}/sim_robot") for r in ROBOTS}
-        expected |= {("pub", e["parameters"]["publish_topic"], e["node"])
-                     for es in mapping["outputs"].values() for e in es}
-        wait_until_registered(master, expected)
-        yield master
-    finally:
-        master.shutdown()
-
-
-def test_live_spheros_fig_3_14_and_3_15(spheros):
-    spec = require_shared("specs", "spheros", "spheros.slugsin")
-    common = ["--spec", str(spec), "--mapping", str(DATA / "spheros_mapping.yaml"), "--live", "--json",
-              "--ignore-topics", "/collision,/diagnostics,/imu,/odom,/pose,/current_region"]  # robot sensors
-    done = run_cli(spheros, *common, "--robots", ",".join(ROBOTS))
-    assert done.returncode == 0, done.stderr
-    report = json.loads(done.stdout)
-    assert [(f["output"], f["suffix"], f["missing"]) for f in report["C1"]] == [
-        ("move_down", "/cmd_vel", ["sphero_wpw"])]  # Fig. 3.14
-    assert report["C2"] == []
-    assert {tuple(s["propositions"]) for s in report["suggestions"]} == {("move_left", "move_down")}, \
-        "moving and colouring the same robot do not compete; the simulated robot merges them"
-    done = run_cli(spheros, *common, "--robots", ",".join([*ROBOTS, "sphero_wrb"]), "--fail-on-findings")
-    assert done.returncode == 1, done.stderr
-    report = json.loads(done.stdout)
-    assert [(f["robot"], f["suffixes_of_other_robots"]) for f in report["C2"]] == [
-        ("sphero_wrb", ["/cmd_vel", "/set_color"])]  # Fig. 3.15
 
 
 def test_unreachable_master_is_one_clear_error():
