@@ -1,10 +1,12 @@
 """Stopping a roslaunch stops its nodes, even when roslaunch itself has to be killed: roslaunch starts
-each node in a session of its own, so a signal to roslaunch's process group does not reach them."""
+each node in a session of its own, so a signal to roslaunch's process group does not reach them. And a
+session started with SIGINT ignored (a background job of a script) does not pass that on."""
 from __future__ import annotations
 
 import os
 import signal
 import subprocess
+import sys
 
 import pytest
 from helpers import REPO_ROOT, wait_for
@@ -31,3 +33,18 @@ def test_nodes_of_a_killed_roslaunch_are_stopped_too(ros_master):
         assert _running(tree) == []
     finally:
         launch.stop()
+
+
+def test_a_session_started_with_sigint_ignored_starts_children_that_obey_it(tmp_path):
+    code = ("from ltl_stack.sim.session import RosSession\n"
+            "with RosSession() as ros:\n"
+            "    ros.start(['sleep', '60'])\n"
+            "    for proc in ros.processes:  # the master and the sleep\n"
+            "        status = open(f'/proc/{proc.pid}/status').read().splitlines()\n"
+            "        print(next(line.split()[1] for line in status if line.startswith('SigIgn:')))\n")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300, cwd=tmp_path,
+                          preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_IGN))
+    assert done.returncode == 0, done.stdout + done.stderr
+    masks = [int(word, 16) for word in done.stdout.split()]
+    assert len(masks) == 2, done.stdout
+    assert all(not mask & (1 << (signal.SIGINT - 1)) for mask in masks), done.stdout

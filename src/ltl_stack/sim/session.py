@@ -11,6 +11,7 @@ import signal
 import socket
 import subprocess
 import tempfile
+import threading
 import time
 import xmlrpc.client
 from collections.abc import Sequence
@@ -74,6 +75,13 @@ class RosSession:
         self.processes: list[subprocess.Popen] = []
 
     def __enter__(self) -> RosSession:
+        # Started as a background job of a non-interactive shell, this process ignores SIGINT and its
+        # children would inherit that: rosmaster and nodes without rospy's handler would then outlast
+        # the SIGINT that stops them (stop_process) by its whole grace period. A handled signal is reset
+        # to the default in a child, so handle it here as Python does by default.
+        if (signal.getsignal(signal.SIGINT) is signal.SIG_IGN
+                and threading.current_thread() is threading.main_thread()):
+            signal.signal(signal.SIGINT, signal.default_int_handler)
         if not self.own_master:
             return self
         log_path = self.workdir / "rosmaster.log"
