@@ -41,6 +41,14 @@ class ToolParser(argparse.ArgumentParser):
         kwargs.setdefault("formatter_class", argparse.RawDescriptionHelpFormatter)
         super().__init__(prog=prog, description=description, epilog=text, **kwargs)
 
+    def print_help(self, file: TextIO | None = None) -> None:
+        """Help on stdout; a closed pipe ends quietly, a full disk with one error line (exit 4)."""
+        try:
+            super().print_help(file)
+            (file or sys.stdout).flush()
+        except OSError as err:
+            self.exit(_output_failed(self.prog, err, file or sys.stdout))
+
     def add_json(self, what: str = "the result") -> None:
         """The shared ``--json`` flag: ``what`` as JSON on stdout instead of text."""
         self.add_argument("--json", action="store_true", help=f"print {what} as JSON on stdout")
@@ -67,23 +75,77 @@ def print_json(data: Any) -> None:
     sys.stdout.flush()
 
 
+class StdoutFailed(Exception):
+    """Writing or flushing a tool's stdout failed (``OSError`` in ``error``), told apart from the
+    tool's other ``OSError``s."""
+
+    def __init__(self, error: OSError) -> None:
+        super().__init__(error)
+        self.error = error
+
+
+class _CheckedStdout:
+    """``sys.stdout`` while a tool runs (``run``): a failed write or flush raises ``StdoutFailed``."""
+
+    def __init__(self, stream: TextIO) -> None:
+        self.stream = stream
+
+    def write(self, text: str) -> int:
+        try:
+            return self.stream.write(text)
+        except OSError as err:
+            raise StdoutFailed(err) from None
+
+    def flush(self) -> None:
+        try:
+            self.stream.flush()
+        except OSError as err:
+            raise StdoutFailed(err) from None
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self.stream, name)
+
+
+def _output_failed(prog: str, err: OSError, stream: TextIO) -> int:
+    """After a failed write to ``stream``: send what is still buffered to /dev/null (so the exit does
+    not fail again) and give the exit code. A closed pipe (``tool | head``) is not an error; anything
+    else (a full disk) is one error line and ``Exit.WRITE_FAILED``."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, stream.fileno())
+        os.close(devnull)
+    except (OSError, ValueError):
+        pass
+    if isinstance(err, BrokenPipeError):
+        return int(Exit.OK)
+    error(prog, f"cannot write the output: {err.strerror or err}")
+    return int(Exit.WRITE_FAILED)
+
+
 def run(prog: str, body: Callable[[], int | None]) -> int:
     """Run a tool's body and turn every ``UserError`` into its one line and exit code.
 
-    ``KeyboardInterrupt`` exits 130 quietly; a closed stdout (``tool | head``) is not an error.
+    ``KeyboardInterrupt`` exits 130 quietly; a closed stdout (``tool | head``) is not an error; stdout
+    that cannot be written (a full disk) is one error line and ``Exit.WRITE_FAILED``, also when the
+    failure shows only as the buffered output is flushed at the end.
     """
+    stdout = sys.stdout
+    sys.stdout = _CheckedStdout(stdout)
     try:
         code = body()
+        sys.stdout.flush()
         return int(Exit.OK if code is None else code)
     except UserError as e:
         error(prog, str(e))
         return int(e.code)
     except KeyboardInterrupt:
         return int(Exit.INTERRUPTED)
-    except BrokenPipeError:
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
-        return int(Exit.OK)
+    except StdoutFailed as e:
+        return _output_failed(prog, e.error, stdout)
+    except BrokenPipeError as e:  # stdout written through a reference taken before ``run``
+        return _output_failed(prog, e, stdout)
+    finally:
+        sys.stdout = stdout
 
 
 def imports_done() -> None:

@@ -14,6 +14,7 @@ from collections.abc import Sequence
 from python_qt_binding.QtCore import QSettings
 from python_qt_binding.QtWidgets import QApplication
 
+from ltl_stack import cli
 from ltl_stack.errors import Exit
 from ltl_stack.gui.widgets import QSettingsAdapter
 
@@ -26,8 +27,7 @@ PANELS = {
 
 
 def build_parser(name: str) -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog=name, description=PANELS[name],
-                                epilog=f"Exit codes: {Exit.OK} closed normally, {Exit.BAD_INPUT} bad argument.")
+    p = cli.ToolParser(name, PANELS[name], exit_codes=(Exit.OK, Exit.BAD_INPUT))
     p.add_argument("--spec", help="the spec file")
     if name in ("mapping_panel", "analysis_panel"):
         p.add_argument("--mapping", help="the mapping YAML")

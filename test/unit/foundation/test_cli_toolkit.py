@@ -3,8 +3,11 @@ from __future__ import annotations
 
 import json
 import os
+import subprocess
+import sys
 
 import pytest
+from helpers import REPO_ROOT
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -150,3 +153,33 @@ def test_tool_parser_epilog_lists_exit_codes_and_help_exits_zero(capsys):
     with pytest.raises(SystemExit) as e:
         parser.parse_args(["--nosuch"])
     assert e.value.code == Exit.BAD_INPUT
+
+
+FULL = "/dev/full"  # every write fails with ENOSPC
+TOOL = ("import sys\nfrom ltl_stack import cli\n"
+        "sys.exit(cli.run('tool', lambda: print('x' * 100 * int(sys.argv[1]))))\n")
+
+
+@pytest.mark.skipif(not os.path.exists(FULL), reason="no /dev/full here")
+@pytest.mark.parametrize("command", [
+    [sys.executable, "-c", TOOL, "1"],  # buffered: fails only when flushed at the end
+    [sys.executable, "-c", TOOL, "10000"],  # fails while writing
+    [sys.executable, "-c", "from ltl_stack import cli; cli.ToolParser('tool', 'd').parse_args(['--help'])"],
+    [sys.executable, "-m", "ltl_stack.synthesis.cli", str(REPO_ROOT / "config" / "simple" / "simple.structuredslugs"),
+     "--json"],
+], ids=["flush", "write", "help", "synthesize"])
+def test_stdout_that_cannot_be_written_is_one_error_line_and_exit_4(command):
+    with open(FULL, "w") as full:
+        done = subprocess.run(command, stdout=full, stderr=subprocess.PIPE, text=True, timeout=300)
+    prog = "synthesize" if "synthesis" in " ".join(command) else "tool"
+    assert (done.returncode, done.stderr) == (Exit.WRITE_FAILED, f"{prog}: error: cannot write the output: "
+                                                                 "No space left on device\n"), done.stderr
+
+
+def test_a_reader_that_stops_early_is_not_an_error():
+    """``tool | head``: the closed pipe ends the tool quietly with 0, whatever was still to write."""
+    proc = subprocess.Popen([sys.executable, "-c", TOOL, "100000"], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    assert proc.stdout.read(10) == b"x" * 10
+    proc.stdout.close()
+    assert proc.wait(timeout=300) == 0
+    assert proc.stderr.read() == b""
