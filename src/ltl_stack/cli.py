@@ -75,12 +75,12 @@ def print_json(data: Any) -> None:
     sys.stdout.flush()
 
 
-class StdoutFailed(Exception):
-    """Writing or flushing a tool's stdout failed (``OSError`` in ``error``), told apart from the
-    tool's other ``OSError``s."""
+class StdoutFailed(OSError):
+    """Writing or flushing a tool's stdout failed (the original ``OSError`` in ``error``), told apart
+    from the tool's other ``OSError``s; still an ``OSError`` for code that handles those."""
 
     def __init__(self, error: OSError) -> None:
-        super().__init__(error)
+        super().__init__(error.errno, error.strerror)
         self.error = error
 
 
