@@ -65,6 +65,9 @@ class SetVelocity(OutputPropositionNode):
     def on_falling(self) -> None:
         self.pub.publish(self.zero)
 
+    def publishers(self) -> list[rospy.Publisher]:
+        return [self.pub]
+
 
 SET_COLOR = NodeSpec(
     name="set_color",
@@ -104,6 +107,9 @@ class SetColor(OutputPropositionNode):
     def on_falling(self) -> None:
         if self.config["off_on_false"]:
             self.pub.publish(self.black)
+
+    def publishers(self) -> list[rospy.Publisher]:
+        return [self.pub]
 
 
 PUBLISH_ON_EDGE = NodeSpec(
@@ -147,6 +153,9 @@ class PublishOnEdge(OutputPropositionNode):
     def on_falling(self) -> None:
         if self.pub is not None and self.on_false is not None:
             self.pub.publish(self.on_false)
+
+    def publishers(self) -> list[rospy.Publisher]:
+        return [self.pub] if self.pub is not None else []
 
 
 def publish_on_edge_main() -> None:

@@ -123,6 +123,33 @@ def wait_for_topic_class(topic: str, poll: float = 0.2) -> type | None:
     return None
 
 
+def wait_until_sent(pub: rospy.Publisher, timeout: float = 1.0) -> bool:
+    """Wait, at most ``timeout`` s, until every connection of ``pub`` has sent what was published.
+
+    A publisher with ``queue_size`` sends from one thread per connection. On shutdown rospy closes
+    the connections right after the shutdown hooks, so a message still queued there (set_velocity's
+    zero Twist when the node is killed) was lost on a busy machine and the robot kept its last
+    command. rospy has no public flush: this looks at its queued connection's queue and whether its
+    sending thread is back waiting (``rospy.impl.tcpros_pubsub.QueuedConnection``); a connection
+    without them sends synchronously. True when all was sent in time."""
+    deadline = time.monotonic() + timeout
+    while True:
+        if all(_sent(c) for c in list(pub.impl.connections)):
+            return True
+        if time.monotonic() >= deadline:
+            return False
+        time.sleep(0.002)
+
+
+def _sent(connection: Any) -> bool:
+    queue = connection.__dict__.get("_queue")
+    if queue is None:
+        return True
+    condition = connection.__dict__.get("_cond_data_available")
+    waiting = getattr(condition, "_waiters", None)
+    return not queue and (waiting is None or len(waiting) > 0 or bool(connection.done))
+
+
 class PropositionPublisher:
     """Publishes one Boolean proposition: latched, at once on change, and again every 1/rate s."""
 
@@ -263,6 +290,11 @@ class OutputPropositionNode:
         services still work here, and are closed right after)."""
         self.on_falling()
 
+    def publishers(self) -> list[rospy.Publisher]:
+        """The node's command publishers: on shutdown the node waits (at most 1 s) until what
+        ``on_shutdown`` published on them has been sent (``wait_until_sent``)."""
+        return []
+
     def _on_value(self, msg: Any) -> None:
         with self._lock:
             if self._stopped:
@@ -280,6 +312,10 @@ class OutputPropositionNode:
             if self.edges.value and not self._stopped:
                 self.edges.update(False)
                 self.on_shutdown()
+                for pub in self.publishers():
+                    if not wait_until_sent(pub):
+                        rospy.logwarn("%s: the stop message on %s may not have been sent", rospy.get_name(),
+                                      pub.resolved_name)
             self._stopped = True
 
     def spin(self) -> None:
