@@ -136,9 +136,8 @@ def test_a_goal_ended_before_send_goal_returns_still_reaches_the_client(ros):
     # Recorded before the client subscribes: rospy calls the recorder before actionlib's callback.
     results = ros.record(ros.topic("navigate/result"), NavigateActionResult)
     ros.run("sim_navigation_server", f"_action:={ros.topic('navigate')}", "_mode:=holonomic")  # no regions
-    client = SimpleActionClient(ros.topic("navigate"), NavigateAction)
-    ros._clients.append(client)
-    assert client.wait_for_server(rospy.Duration(90))
+    client = ros.action_client(ros.topic("navigate"), NavigateAction, timeout=90)
+    assert isinstance(client, SimpleActionClient)
     manager = client.action_client.manager
     publish = manager.send_goal_fn
 
