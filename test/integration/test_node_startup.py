@@ -1,5 +1,6 @@
-"""What a node of ours imports at start-up (issue 16): genpy's optional numpy import is skipped (~80 ms
-CPU per node), while numpy stays importable afterwards and numpy floats still go into float fields."""
+"""How a node of ours starts and stops: genpy's optional numpy import is skipped at start-up (~80 ms
+CPU per node) while numpy stays usable, and rospy's XML-RPC server thread ends at shutdown instead of
+polling its closed socket until the process exits (ros/ros_comm#2238)."""
 from __future__ import annotations
 
 import subprocess
@@ -24,3 +25,32 @@ def test_executor_start_up_does_not_import_numpy_which_stays_usable():
     proc = subprocess.run([sys.executable, "-c", CODE], capture_output=True, text=True, timeout=300, check=False)
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.split() == ["False", "1.5", "numpy"], proc.stdout
+
+
+SHUTDOWN = """
+import sys, time, traceback
+import ltl_stack.ros
+import rospy
+
+def serving():
+    return any("serve_forever" in "".join(traceback.format_stack(frame))
+               for frame in sys._current_frames().values())
+
+def wait(condition, timeout):
+    deadline = time.monotonic() + timeout
+    while not condition() and time.monotonic() < deadline:
+        time.sleep(0.05)
+    return condition()
+
+rospy.init_node("shutdown_probe", anonymous=True)
+print(wait(serving, 120))
+rospy.signal_shutdown("test")
+print(wait(lambda: not serving(), 60))
+"""
+
+
+def test_the_xml_rpc_server_thread_ends_when_the_node_shuts_down(ros_master):
+    proc = subprocess.run([sys.executable, "-c", SHUTDOWN], capture_output=True, text=True, timeout=300,
+                          check=False, env=ros_master.env)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.split() == ["True", "True"], (proc.stdout, proc.stderr)

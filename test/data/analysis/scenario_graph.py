@@ -99,6 +99,7 @@ def run_node(path: str, node: str) -> None:
     spec = scenario["nodes"][node]
     namespace, _, name = node.rpartition("/")
     sys.argv = [sys.argv[0], f"__ns:={namespace or '/'}"]  # rospy takes the namespace from sys.argv
+    import ltl_stack.ros  # noqa: F401, I001 - first, as in our nodes: start-up and shutdown fixes
     import actionlib
     import roslib.message
     import rospy
