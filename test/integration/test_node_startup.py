@@ -1,6 +1,7 @@
 """How a node of ours starts and stops: genpy's optional numpy import is skipped at start-up (~80 ms
 CPU per node) while numpy stays usable, and rospy's XML-RPC server thread ends at shutdown instead of
-polling its closed socket until the process exits (ros/ros_comm#2238)."""
+polling its closed socket until the process exits (ros/ros_comm#2238), and a subscriber connects to
+every publisher named in the lists queued for it, also when a stale list is queued last."""
 from __future__ import annotations
 
 import subprocess
@@ -54,3 +55,43 @@ def test_the_xml_rpc_server_thread_ends_when_the_node_shuts_down(ros_master):
                           check=False, env=ros_master.env)
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.split() == ["True", "True"], (proc.stdout, proc.stderr)
+
+
+STALE_LIST = """
+import sys, threading, time
+import ltl_stack.ros
+import rospy
+from rospy.impl.registration import RegManager, get_registration_listeners
+from std_msgs.msg import Bool
+
+def wait(condition, timeout):
+    deadline = time.monotonic() + timeout
+    while not condition() and time.monotonic() < deadline:
+        time.sleep(0.05)
+    return condition()
+
+def manager():
+    return next((m for m in get_registration_listeners().listeners if isinstance(m, RegManager)), None)
+
+rospy.init_node("stale_list_probe", anonymous=True, disable_signals=True)
+assert wait(lambda: manager() is not None and manager().is_registered(), 120), "never registered"
+registration = manager()
+publisher = rospy.Publisher("/stale/source", Bool, queue_size=1, latch=True)
+publisher.publish(Bool(True))
+received = threading.Event()
+with registration.cond:  # nothing is taken off the queue until both lists are on it
+    subscriber = rospy.Subscriber("/stale/source", Bool, lambda message: received.set())
+    # registerSubscriber's reply, naming the publisher, is queued now; a stale list comes after it
+    registration.publisher_update(subscriber.resolved_name, [])
+print(received.wait(60))
+rospy.signal_shutdown("done")
+"""
+
+
+def test_a_stale_publisher_list_queued_last_does_not_lose_the_publisher(ros_master):
+    """The race behind a latched value that never arrived (a region sensor and sim_robot registering
+    in the same millisecond): rospy acts only on the publisher list queued last for a topic."""
+    proc = subprocess.run([sys.executable, "-c", STALE_LIST], capture_output=True, text=True, timeout=300,
+                          check=False, env=ros_master.env)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.split() == ["True"], (proc.stdout, proc.stderr)

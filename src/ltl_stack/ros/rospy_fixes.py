@@ -1,0 +1,119 @@
+"""Work-arounds for rospy/genpy behaviour that costs our nodes time or messages (Noetic, unfixed).
+
+Applied by ``import ltl_stack.ros``, which every node of ours does before anything else of ROS:
+
+- **Start-up** (issue 16): ``genpy.message``, which every message class and ``rospy`` import, tries
+  ``import numpy`` only to list numpy's scalar types among the values a float field accepts when it
+  words a serialization error; with the venv's numpy that costs ~80 ms CPU in every node, and none
+  of our nodes puts numpy values into messages. numpy is marked absent while genpy is first imported
+  (a ``None`` entry in ``sys.modules`` makes an import fail, documented behaviour, and genpy catches
+  the ImportError) and the mark is taken out right after: a later ``import numpy`` works as usual,
+  and ``struct`` still packs numpy floats into float fields.
+- **Shutdown** (ros/ros_comm#2238): rospy's shutdown closes the socket of the node's XML-RPC server
+  but never asks ``serve_forever`` to return, so that thread polls the closed socket in a busy loop
+  until the process ends. rospy then waits up to 0.5 s more for its registration thread (woken only
+  before the shutdown flag is raised) and sleeps 0.1 s: each node burnt ~0.5 s of a core on every
+  stop, and a scenario stops dozens at once. ``XmlRpcNode.shutdown`` now also ends ``serve_forever``
+  (``socketserver``'s public ``shutdown``, from a daemon thread because it blocks until the loop has
+  seen it) and wakes the registration thread again.
+- **A lost publisher** (publisher and subscriber registering at the same moment): rospy's
+  registration thread keeps a queue of publisher lists per topic and, for a topic, acts only on the
+  list queued last. The list that ``registerSubscriber`` returned is queued after the master's reply
+  arrives, so a ``publisherUpdate`` naming a publisher that registered meanwhile can be queued first
+  and then dropped: the subscriber never connects, and a latched value never arrives. Queued lists
+  of a topic are now merged, so every publisher named in any of them is connected to (rospy only
+  connects from these lists, never disconnects; a publisher that has gone just fails to connect).
+"""
+from __future__ import annotations
+
+import importlib.abc
+import importlib.util
+import sys
+import threading
+from collections.abc import Callable
+
+
+def skip_numpy_in_genpy() -> None:
+    """Import ``genpy.message`` with numpy hidden (see the module docstring)."""
+    hide = "numpy" not in sys.modules and "genpy.message" not in sys.modules
+    if hide:
+        sys.modules["numpy"] = None  # type: ignore[assignment]
+    try:
+        import genpy.message  # noqa: F401 - imported here, before rospy, for the reason above
+    except ImportError:
+        pass  # no ROS here: nothing to speed up (the ROS-free parts of ltl_stack.sim import this package)
+    finally:
+        if hide and sys.modules.get("numpy", False) is None:
+            del sys.modules["numpy"]
+
+
+def stop_serving_on_shutdown(node_class) -> None:
+    """Make rosgraph's ``XmlRpcNode.shutdown`` end its server thread and wake rospy's registration thread."""
+    close = node_class.shutdown
+    if getattr(close, "ltl_stack_fix", False):
+        return
+
+    def shutdown(self, reason):
+        server, handler = self.server, self.handler
+        close(self, reason)
+        registration = getattr(handler, "reg_man", None)
+        if registration is not None and registration.cond is not None:
+            with registration.cond:
+                registration.cond.notify_all()
+        if server is not None:
+            threading.Thread(target=server.shutdown, name="xmlrpc_stop", daemon=True).start()
+
+    shutdown.ltl_stack_fix = True
+    shutdown.__doc__ = close.__doc__
+    node_class.shutdown = shutdown
+
+
+def merge_publisher_updates(manager_class) -> None:
+    """Make rospy's ``RegManager.publisher_update`` keep the publishers of lists still queued for the topic."""
+    queue = manager_class.publisher_update
+    if getattr(queue, "ltl_stack_fix", False):
+        return
+
+    def publisher_update(self, resolved_name, uris):
+        with self.cond:  # a Condition on an RLock: ``queue`` takes it again
+            pending = [uri for topic, listed in self.updates if topic == resolved_name for uri in listed]
+            queue(self, resolved_name, list(dict.fromkeys([*uris, *pending])))
+
+    publisher_update.ltl_stack_fix = True
+    publisher_update.__doc__ = queue.__doc__
+    manager_class.publisher_update = publisher_update
+
+
+class AfterImport(importlib.abc.MetaPathFinder):
+    """Calls ``then(module)`` right after module ``name`` is first imported, by whoever imports it.
+
+    So a fix for rospy's internals costs nothing in a process that never imports rospy (a
+    command-line tool that only talks to the master), and still precedes ``rospy.init_node``.
+    """
+
+    def __init__(self, name: str, then: Callable[[object], None]):
+        self.name, self.then = name, then
+
+    def find_spec(self, fullname, path, target=None):
+        if fullname != self.name:
+            return None
+        sys.meta_path.remove(self)
+        spec = importlib.util.find_spec(fullname)
+        if spec is None or spec.loader is None or not hasattr(spec.loader, "exec_module"):
+            return spec
+        load, then = spec.loader.exec_module, self.then
+
+        def exec_module(module):
+            load(module)
+            then(module)
+
+        spec.loader.exec_module = exec_module
+        return spec
+
+
+def when_imported(name: str, then: Callable[[object], None]) -> None:
+    """``then(module)`` now if ``name`` is already imported, else right after it is."""
+    if name in sys.modules:
+        then(sys.modules[name])
+    else:
+        sys.meta_path.insert(0, AfterImport(name, then))
