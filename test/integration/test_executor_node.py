@@ -203,6 +203,8 @@ def test_ready_handshake_names_silent_inputs_then_steps_on_changes(ros_master, p
     wait_for(lambda: len([s for s in probe.of("state") if s["state"] >= 0]) == steps + 1, 90, "one more state")
     probe.publish(LOCK, True)
     probe.wait_value(BUSY, True)
+    # ~state and the outputs are different topics: ROS does not promise which message arrives first
+    wait_for(lambda: len([s for s in probe.of("state") if s["state"] >= 0]) == steps + 2, 90, "the state after lock")
     states = [s for s in probe.of("state") if s["state"] >= 0]
     assert [s["inputs"] for s in states] == [{"a": True, "lock": False}, {"a": False, "lock": False},
                                              {"a": False, "lock": True}], states
