@@ -150,7 +150,10 @@ def test_diagnostics_report_ok_every_second_while_healthy(ros_master, probes, lo
     probe.publish(A, True)
     probe.publish(LOCK, False)
     probe.wait_value(OUT, True)
-    seen = len(probe.of("diag"))
+    # from the first status of the running controller on (/diagnostics and the outputs are different
+    # topics: a status sent before the first step may still arrive after the output)
+    seen = wait_for(lambda: [i for i, e in enumerate(probe.of("diag")) if e["name"] == "/controller_executor: controller"
+                             and e["message"].startswith("running: state ")], 30, "a running controller status")[0]
     # rqt_robot_monitor marks a status stale after a few seconds without it: it keeps coming.
     ours = wait_for(lambda: (d := [e for e in probe.of("diag")[seen:] if e["name"] == "/controller_executor: controller"])
                     and len(d) >= 3 and d, 30, "three periodic controller statuses")
