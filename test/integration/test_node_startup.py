@@ -28,20 +28,32 @@ def test_executor_start_up_does_not_import_numpy_which_stays_usable():
     assert proc.stdout.split() == ["False", "1.5", "numpy"], proc.stdout
 
 
-SHUTDOWN = """
-import sys, time, traceback
+#: imported first by each probe below, and how it waits for a condition (at most ``timeout`` s)
+PRELUDE = """
+import sys, threading, time, traceback
 import ltl_stack.ros
 import rospy
-
-def serving():
-    return any("serve_forever" in "".join(traceback.format_stack(frame))
-               for frame in sys._current_frames().values())
 
 def wait(condition, timeout):
     deadline = time.monotonic() + timeout
     while not condition() and time.monotonic() < deadline:
         time.sleep(0.05)
     return condition()
+"""
+
+
+def run_probe(code: str, env: dict) -> subprocess.CompletedProcess:
+    """Run ``PRELUDE + code`` against the master of ``env``, which must exit 0."""
+    proc = subprocess.run([sys.executable, "-c", PRELUDE + code], capture_output=True, text=True, timeout=300,
+                          check=False, env=env)
+    assert proc.returncode == 0, proc.stderr
+    return proc
+
+
+SHUTDOWN = """
+def serving():
+    return any("serve_forever" in "".join(traceback.format_stack(frame))
+               for frame in sys._current_frames().values())
 
 rospy.init_node("shutdown_probe", anonymous=True)
 print(wait(serving, 120))
@@ -51,24 +63,13 @@ print(wait(lambda: not serving(), 60))
 
 
 def test_the_xml_rpc_server_thread_ends_when_the_node_shuts_down(ros_master):
-    proc = subprocess.run([sys.executable, "-c", SHUTDOWN], capture_output=True, text=True, timeout=300,
-                          check=False, env=ros_master.env)
-    assert proc.returncode == 0, proc.stderr
+    proc = run_probe(SHUTDOWN, ros_master.env)
     assert proc.stdout.split() == ["True", "True"], (proc.stdout, proc.stderr)
 
 
 STALE_LIST = """
-import sys, threading, time
-import ltl_stack.ros
-import rospy
 from rospy.impl.registration import RegManager, get_registration_listeners
 from std_msgs.msg import Bool
-
-def wait(condition, timeout):
-    deadline = time.monotonic() + timeout
-    while not condition() and time.monotonic() < deadline:
-        time.sleep(0.05)
-    return condition()
 
 def manager():
     return next((m for m in get_registration_listeners().listeners if isinstance(m, RegManager)), None)
@@ -91,7 +92,5 @@ rospy.signal_shutdown("done")
 def test_a_stale_publisher_list_queued_last_does_not_lose_the_publisher(ros_master):
     """The race behind a latched value that never arrived (a region sensor and sim_robot registering
     in the same millisecond): rospy acts only on the publisher list queued last for a topic."""
-    proc = subprocess.run([sys.executable, "-c", STALE_LIST], capture_output=True, text=True, timeout=300,
-                          check=False, env=ros_master.env)
-    assert proc.returncode == 0, proc.stderr
+    proc = run_probe(STALE_LIST, ros_master.env)
     assert proc.stdout.split() == ["True"], (proc.stdout, proc.stderr)

@@ -47,41 +47,46 @@ def skip_numpy_in_genpy() -> None:
             del sys.modules["numpy"]
 
 
-def stop_serving_on_shutdown(node_class) -> None:
+def _replace(cls: type, name: str, make: Callable[[Callable], Callable]) -> None:
+    """Replace method ``name`` of ``cls`` by ``make(original)``, once (a second call leaves it)."""
+    original = getattr(cls, name)
+    if getattr(original, "ltl_stack_fix", False):
+        return
+    replacement = make(original)
+    replacement.ltl_stack_fix = True
+    replacement.__doc__ = original.__doc__
+    setattr(cls, name, replacement)
+
+
+def stop_serving_on_shutdown(node_class: type) -> None:
     """Make rosgraph's ``XmlRpcNode.shutdown`` end its server thread and wake rospy's registration thread."""
-    close = node_class.shutdown
-    if getattr(close, "ltl_stack_fix", False):
-        return
 
-    def shutdown(self, reason):
-        server, handler = self.server, self.handler
-        close(self, reason)
-        registration = getattr(handler, "reg_man", None)
-        if registration is not None and registration.cond is not None:
-            with registration.cond:
-                registration.cond.notify_all()
-        if server is not None:
-            threading.Thread(target=server.shutdown, name="xmlrpc_stop", daemon=True).start()
+    def make(close: Callable) -> Callable:
+        def shutdown(self, reason):
+            server, handler = self.server, self.handler
+            close(self, reason)
+            registration = getattr(handler, "reg_man", None)
+            if registration is not None and registration.cond is not None:
+                with registration.cond:
+                    registration.cond.notify_all()
+            if server is not None:
+                threading.Thread(target=server.shutdown, name="xmlrpc_stop", daemon=True).start()
+        return shutdown
 
-    shutdown.ltl_stack_fix = True
-    shutdown.__doc__ = close.__doc__
-    node_class.shutdown = shutdown
+    _replace(node_class, "shutdown", make)
 
 
-def merge_publisher_updates(manager_class) -> None:
+def merge_publisher_updates(manager_class: type) -> None:
     """Make rospy's ``RegManager.publisher_update`` keep the publishers of lists still queued for the topic."""
-    queue = manager_class.publisher_update
-    if getattr(queue, "ltl_stack_fix", False):
-        return
 
-    def publisher_update(self, resolved_name, uris):
-        with self.cond:  # a Condition on an RLock: ``queue`` takes it again
-            pending = [uri for topic, listed in self.updates if topic == resolved_name for uri in listed]
-            queue(self, resolved_name, list(dict.fromkeys([*uris, *pending])))
+    def make(queue: Callable) -> Callable:
+        def publisher_update(self, resolved_name, uris):
+            with self.cond:  # a Condition on an RLock: ``queue`` takes it again
+                pending = [uri for topic, listed in self.updates if topic == resolved_name for uri in listed]
+                queue(self, resolved_name, list(dict.fromkeys([*uris, *pending])))
+        return publisher_update
 
-    publisher_update.ltl_stack_fix = True
-    publisher_update.__doc__ = queue.__doc__
-    manager_class.publisher_update = publisher_update
+    _replace(manager_class, "publisher_update", make)
 
 
 class AfterImport(importlib.abc.MetaPathFinder):
