@@ -45,12 +45,18 @@ stamp_matches() {  # stamp_matches FILE VALUE
   [ -f "$1" ] && [ "$(cat "$1")" = "$2" ]
 }
 
+venv_wanted() {  # what the venv depends on
+  cat "$LTL_STACK_ROOT/requirements.txt" /usr/bin/python3 2>/dev/null | sha1sum | cut -c1-40
+}
+
+venv_ready() {
+  [ -x "$LTL_STACK_VENV/bin/python" ] && stamp_matches "$LTL_STACK_VENV/.ltl_stack_stamp" "$(venv_wanted)"
+}
+
 make_venv() {
+  venv_ready && return 0
   local want
-  want=$(cat "$LTL_STACK_ROOT/requirements.txt" /usr/bin/python3 2>/dev/null | sha1sum | cut -c1-40)
-  if [ -x "$LTL_STACK_VENV/bin/python" ] && stamp_matches "$LTL_STACK_VENV/.ltl_stack_stamp" "$want"; then
-    return 0
-  fi
+  want=$(venv_wanted)
   say "making the virtual environment $LTL_STACK_VENV"
   mkdir -p "$LTL_STACK_HOME"
   [ -x "$LTL_STACK_VENV/bin/python" ] || /usr/bin/python3 -m venv --system-site-packages "$LTL_STACK_VENV"
@@ -63,14 +69,19 @@ make_venv() {
   echo "$want" > "$LTL_STACK_VENV/.ltl_stack_stamp"
 }
 
+workspace_wanted() {  # what catkin_make's output depends on: build files, interface files, script names
+  (cd "$LTL_STACK_ROOT" && cat package.xml CMakeLists.txt setup.py msg/* srv/* action/* \
+     && ls scripts && echo "$LTL_STACK_VENV") | sha1sum | cut -c1-40
+}
+
+workspace_ready() {
+  [ -f "$LTL_STACK_WS/devel/setup.bash" ] && stamp_matches "$LTL_STACK_WS/.ltl_stack_stamp" "$(workspace_wanted)"
+}
+
 build_workspace() {
+  workspace_ready && return 0
   local want
-  # What catkin_make's output depends on: the build files, the interface files, the script names.
-  want=$( (cd "$LTL_STACK_ROOT" && cat package.xml CMakeLists.txt setup.py msg/* srv/* action/* \
-          && ls scripts && echo "$LTL_STACK_VENV") | sha1sum | cut -c1-40)
-  if [ -f "$LTL_STACK_WS/devel/setup.bash" ] && stamp_matches "$LTL_STACK_WS/.ltl_stack_stamp" "$want"; then
-    return 0
-  fi
+  want=$(workspace_wanted)
   say "building the catkin workspace $LTL_STACK_WS"
   mkdir -p "$LTL_STACK_WS/src"
   ln -sfn "$LTL_STACK_ROOT" "$LTL_STACK_WS/src/ltl_stack"
@@ -93,9 +104,13 @@ compile_sources() {
 
 install_debian_packages
 # Two shells bootstrapping at once (two terminals, parallel tests) must not build over each other.
-mkdir -p "$LTL_STACK_HOME"
-exec 9>"$LTL_STACK_HOME/.bootstrap.lock"
-flock 9
-make_venv
-build_workspace
+# The lock is taken only when something is to be built: a shell whose venv and workspace are up to
+# date never waits for another one's build (test_install_space holds it through `catkin_make install`).
+if ! { venv_ready && workspace_ready; }; then
+  mkdir -p "$LTL_STACK_HOME"
+  exec 9>"$LTL_STACK_HOME/.bootstrap.lock"
+  flock -n 9 || { say "waiting for another bootstrap to finish ($LTL_STACK_HOME/.bootstrap.lock)"; flock 9; }
+  make_venv
+  build_workspace
+fi
 compile_sources

@@ -54,3 +54,22 @@ def test_tools_demo_help_lists_the_demo_options():
     assert proc.stdout.startswith("usage:"), proc.stdout
     for option in ("--scenario", "--json", "--cycles", "--timeout"):
         assert option in proc.stdout, proc.stdout
+
+
+def test_an_up_to_date_bootstrap_does_not_wait_for_another_shells_build():
+    """tools/bootstrap.sh takes its lock only to build: while another shell holds it (as
+    test_install_space does through ``catkin_make install``), the demo and the tests still start."""
+    home = subprocess.run(["bash", "-c", 'source tools/paths.sh && echo "$LTL_STACK_HOME"'], cwd=REPO_ROOT,
+                          capture_output=True, text=True, check=True, timeout=300).stdout.strip()
+    lock = f"{home}/.bootstrap.lock"
+    holder = subprocess.Popen(["flock", lock, "sleep", "900"])
+    try:
+        while subprocess.run(["flock", "-n", lock, "true"], timeout=60).returncode == 0:
+            assert holder.poll() is None, "the holder could not take the lock"
+        proc = subprocess.run(["bash", str(REPO_ROOT / "tools" / "bootstrap.sh")], capture_output=True, text=True,
+                              timeout=300, stdin=subprocess.DEVNULL)
+    finally:
+        holder.kill()
+        holder.wait()
+    assert proc.returncode == 0, proc.stderr
+    assert "waiting" not in proc.stderr, proc.stderr
