@@ -1,7 +1,8 @@
 """How a node of ours starts and stops: genpy's optional numpy import is skipped at start-up (~80 ms
 CPU per node) while numpy stays usable, and rospy's XML-RPC server thread ends at shutdown instead of
 polling its closed socket until the process exits (ros/ros_comm#2238), and a subscriber connects to
-every publisher named in the lists queued for it, also when a stale list is queued last."""
+every publisher named in the lists queued for it, also when a stale list is queued last, and a
+shutdown that another thread began has ended before the process exits."""
 from __future__ import annotations
 
 import subprocess
@@ -42,10 +43,10 @@ def wait(condition, timeout):
 """
 
 
-def run_probe(code: str, env: dict) -> subprocess.CompletedProcess:
-    """Run ``PRELUDE + code`` against the master of ``env``, which must exit 0."""
-    proc = subprocess.run([sys.executable, "-c", PRELUDE + code], capture_output=True, text=True, timeout=300,
-                          check=False, env=env)
+def run_probe(code: str, env: dict, before: str = "") -> subprocess.CompletedProcess:
+    """Run ``before + PRELUDE + code`` against the master of ``env``, which must exit 0."""
+    proc = subprocess.run([sys.executable, "-c", before + PRELUDE + code], capture_output=True, text=True,
+                          timeout=300, check=False, env=env)
     assert proc.returncode == 0, proc.stderr
     return proc
 
@@ -94,3 +95,39 @@ def test_a_stale_publisher_list_queued_last_does_not_lose_the_publisher(ros_mast
     in the same millisecond): rospy acts only on the publisher list queued last for a topic."""
     proc = run_probe(STALE_LIST, ros_master.env)
     assert proc.stdout.split() == ["True"], (proc.stdout, proc.stderr)
+
+
+#: an exit job registered before rospy's and ours, so it runs after both: is rospy still shutting down?
+AT_EXIT = """
+import atexit, sys
+
+def still_shutting_down():
+    code = sys.modules["rospy.core"].signal_shutdown.__code__
+    def inside(frame):
+        return frame is not None and (frame.f_code is code or inside(frame.f_back))
+    print(any(inside(frame) for frame in sys._current_frames().values()))
+
+atexit.register(still_shutting_down)
+"""
+
+SHUTDOWN_FROM_A_THREAD = """
+rospy.init_node("exit_probe", anonymous=True)
+threading.Thread(target=rospy.signal_shutdown, args=("from a callback",), daemon=True).start()
+print(wait(rospy.is_shutdown, 60))  # as rospy.spin, the main thread returns once the flag is up
+"""
+
+
+def test_a_shutdown_begun_in_another_thread_ends_before_the_process_exits(ros_master):
+    """``proposition_monitor --count`` stops from its subscriber callback: the process exited while
+    that thread was still in rospy's shutdown, and a thread waking during CPython's teardown can crash
+    it (exit -11 once in ~2,000 runs)."""
+    proc = run_probe(SHUTDOWN_FROM_A_THREAD, ros_master.env, before=AT_EXIT)
+    assert proc.stdout.split() == ["True", "False"], (proc.stdout, proc.stderr)
+
+
+def test_a_node_that_crashes_says_where_each_thread_was():
+    code = "import os, signal, ltl_stack.ros, rospy\nos.kill(os.getpid(), signal.SIGSEGV)\n"
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300, check=False)
+    assert proc.returncode == -11, proc.stderr
+    assert "Fatal Python error: Segmentation fault" in proc.stderr and 'File "<string>", line 2' in proc.stderr, \
+        proc.stderr

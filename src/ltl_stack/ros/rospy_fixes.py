@@ -23,13 +23,22 @@ Applied by ``import ltl_stack.ros``, which every node of ours does before anythi
   and then dropped: the subscriber never connects, and a latched value never arrives. Queued lists
   of a topic are now merged, so every publisher named in any of them is connected to (rospy only
   connects from these lists, never disconnects; a publisher that has gone just fails to connect).
+- **A crash at exit** (exit -11 once in ~2,000 runs of ``proposition_monitor --count 1``): when a
+  thread other than the main one starts rospy's shutdown (a subscriber callback, the master asking
+  the node to stop), ``rospy.spin`` returns as soon as the shutdown flag is raised, and the process
+  begins to exit while that thread still runs the shutdown hooks, joins rospy's threads and sleeps
+  0.1 s. A thread that wakes while CPython tears the interpreter down can crash it (python/cpython
+  gh-110052, gh-127893). At exit the main thread now waits, at most 10 s, until no other thread is
+  inside ``rospy.core.signal_shutdown``.
 """
 from __future__ import annotations
 
+import atexit
 import importlib.abc
 import importlib.util
 import sys
 import threading
+import time
 from collections.abc import Callable
 
 
@@ -87,6 +96,37 @@ def merge_publisher_updates(manager_class: type) -> None:
         return publisher_update
 
     _replace(manager_class, "publisher_update", make)
+
+
+def _inside(frame, code) -> bool:
+    while frame is not None:
+        if frame.f_code is code:
+            return True
+        frame = frame.f_back
+    return False
+
+
+def finish_shutdown_before_exit(core_module, timeout: float = 10.0) -> None:
+    """At exit, wait (at most ``timeout`` s) while another thread runs ``core_module.signal_shutdown``.
+
+    Registered once, right after ``rospy.core`` (whose own exit job, registered earlier, runs after
+    this one: jobs run last-registered first).
+    """
+    if getattr(core_module, "ltl_stack_fix", False):
+        return
+    core_module.ltl_stack_fix = True
+    code = core_module.signal_shutdown.__code__
+
+    def elsewhere() -> bool:
+        me = threading.get_ident()
+        return any(ident != me and _inside(frame, code) for ident, frame in sys._current_frames().items())
+
+    def wait() -> None:
+        deadline = time.monotonic() + timeout
+        while elsewhere() and time.monotonic() < deadline:
+            time.sleep(0.01)
+
+    atexit.register(wait)
 
 
 class AfterImport(importlib.abc.MetaPathFinder):
