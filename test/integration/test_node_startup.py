@@ -97,14 +97,15 @@ def test_a_stale_publisher_list_queued_last_does_not_lose_the_publisher(ros_mast
     assert proc.stdout.split() == ["True"], (proc.stdout, proc.stderr)
 
 
-#: an exit job registered before rospy's and ours, so it runs after both: is rospy still shutting down?
+#: an exit job registered before rospy's and ours, so it runs after both: is a thread still in
+#: rospy's shutdown or in the XML-RPC server's loop?
 AT_EXIT = """
-import atexit, sys
+import atexit, socketserver, sys
 
 def still_shutting_down():
-    code = sys.modules["rospy.core"].signal_shutdown.__code__
+    codes = {sys.modules["rospy.core"].signal_shutdown.__code__, socketserver.BaseServer.serve_forever.__code__}
     def inside(frame):
-        return frame is not None and (frame.f_code is code or inside(frame.f_back))
+        return frame is not None and (frame.f_code in codes or inside(frame.f_back))
     print(any(inside(frame) for frame in sys._current_frames().values()))
 
 atexit.register(still_shutting_down)

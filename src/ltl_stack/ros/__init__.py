@@ -9,6 +9,7 @@ Every node of ours imports it before anything else of ROS.
 """
 from __future__ import annotations
 
+import atexit
 import faulthandler
 
 from ltl_stack.ros import rospy_fixes
@@ -19,7 +20,7 @@ if not faulthandler.is_enabled():
     except (AttributeError, ValueError, OSError, RuntimeError):
         pass  # stderr is not a file (a host that replaced or closed it): nothing to print to
 rospy_fixes.skip_numpy_in_genpy()
+atexit.register(rospy_fixes.finish_shutdown_at_exit)
 rospy_fixes.when_imported("rosgraph.xmlrpc", lambda module: rospy_fixes.stop_serving_on_shutdown(module.XmlRpcNode))
-rospy_fixes.when_imported("rospy.core", rospy_fixes.finish_shutdown_before_exit)
 rospy_fixes.when_imported("rospy.impl.registration",
                           lambda module: rospy_fixes.merge_publisher_updates(module.RegManager))

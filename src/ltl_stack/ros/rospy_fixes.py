@@ -28,12 +28,13 @@ Applied by ``import ltl_stack.ros``, which every node of ours does before anythi
   the node to stop), ``rospy.spin`` returns as soon as the shutdown flag is raised, and the process
   begins to exit while that thread still runs the shutdown hooks, joins rospy's threads and sleeps
   0.1 s. A thread that wakes while CPython tears the interpreter down can crash it (python/cpython
-  gh-110052, gh-127893). At exit the main thread now waits, at most 10 s, until no other thread is
-  inside ``rospy.core.signal_shutdown``.
+  gh-110052, gh-127893); so can rospy's XML-RPC loop, which looks at its stop request only every
+  0.5 s when its socket's number has been reused. An exit job, registered when ``ltl_stack.ros`` is
+  imported, makes the main thread wait, at most 10 s, until no other thread is inside
+  ``rospy.core.signal_shutdown`` and those loops have returned.
 """
 from __future__ import annotations
 
-import atexit
 import importlib.abc
 import importlib.util
 import sys
@@ -79,7 +80,9 @@ def stop_serving_on_shutdown(node_class: type) -> None:
                 with registration.cond:
                     registration.cond.notify_all()
             if server is not None:
-                threading.Thread(target=server.shutdown, name="xmlrpc_stop", daemon=True).start()
+                stopper = threading.Thread(target=server.shutdown, name="xmlrpc_stop", daemon=True)
+                _stoppers.append(stopper)
+                stopper.start()
         return shutdown
 
     _replace(node_class, "shutdown", make)
@@ -98,6 +101,10 @@ def merge_publisher_updates(manager_class: type) -> None:
     _replace(manager_class, "publisher_update", make)
 
 
+#: the threads ``stop_serving_on_shutdown`` started, each until its server loop has returned
+_stoppers: list[threading.Thread] = []
+
+
 def _inside(frame, code) -> bool:
     while frame is not None:
         if frame.f_code is code:
@@ -106,27 +113,24 @@ def _inside(frame, code) -> bool:
     return False
 
 
-def finish_shutdown_before_exit(core_module, timeout: float = 10.0) -> None:
-    """At exit, wait (at most ``timeout`` s) while another thread runs ``core_module.signal_shutdown``.
+def finish_shutdown_at_exit(timeout: float = 10.0) -> None:
+    """Exit job: end rospy's shutdown before Python tears the interpreter down (see the docstring).
 
-    Registered once, right after ``rospy.core`` (whose own exit job, registered earlier, runs after
-    this one: jobs run last-registered first).
+    Starts it here if nobody did (rospy's own exit job would, in whichever order the two run), then
+    waits, at most ``timeout`` s in all, while another thread is still in ``signal_shutdown`` and
+    until the XML-RPC server loops asked to stop have returned.
     """
-    if getattr(core_module, "ltl_stack_fix", False):
+    core = sys.modules.get("rospy.core")
+    if core is None:
         return
-    core_module.ltl_stack_fix = True
-    code = core_module.signal_shutdown.__code__
-
-    def elsewhere() -> bool:
-        me = threading.get_ident()
-        return any(ident != me and _inside(frame, code) for ident, frame in sys._current_frames().items())
-
-    def wait() -> None:
-        deadline = time.monotonic() + timeout
-        while elsewhere() and time.monotonic() < deadline:
-            time.sleep(0.01)
-
-    atexit.register(wait)
+    core.signal_shutdown("atexit")
+    deadline = time.monotonic() + timeout
+    code, me = core.signal_shutdown.__code__, threading.get_ident()
+    while time.monotonic() < deadline and any(
+            ident != me and _inside(frame, code) for ident, frame in sys._current_frames().items()):
+        time.sleep(0.01)
+    for stopper in list(_stoppers):
+        stopper.join(max(0.0, deadline - time.monotonic()))
 
 
 class AfterImport(importlib.abc.MetaPathFinder):
