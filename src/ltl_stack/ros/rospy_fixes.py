@@ -15,7 +15,8 @@ Applied by ``import ltl_stack.ros``, which every node of ours does before anythi
   before the shutdown flag is raised) and sleeps 0.1 s: each node burnt ~0.5 s of a core on every
   stop, and a scenario stops dozens at once. ``XmlRpcNode.shutdown`` now also ends ``serve_forever``
   (``socketserver``'s public ``shutdown``, from a daemon thread because it blocks until the loop has
-  seen it) and wakes the registration thread again.
+  seen it; the socket is shut down first, which wakes the loop's select at once) and wakes the
+  registration thread again.
 - **A lost publisher** (publisher and subscriber registering at the same moment): rospy's
   registration thread keeps a queue of publisher lists per topic and, for a topic, acts only on the
   list queued last. The list that ``registerSubscriber`` returned is queued after the master's reply
@@ -28,8 +29,7 @@ Applied by ``import ltl_stack.ros``, which every node of ours does before anythi
   the node to stop), ``rospy.spin`` returns as soon as the shutdown flag is raised, and the process
   begins to exit while that thread still runs the shutdown hooks, joins rospy's threads and sleeps
   0.1 s. A thread that wakes while CPython tears the interpreter down can crash it (python/cpython
-  gh-110052, gh-127893); so can rospy's XML-RPC loop, which looks at its stop request only every
-  0.5 s when its socket's number has been reused. An exit job, registered when ``ltl_stack.ros`` is
+  gh-110052, gh-127893). An exit job, registered when ``ltl_stack.ros`` is
   imported, makes the main thread wait, at most 10 s, until no other thread is inside
   ``rospy.core.signal_shutdown`` and those loops have returned.
 """
@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import importlib.abc
 import importlib.util
+import socket
 import sys
 import threading
 import time
@@ -74,15 +75,19 @@ def stop_serving_on_shutdown(node_class: type) -> None:
     def make(close: Callable) -> Callable:
         def shutdown(self, reason):
             server, handler = self.server, self.handler
+            if server is not None:
+                stopper = threading.Thread(target=server.shutdown, name="xmlrpc_stop", daemon=True)
+                _stoppers.append(stopper)
+                stopper.start()
+                try:  # wakes the loop's select now: once closed, its socket's number may be reused
+                    server.socket.shutdown(socket.SHUT_RDWR)
+                except OSError:
+                    pass
             close(self, reason)
             registration = getattr(handler, "reg_man", None)
             if registration is not None and registration.cond is not None:
                 with registration.cond:
                     registration.cond.notify_all()
-            if server is not None:
-                stopper = threading.Thread(target=server.shutdown, name="xmlrpc_stop", daemon=True)
-                _stoppers.append(stopper)
-                stopper.start()
         return shutdown
 
     _replace(node_class, "shutdown", make)
