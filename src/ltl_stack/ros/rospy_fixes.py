@@ -75,6 +75,7 @@ def stop_serving_on_shutdown(node_class: type) -> None:
     def make(close: Callable) -> Callable:
         def shutdown(self, reason):
             server, handler = self.server, self.handler
+            self.is_shutdown = True  # as ``close`` does first: else rosgraph's loop would serve again
             if server is not None:
                 stopper = threading.Thread(target=server.shutdown, name="xmlrpc_stop", daemon=True)
                 _stoppers.append(stopper)
