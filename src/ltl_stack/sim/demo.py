@@ -297,10 +297,32 @@ class StoryFollower:
         self.modes: list[str] = []
         self.at: str | None = None
         self.states = 0
+        self.last_stamp = None  # of the last ~state told
         self.lock = threading.Lock()
+        self.state_topic = f"/{namespace}/controller_executor/state"
         rospy.Subscriber(f"/{namespace}/story/fired", String, self._on_fired, queue_size=100)
         rospy.Subscriber(f"/{namespace}/story/complete", Bool, self._on_complete, queue_size=10)
-        rospy.Subscriber(f"/{namespace}/controller_executor/state", ControllerState, self._on_state, queue_size=100)
+        rospy.Subscriber(self.state_topic, ControllerState, self._on_state, queue_size=100)
+
+    def catch_up(self, timeout: float) -> None:
+        """Wait (at most ``timeout`` s) until the ~state the executor published last has been told.
+
+        The story's last beat reacts to a ~state (the robot notifying in the office) but travels on
+        story/fired, another connection: it can arrive before that state, which would go untold."""
+        import rospy
+
+        from ltl_stack.msg import ControllerState
+
+        deadline = time.monotonic() + timeout
+        try:
+            latest = rospy.wait_for_message(self.state_topic, ControllerState, timeout).header.stamp
+        except rospy.ROSException:
+            return
+        while time.monotonic() < deadline:
+            with self.lock:
+                if self.last_stamp is not None and self.last_stamp >= latest:
+                    return
+            time.sleep(0.05)
 
     def _emit(self, event: dict, text: str) -> None:
         if self.json_lines:
@@ -322,6 +344,7 @@ class StoryFollower:
 
         with self.lock:
             self.states += 1
+            self.last_stamp = msg.header.stamp
             inputs = msg_to_valuation(msg.inputs)
             at = region_of(inputs, self.regions, "_c")
             if at is not None and at != self.at:
@@ -365,6 +388,8 @@ def _follow_story(args, scenario: Scenario, launch, log_path: Path, problems: li
     deadline = time.monotonic() + 10.0
     while follower.complete.is_set() and follower.beats_told < len(story.beats) and time.monotonic() < deadline:
         time.sleep(0.05)
+    if follower.complete.is_set():
+        follower.catch_up(10.0)
     elapsed = time.monotonic() - started
     rospy.signal_shutdown("demo finished")
     reached = follower.complete.is_set()
