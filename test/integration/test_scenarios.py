@@ -33,6 +33,8 @@ def clean_and_patrol_run():
                            "--timeout", "240"], capture_output=True, text=True, timeout=360, cwd=REPO_ROOT)
     events = [json.loads(line) for line in proc.stdout.splitlines() if line.startswith("{")]
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
+    # nothing but the run's own lines, also as the process exits (its log folder is gone by then)
+    assert "Traceback" not in proc.stderr and "Logging error" not in proc.stderr, proc.stderr[-3000:]
     return events
 
 

@@ -129,7 +129,8 @@ def finish_shutdown_at_exit(timeout: float = 10.0) -> None:
     core = sys.modules.get("rospy.core")
     if core is None:
         return
-    core.signal_shutdown("atexit")
+    if not (core.is_shutdown_requested() or core.is_shutdown()):
+        core.signal_shutdown("atexit")  # it logs first: never once the program's log files are gone
     deadline = time.monotonic() + timeout
     code, me = core.signal_shutdown.__code__, threading.get_ident()
     while time.monotonic() < deadline and any(
