@@ -105,7 +105,7 @@ compile_sources() {
 install_debian_packages
 # Two shells bootstrapping at once (two terminals, parallel tests) must not build over each other.
 # The lock is taken only when something is to be built: a shell whose venv and workspace are up to
-# date never waits for another one's build (test_install_space holds it through `catkin_make install`).
+# date never waits for another one's build (a second clone bootstrapping for the first time).
 if ! { venv_ready && workspace_ready; }; then
   mkdir -p "$LTL_STACK_HOME"
   exec 9>"$LTL_STACK_HOME/.bootstrap.lock"

@@ -1,8 +1,9 @@
 """The install space works on its own: ``catkin_make install``, then every tool from a shell that
 sourced ``install/setup.bash`` and nothing else (no devel space, no source folder, no venv on PATH).
 
-The install is built once per run in the workspace tools/bootstrap.sh made (its build folder is
-reused, so this takes seconds), under bootstrap's lock so no other shell builds at the same time.
+The install is built once per run in the workspace tools/bootstrap.sh made, in a build and devel
+folder of its own (reused by later runs; ~10 s CPU the first time), so it never rewrites the devel
+space the rest of the suite is using and never waits for bootstrap's lock.
 """
 from __future__ import annotations
 
@@ -45,7 +46,11 @@ def install(tmp_path_factory) -> Path:
     env["PATH"] = f"{paths['venv'] / 'bin'}:{env['PATH']}"
     log = paths["ws"] / "catkin_make_install.log"
     with open(log, "w") as out:
-        proc = subprocess.run(["flock", str(paths["home"] / ".bootstrap.lock"), "catkin_make", "install",
+        # a build and devel folder of its own: the suite's other tests import the generated messages
+        # from devel/, which catkin would rewrite (not atomically) if it saw a source newer than them
+        proc = subprocess.run(["catkin_make", "install", "--build", "build_install",
+                               f"-DCATKIN_DEVEL_PREFIX={paths['ws'] / 'devel_install'}",
+                               f"-DCMAKE_INSTALL_PREFIX={paths['ws'] / 'install'}",
                                f"-DPYTHON_EXECUTABLE={paths['venv'] / 'bin' / 'python'}",
                                "-DCATKIN_ENABLE_TESTING=OFF"],
                               cwd=paths["ws"], env=env, stdout=out, stderr=subprocess.STDOUT, timeout=900)

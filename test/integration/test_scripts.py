@@ -58,8 +58,8 @@ def test_tools_demo_help_lists_the_demo_options():
 
 
 def test_an_up_to_date_bootstrap_does_not_wait_for_another_shells_build():
-    """tools/bootstrap.sh takes its lock only to build: while another shell holds it (as
-    test_install_space does through ``catkin_make install``), the demo and the tests still start."""
+    """tools/bootstrap.sh takes its lock only to build: while another shell builds (a second clone's
+    first bootstrap), ``./tools/demo`` and the tests of an up-to-date clone still start."""
     home = subprocess.run(["bash", "-c", 'source tools/paths.sh && echo "$LTL_STACK_HOME"'], cwd=REPO_ROOT,
                           capture_output=True, text=True, check=True, timeout=300).stdout.strip()
     with open(f"{home}/.bootstrap.lock", "a") as lock:
