@@ -38,6 +38,14 @@ def closed_port() -> int:
 REPO_ROOT = Path(__file__).resolve().parent.parent
 
 
+def bootstrap_paths() -> dict[str, Path]:
+    """Where tools/bootstrap.sh keeps what it builds for this clone (tools/paths.sh): home, venv, ws."""
+    out = subprocess.run(["bash", "-c", 'source tools/paths.sh && echo "$LTL_STACK_HOME" && '
+                          'echo "$LTL_STACK_VENV" && echo "$LTL_STACK_WS"'], cwd=REPO_ROOT, capture_output=True,
+                         text=True, check=True, timeout=300).stdout.split("\n")
+    return {"home": Path(out[0]), "venv": Path(out[1]), "ws": Path(out[2])}
+
+
 def shared_dir() -> Path | None:
     """The project's ``../shared`` folder (specs, robots, thesis), or None when it is absent."""
     candidate = REPO_ROOT.parent / "shared"

@@ -13,7 +13,7 @@ import subprocess
 from pathlib import Path
 
 import pytest
-from helpers import REPO_ROOT, closed_port
+from helpers import REPO_ROOT, bootstrap_paths, closed_port
 
 pytestmark = pytest.mark.slow
 
@@ -22,13 +22,6 @@ SCRIPTS = sorted(p.name for p in (REPO_ROOT / "scripts").iterdir() if p.is_file(
 
 def test_scripts_folder_is_what_the_suite_checks():
     assert len(SCRIPTS) >= 20 and "synthesize" in SCRIPTS and "controller_executor" in SCRIPTS, SCRIPTS
-
-
-def bootstrap_paths() -> dict[str, Path]:
-    out = subprocess.run(["bash", "-c", 'source tools/paths.sh && echo "$LTL_STACK_HOME" && '
-                          'echo "$LTL_STACK_VENV" && echo "$LTL_STACK_WS"'], cwd=REPO_ROOT, capture_output=True,
-                         text=True, check=True, timeout=300).stdout.split("\n")
-    return {"home": Path(out[0]), "venv": Path(out[1]), "ws": Path(out[2])}
 
 
 def clean_env(tmp: Path) -> dict[str, str]:

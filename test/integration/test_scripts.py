@@ -8,7 +8,7 @@ import json
 import os
 import subprocess
 
-from helpers import REPO_ROOT, closed_port
+from helpers import REPO_ROOT, bootstrap_paths, closed_port
 
 from ltl_stack.spec import parse_slugsin
 from ltl_stack.synthesis import synthesize
@@ -60,9 +60,7 @@ def test_tools_demo_help_lists_the_demo_options():
 def test_an_up_to_date_bootstrap_does_not_wait_for_another_shells_build():
     """tools/bootstrap.sh takes its lock only to build: while another shell builds (a second clone's
     first bootstrap), ``./tools/demo`` and the tests of an up-to-date clone still start."""
-    home = subprocess.run(["bash", "-c", 'source tools/paths.sh && echo "$LTL_STACK_HOME"'], cwd=REPO_ROOT,
-                          capture_output=True, text=True, check=True, timeout=300).stdout.strip()
-    with open(f"{home}/.bootstrap.lock", "a") as lock:
+    with open(bootstrap_paths()["home"] / ".bootstrap.lock", "a") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)  # held by this process, released when the file is closed
         proc = subprocess.run(["bash", str(REPO_ROOT / "tools" / "bootstrap.sh")], capture_output=True, text=True,
                               timeout=300, stdin=subprocess.DEVNULL)

@@ -69,6 +69,10 @@ def _replace(cls: type, name: str, make: Callable[[Callable], Callable]) -> None
     setattr(cls, name, replacement)
 
 
+#: the threads ``stop_serving_on_shutdown`` started, each until its server loop has returned
+_stoppers: list[threading.Thread] = []
+
+
 def stop_serving_on_shutdown(node_class: type) -> None:
     """Make rosgraph's ``XmlRpcNode.shutdown`` end its server thread and wake rospy's registration thread."""
 
@@ -105,10 +109,6 @@ def merge_publisher_updates(manager_class: type) -> None:
         return publisher_update
 
     _replace(manager_class, "publisher_update", make)
-
-
-#: the threads ``stop_serving_on_shutdown`` started, each until its server loop has returned
-_stoppers: list[threading.Thread] = []
 
 
 def _inside(frame, code) -> bool:
