@@ -1,10 +1,12 @@
 """Find every communication channel of a program (thesis §2.5.1) with Python's ``ast``.
 
-Recognised: ``rospy.Publisher``/``rospy.Subscriber`` (topic and type, positional or keyword),
-``actionlib.SimpleActionClient``/``SimpleActionServer``, MoveIt's ``MoveGroupInterface`` (moveit_python)
-and ``moveit_commander.MoveGroupCommander`` group names, and the pose frames given to ``moveToPose``,
-``set_pose_target``, ``set_position_target`` and ``set_end_effector_link``. Names may be string literals
-or variables bound to one literal; ``from ... import`` aliases are resolved.
+Recognised (``CHANNEL_CALLS``): ``rospy.Publisher``/``Subscriber``/``wait_for_message``,
+``message_filters.Subscriber``, ``rospy.ServiceProxy``/``Service``/``wait_for_service``,
+``actionlib.SimpleActionClient``/``SimpleActionServer``; tf/tf2 frames (``TF_FRAME_METHODS``, and
+``header.frame_id``/``child_frame_id`` assignments); MoveIt groups and pose frames (see ``moveit.py``).
+A name is followed through variables, ``self.<attr>`` assignments, ``rospy.get_param`` defaults,
+import aliases, type aliases (``TwistMsg = Twist``) and the parameters of a wrapper function (one
+channel per call of the wrapper). What cannot be followed carries the reason (``NameRef.problem``).
 """
 from __future__ import annotations
 
@@ -14,37 +16,60 @@ from dataclasses import dataclass
 from ltl_stack.inputs import load_yaml
 
 from .errors import TransferError
-from .source_ast import SourceFile, Span, call_argument, string_value
+from .moveit import find_moveit_uses
+from .names import NameRef, Subst, call_contexts, resolve_name
+from .source_ast import SourceFile, Span, call_argument
 
-TOPIC_CALLS = {"rospy.Publisher": "publisher", "rospy.Subscriber": "subscriber",
-               "rospy.topics.Publisher": "publisher", "rospy.topics.Subscriber": "subscriber"}
-ACTION_CALLS = {"actionlib.SimpleActionClient": "action_client",
-                "actionlib.SimpleActionServer": "action_server",
-                "actionlib.simple_action_client.SimpleActionClient": "action_client",
-                "actionlib.simple_action_server.SimpleActionServer": "action_server"}
-GROUP_CALLS = ("MoveGroupInterface", "MoveGroupCommander")
-# method name -> (position, keyword) of its pose-frame argument
-FRAME_METHODS = {"moveToPose": (1, "gripper_frame"), "set_pose_target": (1, "end_effector_link"),
-                 "set_position_target": (1, "end_effector_link"),
-                 "set_end_effector_link": (0, "link_name")}
-KIND_WORDS = {"publisher": "topic", "subscriber": "topic", "action_client": "action",
-              "action_server": "action", "move_group": "MoveIt group", "pose_frame": "pose frame"}
-
-
-@dataclass
-class NameRef:
-    """A channel's name: a literal (maybe through a variable), or why it cannot be resolved."""
-
-    value: str | None
-    via: str | None = None            # variable name when bound through one
-    problem: str | None = None        # why it cannot be resolved
+# qualified call -> (kind, (position, keyword) of the name, (position, keyword) of the type or None)
+_TOPIC = ((0, "name"), (1, "data_class"))
+CHANNEL_CALLS = {
+    "rospy.Publisher": ("publisher", *_TOPIC), "rospy.topics.Publisher": ("publisher", *_TOPIC),
+    "rospy.Subscriber": ("subscriber", *_TOPIC), "rospy.topics.Subscriber": ("subscriber", *_TOPIC),
+    "message_filters.Subscriber": ("subscriber", *_TOPIC),
+    "rospy.wait_for_message": ("wait_for_message", (0, "topic"), (1, "topic_type")),
+    "rospy.client.wait_for_message": ("wait_for_message", (0, "topic"), (1, "topic_type")),
+    "rospy.ServiceProxy": ("service_client", (0, "name"), (1, "service_class")),
+    "rospy.impl.tcpros_service.ServiceProxy": ("service_client", (0, "name"), (1, "service_class")),
+    "rospy.Service": ("service_server", (0, "name"), (1, "service_class")),
+    "rospy.impl.tcpros_service.Service": ("service_server", (0, "name"), (1, "service_class")),
+    "rospy.wait_for_service": ("service_wait", (0, "service"), None),
+    "rospy.impl.tcpros_service.wait_for_service": ("service_wait", (0, "service"), None),
+    "actionlib.SimpleActionClient": ("action_client", (0, "ns"), (1, "ActionSpec")),
+    "actionlib.simple_action_client.SimpleActionClient": ("action_client", (0, "ns"), (1, "ActionSpec")),
+    "actionlib.SimpleActionServer": ("action_server", (0, "name"), (1, "ActionSpec")),
+    "actionlib.simple_action_server.SimpleActionServer": ("action_server", (0, "name"), (1, "ActionSpec")),
+}
+#: tf (``TransformListener``) and tf2 (``Buffer``) methods -> (position, keyword) of each frame argument
+TF_FRAME_METHODS = {
+    "lookup_transform": ((0, "target_frame"), (1, "source_frame")),
+    "can_transform": ((0, "target_frame"), (1, "source_frame")),
+    "lookupTransform": ((0, "target_frame"), (1, "source_frame")),
+    "canTransform": ((0, "target_frame"), (1, "source_frame")),
+    "waitForTransform": ((0, "target_frame"), (1, "source_frame")),
+    "sendTransform": ((3, "child"), (4, "parent")),
+}
+#: frames a program broadcasts itself (they exist wherever it runs)
+OWN_FRAME_ARGUMENTS = {("sendTransform", "child")}
+FRAME_FIELDS = ("frame_id", "child_frame_id")
+#: calls that open channels in APIs this tool does not transfer: listed as unresolved, never passed over
+UNFOLLOWED_APIS = {"create_publisher": "ROS 2", "create_subscription": "ROS 2", "create_client": "ROS 2",
+                   "create_service": "ROS 2", "ActionClient": "ROS 2 / actionlib ActionClient",
+                   "ActionServer": "actionlib ActionServer", "Publisher": None, "Subscriber": None,
+                   "ServiceProxy": None, "SimpleActionClient": None, "SimpleActionServer": None}
+KIND_WORDS = {"publisher": "topic", "subscriber": "topic", "wait_for_message": "topic",
+              "service_client": "service", "service_server": "service", "service_wait": "service",
+              "action_client": "action", "action_server": "action", "move_group": "MoveIt group",
+              "pose_frame": "pose frame", "frame": "tf frame", "own_frame": "tf frame",
+              "unknown_api": "channel"}
+NAMED_KINDS = ("publisher", "subscriber", "wait_for_message", "service_client", "service_server",
+               "service_wait", "action_client", "action_server")
 
 
 @dataclass
 class ChannelUse:
     """One channel the program opens: what kind, its name and its message/action type."""
 
-    kind: str            # publisher | subscriber | action_client | action_server | move_group | pose_frame
+    kind: str            # a key of KIND_WORDS
     name: NameRef
     msg_type: str | None  # 'geometry_msgs/Twist', 'control_msgs/FollowJointTrajectoryAction', or None
     line: int
@@ -54,88 +79,80 @@ class ChannelUse:
         return KIND_WORDS[self.kind]
 
 
-def resolve_name(src: SourceFile, node: ast.expr | None) -> NameRef:
-    """A string literal, or a variable bound (only) to one string literal in its scope."""
-    if node is None:
-        return NameRef(None, problem="no name argument")
-    text = string_value(node)
-    if text is not None:
-        return NameRef(text)
-    if isinstance(node, ast.Name):
-        values = src.bindings(node)
-        literals = {string_value(v) for v in values}
-        if values and None not in literals and len(literals) == 1:
-            return NameRef(literals.pop(), via=node.id)  # every binding gets the same edit
-        if not values:
-            return NameRef(None, problem=f"variable {node.id!r} is not bound to a string literal here")
-        return NameRef(None, problem=f"variable {node.id!r} is bound to a computed or varying value")
-    return NameRef(None, problem=f"computed name {src.segment(node)!r}")
-
-
 def name_spans(src: SourceFile, node: ast.expr | None) -> list[Span]:
     """Every literal that a change of this name must edit (all bindings of the variable)."""
-    if node is None:
-        return []
-    if string_value(node) is not None:
-        return [src.span(node)]
-    if isinstance(node, ast.Name):
-        return [src.span(v) for v in src.bindings(node) if string_value(v) is not None]
-    return []
+    return resolve_name(src, node).spans
 
 
-def message_type(src: SourceFile, node: ast.expr | None) -> str | None:
-    """``geometry_msgs.msg.Twist`` -> ``geometry_msgs/Twist``; a bare unresolved ``Twist`` stays ``Twist``."""
+def message_type(src: SourceFile, node: ast.expr | None, subst: Subst | None = None) -> str | None:
+    """``geometry_msgs.msg.Twist`` -> ``geometry_msgs/Twist`` (also ``.srv``); a bare unresolved ``Twist``
+    stays ``Twist``; type aliases (``TwistMsg = Twist``) give their first binding."""
     if node is None:
         return None
+    if subst and isinstance(node, ast.Name) and node.id in subst:
+        node = subst[node.id]
+        if node is None:
+            return None
     name = src.qualname(node)
     if name is None:
         return None
     parts = name.split(".")
-    if len(parts) >= 3 and parts[-2] == "msg":
+    if len(parts) >= 3 and parts[-2] in ("msg", "srv"):
         return f"{parts[-3]}/{parts[-1]}"
     return parts[-1]
 
 
 @dataclass
 class ChannelSite:
-    """A channel use together with the AST node of its name argument (for the rewriter)."""
+    """A channel use with the call that opens it (None for an assigned frame field)."""
 
     use: ChannelUse
-    name_node: ast.expr | None
+    call: ast.Call | None = None
+
+    @property
+    def spans(self) -> list[Span]:
+        return self.use.name.spans
 
 
 def find_channel_sites(src: SourceFile) -> list[ChannelSite]:
-    """All channel uses in source order."""
+    """All channel uses in source order (one per call of a wrapper function)."""
     sites: list[ChannelSite] = []
-    has_group = False
     for node in ast.walk(src.tree):
+        if isinstance(node, ast.Assign):
+            for target in node.targets:
+                if isinstance(target, ast.Attribute) and target.attr in FRAME_FIELDS:
+                    kind = "own_frame" if target.attr == "child_frame_id" else "frame"
+                    sites.append(ChannelSite(ChannelUse(kind, resolve_name(src, node.value), None, node.lineno)))
+            continue
         if not isinstance(node, ast.Call):
             continue
         callee = src.qualname(node.func) or ""
-        kind = TOPIC_CALLS.get(callee)
-        if kind:
-            name_node = call_argument(node, 0, "name")
-            type_node = call_argument(node, 1, "data_class")
-        elif callee in ACTION_CALLS:
-            kind = ACTION_CALLS[callee]
-            name_node = call_argument(node, 0, "ns" if kind == "action_client" else "name")
-            type_node = call_argument(node, 1, "ActionSpec")
-        elif callee.split(".")[-1] in GROUP_CALLS:
-            kind, has_group = "move_group", True
-            name_node = call_argument(node, 0, "group" if callee.endswith("Interface") else "name")
-            type_node = None
-        elif isinstance(node.func, ast.Attribute) and node.func.attr in FRAME_METHODS:
-            kind = "pose_frame"
-            name_node = call_argument(node, *FRAME_METHODS[node.func.attr])
-            type_node = None
-            if name_node is None:
-                continue
+        if callee in CHANNEL_CALLS:
+            kind, name_at, type_at = CHANNEL_CALLS[callee]
+            name_node = call_argument(node, *name_at)
+            type_node = call_argument(node, *type_at) if type_at else None
+            for subst, line in call_contexts(src, node, [name_node, type_node]):
+                use = ChannelUse(kind, resolve_name(src, name_node, subst), message_type(src, type_node, subst),
+                                 line or node.lineno)
+                sites.append(ChannelSite(use, node))
+        elif isinstance(node.func, ast.Attribute) and node.func.attr in TF_FRAME_METHODS \
+                and not callee.startswith(("rospy.", "actionlib.")):
+            for at in TF_FRAME_METHODS[node.func.attr]:
+                frame_node = call_argument(node, *at)
+                if frame_node is None:
+                    continue
+                kind = "own_frame" if (node.func.attr, at[1]) in OWN_FRAME_ARGUMENTS else "frame"
+                for subst, line in call_contexts(src, node, [frame_node]):
+                    sites.append(ChannelSite(ChannelUse(kind, resolve_name(src, frame_node, subst), None,
+                                                        line or node.lineno), node))
         else:
-            continue
-        use = ChannelUse(kind, resolve_name(src, name_node), message_type(src, type_node), node.lineno)
-        sites.append(ChannelSite(use, name_node))
-    if not has_group:
-        sites = [s for s in sites if s.use.kind != "pose_frame"]
+            last = callee.split(".")[-1] if callee else getattr(node.func, "attr", "")
+            if last in UNFOLLOWED_APIS and callee not in CHANNEL_CALLS:
+                api = UNFOLLOWED_APIS[last] or "an API this tool does not know"
+                problem = f"{src.segment(node.func)}(...) is {api}; its channel is not followed"
+                sites.append(ChannelSite(ChannelUse("unknown_api", NameRef(None, problem=problem), None,
+                                                    node.lineno), node))
+    sites += [ChannelSite(ChannelUse(kind, ref, None, line), call) for kind, ref, line, call in find_moveit_uses(src)]
     sites.sort(key=lambda s: (s.use.line, s.use.kind))
     return sites
 

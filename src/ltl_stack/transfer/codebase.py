@@ -12,7 +12,7 @@ from pathlib import Path
 from ltl_stack.errors import InputError
 from ltl_stack.inputs import load_yaml, read_text
 
-from .channels import find_channels
+from .channels import NAMED_KINDS, find_channels
 from .errors import TransferError
 
 
@@ -84,7 +84,7 @@ def mine_programs(folder: str | Path, robot: str, progress=None) -> ChannelStats
             continue
         stats.scripts += 1
         for use in uses:
-            if use.kind in ("publisher", "subscriber", "action_client", "action_server") \
+            if use.kind in NAMED_KINDS \
                     and use.name.value and use.msg_type:
                 stats.add(use.msg_type, use.name.value)
     return stats

@@ -42,6 +42,15 @@ class SourceFile:
             for child in ast.iter_child_nodes(parent):
                 self.parents[child] = parent
         self._bindings = _bindings(self.tree, self.parents)
+        self._self_bindings: dict[tuple[ast.AST, str], list[ast.expr]] = {}
+        self.functions: dict[str, list[ast.FunctionDef | ast.AsyncFunctionDef]] = {}
+        for node in ast.walk(self.tree):
+            if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
+                self.functions.setdefault(node.name, []).append(node)
+            elif isinstance(node, ast.Assign):
+                for target in node.targets:
+                    if _is_self_attribute(target):
+                        self._self_bindings.setdefault((self.class_of(node), target.attr), []).append(node.value)
 
     def span(self, node: ast.AST) -> Span:
         start = self._line_starts[node.lineno - 1] + node.col_offset
@@ -53,15 +62,29 @@ class SourceFile:
         return self.data[span.start:span.end].decode("utf-8")
 
     def qualname(self, node: ast.AST) -> str | None:
-        """Dotted name of a Name/Attribute with import aliases resolved (``Twist`` -> ``geometry_msgs.msg.Twist``)."""
+        """Dotted name of a Name/Attribute with import aliases resolved (``Twist`` -> ``geometry_msgs.msg.Twist``),
+        also through plain aliases (``TwistMsg = Twist``: the first such binding, see :meth:`qualnames`)."""
+        names = self.qualnames(node)
+        return names[0] if names else None
+
+    def qualnames(self, node: ast.AST, depth: int = 0) -> list[str]:
+        """Every dotted name a Name/Attribute may stand for, in source order of the aliases' bindings
+        (``TwistMsg = Twist`` and later ``TwistMsg = TwistStamped``: both)."""
         parts = []
         while isinstance(node, ast.Attribute):
             parts.append(node.attr)
             node = node.value
         if not isinstance(node, ast.Name):
-            return None
-        parts.append(self.aliases.get(node.id, node.id))
-        return ".".join(reversed(parts))
+            return []
+        tail = ".".join(reversed(parts))
+        heads = [self.aliases[node.id]] if node.id in self.aliases else []
+        if not heads and depth < 10:
+            bound = self.bindings(node)
+            if bound and all(isinstance(v, ast.Name | ast.Attribute) and isinstance(v.ctx, ast.Load) for v in bound):
+                for value in sorted(bound, key=lambda v: (v.lineno, v.col_offset)):
+                    heads += [h for h in self.qualnames(value, depth + 1) if h not in heads]
+        heads = heads or [node.id]
+        return [h + "." + tail if tail else h for h in heads]
 
     def scope_of(self, node: ast.AST) -> ast.AST:
         while node in self.parents:
@@ -69,6 +92,34 @@ class SourceFile:
             if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef | ast.Lambda | ast.ClassDef):
                 return node
         return self.tree
+
+    def class_of(self, node: ast.AST) -> ast.AST | None:
+        """The class a node is written in, or None."""
+        while node in self.parents:
+            node = self.parents[node]
+            if isinstance(node, ast.ClassDef):
+                return node
+        return None
+
+    def self_bindings(self, node: ast.Attribute) -> list[ast.expr]:
+        """Values assigned to ``self.<attr>`` anywhere in the class of ``node`` (``self.topic = 'scan'``)."""
+        if not _is_self_attribute(node):
+            return []
+        return self._self_bindings.get((self.class_of(node), node.attr), [])
+
+    def calls_of(self, function: ast.FunctionDef | ast.AsyncFunctionDef) -> list[ast.Call]:
+        """Calls of a function by its name (``f(...)``, ``self.f(...)``): only when the name is defined once."""
+        if len(self.functions.get(function.name, [])) != 1:
+            return []
+        is_method = isinstance(self.parents.get(function), ast.ClassDef)
+        calls = []
+        for node in ast.walk(self.tree):
+            if not isinstance(node, ast.Call):
+                continue
+            if (not is_method and isinstance(node.func, ast.Name) and node.func.id == function.name) or \
+                    (is_method and _is_self_attribute(node.func) and node.func.attr == function.name):
+                calls.append(node)
+        return calls
 
     def bindings(self, name: ast.Name) -> list[ast.expr]:
         """Values assigned to ``name`` by plain ``name = value`` in its scope, else at module level."""
@@ -78,6 +129,10 @@ class SourceFile:
             if found or scope is self.tree:
                 return found or []
             scope = self.scope_of(scope)
+
+
+def _is_self_attribute(node: ast.AST) -> bool:
+    return isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name) and node.value.id == "self"
 
 
 def parse_program(text: str, filename: str) -> ast.Module:

@@ -12,12 +12,13 @@ import ast
 import time
 from dataclasses import dataclass, field
 
-from .channels import ChannelSite, find_channel_sites, name_spans, resolve_name
+from .channels import ChannelSite, find_channel_sites
 from .choose import Asker, Decision, choose_channel, choose_group, short_type
 from .codebase import ChannelStats
 from .commands import find_joint_trajectories, find_velocity_commands
 from .errors import TransferRefused
 from .limits import scale_command
+from .names import resolve_name
 from .profiles import RobotProfile
 from .report import ChannelChange, ParameterChange, TransferReport, Unresolved
 from .rewrite import Edit, apply_edits
@@ -93,13 +94,21 @@ def _channels(src: SourceFile, sites: list[ChannelSite], source: RobotProfile, t
     answered: set = set()   # a user's answer counts once, at the first place it applies
     chosen_groups: list[tuple[int, str | None]] = []   # (line, target group) for pose frames
     target_srdf = _load_srdf(target) if any(s.use.kind == "move_group" for s in sites) else None
+    service_types = {s.use.name.value: s.use.msg_type for s in sites
+                     if s.use.word == "service" and s.use.msg_type and s.use.name.value}
     for site in sites:
         use = site.use
         if use.name.value is None:
             report.unresolved.append(Unresolved(f"{use.word} name", use.line, use.name.problem or "unknown"))
             continue
-        if use.kind == "pose_frame":
+        if use.kind in ("pose_frame", "frame", "own_frame"):
             continue  # after all groups are chosen
+        if use.kind == "service_wait":  # wait_for_service names no type: the service's own use does
+            use.msg_type = service_types.get(use.name.value)
+        if use.name.value.startswith("~"):  # the node's private namespace exists wherever it runs
+            report.notes.append(f"line {use.line}: {use.word} '{use.name.value}' kept: a private name of "
+                                "the program's own node")
+            continue
         key = (use.word, use.name.value, use.msg_type)
         if key not in decided:
             if use.kind == "move_group":
@@ -110,8 +119,9 @@ def _channels(src: SourceFile, sites: list[ChannelSite], source: RobotProfile, t
         decision = decided[key]
         asked_here = decision.user_input and key not in answered
         answered.add(key)
+        flagged = "; ".join(f for f in (decision.flagged, use.name.note) if f) or None
         change = ChannelChange(use.word, use.msg_type, use.line, use.name.value, decision.replacement,
-                               decision.method, asked_here, decision.flagged, decision.candidates)
+                               decision.method, asked_here, flagged, decision.candidates)
         if use.kind == "move_group":
             chosen_groups.append((use.line, decision.replacement))
         report.channels.append(change)
@@ -123,9 +133,12 @@ def _channels(src: SourceFile, sites: list[ChannelSite], source: RobotProfile, t
                 if use.kind != "move_group" else f"{target.name} has no SRDF planning groups; kept it"))
         elif change.changed:
             _edit_name(src, site, decision.replacement, edits)
+    own_frames = {s.use.name.value for s in sites if s.use.kind == "own_frame" and s.use.name.value}
     for site in sites:
         if site.use.kind == "pose_frame" and site.use.name.value is not None:
             _pose_frame(src, site, chosen_groups, target, target_srdf, report, edits)
+        elif site.use.kind in ("frame", "own_frame") and site.use.name.value is not None:
+            _tf_frame(site, target, own_frames, report)
     _check_planning_frames(src, sites, target, report)
 
 
@@ -136,7 +149,7 @@ def _check_planning_frames(src: SourceFile, sites: list[ChannelSite], target: Ro
     if urdf is None:
         return
     for site in sites:
-        call = src.parents.get(site.name_node)
+        call = site.call
         if site.use.kind != "move_group" or not isinstance(call, ast.Call):
             continue
         frame = resolve_name(src, call_argument(call, 1, "frame")).value
@@ -146,8 +159,29 @@ def _check_planning_frames(src: SourceFile, sites: list[ChannelSite], target: Ro
                                                 "are given in it, so choose the target's equivalent frame"))
 
 
+#: frames of REP 105 that are not links of a robot's URDF but exist on every mobile robot's tf tree
+REP105_FRAMES = ("map", "odom", "earth")
+
+
+def _tf_frame(site: ChannelSite, target: RobotProfile, own_frames: set[str], report: TransferReport) -> None:
+    """A tf frame is kept when the target has it (a URDF link, a REP 105 frame, or a frame the program
+    broadcasts itself), else unresolved."""
+    use = site.use
+    frame = use.name.value.lstrip("/")
+    urdf = _target_urdf(target)
+    if use.name.value in own_frames or frame in REP105_FRAMES or (urdf is not None and urdf.has_link(frame)):
+        where = "broadcast by this program" if use.name.value in own_frames else \
+            "a REP 105 frame" if frame in REP105_FRAMES else f"a link of {target.name}'s URDF"
+        report.notes.append(f"line {use.line}: tf frame '{use.name.value}' kept: {where}"
+                            + (f" ({use.name.note})" if use.name.note else ""))
+        return
+    reason = f"{target.name}'s URDF has no link {frame!r}" if urdf is not None else \
+        f"no URDF for {target.name}, so the frame cannot be checked"
+    report.unresolved.append(Unresolved(f"tf frame '{use.name.value}'", use.line, reason + "; kept it"))
+
+
 def _edit_name(src: SourceFile, site: ChannelSite, new: str, edits: list[Edit]) -> None:
-    for span in name_spans(src, site.name_node):
+    for span in site.spans:
         old = src.data[span.start:span.end].decode("utf-8")
         edits.append(Edit(span, format_string(new, old)))
 
