@@ -60,7 +60,8 @@ KIND_WORDS = {"publisher": "topic", "subscriber": "topic", "wait_for_message": "
               "service_client": "service", "service_server": "service", "service_wait": "service",
               "action_client": "action", "action_server": "action", "move_group": "MoveIt group",
               "pose_frame": "pose frame", "frame": "tf frame", "own_frame": "tf frame",
-              "unknown_api": "channel"}
+              "unknown_api": "channel", "ee_group": "MoveIt end-effector group", "joint": "joint",
+              "named_state": "MoveIt named state"}
 NAMED_KINDS = ("publisher", "subscriber", "wait_for_message", "service_client", "service_server",
                "service_wait", "action_client", "action_server")
 

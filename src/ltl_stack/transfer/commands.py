@@ -59,6 +59,13 @@ class JointTrajectoryUse:
     zero_lists: list[tuple[Span, str, int]] = field(default_factory=list)  # (span, kind, line)
     rates: list[tuple[str, JointList]] = field(default_factory=list)  # ('velocities'|'accelerations', list)
     unresolved: list[UnresolvedCommand] = field(default_factory=list)
+    # every joint array the program gives: (scope it is used in, kind, line, literal span or None if not one)
+    members: list[tuple[ast.AST, str, int, Span | None]] = field(default_factory=list)
+    by_group: bool = False   # joints commanded through a MoveIt group (moveToJointPosition)
+
+
+#: MoveIt calls that command joints by name: method -> ((position, keyword) of names, of positions)
+JOINT_POSITION_METHODS = {"moveToJointPosition": ((0, "joints"), (1, "positions"))}
 
 
 def _is_call_to(src: SourceFile, node: ast.AST, name: str) -> bool:
@@ -179,6 +186,13 @@ def find_joint_trajectories(src: SourceFile) -> JointTrajectoryUse:
                 arg = call_argument(node, 99, kw)
                 if arg is not None:
                     sites.append((kw, arg, node.lineno))
+        elif isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) \
+                and node.func.attr in JOINT_POSITION_METHODS:
+            use.by_group = True
+            for kind, at in zip(("names", "positions"), JOINT_POSITION_METHODS[node.func.attr], strict=True):
+                arg = call_argument(node, *at)
+                if arg is not None:
+                    sites.append((kind, arg, node.lineno))
         elif isinstance(node, ast.Assign):
             for target in node.targets:
                 if isinstance(target, ast.Attribute) and target.attr in ("joint_names", "positions",
@@ -188,53 +202,69 @@ def find_joint_trajectories(src: SourceFile) -> JointTrajectoryUse:
     sites.sort(key=lambda s: (s[2], getattr(s[1], "col_offset", 0)))
     seen: set = set()
     for kind, value, line in sites:
+        scope = src.scope_of(value)
+        unresolved_before = len(use.unresolved)
         if kind in ("velocities", "accelerations"):
-            _zero_list(src, value, kind, line, use)
-            continue
-        found = _list_literal(src, value, kind)
-        if not found:
-            use.unresolved.append(UnresolvedCommand(
-                "joint_names" if kind == "names" else "positions", line, src.segment(value),
-                "not a list literal (or a variable bound to one)"))
-            continue
-        for lst, via in found:
-            span = src.span(lst)
-            if span in seen:
-                continue
-            seen.add(span)
-            if kind == "names":
-                values = [string_value(e) for e in lst.elts]
-                if None in values:
-                    use.unresolved.append(UnresolvedCommand("joint_names", line, src.segment(lst),
-                                                            "a joint name is not a string literal"))
-                    continue
-                use.names.append(JointList(span, values, line, via))
-            else:
-                values = [number_value(e) for e in lst.elts]
-                if None in values:
-                    use.unresolved.append(UnresolvedCommand("positions", line, src.segment(lst),
-                                                            "a position is not a numeric literal"))
-                    continue
-                use.points.append(JointList(span, values, line, via))
+            spans = _zero_list(src, value, kind, line, use)
+        else:
+            spans = _names_or_positions(src, value, kind, line, use, seen)
+        if len(use.unresolved) > unresolved_before:
+            use.members.append((scope, kind, line, None))
+        use.members += [(scope, kind, line, span) for span in spans]
     return use
 
 
-def _zero_list(src: SourceFile, value: ast.expr, kind: str, line: int, use: JointTrajectoryUse) -> None:
+def _names_or_positions(src: SourceFile, value: ast.expr, kind: str, line: int, use: JointTrajectoryUse,
+                        seen: set) -> list[Span]:
+    found = _list_literal(src, value, kind)
+    if not found:
+        use.unresolved.append(UnresolvedCommand(
+            "joint_names" if kind == "names" else "positions", line, src.segment(value),
+            "not a list literal (or a variable bound to one)"))
+        return []
+    spans = []
+    for lst, via in found:
+        span = src.span(lst)
+        if span in seen:
+            spans.append(span)
+            continue
+        seen.add(span)
+        if kind == "names":
+            values = [string_value(e) for e in lst.elts]
+            if None in values:
+                use.unresolved.append(UnresolvedCommand("joint_names", line, src.segment(lst),
+                                                        "a joint name is not a string literal"))
+                continue
+            use.names.append(JointList(span, values, line, via))
+        else:
+            values = [number_value(e) for e in lst.elts]
+            if None in values:
+                use.unresolved.append(UnresolvedCommand("positions", line, src.segment(lst),
+                                                        "a position is not a numeric literal"))
+                continue
+            use.points.append(JointList(span, values, line, via))
+        spans.append(span)
+    return spans
+
+
+def _zero_list(src: SourceFile, value: ast.expr, kind: str, line: int, use: JointTrajectoryUse) -> list[Span]:
     """Remember ``[0]*n`` / ``[0, 0, ...]`` (length follows the joints) and numeric lists (scaled)."""
     if isinstance(value, ast.BinOp) and isinstance(value.op, ast.Mult) and isinstance(value.left, ast.List) \
             and len(value.left.elts) == 1 and number_value(value.left.elts[0]) == 0 \
             and isinstance(value.right, ast.Constant) and isinstance(value.right.value, int):
         use.zero_lists.append((src.span(value), kind, line))
-        return
+        return [src.span(value)]
     if isinstance(value, ast.List) and value.elts and all(number_value(e) == 0 for e in value.elts):
         use.zero_lists.append((src.span(value), kind, line))
-        return
+        return [src.span(value)]
     found = _list_literal(src, value, kind)
     if not found:
         use.unresolved.append(UnresolvedCommand(kind, line, src.segment(value),
                                                 "not a list literal (or a variable bound to one)"))
-        return
+        return []
+    spans = []
     for lst, via in found:
+        spans.append(src.span(lst))
         values = [number_value(e) for e in lst.elts]
         if None in values:
             use.unresolved.append(UnresolvedCommand(kind, line, src.segment(lst), f"an element of {kind} is not a "
@@ -245,3 +275,40 @@ def _zero_list(src: SourceFile, value: ast.expr, kind: str, line: int, use: Join
             use.zero_lists.append((joint_list.span, kind, line))
         elif all(joint_list.span != other.span for _, other in use.rates):
             use.rates.append((kind, joint_list))
+    return spans
+
+
+def array_length(text: str) -> int | None:
+    """Entries of a list literal or ``[x] * n`` given as text; None for anything else."""
+    try:
+        node = ast.parse(text.strip(), mode="eval").body
+    except SyntaxError:
+        return None
+    if isinstance(node, ast.List | ast.Tuple):
+        return len(node.elts)
+    if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Mult) and isinstance(node.left, ast.List) \
+            and isinstance(node.right, ast.Constant) and isinstance(node.right.value, int):
+        return len(node.left.elts) * node.right.value
+    return None
+
+
+def inconsistent_joint_arrays(src: SourceFile, use: JointTrajectoryUse, new_text: dict[Span, str]) -> list[str]:
+    """Scopes (functions) whose joint arrays — names, positions, velocities, accelerations — would not all
+    have one length once ``new_text`` replaces their literals; one description per scope, naming the lines.
+    Only scopes where an array changes length are checked (a source that was already so is reported by B.3)."""
+    by_scope: dict = {}
+    for scope, kind, line, span in use.members:
+        if span is None:
+            continue
+        before = array_length(src.data[span.start:span.end].decode("utf-8"))
+        after = array_length(new_text[span]) if span in new_text else before
+        by_scope.setdefault(scope, []).append((line, kind, before, after))
+    problems = []
+    for scope, arrays in by_scope.items():
+        if all(a == b for _, _, b, a in arrays) or len({a for *_, a in arrays if a is not None}) <= 1:
+            continue
+        where = f"in {scope.name}()" if hasattr(scope, "name") else "at module level"
+        listed = ", ".join(f"line {line} {'joint_names' if kind == 'names' else kind}: {after}"
+                           for line, kind, _, after in sorted(arrays, key=lambda a: a[0]))
+        problems.append(f"joint arrays of different lengths {where} after retargeting ({listed})")
+    return problems

@@ -119,8 +119,14 @@ def _chain_from_joints(urdf: UrdfModel, names: list[str], tool: bool = True) -> 
     return Chain(urdf.chain(base, _extend_to_tool(urdf, tip) if tool else tip), base, tip)
 
 
-def target_chain(urdf: UrdfModel, srdf, source_joints: list[str]) -> tuple[Chain, str]:
-    """The target chain and the rule that chose it (see the module docstring)."""
+def target_chain(urdf: UrdfModel, srdf, source_joints: list[str], group: str | None = None) -> tuple[Chain, str]:
+    """The target chain and the rule that chose it (see the module docstring); with ``group`` (joints
+    commanded through a MoveIt group), that SRDF group's single chain."""
+    if group is not None and srdf is not None and group in srdf.groups:
+        chains = srdf.all_chains(group)
+        if len(chains) == 1:
+            base, tip = chains[0]
+            return Chain(urdf.chain(base, tip), base, tip), f"the MoveIt group '{group}' the program commands"
     if all(urdf.has_joint(n) for n in source_joints):
         chain = _chain_from_joints(urdf, source_joints)
         if chain is not None:
@@ -231,8 +237,9 @@ def retarget_points(source: Chain, target: Chain, points: list[np.ndarray], prog
 
 def transfer_joint_commands(src: SourceFile, use: JointTrajectoryUse, source: RobotProfile,
                             target: RobotProfile, report: TransferReport, edits: list[Edit],
-                            progress=None) -> None:
-    """B.3 on the program's JointTrajectory: new joint names and positions, and the report's figures."""
+                            progress=None, group: str | None = None) -> None:
+    """B.3 on the program's JointTrajectory: new joint names and positions, and the report's figures.
+    ``group``: the target MoveIt group the joints are commanded through (its chain is the target chain)."""
     if not use.names:
         report.unresolved.append(Unresolved("positions", use.points[0].line,
                                             "joint positions without joint names; cannot tell which joints"))
@@ -257,7 +264,7 @@ def transfer_joint_commands(src: SourceFile, use: JointTrajectoryUse, source: Ro
     if target.srdf is not None:
         srdf = load_srdf(target.srdf)
     chain_s = source_chain(source_urdf, names)
-    chain_t, rule = target_chain(target_urdf, srdf, names)
+    chain_t, rule = target_chain(target_urdf, srdf, names, group)
     index = {n: i for i, n in enumerate(names)}
     ignored = [n for n in names if n not in chain_s.names]
     if ignored:

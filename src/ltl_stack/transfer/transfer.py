@@ -15,7 +15,12 @@ from dataclasses import dataclass, field
 from .channels import ChannelSite, find_channel_sites
 from .choose import Asker, Decision, choose_channel, choose_group, short_type
 from .codebase import ChannelStats
-from .commands import find_joint_trajectories, find_velocity_commands
+from .commands import (
+    JointTrajectoryUse,
+    find_joint_trajectories,
+    find_velocity_commands,
+    inconsistent_joint_arrays,
+)
 from .errors import TransferRefused
 from .limits import scale_command
 from .names import resolve_name
@@ -60,16 +65,46 @@ def transfer_program(text: str, source: RobotProfile, target: RobotProfile,
     _channels(src, sites, source, target, options, report, edits)
     _velocities(velocity, unresolved_velocity, source, target, report, edits, src)
     joints = find_joint_trajectories(src)
-    if joints.names or joints.points:
+    retargeted = _without_unresolved_scopes(src, joints, report)
+    if retargeted.names or retargeted.points:
         # Imported here: numpy, scipy and yourdfpy cost ~0.6 s of start-up that a program without joint
         # commands (most of them: velocity and topic changes) never needs.
         from .retarget import transfer_joint_commands
-        transfer_joint_commands(src, joints, source, target, report, edits, options.progress)
+        groups = [c.replacement for c in report.channels if c.kind == "MoveIt group" and c.replacement]
+        transfer_joint_commands(src, retargeted, source, target, report, edits, options.progress,
+                                group=groups[0] if joints.by_group and groups else None)
     for u in joints.unresolved:
         report.unresolved.append(Unresolved(u.field, u.line, f"'{u.text}': {u.reason}"))
+    problems = inconsistent_joint_arrays(src, joints, {e.span: e.text for e in edits})
+    if problems:
+        report.refused = "; ".join(problems) + ". Every point of a trajectory needs one length for its names, " \
+                                                "positions, velocities and accelerations."
+        raise TransferRefused(report.refused, report.source_file)
     new_text = apply_edits(src.data, edits).decode("utf-8")
     report.seconds = time.perf_counter() - started
     return TransferResult(new_text, report, edits)
+
+
+def _without_unresolved_scopes(src: SourceFile, joints: JointTrajectoryUse, report: TransferReport) -> JointTrajectoryUse:
+    """The joint arrays B.3 may rewrite: none of a function (scope) where one of them is not a literal,
+    so that every trajectory point keeps one length; each such scope is reported."""
+    unclean = {scope for scope, _, _, span in joints.members if span is None}
+    if not unclean:
+        return joints
+    kept = {span for scope, _, _, span in joints.members if scope in unclean and span is not None}
+    for scope in unclean:
+        where = f"{scope.name}()" if hasattr(scope, "name") else "module level"
+        bad = sorted({line for s, _, line, span in joints.members if s is scope and span is None})
+        others = sorted({line for s, _, line, span in joints.members if s is scope and span is not None})
+        report.unresolved.append(Unresolved(
+            f"joint trajectory in {where}", bad[0],
+            f"not retargeted: its joint arrays at line(s) {', '.join(map(str, bad))} are not literals"
+            + (f"; its other arrays (line(s) {', '.join(map(str, others))}) are kept as they are, so that "
+               "its points keep one length" if others else "")))
+    return JointTrajectoryUse(
+        names=[n for n in joints.names if n.span not in kept], points=[p for p in joints.points if p.span not in kept],
+        zero_lists=[z for z in joints.zero_lists if z[0] not in kept],
+        rates=[r for r in joints.rates if r[1].span not in kept], by_group=joints.by_group)
 
 
 def _refuse_mixed_drives(sites: list[ChannelSite], velocity, source: RobotProfile, target: RobotProfile,
@@ -101,7 +136,7 @@ def _channels(src: SourceFile, sites: list[ChannelSite], source: RobotProfile, t
         if use.name.value is None:
             report.unresolved.append(Unresolved(f"{use.word} name", use.line, use.name.problem or "unknown"))
             continue
-        if use.kind in ("pose_frame", "frame", "own_frame"):
+        if use.kind in ("pose_frame", "frame", "own_frame", "ee_group", "joint", "named_state"):
             continue  # after all groups are chosen
         if use.kind == "service_wait":  # wait_for_service names no type: the service's own use does
             use.msg_type = service_types.get(use.name.value)
@@ -139,6 +174,14 @@ def _channels(src: SourceFile, sites: list[ChannelSite], source: RobotProfile, t
             _pose_frame(src, site, chosen_groups, target, target_srdf, report, edits)
         elif site.use.kind in ("frame", "own_frame") and site.use.name.value is not None:
             _tf_frame(site, target, own_frames, report)
+        elif site.use.kind == "ee_group" and site.use.name.value is not None:
+            _end_effector_group(src, site, chosen_groups, target, target_srdf, report, edits)
+        elif site.use.kind == "joint" and site.use.name.value is not None:
+            _joint_name(site, target, report)
+        elif site.use.kind == "named_state" and site.use.name.value is not None:
+            report.unresolved.append(Unresolved(
+                f"MoveIt named state '{site.use.name.value}'", site.use.line,
+                f"a group state of {source.name}'s SRDF; check that {target.name}'s SRDF defines it (kept it)"))
     _check_planning_frames(src, sites, target, report)
 
 
@@ -150,7 +193,8 @@ def _check_planning_frames(src: SourceFile, sites: list[ChannelSite], target: Ro
         return
     for site in sites:
         call = site.call
-        if site.use.kind != "move_group" or not isinstance(call, ast.Call):
+        if site.use.kind != "move_group" or not isinstance(call, ast.Call) \
+                or not (src.qualname(call.func) or "").endswith("MoveGroupInterface"):
             continue
         frame = resolve_name(src, call_argument(call, 1, "frame")).value
         if frame and not urdf.has_link(frame):
@@ -178,6 +222,47 @@ def _tf_frame(site: ChannelSite, target: RobotProfile, own_frames: set[str], rep
     reason = f"{target.name}'s URDF has no link {frame!r}" if urdf is not None else \
         f"no URDF for {target.name}, so the frame cannot be checked"
     report.unresolved.append(Unresolved(f"tf frame '{use.name.value}'", use.line, reason + "; kept it"))
+
+
+def _group_before(chosen_groups: list[tuple[int, str | None]], line: int) -> str | None:
+    """The target group of the last MoveIt group opened up to ``line`` (else the first one)."""
+    before = [g for at, g in chosen_groups if at <= line] or [g for _, g in chosen_groups]
+    return before[-1] if before else None
+
+
+def _end_effector_group(src: SourceFile, site: ChannelSite, chosen_groups, target: RobotProfile, srdf,
+                        report: TransferReport, edits: list[Edit]) -> None:
+    """A.3 for ``PickPlaceInterface``'s end-effector group: the target SRDF's end effector on the tip of
+    the chosen arm group (its ``parent_group``, or its ``parent_link`` = the group's tip link)."""
+    use = site.use
+    group = _group_before(chosen_groups, use.line)
+    found = []
+    if srdf is not None and group:
+        tip = srdf.tip_link(group, _target_urdf(target))
+        found = sorted({e.group for e in srdf.end_effectors if e.parent_group == group or e.parent_link == tip})
+    if len(found) != 1:
+        why = f"{target.name} has no SRDF" if srdf is None else \
+            f"{target.name}'s SRDF has {'no' if not found else len(found)} end effector(s) on the group {group!r}"
+        report.unresolved.append(Unresolved(f"{use.word} '{use.name.value}'", use.line, why + "; kept it"))
+        return
+    change = ChannelChange(use.word, None, use.line, use.name.value, found[0],
+                           f"A.3 end effector of the target group '{group}'")
+    report.channels.append(change)
+    if change.changed:
+        _edit_name(src, site, found[0], edits)
+
+
+def _joint_name(site: ChannelSite, target: RobotProfile, report: TransferReport) -> None:
+    """A joint named outside a joint array (``set_joint_value_target``) must be a joint of the target."""
+    use = site.use
+    urdf = _target_urdf(target)
+    if urdf is not None and urdf.has_joint(use.name.value):
+        report.notes.append(f"line {use.line}: joint '{use.name.value}' kept: a joint of {target.name}'s URDF")
+        return
+    reason = f"{target.name}'s URDF has no joint {use.name.value!r}" if urdf is not None else \
+        f"no URDF for {target.name}, so the joint cannot be checked"
+    report.unresolved.append(Unresolved(f"joint '{use.name.value}'", use.line,
+                                        reason + "; give the target's joint by hand (kept it)"))
 
 
 def _edit_name(src: SourceFile, site: ChannelSite, new: str, edits: list[Edit]) -> None:
@@ -212,8 +297,7 @@ def _target_urdf(target: RobotProfile):
 def _pose_frame(src: SourceFile, site: ChannelSite, chosen_groups, target: RobotProfile, srdf,
                 report: TransferReport, edits: list[Edit]) -> None:
     use = site.use
-    before = [g for line, g in chosen_groups if line <= use.line] or [g for _, g in chosen_groups]
-    group = before[-1] if before else None
+    group = _group_before(chosen_groups, use.line)
     tip = srdf.tip_link(group, _target_urdf(target)) if (srdf is not None and group) else None
     change = ChannelChange(use.word, None, use.line, use.name.value, tip,
                            f"A.3 tip link of the target group '{group}'" if tip else "none")
