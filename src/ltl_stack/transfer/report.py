@@ -59,6 +59,7 @@ class TransferReport:
     lines_in_file: int = 0
     seconds: float = 0.0
     refused: str | None = None
+    python: str = "3"         # the Python the source is written for; the output is for the same one
 
     @property
     def channels_replaced(self) -> int:

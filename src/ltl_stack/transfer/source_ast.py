@@ -10,6 +10,8 @@ from dataclasses import dataclass
 
 from ltl_stack.errors import InputError
 
+from .python2 import parse_python2
+
 #: deeper syntax trees than this are refused: real programs stay far below it, and the scanners walk
 #: some expressions recursively (``- - - 1``)
 MAX_AST_DEPTH = 200
@@ -31,7 +33,19 @@ class SourceFile:
         self.text = text
         self.filename = filename
         self.data = text.encode("utf-8")
-        self.tree = parse_program(text, filename)
+        self.python = "3"
+        self._shifts: list[int] | None = None   # Python 2: columns each line's indentation moved when parsed
+        try:
+            self.tree = parse_program(text, filename)
+        except InputError as err:
+            if "not valid Python" not in str(err):
+                raise
+            try:
+                self.tree, self._shifts = parse_python2(text, filename)
+            except InputError as err2:
+                raise (err2 if "Python 2 syntax" in str(err2) else err) from None
+            check_depth(self.tree, filename)
+            self.python = "2"
         self._line_starts = [0]
         for i, byte in enumerate(self.data):
             if byte == 0x0A:
@@ -53,8 +67,10 @@ class SourceFile:
                         self._self_bindings.setdefault((self.class_of(node), target.attr), []).append(node.value)
 
     def span(self, node: ast.AST) -> Span:
-        start = self._line_starts[node.lineno - 1] + node.col_offset
-        end = self._line_starts[node.end_lineno - 1] + node.end_col_offset
+        start_shift = self._shifts[node.lineno - 1] if self._shifts else 0
+        end_shift = self._shifts[node.end_lineno - 1] if self._shifts else 0
+        start = self._line_starts[node.lineno - 1] + node.col_offset - start_shift
+        end = self._line_starts[node.end_lineno - 1] + node.end_col_offset - end_shift
         return Span(start, end, node.lineno)
 
     def segment(self, node: ast.AST) -> str:
@@ -143,6 +159,12 @@ def parse_program(text: str, filename: str) -> ast.Module:
         raise InputError(filename, f"not valid Python: {err.msg}", err.lineno or 0) from None
     except (RecursionError, MemoryError):
         raise InputError(filename, "not a program this tool reads: nested too deeply for Python's parser") from None
+    check_depth(tree, filename)
+    return tree
+
+
+def check_depth(tree: ast.Module, filename: str) -> None:
+    """InputError for a syntax tree deeper than ``MAX_AST_DEPTH``."""
     stack = [(tree, 1)]
     while stack:
         node, depth = stack.pop()
@@ -150,7 +172,6 @@ def parse_program(text: str, filename: str) -> ast.Module:
             raise InputError(filename, f"nested more than {MAX_AST_DEPTH} levels deep",
                              getattr(node, "lineno", 0))
         stack.extend((child, depth + 1) for child in ast.iter_child_nodes(node))
-    return tree
 
 
 def _import_aliases(tree: ast.Module) -> dict[str, str]:

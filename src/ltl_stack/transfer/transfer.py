@@ -58,6 +58,11 @@ def transfer_program(text: str, source: RobotProfile, target: RobotProfile,
     report = TransferReport(filename, source.name, target.name)
     report.lines_in_file = text.count("\n") + (0 if text.endswith("\n") or not text else 1)
     report.target_examples = options.stats.scripts if options.stats else None
+    report.python = src.python
+    if src.python == "2":
+        report.notes.append("read as Python 2 (indentation tabs expanded to multiples of 8 as Python 2 does; "
+                            "print statements and 'except E, name' read); only literals were edited, so the "
+                            "output is a Python 2 program like the input (Python 3 does not run either)")
     edits: list[Edit] = []
     sites = find_channel_sites(src)
     velocity, unresolved_velocity = find_velocity_commands(src)

@@ -1,0 +1,110 @@
+"""Reading Python 2 programs (Indigo-era ROS nodes) with Python 3's ``ast``, for the transfer only.
+
+Python 2 expands a tab in indentation to the next multiple of 8 columns; Python 3 refuses indentation
+that mixes tabs and spaces inconsistently. So the text is parsed with its indentation expanded the
+Python 2 way, and every line's shift is kept, so spans still point into the original bytes (the output
+keeps the program's own tabs). Two Python 2 statements are read by blanking them for the parser only
+(same length, so no position moves): ``print`` statements and the ``, name`` of ``except E, name:`` /
+``raise E, message``. Other Python 2 syntax is refused in one line naming it.
+"""
+from __future__ import annotations
+
+import ast
+import io
+import tokenize
+
+from ltl_stack.errors import InputError
+
+#: Python 2 tokens this reader does not take, with the words that name them
+REFUSED = {"`": "backquotes (repr)", "<>": "the <> operator"}
+
+
+def expand_indentation(text: str) -> tuple[str, list[int]]:
+    """The text with each line's leading whitespace expanded as Python 2 does (tabs to multiples of 8),
+    and how many columns each line moved (0-based line index)."""
+    out, shifts = [], []
+    for line in text.split("\n"):
+        indent = len(line) - len(line.lstrip(" \t"))
+        expanded = line[:indent].expandtabs(8)
+        shifts.append(len(expanded) - indent)
+        out.append(expanded + line[indent:])
+    return "\n".join(out), shifts
+
+
+def _blank(lines: list[str], start: tuple[int, int], end: tuple[int, int], keep: str = "") -> None:
+    """Replace text from ``start`` to ``end`` (token positions) by ``keep`` padded with spaces."""
+    (r0, c0), (r1, c1) = start, end
+    for row in range(r0, r1 + 1):
+        line = lines[row - 1]
+        a = c0 if row == r0 else 0
+        b = c1 if row == r1 else len(line.rstrip("\n"))
+        fill = (keep if row == r0 else "").ljust(b - a)
+        lines[row - 1] = line[:a] + fill + line[b:]
+
+
+def python2_parse_text(text: str, filename: str) -> tuple[str, list[int]]:
+    """Text Python 3's parser reads, with the same positions as the Python 2 program (after the
+    indentation shifts returned beside it); InputError naming the line for what it cannot read."""
+    expanded, shifts = expand_indentation(text)
+    lines = expanded.splitlines(keepends=True)
+    try:
+        tokens = list(tokenize.generate_tokens(io.StringIO(expanded).readline))
+    except (tokenize.TokenError, SyntaxError) as err:
+        line = err.lineno if isinstance(err, SyntaxError) else err.args[1][0]
+        raise InputError(filename, f"not valid Python 2 or 3: {err.args[0]}", line or 0) from None
+    logical_start = True
+    depth = 0
+    statement = None    # 'except' or 'raise' while inside one at bracket depth 0
+    for i, tok in enumerate(tokens):
+        if tok.string in REFUSED and tok.type in (tokenize.OP, tokenize.ERRORTOKEN):
+            raise InputError(filename, f"Python 2 syntax this tool does not read: {REFUSED[tok.string]}; "
+                                       "convert the program (2to3) first", tok.start[0])
+        following = tokens[i + 1] if i + 1 < len(tokens) else None
+        adjacent = following is not None and following.start == tok.end
+        if adjacent and tok.string == "<" and following.string == ">":
+            raise InputError(filename, "Python 2 syntax this tool does not read: the <> operator; "
+                                       "convert the program (2to3) first", tok.start[0])
+        if adjacent and tok.type == tokenize.NUMBER and (following.string in ("l", "L") or (
+                tok.string == "0" and following.type == tokenize.NUMBER and following.string.isdigit())):
+            raise InputError(filename, f"Python 2 syntax this tool does not read: the number "
+                                       f"{tok.string + following.string}; convert the program (2to3) first",
+                             tok.start[0])
+        if tok.type in (tokenize.NEWLINE, tokenize.INDENT, tokenize.DEDENT):
+            logical_start, statement = True, None
+            continue
+        if tok.type in (tokenize.NL, tokenize.COMMENT):
+            continue
+        if tok.type == tokenize.OP and tok.string in "([{":
+            depth += 1
+        elif tok.type == tokenize.OP and tok.string in ")]}":
+            depth -= 1
+        if logical_start and tok.type == tokenize.NAME:
+            if tok.string == "exec" and following is not None and following.type == tokenize.STRING:
+                raise InputError(filename, "Python 2 syntax this tool does not read: the exec statement; "
+                                           "convert the program (2to3) first", tok.start[0])
+            if tok.string == "print" and following is not None and not (
+                    following.type == tokenize.OP and following.string in ("(", "=", ".", "[")):
+                end = next(t for t in tokens[i:] if t.type in (tokenize.NEWLINE, tokenize.ENDMARKER)
+                           or (t.type == tokenize.OP and t.string == ";"))
+                _blank(lines, tok.start, end.start, "pass")
+            if tok.string in ("except", "raise"):
+                statement = tok.string
+        elif statement and depth == 0 and tok.type == tokenize.OP and tok.string == ",":
+            end = next(t for t in tokens[i:] if t.type in (tokenize.NEWLINE, tokenize.ENDMARKER)
+                       or (t.type == tokenize.OP and t.string == ":" and statement == "except"))
+            _blank(lines, tok.start, end.start)
+            statement = None
+        logical_start = False
+    return "".join(lines), shifts
+
+
+def parse_python2(text: str, filename: str) -> tuple[ast.Module, list[int]]:
+    """The syntax tree of a Python 2 program and each line's column shift (see the module docstring)."""
+    parse_text, shifts = python2_parse_text(text, filename)
+    try:
+        tree = ast.parse(parse_text, filename=filename)
+    except SyntaxError as err:
+        raise InputError(filename, f"not valid Python 2 or 3: {err.msg}", err.lineno or 0) from None
+    except (RecursionError, MemoryError):
+        raise InputError(filename, "not a program this tool reads: nested too deeply for Python's parser") from None
+    return tree, shifts
