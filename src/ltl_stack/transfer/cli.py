@@ -110,6 +110,9 @@ def build_parser() -> ToolParser:
     parser.add_argument("--choose", metavar="KEY=N", action="append", default=[],
                         help="answer a question without the prompt: option N for the channel or group whose "
                              "original name or message type is KEY (repeatable)")
+    parser.add_argument("--keep-distances", action="store_true",
+                        help="open-loop programs: scale all speeds by one factor and the durations by its "
+                             "inverse, so distances and angles stay (docs/code_transfer.md)")
     parser.add_argument("--non-interactive", action="store_true",
                         help="never ask: choose by the documented rules (or --choose) and flag each choice")
     parser.add_argument("--json-report", metavar="FILE", help="also write the report as JSON to FILE")
@@ -157,7 +160,8 @@ def _transfer(args, list_live: LiveLister | None) -> int:
     if answers:
         ask = answering(answers, ask, used)
     options = TransferOptions(stats=stats, live=live, ask=ask, progress=progress,
-                              choose_by_distribution=args.choose_by_distribution)
+                              choose_by_distribution=args.choose_by_distribution,
+                              keep_distances=args.keep_distances)
     result = transfer_program(text, source, target, options, filename=str(args.source))
     for key in sorted(set(answers) - used):
         warn(TRANSFER, f"--choose {key}={answers[key]}: no question was asked about {key!r}")

@@ -24,6 +24,7 @@ from .commands import (
 from .errors import TransferRefused
 from .limits import scale_command
 from .names import resolve_name
+from .open_loop import describe_change, find_time_literals
 from .profiles import RobotProfile
 from .report import ChannelChange, ParameterChange, TransferReport, Unresolved
 from .rewrite import Edit, apply_edits
@@ -40,6 +41,7 @@ class TransferOptions:
     ask: Asker | None = None                       # None: non-interactive (rules, flagged)
     progress: object = None                        # callable(str) for long work
     choose_by_distribution: bool = False           # A.1: ask from the ranked distribution
+    keep_distances: bool = False                   # open loop: one speed factor, durations scaled back
 
 
 @dataclass
@@ -68,7 +70,8 @@ def transfer_program(text: str, source: RobotProfile, target: RobotProfile,
     velocity, unresolved_velocity = find_velocity_commands(src)
     _refuse_mixed_drives(sites, velocity, source, target, report)
     _channels(src, sites, source, target, options, report, edits)
-    _velocities(velocity, unresolved_velocity, source, target, report, edits, src)
+    scaled = _velocities(velocity, unresolved_velocity, source, target, report, edits, src)
+    _open_loop(src, scaled, target, options.keep_distances, report, edits)
     joints = find_joint_trajectories(src)
     retargeted = _without_unresolved_scopes(src, joints, report)
     if retargeted.names or retargeted.points:
@@ -314,17 +317,60 @@ def _pose_frame(src: SourceFile, site: ChannelSite, chosen_groups, target: Robot
         _edit_name(src, site, tip, edits)
 
 
+def _open_loop(src: SourceFile, scaled: list[tuple], target: RobotProfile, keep: bool, report: TransferReport,
+               edits: list[Edit]) -> None:
+    """Say when scaled speeds change what an open-loop program drives; with ``keep``, scale every speed by
+    one factor and the durations by its inverse (see ``open_loop.py``)."""
+    factors: dict[str, list[float]] = {}
+    for _, cmds, old, new, _ in scaled:
+        if old != 0 and abs(new / old - 1) > 1e-9:
+            for field in {c.field for c in cmds}:
+                factors.setdefault(field, []).append(new / old)
+    times = find_time_literals(src) if factors else []
+    if not times:
+        return
+    if not keep:
+        report.notes.append(describe_change(factors, times))
+        return
+    common = min(r for ratios in factors.values() for r in ratios)
+    for span, cmds, old, _, change in scaled:
+        value = old * common
+        if not all(target.limits[c.field].allows(value) and abs(value) >= target.limits[c.field].deadband
+                   for c in cmds):
+            report.unresolved.append(Unresolved(change.what, span.line, f"{value:g} (x{common:.3g}, to keep the "
+                                                                        f"distances) is not a motion {target.name} "
+                                                                        "makes; kept the B.2 value"))
+            continue
+        edits[:] = [e for e in edits if e.span != span]
+        change.replacement, change.method = format_number(value), f"B.2 one factor x{common:.3g} (keep distances)"
+        if change.replacement != change.original:
+            edits.append(Edit(span, change.replacement))
+    for t in times:
+        original = src.data[t.span.start:t.span.end].decode("utf-8")
+        new = format_number(t.value * common if t.frequency else t.value / common)
+        report.parameters.append(ParameterChange(f"{t.text} {'frequency' if t.frequency else 'duration'}", t.line,
+                                                 original, new, f"kept distances: x{common:.3g}"
+                                                 if t.frequency else f"kept distances: /{common:.3g}"))
+        if new != original:
+            edits.append(Edit(t.span, new))
+    report.notes.append(f"open loop, distances kept: every speed was scaled by x{common:.3g} (the smallest B.2 "
+                        f"factor) and every duration by 1/{common:.3g}, so the program drives the same distances "
+                        "and angles, more slowly or quickly")
+
+
 def _velocities(commands, unresolved, source: RobotProfile, target: RobotProfile, report: TransferReport,
-                edits: list[Edit], src: SourceFile) -> None:
+                edits: list[Edit], src: SourceFile) -> list[tuple]:
+    """B.1/B.2 on the velocity literals; returns (span, commands, old, new, change) of each one written."""
     for u in unresolved:
         report.unresolved.append(Unresolved(u.field, u.line, f"'{u.text}': {u.reason}; not checked against "
                                                              f"{target.name}'s limits (§2.8 challenges 3-4)"))
+    scaled: list[tuple] = []
     if not commands:
-        return
+        return scaled
     if target.limits is None:
         report.unresolved.append(Unresolved("velocity commands", commands[0].line,
                                             f"no velocity limits for {target.name}; nothing checked (B.1)"))
-        return
+        return scaled
     by_span: dict = {}
     zeros = 0
     for cmd in commands:
@@ -349,9 +395,12 @@ def _velocities(commands, unresolved, source: RobotProfile, target: RobotProfile
             continue
         replacement = original if new == cmd.value else format_number(new)
         within = all(target.limits[c.field].allows(new) for c in cmds)
-        report.parameters.append(ParameterChange(what, span.line, original, replacement, method, within, note))
+        change = ParameterChange(what, span.line, original, replacement, method, within, note)
+        report.parameters.append(change)
+        scaled.append((span, cmds, cmd.value, new, change))
         if replacement != original:
             edits.append(Edit(span, replacement))
+    return scaled
 
 
 def _scale_one(cmd, source: RobotProfile, target: RobotProfile):
