@@ -67,6 +67,10 @@ class TimedPropositionServer:
         self.server.publish_feedback(PropositionFeedback(progress=1.0))
         self.server.set_succeeded(PropositionResult(completed=True), "completed")
 
+    def spin(self) -> None:
+        """Serve until shutdown (``run_node`` calls this once the server is built)."""
+        rospy.spin()
+
 
 def _build_server(config: dict[str, Any]) -> TimedPropositionServer:
     """Start the server (``run_node`` has checked the parameters against their ``Param``)."""
