@@ -12,6 +12,8 @@
 - C1 (3.5.2.5): for one output, a robot topic ``/<robot>/<suffix>`` is reached for some robots of
   the user's list but not for all.
 - C2 (3.5.2.6): a robot of the list whose topics no output reaches at all.
+- P1 (3.5.1): an input proposition topic that nodes other than the input's own publish on (a second
+  publisher the controller would listen to as well).
 
 Every finding carries one witness chain per proposition (or node) in the thesis' notation.
 """
@@ -22,7 +24,7 @@ from dataclasses import dataclass, field
 from fnmatch import fnmatchcase
 
 from ltl_stack.analysis.conflicts import channel_lanes, conflict_pairs, downstream
-from ltl_stack.analysis.graph import ACTION, ComputationGraph
+from ltl_stack.analysis.graph import ACTION, DEFAULT_MERGERS, ComputationGraph, relay_nodes
 from ltl_stack.analysis.reach import PUBLISH, SUBSCRIBE, Reach, reach
 from ltl_stack.runtime.mapping import INPUT, OUTPUT, Mapping, resolve_node_name, resolve_topics
 from ltl_stack.spec.activation_completion import ACTION_COMPLETION, REGION_COMPLETION
@@ -140,6 +142,21 @@ class C2Finding:
 
 
 @dataclass(frozen=True)
+class InputPublisherFinding:
+    """An input proposition topic published by nodes other than the input's own (thesis §3.5.1: an
+    input topic takes exactly one node): the controller reads whichever spoke last."""
+
+    input: str
+    topic: str
+    others: tuple[str, ...]   # the other publishers
+    nodes: tuple[str, ...]    # the input's mapped nodes
+
+    def to_dict(self) -> dict:
+        return {"input": self.input, "topic": self.topic, "other_publishers": list(self.others),
+                "mapped_nodes": list(self.nodes)}
+
+
+@dataclass(frozen=True)
 class MissingNode:
     """A mapped node that is not in the graph (not launched, or a typo in the mapping)."""
 
@@ -171,10 +188,12 @@ class Analysis:
     e3: list[E3Finding] = field(default_factory=list)
     c1: list[C1Finding] = field(default_factory=list)
     c2: list[C2Finding] = field(default_factory=list)
+    relays: list[str] = field(default_factory=list)  # nodes E2/E3 followed as relays (not known mergers)
+    p1: list[InputPublisherFinding] = field(default_factory=list)  # input topics with other publishers
 
     @property
     def finding_count(self) -> int:
-        return len(self.e1) + len(self.e2) + len(self.e3) + len(self.c1) + len(self.c2)
+        return len(self.e1) + len(self.e2) + len(self.e3) + len(self.c1) + len(self.c2) + len(self.p1)
 
     def witness(self, prop: str, node: str, target: int, direction: str = PUBLISH) -> Witness:
         r = (self.pub if direction == PUBLISH else self.sub)[(prop, node)]
@@ -194,11 +213,12 @@ def make_witness(graph: ComputationGraph, prop: str, node: str, chain: Iterable[
 
 def analyze(graph: ComputationGraph, mapping: Mapping, inputs: Sequence[str], outputs: Sequence[str], *,
             robots: Sequence[str] = (), robot_topics_to_ignore: Sequence[str] = (),
-            progress: Callable[[str], None] | None = None) -> Analysis:
+            progress: Callable[[str], None] | None = None, mergers: Sequence[str] = DEFAULT_MERGERS) -> Analysis:
     """Run reachability for every mapped proposition node, then E1, E2, E3 and (with robots) C1, C2.
 
     ``inputs``/``outputs`` are the spec's propositions in spec order (findings follow that order);
     mapping entries for other names are left out (``runtime.mapping.check_mapping`` reports them).
+    E2/E3 follow competitions through relays, except nodes matching ``mergers`` (``graph.relay_nodes``).
     """
     namespace = mapping.scenario_namespace() or ""
     in_topics, out_topics = resolve_topics(mapping, inputs, outputs, namespace)
@@ -228,7 +248,10 @@ def analyze(graph: ComputationGraph, mapping: Mapping, inputs: Sequence[str], ou
         start = graph.node_index[node]
         result.pub[(prop, node)] = reach(graph, start, PUBLISH, blocked)
         result.sub[(prop, node)] = reach(graph, start, SUBSCRIBE, blocked)
-    result.e2, result.e3 = check_conflicts(result, blocked)
+    result.p1 = check_input_publishers(graph, mapping, inputs, in_topics, namespace)
+    relays = relay_nodes(graph, mergers)
+    result.relays = sorted(graph.nodes[i] for i in relays)
+    result.e2, result.e3 = check_conflicts(result, blocked, relays)
     pairs = check_e1(result, blocked)
     result.e1 = [f for f in pairs if not f.expected]
     result.feedback = [f for f in pairs if f.expected]
@@ -236,6 +259,24 @@ def analyze(graph: ComputationGraph, mapping: Mapping, inputs: Sequence[str], ou
         result.c2 = check_c2(result)
         result.c1 = check_c1(result, skip={f.robot for f in result.c2})
     return result
+
+
+def check_input_publishers(graph: ComputationGraph, mapping: Mapping, inputs: Sequence[str],
+                           in_topics: dict[str, str], namespace: str) -> list[InputPublisherFinding]:
+    """P1: input proposition topics that nodes other than the input's mapped node(s) publish on."""
+    found = []
+    for x in inputs:
+        topic = in_topics.get(x)
+        v = graph.channel_vertex(topic) if topic else None
+        if v is None:
+            continue
+        lanes = [lane for lane, c in enumerate(graph.lane_channel) if c == v - len(graph.nodes)]
+        publishers = [graph.nodes[p] for lane in lanes for p in graph.lane_publishers[lane]]
+        own = tuple(resolve_node_name(e.node, namespace) for e in mapping.inputs.get(x) or [] if e.node)
+        others = tuple(sorted(set(publishers) - set(own)))
+        if others and own:
+            found.append(InputPublisherFinding(x, topic, others, own))
+    return found
 
 
 def check_e1(a: Analysis, blocked: Collection[int] = ()) -> list[E1Finding]:
@@ -324,12 +365,13 @@ def feedback_reason(f: E1Finding) -> str:
     return ""
 
 
-def check_conflicts(a: Analysis, blocked: Collection[int] = ()) -> tuple[list[E2Group], list[E3Finding]]:
+def check_conflicts(a: Analysis, blocked: Collection[int] = (),
+                    relays: Collection[int] = ()) -> tuple[list[E2Group], list[E3Finding]]:
     """E2 (Figs. 3.7, 3.8) and E3 (Fig. 3.9) from the competing pairs of ``conflicts.conflict_pairs``."""
     reaches = {(y, node): a.pub[(y, node)] for y in a.outputs for node in a.nodes.get(y, [])}
     rank = {y: i for i, y in enumerate(a.outputs)}
     e2, e3 = [], []
-    for v, pairs in conflict_pairs(a.graph, reaches, blocked).items():
+    for v, pairs in conflict_pairs(a.graph, reaches, blocked, relays).items():
         ch = a.graph.channel_of_vertex(v)
         first: dict[str, str] = {}  # output -> its first node in a competing pair
         prop_pairs = set()

@@ -28,7 +28,7 @@ from dataclasses import replace
 from ltl_stack import cli
 from ltl_stack.analysis import report
 from ltl_stack.analysis.checks import Analysis, analyze, e2_groups
-from ltl_stack.analysis.graph import DEFAULT_IGNORED_TOPICS, ComputationGraph
+from ltl_stack.analysis.graph import DEFAULT_IGNORED_TOPICS, DEFAULT_MERGERS, ComputationGraph
 from ltl_stack.analysis.snapshot import Snapshot, is_json_path
 from ltl_stack.analysis.suggest import (
     MutualExclusion,
@@ -83,6 +83,9 @@ def build_parser() -> cli.ToolParser:
                         f"{','.join(DEFAULT_IGNORED_TOPICS)}); give '' for none")
     p.add_argument("--add-generic-topics", type=_names, default=[], metavar="P1,P2,...",
                    help="more generic topics to leave out (e.g. /odom,/joint_states to cut feedback loops)")
+    p.add_argument("--add-mergers", type=_names, default=[], metavar="P1,P2,...",
+                   help="more nodes that merge commands by design (globs on node names; default: "
+                        f"{','.join(DEFAULT_MERGERS)}); E2/E3 follow other relays")
     p.add_argument("--reach", action="store_true",
                    help="also list every proposition node's publish/subscribe-reachable topics and nodes")
     p.add_argument("--apply", metavar="OUT",
@@ -125,7 +128,8 @@ def run(args: argparse.Namespace, take_live: Callable[..., Snapshot] | None) -> 
     graph = ComputationGraph(snapshot, [*ignored, *args.add_generic_topics])
     progress(f"graph: {len(graph.nodes)} nodes, {len(graph.channels)} topics/actions, {graph.edge_count} edges")
     analysis = analyze(graph, mapping, spec.inputs, spec.outputs, robots=args.robots,
-                       robot_topics_to_ignore=args.ignore_topics, progress=progress)
+                       robot_topics_to_ignore=args.ignore_topics, progress=progress,
+                       mergers=(*DEFAULT_MERGERS, *args.add_mergers))
     suggestions = mark_guaranteed(spec, mutual_exclusions(e2_groups(analysis), spec.outputs))
     applied = None
     outputs = []

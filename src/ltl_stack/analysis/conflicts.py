@@ -10,7 +10,9 @@ conflict:
 1. *Direct* conflict at channel c between nodes a and b: they reach c, and messages land on c
    through different publishers (a's through p, b's through q, p != q). If both land only through
    the same single publisher r, they do not compete on c itself. On an action only the goals
-   (client to server) count: one server's replies do not compete.
+   (client to server) count: one server's replies do not compete. A relay (a node that only forwards
+   topics, ``graph.relay_nodes``; known mergers such as a ``twist_mux`` excepted) is transparent:
+   messages that land through it land through the publisher before it on the agent's chain.
 2. A conflict flows downstream: once a and b compete on c, every channel reachable from c carries
    the mixed stream (Fig. 3.8: pickup and drop compete on ``move_group``'s action, and therefore on
    the arm controller's action that ``move_group`` drives).
@@ -29,9 +31,22 @@ from ltl_stack.analysis.reach import Reach
 Agent = tuple[str, str]  # (output proposition, node)
 
 
+def _origin(node: int, r: Reach, relays: Collection[int]) -> int:
+    """The publisher an agent's messages really come from: back through relays along its chain."""
+    seen = set()
+    while node in relays and node != r.start and node not in seen:
+        seen.add(node)
+        lane_key = r.parent.get(node, -1)
+        if lane_key == -1:
+            break
+        node = r.parent[lane_key]
+    return node
+
+
 def conflict_pairs(graph: ComputationGraph, reaches: dict[Agent, Reach],
-                   blocked: Collection[int] = ()) -> dict[int, set[tuple[Agent, Agent]]]:
-    """Channel vertex id -> the pairs of agents (output, node) that compete on it."""
+                   blocked: Collection[int] = (), relays: Collection[int] = ()) -> dict[int, set[tuple[Agent, Agent]]]:
+    """Channel vertex id -> the pairs of agents (output, node) that compete on it. Messages that land
+    through a relay (``graph.relay_nodes``) count as landing through the publisher before it."""
     agents = list(reaches)
     by_channel: dict[int, list[int]] = {}
     for i, agent in enumerate(agents):
@@ -51,7 +66,7 @@ def conflict_pairs(graph: ComputationGraph, reaches: dict[Agent, Reach],
             entry = [p for p in publishers if p in parent]
             if not entry:
                 continue  # reaches an action only through its replies
-            key = ("via", entry[0]) if len(entry) == 1 else ("own", i)
+            key = ("via", _origin(entry[0], reaches[agents[i]], relays)) if len(entry) == 1 else ("own", i)
             classes.setdefault(key, []).append(i)
         if len(classes) < 2:
             continue

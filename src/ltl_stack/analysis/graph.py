@@ -33,6 +33,10 @@ DEFAULT_IGNORED_TOPICS: tuple[str, ...] = (
     "*/parameter_descriptions",
 )
 
+#: nodes that merge commands by design (a competition does not flow through them): shell patterns on the
+#: node name, extended with ``analyze_graph --add-mergers`` (``*`` crosses ``/``)
+DEFAULT_MERGERS: tuple[str, ...] = ("*mux*", "*multiplexer*", "*arbiter*", "*arbitrator*")
+
 ACTION_REQUEST_TOPICS = ("goal", "cancel")
 ACTION_REPLY_TOPICS = ("status", "feedback", "result")
 ACTION_STATUS_TYPE = "actionlib_msgs/GoalStatusArray"
@@ -207,4 +211,21 @@ def find_actions(snapshot: Snapshot) -> set[str]:
         if status_type and status_type != ACTION_STATUS_TYPE:
             continue
         found.add(ns)
+    return found
+
+
+def relay_nodes(graph: ComputationGraph, mergers: Iterable[str] = DEFAULT_MERGERS) -> set[int]:
+    """Nodes that only forward messages: they subscribe to topics and publish only topics of types they
+    subscribe to (a ``topic_tools relay``, a forwarding script), and are not known mergers (``mergers``:
+    patterns on the node name). A driver (``cmd_vel`` in, ``odom`` out) is no relay."""
+    found = set()
+    for i, name in enumerate(graph.nodes):
+        outs, ins = graph.node_publishes[i], graph.node_subscribes[i]
+        if not outs or not ins or matches_any(name, tuple(mergers)):
+            continue
+        in_types = {graph.channels[graph.lane_channel[lane]].type for lane in ins
+                    if graph.channels[graph.lane_channel[lane]].kind == TOPIC}
+        out_channels = [graph.channels[graph.lane_channel[lane]] for lane in outs]
+        if all(c.kind == TOPIC and c.type and c.type in in_types for c in out_channels):
+            found.add(i)
     return found

@@ -13,6 +13,7 @@ CHECKS = {
     "E3": "One output proposition reaching a topic through several of its nodes (thesis 3.5.2.4)",
     "C1": "Robot topics left behind: reached for some robots but not all (thesis 3.5.2.5)",
     "C2": "Robots that no output proposition controls (thesis 3.5.2.6)",
+    "P1": "Input proposition topics with other publishers than the input's node (thesis 3.5.1)",
 }
 IN_SPEC_NOTE = "[already guaranteed by the spec: adding it changes nothing]"
 FEEDBACK_TITLE = ("Expected feedback, not findings: completions and the robot's own location sensing "
@@ -61,6 +62,8 @@ def to_dict(a: Analysis, suggestions: list[MutualExclusion], *, reach: bool = Fa
         "E3": [f.to_dict() for f in a.e3],
         "C1": [f.to_dict() for f in a.c1],
         "C2": [f.to_dict() for f in a.c2],
+        "P1": [f.to_dict() for f in a.p1],
+        "relays_followed": a.relays,
         "finding_count": a.finding_count,
         "suggestions": [{"id": i, **s.to_dict(), **_forms_or_error(s)} for i, s in enumerate(suggestions, 1)],
     }
@@ -97,7 +100,9 @@ def to_text(a: Analysis, suggestions: list[MutualExclusion], *, reach: bool = Fa
                 "launch the proposition nodes before the analysis")
         if a.unmapped:
             add(f"  not mapped to any node (left out): {', '.join(a.unmapped)}")
-    sections = [("E1", a.e1), ("E2", a.e2), ("E3", a.e3)]
+    if a.relays:
+        add(f"Relays followed for E2/E3 (not known mergers): {_short_list(a.relays)}")
+    sections = [("P1", a.p1), ("E1", a.e1), ("E2", a.e2), ("E3", a.e3)]
     if a.robots:
         sections += [("C1", a.c1), ("C2", a.c2)]
     for key, findings in sections:
@@ -205,6 +210,9 @@ def _finding_lines(key: str, f) -> list[str]:
         name = f"({f.channel})" if f.kind == ACTION else f"[{f.channel}]"
         return [f"{f.output} reaches {name} through {len(f.witnesses)} nodes:",
                 *(f"  {w.node}: {w.text}" for w in f.witnesses)]
+    if key == "P1":
+        return [f"{f.input} [{f.topic}]: also published by {', '.join(f.others)} (the input's node: "
+                f"{', '.join(f.nodes)})"]
     if key == "C1":
         return [f"{f.output} {f.suffix}: missing for {', '.join(f.missing)}",
                 *(f"  {r}: {w.text}" for r, w in f.present), *(f"  {r}: -" for r in f.missing)]
@@ -235,6 +243,9 @@ def to_markdown(a: Analysis, suggestions: list[MutualExclusion]) -> str:
         out += _table(["Output", "Input", "Why", "Output-to-input chain"],
                       [[*row[:2], feedback_reason(f) if row[0] else "", row[2]]
                        for f in a.feedback for row in _e1_rows([f])])
+    out += ["", f"## P1: {CHECKS['P1']}", ""]
+    out += _table(["Input", "Topic", "Other publishers", "Mapped node"],
+                  [[f.input, f.topic, ", ".join(f.others), ", ".join(f.nodes)] for f in a.p1])
     out += ["", f"## E2: {CHECKS['E2']}", ""]
     out += _table(["Topic", "Output", "Output-to-topic chain"],
                   [[f.channel if i == 0 else "", w.proposition, f"`{w.text}`"]

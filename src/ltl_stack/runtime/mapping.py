@@ -179,11 +179,17 @@ def parse_mapping(text: str, file: str = "<string>") -> Mapping:
         if not isinstance(section_node, yaml.MappingNode):
             raise MappingError(file, section_line, f"'{key}:' must map proposition names to nodes")
         target = mapping.inputs if kind == INPUT else mapping.outputs
-        for prop, (prop_line, value_node) in _keyed_nodes(section_node, file).items():
-            mapping.lines[(kind, prop)] = prop_line
-            value = data[key][prop]
+        for prop_key, value_node in section_node.value:
+            # A proposition may appear more than once: the thesis' mapping GUI writes one block per row, so
+            # a proposition mapped to two nodes (Fig. 3.9) is the same key twice; its entries are joined.
+            prop, prop_line = str(prop_key.value), _line(prop_key)
+            mapping.lines.setdefault((kind, prop), prop_line)
+            try:
+                value = construct_yaml(value_node, file)
+            except InputError as err:
+                raise MappingError(file, err.line, err.message) from None
+            entries = target.setdefault(prop, [])
             if value is None:
-                target[prop] = []
                 continue
             if isinstance(value, dict):
                 items = [(value, value_node)]
@@ -192,7 +198,7 @@ def parse_mapping(text: str, file: str = "<string>") -> Mapping:
             else:
                 raise MappingError(file, prop_line, f"{kind} {prop!r}: expected a node entry or a list of them, "
                                    f"got {type(value).__name__}")
-            target[prop] = [_entry(file, kind, prop, item, node) for item, node in items]
+            entries += [_entry(file, kind, prop, item, node) for item, node in items]
     return mapping
 
 

@@ -40,5 +40,5 @@ def mapping_of(inputs: dict[str, str | list[str]], outputs: dict[str, str | list
 
 def analyze_simple(nodes: dict, inputs: dict, outputs: dict, **kwargs):
     ignored = kwargs.pop("ignored", DEFAULT_IGNORED_TOPICS)
-    g = graph_of(nodes, ignored)
+    g = graph_of(nodes, ignored, kwargs.pop("topic_types", None))
     return analyze(g, mapping_of(inputs, outputs), list(inputs), list(outputs), **kwargs)

@@ -17,7 +17,7 @@ from ltl_stack.analysis.checks import (
     split_robot_topic,
     suffix_ignored,
 )
-from ltl_stack.analysis.graph import DEFAULT_IGNORED_TOPICS, ComputationGraph
+from ltl_stack.analysis.graph import DEFAULT_IGNORED_TOPICS, DEFAULT_MERGERS, ComputationGraph
 from ltl_stack.analysis.suggest import mutual_exclusions
 from ltl_stack.runtime.mapping import load_mapping, parse_mapping
 
@@ -283,8 +283,9 @@ def test_spheros_fig_3_15_fifth_robot_not_controlled(spheros):
 def test_a_driver_merging_two_commands_is_not_a_conflict_on_its_outputs():
     nodes = {"/left": {"pub": ["/r/cmd_vel"]}, "/yellow": {"pub": ["/r/set_color"]},
              "/driver": {"sub": ["/r/cmd_vel", "/r/set_color"], "pub": ["/r/odom"]}}
-    a = analyze_simple(nodes, inputs={}, outputs={"left": "/left", "yellow": "/yellow"})
-    assert a.e2 == [], a.e2
+    types = {"/r/cmd_vel": "geometry_msgs/Twist", "/r/set_color": "std_msgs/ColorRGBA", "/r/odom": "nav_msgs/Odometry"}
+    a = analyze_simple(nodes, inputs={}, outputs={"left": "/left", "yellow": "/yellow"}, topic_types=types)
+    assert a.e2 == [] and a.relays == [], (a.e2, a.relays)
 
 
 def test_a_conflict_flows_downstream_through_a_shared_relay():
@@ -314,3 +315,38 @@ def test_clients_of_one_relay_do_not_compete_on_the_relays_action_but_do_on_its_
     nodes["/relay"]["sub"] = ["/req", "/req2"]
     a = analyze_simple(nodes, inputs={}, outputs={"p": "/p", "q": "/q"})
     assert a.e2 == [], "one client (the relay) sends every goal: nobody competes on the action"
+
+
+TWIST = "geometry_msgs/Twist"
+
+
+def relay_graph(relay: str) -> dict:
+    """move and stop each feed a node that forwards their velocity commands to /cmd_vel (issue 26)."""
+    return {"/move": {"pub": ["/move_vel"]}, "/stop": {"pub": ["/stop_vel"]},
+            relay: {"sub": ["/move_vel", "/stop_vel"], "pub": ["/cmd_vel"]}, "/base": {"sub": ["/cmd_vel"]}}
+
+
+RELAY_TYPES = {"/move_vel": TWIST, "/stop_vel": TWIST, "/cmd_vel": TWIST}
+
+
+def test_a_plain_relay_is_followed_for_e2():
+    a = analyze_simple(relay_graph("/forward"), inputs={}, outputs={"move": "/move", "stop": "/stop"},
+                       topic_types=RELAY_TYPES)
+    assert [(g.channel, g.outputs) for g in a.e2] == [("/cmd_vel", ("move", "stop"))], a.e2
+    assert a.relays == ["/forward"]
+
+
+def test_a_relay_chain_is_followed_and_e3_sees_through_it():
+    nodes = {"/move_a": {"pub": ["/a"]}, "/move_b": {"pub": ["/b"]},
+             "/r1": {"sub": ["/a"], "pub": ["/a2"]}, "/r2": {"sub": ["/a2", "/b"], "pub": ["/cmd_vel"]}}
+    types = {"/a": TWIST, "/b": TWIST, "/a2": TWIST, "/cmd_vel": TWIST}
+    a = analyze_simple(nodes, inputs={}, outputs={"move": ["/move_a", "/move_b"]}, topic_types=types)
+    assert [(f.output, f.channel) for f in a.e3] == [("move", "/cmd_vel")], a.e3
+
+
+@pytest.mark.parametrize("name, mergers", [("/cmd_vel_mux", DEFAULT_MERGERS), ("/yocs_twist_mux", DEFAULT_MERGERS),
+                                           ("/safety", (*DEFAULT_MERGERS, "/safety"))])
+def test_a_known_merger_is_not_followed(name, mergers):
+    a = analyze_simple(relay_graph(name), inputs={}, outputs={"move": "/move", "stop": "/stop"},
+                       topic_types=RELAY_TYPES, mergers=mergers)
+    assert a.e2 == [] and a.relays == [], (a.e2, a.relays)

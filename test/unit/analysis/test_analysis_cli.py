@@ -31,6 +31,14 @@ def clean_and_patrol_args(snapshots):
     return ["--spec", str(spec), "--mapping", str(mapping), "--snapshot", str(snapshots / "clean_and_patrol.yaml")]
 
 
+def driver_types(robots) -> dict[str, str]:
+    """A sphero driver's topics with their real types: velocity and colour in, odometry out (with one
+    type for everything the driver would look like a relay, which forwards what it reads)."""
+    return {f"/{r}/{t}": ty for r in robots for t, ty in (("cmd_vel", "geometry_msgs/Twist"),
+                                                            ("set_color", "std_msgs/ColorRGBA"),
+                                                            ("odom", "nav_msgs/Odometry"))}
+
+
 def spheros_args(snapshots):
     spec = require_shared("specs", "spheros", "spheros.slugsin")
     return ["--spec", str(spec), "--mapping", str(DATA / "spheros_mapping.yaml"),
@@ -218,7 +226,8 @@ def test_thesis_example_9_on_the_shared_sphero_mapping(tmp_path, capsys):
     for robot in {e["parameters"]["publish_topic"].split("/")[1] for es in mapping["outputs"].values() for e in es}:
         nodes[f"/{robot}/driver"] = {"sub": [f"/{robot}/cmd_vel", f"/{robot}/set_color"], "pub": [f"/{robot}/odom"]}
     snapshot = tmp_path / "spheros.json"
-    scenarios.snapshot_of({"nodes": nodes}).save(snapshot)
+    robots = [name.split("/")[1] for name in nodes if name.endswith("/driver")]
+    scenarios.snapshot_of({"nodes": nodes, "topic_types": driver_types(robots)}).save(snapshot)
     out = tmp_path / "spheros_exclusive.slugsin"
     args = ["--spec", str(mapping_path.with_suffix(".slugsin")), "--mapping", str(mapping_path),
             "--snapshot", str(snapshot), "--apply", str(out), "--json"]
@@ -256,7 +265,7 @@ def spec3_setup(folder: Path) -> list[str]:
             nodes[f"/spheros/outputs/{r}/{prop}"] = {"sub": [f"/t/outputs/{prop}"], "pub": [f"/{r}/{topic}"]}
     for r in SPEC3_ROBOTS:
         nodes[f"/{r}/driver"] = {"sub": [f"/{r}/cmd_vel", f"/{r}/set_color"], "pub": [f"/{r}/odom"]}
-    scenarios.snapshot_of({"nodes": nodes}).save(folder / "spheros.json")
+    scenarios.snapshot_of({"nodes": nodes, "topic_types": driver_types(SPEC3_ROBOTS)}).save(folder / "spheros.json")
     lines = ["outputs:"]
     for prop, ns in outputs.items():
         lines += [f"  {prop}:", *(f"    - {{node: '{n}', node_subscribe_topic: '/t/outputs/{prop}'}}" for n in ns)]

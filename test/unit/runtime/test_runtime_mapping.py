@@ -106,7 +106,8 @@ def test_two_propositions_on_one_topic_is_an_error():
 @pytest.mark.parametrize("text, line, fragment", [
     ("inputs:\n  a: [1, 2\n", 3, "invalid YAML"),
     ("inputs:\n  a:\n    node: x\n    nod_publish_topic: t\n", 4, "unknown key 'nod_publish_topic'"),
-    ("inputs:\n  a:\n    node: x\n  a:\n    node: y\n", 4, "'a' appears twice (first on line 2)"),
+    ("inputs:\n  a:\n    node: x\ninputs:\n  b:\n    node: y\n", 4, "'inputs' appears twice (first on line 1)"),
+    ("outputs:\n  a:\n    node: x\n  a:\n    nod: y\n", 5, "unknown key 'nod'"),
     ("inputs:\n  a:\n    node: x\n    node_subscribe_topic: t\n", 4, "use node_publish_topic"),
     ("outputs:\n  b: 3\n", 2, "output 'b': expected a node entry or a list"),
     ("outputs:\n  b:\n    - node: x\n    - 7\n", 4, "a node entry must be a mapping"),
@@ -250,3 +251,14 @@ def test_format_mapping_round_trips_any_mapping(outputs, namespace):
         data["namespace"] = namespace
     m = parse_mapping(yaml.safe_dump(data), "gen.yaml")
     assert _essence(parse_mapping(format_mapping(m), "again.yaml")) == _essence(m)
+
+
+def test_a_proposition_written_twice_is_one_proposition_with_both_nodes():
+    """The thesis' mapping GUI writes one block per row: Fig. 3.9's accidental mapping of the 'drop node'
+    to pickup is the key pickup twice. Both nodes are pickup's, for the analysis to find (E3)."""
+    mapping = parse_mapping("outputs:\n  pickup:\n    node: /pickup\n  drop:\n    node: /drop\n"
+                            "  pickup:\n    node: /drop\n", "fig39.yaml")
+    assert [e.node for e in mapping.outputs["pickup"]] == ["/pickup", "/drop"]
+    assert [e.line for e in mapping.outputs["pickup"]] == [3, 7]
+    assert mapping.lines[("output", "pickup")] == 2
+
