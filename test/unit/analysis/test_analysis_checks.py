@@ -350,3 +350,14 @@ def test_a_known_merger_is_not_followed(name, mergers):
     a = analyze_simple(relay_graph(name), inputs={}, outputs={"move": "/move", "stop": "/stop"},
                        topic_types=RELAY_TYPES, mergers=mergers)
     assert a.e2 == [] and a.relays == [], (a.e2, a.relays)
+
+
+def test_a_second_publisher_on_an_input_topic_is_a_finding():
+    nodes = {"/person": {"pub": ["/t/inputs/person"]}, "/tester": {"pub": ["/t/inputs/person"]},
+             "/move": {"pub": ["/cmd_vel"]}}
+    a = analyze_simple(nodes, inputs={"person": "/person"}, outputs={"move": "/move"})
+    assert [(f.input, f.topic, f.others, f.nodes) for f in a.p1] == [
+        ("person", "/t/inputs/person", ("/tester",), ("/person",))]
+    assert a.finding_count == 1
+    alone = analyze_simple({"/person": {"pub": ["/t/inputs/person"]}}, inputs={"person": "/person"}, outputs={})
+    assert alone.p1 == [] and alone.finding_count == 0

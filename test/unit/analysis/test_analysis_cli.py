@@ -333,3 +333,18 @@ def test_apply_on_english_spec_realizable_and_json(tmp_path, capsys):
                  str(snapshot), "--apply", str(out2), "--json", "--suggestions", "2"]) == Exit.OK
     assert json.loads(capsys.readouterr().out)["apply"]["format"] == "slugsin"
     assert out2.read_text().startswith("[INPUT]")
+
+
+def test_fig_3_9_mapping_as_the_thesis_gui_writes_it_is_analysed(snapshots, tmp_path, capsys):
+    """Fig. 3.9: the 'drop node' also mapped to pickup, written as a second 'pickup:' block."""
+    args = clean_and_patrol_args(snapshots)
+    shared = Path(args[3]).read_text()
+    second = ("  pickup:\n    node : '/drop'\n    node_subscribe_topic : '/move_group_and_move_base/outputs/pickup'\n"
+              "    pkg : 'controller_executor'\n    filename : 'plan_manipulator_path.py'\n\n")
+    mapping = tmp_path / "fig_3_9.yaml"
+    mapping.write_text(shared.replace("  drop:\n", second + "  drop:\n", 1))
+    args[3] = str(mapping)
+    assert main([*args, "--json"]) == Exit.OK
+    data = json.loads(capsys.readouterr().out)
+    e3 = {(f["output"], f["topic"]): f["nodes"] for f in data["E3"]}
+    assert e3[("pickup", "/arm_1/gripper_controller/position_command")] == ["/pickup", "/drop"], e3
