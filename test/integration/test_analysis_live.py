@@ -199,3 +199,52 @@ def test_unreachable_master_is_one_clear_error():
     with pytest.raises(SnapshotError, match=f"cannot read the graph from the ROS master at {uri}") as err:
         take_snapshot(uri, timeout=2.0)  # gives up (pytest-timeout fails a hang), however slow the machine
     assert err.value.code == Exit.NO_ROS
+
+
+def test_live_fig_3_9_mapping_as_the_thesis_gui_writes_it(clean_and_patrol, tmp_path):
+    """Fig. 3.9's accidental mapping written as the thesis' GUI writes it: a second 'pickup:' block
+    naming the drop node. It is analysed (issue 26: it was refused, exit 2)."""
+    master, mapping_path = clean_and_patrol
+    second = (f"  pickup:\n    node : '/drop'\n    node_subscribe_topic : '{MGMB}/outputs/pickup'\n"
+              "    pkg : 'controller_executor'\n    filename : 'plan_manipulator_path.py'\n\n")
+    wrong = tmp_path / "fig_3_9.yaml"
+    wrong.write_text(mapping_path.read_text().replace("  drop:\n", second + "  drop:\n", 1))
+    spec = require_shared("specs", "move_group_and_move_base", "move_group_and_move_base.slugsin")
+    done = run_cli(master, "--spec", str(spec), "--mapping", str(wrong), "--live", "--json")
+    assert done.returncode == 0, done.stderr
+    e3 = {(f["output"], f["topic"]): f["nodes"] for f in json.loads(done.stdout)["E3"]}
+    assert e3[("pickup", "/arm_1/gripper_controller/position_command")] == ["/pickup", "/drop"], e3
+
+
+@pytest.fixture(scope="module")
+def relay_and_tester(tmp_path_factory):
+    master = RosMaster(tmp_path_factory.mktemp("relay_and_tester"))
+    try:
+        scenario = DATA / "relay_and_tester.yaml"
+        for node in scenario_graph.load_scenario(scenario)["nodes"]:
+            master.run([sys.executable, str(DATA / "scenario_graph.py"), str(scenario), node],
+                       name=node.strip("/").replace("/", "_"))
+        wait_until_registered(master, scenario_graph.expected_registrations(scenario))
+        yield master
+    finally:
+        master.shutdown()
+
+
+def test_live_relay_conflict_and_second_input_publisher(relay_and_tester):
+    """move and stop each feed a forwarding node that drives /cmd_vel: they compete there (E2, through
+    the relay); a second publisher on the person input topic is a finding (P1). Issue 26."""
+    spec = Path(__file__).resolve().parents[2] / "config" / "simple" / "simple.structuredslugs"
+    done = run_cli(relay_and_tester, "--spec", str(spec), "--mapping", str(DATA / "relay_and_tester_mapping.yaml"),
+                   "--live", "--json")
+    assert done.returncode == 0, done.stderr
+    report = json.loads(done.stdout)
+    assert report["relays_followed"] == ["/forward"]
+    groups = {g["topic"]: g["outputs"] for g in report["E2"]}
+    assert groups["/cmd_vel"] == ["move", "stop"], report["E2"]
+    assert [(f["input"], f["topic"], f["other_publishers"]) for f in report["P1"]] == [
+        ("person", "/relay_demo/inputs/person", ["/tester"])]
+    # a relay known to merge by design is not followed
+    merged = run_cli(relay_and_tester, "--spec", str(spec), "--mapping", str(DATA / "relay_and_tester_mapping.yaml"),
+                     "--live", "--json", "--add-mergers", "/forward")
+    assert merged.returncode == 0, merged.stderr
+    assert "/cmd_vel" not in {g["topic"] for g in json.loads(merged.stdout)["E2"]}

@@ -147,9 +147,10 @@ def test_clean_and_patrol_completion_and_navigation_feedback_apart(tmp_path_fact
     assert feedback.pop(("pickup", "pickup_ac"))["expected"] == "action completion"
     assert feedback.pop(("drop", "drop_ac"))["expected"] == "action completion"
     # the designed navigation feedback: every motion output reaches every region sensor, through the
-    # simulated base (a motion-capture system would leave this loop out of the graph)
+    # simulated base (a motion-capture system would leave this loop out of the graph); beyond the
+    # thesis' activation-completion pairs, the scenario's mapping declares it (expected_feedback:)
     assert {k: f["expected"] for k, f in feedback.items()} == {
-        (y, f"{r}_rc"): "region completion" if y == r else "location sensing" for y in ["stop", *REGIONS]
+        (y, f"{r}_rc"): "region completion" if y == r else "declared in the mapping" for y in ["stop", *REGIONS]
         for r in REGIONS}
     assert feedback[("topLane", "topLane_rc")]["chain"] == (
         f"({cp}/topLane) -> (clean_and_patrol/navigate/action_topics) -> ({cp}/navigation) -> [{cp}/cmd_vel] "

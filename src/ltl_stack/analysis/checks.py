@@ -3,8 +3,8 @@
 - E1 (3.5.2.2): an output proposition's nodes publish-reach an input proposition node; one
   finding per (output, input) pair with every chain under it. Pairs that are the designed feedback
   of the activation-completion paradigm ([75]: an action ``X`` and its completion ``X_ac``, a region
-  ``R`` and its completion ``R_rc``, and the robot's own motion seen by its region sensors) are kept
-  apart as *expected feedback*: shown, not counted as findings (see ``expected_feedback``).
+  ``R`` and its completion ``R_rc``), and the pairs the mapping declares under ``expected_feedback:``,
+  are kept apart as *expected feedback*: shown, not counted as findings (see ``expected_feedback``).
 - E2 (3.5.2.3): two or more output propositions publish-reach the same topic or action
   (refined in ``conflicts``: they must compete there, not merely both reach a driver's outputs).
 - E3 (3.5.2.4): one output proposition's nodes publish-reach the same topic through several nodes
@@ -23,7 +23,7 @@ from collections.abc import Callable, Collection, Iterable, Sequence
 from dataclasses import dataclass, field
 from fnmatch import fnmatchcase
 
-from ltl_stack.analysis.conflicts import channel_lanes, conflict_pairs, downstream
+from ltl_stack.analysis.conflicts import conflict_pairs
 from ltl_stack.analysis.graph import ACTION, DEFAULT_MERGERS, ComputationGraph, relay_nodes
 from ltl_stack.analysis.reach import PUBLISH, SUBSCRIBE, Reach, reach
 from ltl_stack.runtime.mapping import INPUT, OUTPUT, Mapping, resolve_node_name, resolve_topics
@@ -189,6 +189,7 @@ class Analysis:
     c1: list[C1Finding] = field(default_factory=list)
     c2: list[C2Finding] = field(default_factory=list)
     relays: list[str] = field(default_factory=list)  # nodes E2/E3 followed as relays (not known mergers)
+    declared_feedback: list[tuple[str, str, int]] = field(default_factory=list)  # the mapping's expected_feedback
     p1: list[InputPublisherFinding] = field(default_factory=list)  # input topics with other publishers
 
     @property
@@ -248,6 +249,7 @@ def analyze(graph: ComputationGraph, mapping: Mapping, inputs: Sequence[str], ou
         start = graph.node_index[node]
         result.pub[(prop, node)] = reach(graph, start, PUBLISH, blocked)
         result.sub[(prop, node)] = reach(graph, start, SUBSCRIBE, blocked)
+    result.declared_feedback = list(mapping.expected_feedback)
     result.p1 = check_input_publishers(graph, mapping, inputs, in_topics, namespace)
     relays = relay_nodes(graph, mergers)
     result.relays = sorted(graph.nodes[i] for i in relays)
@@ -287,7 +289,6 @@ def check_e1(a: Analysis, blocked: Collection[int] = ()) -> list[E1Finding]:
     (needs ``a.e2``, so run it after ``check_conflicts``).
     """
     input_nodes = [(x, [(n, a.graph.node_index[n]) for n in a.nodes.get(x, [])]) for x in a.inputs]
-    motion = motion_outputs(a, blocked)
     found = []
     for y in a.outputs:
         for x, nodes in input_nodes:
@@ -299,58 +300,35 @@ def check_e1(a: Analysis, blocked: Collection[int] = ()) -> list[E1Finding]:
                         witnesses.append(make_witness(a.graph, y, y_node, r.chain(v)))
                         ends.append(x_node)
             if witnesses:
-                kind = expected_feedback(y, x, a.outputs, motion)
+                kind = expected_feedback(y, x, a.declared_feedback)
                 found.append(E1Finding(y, x, tuple(witnesses), tuple(ends), kind))
     return found
-
-
-def motion_outputs(a: Analysis, blocked: Collection[int] = ()) -> set[str]:
-    """Outputs that command the robot's motion as the region activations do: every region ``R``
-    (an output with an input ``R_rc``), and every output competing with one (E2) on a channel
-    upstream of what the region sensors read - a velocity command, not the location topic itself
-    (an output that only disturbs the location sensing, say by switching off its camera, is no motion).
-    """
-    regions = {y for y in a.outputs if y + REGION_COMPLETION in a.inputs}
-    n = len(a.graph.nodes)
-    sensed = {n + a.graph.lane_channel[lane] for r in regions for node in a.nodes.get(r + REGION_COMPLETION, [])
-              for lane in a.graph.node_subscribes[a.graph.node_index[node]]}
-    lanes_of = channel_lanes(a.graph)
-    moving = set(regions)
-    for g in a.e2:
-        partners = {y2 if y1 in regions else y1 for y1, y2 in g.pairs if y1 in regions or y2 in regions} - moving
-        if not partners:
-            continue  # no region competes here, or its partners are known to move already
-        v = a.graph.channel_vertex(g.channel)
-        if v is not None and v not in sensed and sensed.intersection(downstream(a.graph, v, lanes_of, blocked)):
-            moving |= partners
-    return moving
 
 
 #: kinds of expected feedback (``E1Finding.expected``) and what each means
 ACTION_FEEDBACK = "action completion"
 REGION_FEEDBACK = "region completion"
-LOCATION_FEEDBACK = "location sensing"
+DECLARED_FEEDBACK = "declared in the mapping"
 
 
-def expected_feedback(output: str, input: str, outputs: Collection[str], motion: Collection[str] = ()) -> str:
-    """The kind of designed feedback of the activation-completion paradigm ([75], thesis 4.3) that
-    ``output`` reaching ``input`` is, or '' when it is a finding.
+def expected_feedback(output: str, input: str, declared: Iterable[tuple[str, str, int]] = ()) -> str:
+    """The kind of designed feedback that ``output`` reaching ``input`` is, or '' when it is a finding.
 
+    Exactly the activation-completion pairs of [75] (thesis 4.3), plus what the user declares:
     - ``ACTION_FEEDBACK``: ``X`` -> ``X_ac``, the action reports its own completion (thesis Fig. 3.6
       calls this connection desirable);
     - ``REGION_FEEDBACK``: ``R`` -> ``R_rc``, heading for region R, the robot's own location sensing
       reports its arrival;
-    - ``LOCATION_FEEDBACK``: a motion output (``motion_outputs``) -> ``S_rc`` of a region S: moving
-      the robot changes where it is, which is what the region sensors report (the region topology
-      assumptions of the spec say how the completions follow the activations).
-    Anything else, e.g. an output that disables a camera an input reads (thesis 3.5.2.2), is a finding.
+    - ``DECLARED_FEEDBACK``: a pair the mapping's ``expected_feedback:`` matches (output pattern, input
+      pattern), e.g. a robot whose every motion output reaches every region sensor through a simulator.
+    Anything else — a motion output reaching another region's sensor included — is a finding.
     """
     if input == output + ACTION_COMPLETION:
         return ACTION_FEEDBACK
     if input == output + REGION_COMPLETION:
         return REGION_FEEDBACK
-    if input.endswith(REGION_COMPLETION) and input[:-len(REGION_COMPLETION)] in outputs and output in motion:
-        return LOCATION_FEEDBACK
+    if any(fnmatchcase(output, o) and fnmatchcase(input, i) for o, i, _ in declared):
+        return DECLARED_FEEDBACK
     return ""
 
 
@@ -360,8 +338,8 @@ def feedback_reason(f: E1Finding) -> str:
         return f"{f.input} reports the completion of the action {f.output}"
     if f.expected == REGION_FEEDBACK:
         return f"{f.input} reports the robot's arrival in region {f.output}"
-    if f.expected == LOCATION_FEEDBACK:
-        return f"{f.output} moves the robot; {f.input} is the robot's own location sensing"
+    if f.expected == DECLARED_FEEDBACK:
+        return f"the mapping declares {f.output} -> {f.input} expected feedback"
     return ""
 
 

@@ -1,7 +1,7 @@
 """Reports of a graph analysis: readable text, Markdown tables like the thesis figures, and JSON."""
 from __future__ import annotations
 
-from ltl_stack.analysis.checks import LOCATION_FEEDBACK, Analysis, E1Finding, feedback_reason, reach_listing
+from ltl_stack.analysis.checks import DECLARED_FEEDBACK, Analysis, E1Finding, feedback_reason, reach_listing
 from ltl_stack.analysis.graph import ACTION
 from ltl_stack.analysis.reach import PUBLISH, SUBSCRIBE
 from ltl_stack.analysis.suggest import MutualExclusion
@@ -16,8 +16,8 @@ CHECKS = {
     "P1": "Input proposition topics with other publishers than the input's node (thesis 3.5.1)",
 }
 IN_SPEC_NOTE = "[already guaranteed by the spec: adding it changes nothing]"
-FEEDBACK_TITLE = ("Expected feedback, not findings: completions and the robot's own location sensing "
-                  "(activation-completion [75])")
+FEEDBACK_TITLE = ("Expected feedback, not findings: activation-completion pairs [75] and what the mapping "
+                  "declares")
 
 
 def suggestion_forms(s: MutualExclusion) -> dict:
@@ -177,19 +177,19 @@ def _channel_text(f) -> str:
 
 
 def feedback_lines(pairs: list[E1Finding]) -> list[str]:
-    """Expected feedback: completion pairs one by one with their chain; the location sensing
-    (motion outputs reaching the region sensors) folded per output, one chain each."""
+    """Expected feedback: completion pairs one by one with their chain; the pairs the mapping declares
+    folded per output, one chain each."""
     lines = []
     for f in pairs:
-        if f.expected != LOCATION_FEEDBACK:
+        if f.expected != DECLARED_FEEDBACK:
             lines += [f"{f.output} -> {f.input}: {feedback_reason(f)}", f"  {f.witness.text}"]
-    location: dict[str, list[E1Finding]] = {}
+    declared: dict[str, list[E1Finding]] = {}
     for f in pairs:
-        if f.expected == LOCATION_FEEDBACK:
-            location.setdefault(f.output, []).append(f)
-    if location:
-        lines.append("location sensing: these outputs move the robot, the region sensors report where it is")
-        for output, fs in location.items():
+        if f.expected == DECLARED_FEEDBACK:
+            declared.setdefault(f.output, []).append(f)
+    if declared:
+        lines.append("declared in the mapping (expected_feedback):")
+        for output, fs in declared.items():
             lines += [f"  {output} -> {', '.join(f.input for f in fs)}", f"    {fs[0].witness.text}"]
     return lines
 

@@ -46,7 +46,7 @@ OUTPUT = "output"
 _TOPIC_KEY = {INPUT: "node_publish_topic", OUTPUT: "node_subscribe_topic"}
 _ENTRY_KEYS = {"node", "node_publish_topic", "node_subscribe_topic", "pkg", "filename", "parameters",
                "type", "args"}
-_TOP_KEYS = {"inputs", "outputs", "namespace", "negotiation"}
+_TOP_KEYS = {"inputs", "outputs", "namespace", "negotiation", "expected_feedback"}
 _NAME = re.compile(r"^/?[A-Za-z_~][A-Za-z0-9_/]*$")
 
 
@@ -113,6 +113,9 @@ class Mapping:
     #: the ``negotiation:`` section as written (proposition classes, read by ``runtime.negotiation``)
     negotiation: Any = None
     negotiation_line: int = 0
+    #: ``expected_feedback:`` — (output pattern, input pattern, line): E1 pairs the user declares designed
+    #: feedback, beyond the activation-completion pairs (shell patterns on proposition names)
+    expected_feedback: list[tuple[str, str, int]] = field(default_factory=list)
 
     def entries(self) -> list[NodeEntry]:
         """Every node entry, inputs first."""
@@ -164,7 +167,7 @@ def parse_mapping(text: str, file: str = "<string>") -> Mapping:
     for key, (key_line, _) in top.items():
         if key not in _TOP_KEYS:
             raise MappingError(file, key_line, f"unknown top-level key {key!r} (expected inputs, outputs, namespace, "
-                               "negotiation)")
+                               "negotiation, expected_feedback)")
     if "namespace" in top:
         ns = data["namespace"]
         if not isinstance(ns, str) or not _NAME.match(ns):
@@ -172,6 +175,8 @@ def parse_mapping(text: str, file: str = "<string>") -> Mapping:
         mapping.namespace = ns
     if "negotiation" in top:
         mapping.negotiation, mapping.negotiation_line = data["negotiation"], top["negotiation"][0]
+    if "expected_feedback" in top:
+        mapping.expected_feedback = _expected_feedback(file, *top["expected_feedback"], data["expected_feedback"])
     for kind, key in ((INPUT, "inputs"), (OUTPUT, "outputs")):
         if key not in top or data[key] is None:
             continue
@@ -200,6 +205,24 @@ def parse_mapping(text: str, file: str = "<string>") -> Mapping:
                                    f"got {type(value).__name__}")
             entries += [_entry(file, kind, prop, item, node) for item, node in items]
     return mapping
+
+
+def _expected_feedback(file: str, line: int, node: yaml.Node, value: Any) -> list[tuple[str, str, int]]:
+    """``expected_feedback: {output: input | [inputs]}`` (shell patterns) → (output, input, line) pairs."""
+    if value is None:
+        return []
+    if not isinstance(node, yaml.MappingNode) or not isinstance(value, dict):
+        raise MappingError(file, line, "expected_feedback: must map an output (pattern) to the input(s) it is "
+                                       "expected to reach")
+    pairs = []
+    for output, (out_line, _) in _keyed_nodes(node, file).items():
+        inputs = value[output]
+        inputs = [inputs] if isinstance(inputs, str) else inputs
+        if not isinstance(inputs, list) or not inputs or not all(isinstance(i, str) and i for i in inputs):
+            raise MappingError(file, out_line, f"expected_feedback: {output!r} must name an input or a list of "
+                                               "inputs (patterns allowed)")
+        pairs += [(output, i, out_line) for i in inputs]
+    return pairs
 
 
 def _entry(file: str, kind: str, prop: str, value: Any, node: yaml.Node) -> NodeEntry:
@@ -374,6 +397,11 @@ def format_mapping(mapping: Mapping) -> str:
         for prop, entries in section.items():
             items = [_entry_dict(e) for e in entries]
             data[key][prop] = None if not items else items[0] if len(items) == 1 else items
+    if mapping.expected_feedback:
+        declared: dict[str, list[str]] = {}
+        for output, input_, _ in mapping.expected_feedback:
+            declared.setdefault(output, []).append(input_)
+        data["expected_feedback"] = declared
     return yaml.safe_dump(data, sort_keys=False, default_flow_style=False, allow_unicode=True)
 
 

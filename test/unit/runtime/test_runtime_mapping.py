@@ -262,3 +262,15 @@ def test_a_proposition_written_twice_is_one_proposition_with_both_nodes():
     assert [e.line for e in mapping.outputs["pickup"]] == [3, 7]
     assert mapping.lines[("output", "pickup")] == 2
 
+
+
+def test_expected_feedback_is_read_checked_and_written_back():
+    text = "expected_feedback:\n  stop: '*_rc'\n  topLane: [topLane_rc, leftLane_rc]\noutputs:\n  stop:\n    node: s\n"
+    mapping = parse_mapping(text, "m.yaml")
+    assert mapping.expected_feedback == [("stop", "*_rc", 2), ("topLane", "topLane_rc", 3),
+                                         ("topLane", "leftLane_rc", 3)]
+    again = parse_mapping(format_mapping(mapping), "again.yaml")
+    assert [p[:2] for p in again.expected_feedback] == [p[:2] for p in mapping.expected_feedback]
+    with pytest.raises(MappingError) as err:
+        parse_mapping("expected_feedback:\n  stop: 3\n", "bad.yaml")
+    assert "bad.yaml:2" in str(err.value) and "must name an input" in str(err.value)
