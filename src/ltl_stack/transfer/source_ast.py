@@ -124,7 +124,8 @@ class SourceFile:
         return self._self_bindings.get((self.class_of(node), node.attr), [])
 
     def calls_of(self, function: ast.FunctionDef | ast.AsyncFunctionDef) -> list[ast.Call]:
-        """Calls of a function by its name (``f(...)``, ``self.f(...)``): only when the name is defined once."""
+        """Calls of a function by its name (``f(...)``; a method: ``self.f(...)``, ``client.f(...)``), only
+        when the name is defined once in the program."""
         if len(self.functions.get(function.name, [])) != 1:
             return []
         is_method = isinstance(self.parents.get(function), ast.ClassDef)
@@ -133,7 +134,7 @@ class SourceFile:
             if not isinstance(node, ast.Call):
                 continue
             if (not is_method and isinstance(node.func, ast.Name) and node.func.id == function.name) or \
-                    (is_method and _is_self_attribute(node.func) and node.func.attr == function.name):
+                    (is_method and isinstance(node.func, ast.Attribute) and node.func.attr == function.name):
                 calls.append(node)
         return calls
 

@@ -100,6 +100,20 @@ def _without_unresolved_scopes(src: SourceFile, joints: JointTrajectoryUse, repo
     if not unclean:
         return joints
     kept = {span for scope, _, _, span in joints.members if scope in unclean and span is not None}
+    # literals such a scope computes its arrays from ([NAMES[i] for i in order]) are kept too
+    arrays = {span for *_, span in joints.members if span is not None}
+    read = set()
+    for scope in unclean:
+        for node in ast.walk(scope):
+            if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load) and src.scope_of(node) is scope:
+                read |= {src.span(v) for v in src.bindings(node)} & arrays
+    if read - kept:
+        report.unresolved.append(Unresolved(
+            "joint lists", min(sp.line for sp in read - kept),
+            f"kept: the lists at line(s) {', '.join(str(sp.line) for sp in sorted(read - kept, key=lambda x: x.start))} "
+            "are also read by code whose joint arrays are computed; retargeting them would change what that code "
+            "commands"))
+    kept |= read
     for scope in unclean:
         where = f"{scope.name}()" if hasattr(scope, "name") else "module level"
         bad = sorted({line for s, _, line, span in joints.members if s is scope and span is None})

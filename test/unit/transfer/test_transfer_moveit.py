@@ -77,3 +77,24 @@ def test_arrays_that_would_differ_in_length_are_refused_naming_the_lines():
     message = str(err.value)
     assert "joint arrays of different lengths at module level" in message, message
     assert "line 3 joint_names: 8" in message and "line 5 velocities: 5" in message, message
+
+
+def test_literals_that_computed_arrays_read_are_kept():
+    """A function that reorders the module's joint lists ([NAMES[i] for i in order]) would command other
+    joints if those lists were retargeted: they are kept, and said so."""
+    code = textwrap.dedent("""\
+        from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
+        NAMES = ['shoulder_pan_joint', 'shoulder_lift_joint', 'elbow_joint',
+                 'wrist_1_joint', 'wrist_2_joint', 'wrist_3_joint']
+        Q1 = [2.2, 0, -1.57, 0, 0, 0]
+        def move(traj):
+            traj.joint_names = NAMES
+            traj.points = [JointTrajectoryPoint(positions=Q1, velocities=[0] * 6)]
+        def move_disordered(traj, order):
+            traj.joint_names = [NAMES[i] for i in order]
+            traj.points = [JointTrajectoryPoint(positions=[Q1[i] for i in order], velocities=[0] * 6)]
+    """)
+    result = transfer("disordered.py", "ur5", "pr2", code)
+    assert result.text == code
+    assert (2, "joint lists") in unresolved(result) and (9, "joint trajectory in move_disordered()") in \
+        unresolved(result), result.report.unresolved
