@@ -18,6 +18,7 @@ docs/benchmarks/transfer.md (section "Real programs").
 """
 from __future__ import annotations
 
+import json
 import os
 import re
 import shutil
@@ -32,6 +33,7 @@ ROOT = Path(__file__).resolve().parents[2]
 SHARED = ROOT.parent / "shared"
 OUT = ROOT / "docs" / "benchmarks" / "transfer.md"
 SECTION = "## Real programs (issue 26)"
+BASELINE = "3ac2d30"   # the transfer before issue 26
 
 # (program path under PROGRAMS, source robot, target robot)
 RUNS = [
@@ -129,11 +131,12 @@ def run(programs: Path, path: str, source: str, target: str) -> dict:
     silent = [line for line in api_lines(text) if line not in mentioned]
     everything = "Everything was resolved." in report.to_text()
     rewritten = [f"{c.original}->{c.replacement}" for c in report.channels if c.changed]
-    return {**row, "outcome": "written", "python": report.python, "seconds": seconds,
+    python = getattr(report, "python", "3")   # the baseline peer has no Python 2 reader
+    return {**row, "outcome": "written", "python": python, "seconds": seconds,
             "channels": rewritten, "parameters": report.parameters_replaced,
             "unresolved": len(report.unresolved), "silent": silent,
             "wrong_resolved": everything and bool(silent),
-            "compiles": compiles(result.text, report.python, file.name)}
+            "compiles": compiles(result.text, python, file.name)}
 
 
 def table(rows: list[dict]) -> str:
@@ -150,10 +153,27 @@ def table(rows: list[dict]) -> str:
     return "\n".join(out)
 
 
+def baseline_rows(programs: Path, commit: str) -> list[dict] | None:
+    """The same runs with the transfer package of ``commit`` (``git archive`` into a temporary folder,
+    run in a child process): the version before issue 26, as a second peer."""
+    with tempfile.TemporaryDirectory() as folder:
+        archive = subprocess.run(["git", "-C", str(ROOT), "archive", commit, "src"], capture_output=True, check=False)
+        if archive.returncode:
+            return None
+        subprocess.run(["tar", "-x", "-C", folder], input=archive.stdout, check=True)
+        env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(Path(folder) / "src"), os.environ.get("PYTHONPATH", "")]))
+        done = subprocess.run([sys.executable, __file__, str(programs), "--json-rows"], capture_output=True,
+                              text=True, env=env, check=False)
+        return json.loads(done.stdout) if done.returncode == 0 else None
+
+
 def main(argv: list[str]) -> int:
     args = [a for a in argv if not a.startswith("--")]
     programs = Path(args[0] if args else os.environ.get("LTL_REAL_PROGRAMS", "/work/real_programs"))
     rows = [run(programs, *r) for r in RUNS]
+    if "--json-rows" in argv:
+        print(json.dumps(rows, default=str))
+        return 0
     written = [r for r in rows if r["outcome"] == "written"]
     summary = (f"{len(rows)} runs over {len({r['program'] for r in rows})} programs: {len(written)} written, "
                f"{sum(r['outcome'].startswith('refused') for r in rows)} refused, "
@@ -163,6 +183,14 @@ def main(argv: list[str]) -> int:
                f"wrong 'Everything was resolved' claims: {sum(r['wrong_resolved'] for r in written)}; "
                f"API lines the report does not mention: {sum(len(r['silent']) for r in written)}")
     text = table(rows)
+    baseline = baseline_rows(programs, BASELINE)
+    if baseline is not None:
+        old = [r for r in baseline if r["outcome"] == "written"]
+        summary += (f"\n\nPeer, the transfer before issue 26 (commit {BASELINE[:7]}), same runs: {len(old)} written, "
+                    f"{sum(r['outcome'].startswith('bad input') for r in baseline)} bad input, "
+                    f"{sum(r['compiles'].startswith('yes') for r in old)} outputs compile; wrong 'Everything was "
+                    f"resolved' claims: {sum(r['wrong_resolved'] for r in old)}; API lines its report does not "
+                    f"mention: {sum(len(r['silent']) for r in old)}.")
     print(text)
     print(summary)
     if "--write" in argv:
