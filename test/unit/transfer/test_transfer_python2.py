@@ -1,8 +1,11 @@
 """Python 2 sources: tabs as Python 2 expands them, print statements, refusals naming the construct."""
+import ast
 from pathlib import Path
 
 import pytest
 from helpers import require_shared
+from hypothesis import given
+from hypothesis import strategies as st
 
 from ltl_stack.errors import InputError
 from ltl_stack.transfer.channels import find_channels
@@ -10,14 +13,13 @@ from ltl_stack.transfer.codebase import parse_stats_file
 from ltl_stack.transfer.profiles import load_profile
 from ltl_stack.transfer.python2 import expand_indentation, python2_parse_text
 from ltl_stack.transfer.source_ast import SourceFile
-from ltl_stack.transfer.transfer import transfer_program
+from ltl_stack.transfer.transfer import TransferOptions, transfer_program
 
 PY2 = Path(__file__).resolve().parents[2] / "data" / "transfer" / "py2"
 
 
 def transfer(text, source="turtlebot", target="jackal"):
     robots = require_shared("robots")
-    from ltl_stack.transfer.transfer import TransferOptions
     stats = parse_stats_file(require_shared("codebase", "channel_counts.yaml")).get(target)
     return transfer_program(text, load_profile(robots, source), load_profile(robots, target),
                             TransferOptions(stats=stats), filename="prog")
@@ -66,3 +68,26 @@ def test_python_3_syntax_errors_stay_python_3_errors():
     with pytest.raises(InputError) as err:
         SourceFile("x = (\n", "prog.py")
     assert "not valid Python" in str(err.value) and "Python 2 syntax" not in str(err.value)
+
+
+def python2_width(prefix: str) -> int:
+    """Python 2's column after an indentation: a tab moves to the next multiple of 8."""
+    column = 0
+    for ch in prefix:
+        column = (column // 8 + 1) * 8 if ch == "\t" else column + 1
+    return column
+
+
+@given(st.lists(st.text(alphabet=" \t", min_size=1, max_size=12), min_size=2, max_size=5))
+def test_every_literal_is_found_at_its_own_bytes_however_the_indentation_mixes(prefixes):
+    """Lines indented alike for Python 2 (same width after tabs are expanded to multiples of 8) form one
+    block; each line's literal is found at its own bytes, tabs and all."""
+    width = python2_width(prefixes[0])
+    block = [p for p in prefixes if python2_width(p) == width]
+    text = "import rospy\nif 1:\n" + "".join(f"{p}rospy.Publisher('t{i}', T)\n" for i, p in enumerate(block))
+    src = SourceFile(text, "mixed.py")
+    got = [(c.name.value, c.line) for c in find_channels(text)]
+    assert got == [(f"t{i}", i + 3) for i in range(len(block))]
+    literals = [n for n in ast.walk(src.tree) if isinstance(getattr(n, "value", None), str)
+                and n.value.startswith("t")]
+    assert sorted(src.segment(n) for n in literals) == sorted(f"'t{i}'" for i in range(len(block)))
