@@ -78,6 +78,9 @@ def python2_parse_text(text: str, filename: str) -> tuple[str, list[int]]:
             depth += 1
         elif tok.type == tokenize.OP and tok.string in ")]}":
             depth -= 1
+        elif tok.type == tokenize.OP and tok.string in (":", ";") and depth == 0:
+            logical_start, statement = True, None   # a simple statement may follow: if x: print "y"
+            continue
         if logical_start and tok.type == tokenize.NAME:
             if tok.string == "exec" and following is not None and following.type == tokenize.STRING:
                 raise InputError(filename, "Python 2 syntax this tool does not read: the exec statement; "

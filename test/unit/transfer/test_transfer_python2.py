@@ -47,7 +47,7 @@ def test_a_python_2_program_with_mixed_tabs_transfers_and_keeps_its_own_bytes():
 
 def test_print_statements_and_except_commas_are_read_at_their_own_positions():
     code = "import rospy\nprint 'start', rospy\ntry:\n\tpass\nexcept Exception, e:\n\tprint >>f, e\n" \
-           "pub = rospy.Publisher('scan', T)\n"
+           "pub = rospy.Publisher('scan', T)\nif pub: print 'ok'; print\ntry: pass\nexcept E: print 'no'\n"
     parsed, _ = python2_parse_text(code, "prog")
     assert [len(a) for a in parsed.splitlines()] == [len(b.expandtabs(8)) if b.startswith("\t") else len(b)
                                                      for b in code.splitlines()]
