@@ -123,7 +123,9 @@ def find_channel_sites(src: SourceFile) -> list[ChannelSite]:
             for target in node.targets:
                 if isinstance(target, ast.Attribute) and target.attr in FRAME_FIELDS:
                     kind = "own_frame" if target.attr == "child_frame_id" else "frame"
-                    sites.append(ChannelSite(ChannelUse(kind, resolve_name(src, node.value), None, node.lineno)))
+                    for subst, line in call_contexts(src, node, [node.value]):
+                        sites.append(ChannelSite(ChannelUse(kind, resolve_name(src, node.value, subst), None,
+                                                            line or node.lineno)))
             continue
         if not isinstance(node, ast.Call):
             continue

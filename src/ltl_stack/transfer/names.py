@@ -60,7 +60,7 @@ def _argument_of(src: SourceFile, function, call: ast.Call, name: str) -> ast.ex
     return defaults.get(name)
 
 
-def call_contexts(src: SourceFile, call: ast.Call, nodes: list[ast.expr | None]) -> list[tuple[Subst, int | None]]:
+def call_contexts(src: SourceFile, site: ast.AST, nodes: list[ast.expr | None]) -> list[tuple[Subst, int | None]]:
     """One context per call of the wrapper function whose parameters give these argument nodes; the
     call itself (an empty substitution) when none is a parameter."""
     params = {n.id: f for n in nodes if isinstance(n, ast.Name) and (f := _is_parameter(src, n)) is not None}

@@ -124,19 +124,28 @@ class SourceFile:
         return self._self_bindings.get((self.class_of(node), node.attr), [])
 
     def calls_of(self, function: ast.FunctionDef | ast.AsyncFunctionDef) -> list[ast.Call]:
-        """Calls of a function by its name (``f(...)``; a method: ``self.f(...)``, ``client.f(...)``), only
-        when the name is defined once in the program."""
+        """Calls of a function by its name (``f(...)``; a method: ``self.f(...)``, or ``client.f(...)`` where
+        ``client`` is bound to an instance of the method's class), only when the name is defined once."""
         if len(self.functions.get(function.name, [])) != 1:
             return []
-        is_method = isinstance(self.parents.get(function), ast.ClassDef)
+        owner = self.parents.get(function)
         calls = []
         for node in ast.walk(self.tree):
             if not isinstance(node, ast.Call):
                 continue
-            if (not is_method and isinstance(node.func, ast.Name) and node.func.id == function.name) or \
-                    (is_method and isinstance(node.func, ast.Attribute) and node.func.attr == function.name):
+            if not isinstance(owner, ast.ClassDef):
+                if isinstance(node.func, ast.Name) and node.func.id == function.name:
+                    calls.append(node)
+            elif isinstance(node.func, ast.Attribute) and node.func.attr == function.name and \
+                    (_is_self_attribute(node.func) or self._instance_of(node.func.value, owner.name)):
                 calls.append(node)
         return calls
+
+    def _instance_of(self, node: ast.AST, class_name: str) -> bool:
+        """``node`` is a variable bound to ``ClassName(...)``."""
+        return isinstance(node, ast.Name) and any(
+            isinstance(v, ast.Call) and (self.qualname(v.func) or "").split(".")[-1] == class_name
+            for v in self.bindings(node))
 
     def bindings(self, name: ast.Name) -> list[ast.expr]:
         """Values assigned to ``name`` by plain ``name = value`` in its scope, else at module level."""
