@@ -328,3 +328,13 @@ def test_the_command_line_starts_without_numpy_scipy_or_yourdfpy():
             "print(sorted(m for m in ('numpy', 'scipy', 'yourdfpy') if m in sys.modules))")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
     assert done.returncode == 0 and done.stdout.strip() == "[]", done.stdout + done.stderr
+
+
+def test_keep_distances_option_and_python_2_in_the_json_report(tmp_path, capsys):
+    code = main(args(tmp_path, "py2/draw_square_py2", "turtlebot", "jackal", "--keep-distances",
+                     "--non-interactive", "--json"))
+    report = json.loads(capsys.readouterr().out)
+    assert code == Exit.NEGATIVE, report["unresolved"]   # cmd_vel_mux/input/navi: no codebase here
+    assert report["python"] == "2"
+    out = (tmp_path / "out.py").read_text()
+    assert "\tr = rospy.Rate(3.703704)\n" in out and "\tforward.linear.x = 0.148148\n" in out, out
