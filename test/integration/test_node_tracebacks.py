@@ -54,6 +54,8 @@ def test_every_node_starts_without_a_traceback(ros_master, tmp_path):
     for script, proc in started.items():
         wait_for(lambda script=script, proc=proc: own_topics(ros_master, f"/{script}_probe") or not proc.running(),
                  120, f"{script} to register a topic")
+    # a node that exits at start-up without a traceback (say, on a parameter it refuses) started nothing
+    exited = {script: proc.output()[-2000:] for script, proc in started.items() if not proc.running()}
     goal = run_script(["rosrun", "ltl_stack", "send_proposition_goal", "/timed", "--timeout", "120"],
                       capture_output=True, text=True, timeout=300, env=ros_master.env, check=False)
     assert goal.returncode == 0 and "completed=True" in goal.stdout, (goal.stdout, goal.stderr)
@@ -61,3 +63,4 @@ def test_every_node_starts_without_a_traceback(ros_master, tmp_path):
     printed = {script: proc.output() for script, proc in started.items()}
     assert not [s for s, out in printed.items() if "Traceback" in out], \
         {s: out[-2000:] for s, out in printed.items() if "Traceback" in out}
+    assert not exited, f"nodes that exited at start-up instead of serving: {exited}"
