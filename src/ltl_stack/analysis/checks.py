@@ -23,7 +23,7 @@ from collections.abc import Callable, Collection, Iterable, Sequence
 from dataclasses import dataclass, field
 from fnmatch import fnmatchcase
 
-from ltl_stack.analysis.conflicts import conflict_pairs
+from ltl_stack.analysis.conflicts import channel_lanes, conflict_pairs
 from ltl_stack.analysis.graph import ACTION, DEFAULT_MERGERS, ComputationGraph, relay_nodes
 from ltl_stack.analysis.reach import PUBLISH, SUBSCRIBE, Reach, reach
 from ltl_stack.runtime.mapping import INPUT, OUTPUT, Mapping, resolve_node_name, resolve_topics
@@ -254,7 +254,7 @@ def analyze(graph: ComputationGraph, mapping: Mapping, inputs: Sequence[str], ou
     relays = relay_nodes(graph, mergers)
     result.relays = sorted(graph.nodes[i] for i in relays)
     result.e2, result.e3 = check_conflicts(result, blocked, relays)
-    pairs = check_e1(result, blocked)
+    pairs = check_e1(result)
     result.e1 = [f for f in pairs if not f.expected]
     result.feedback = [f for f in pairs if f.expected]
     if robots:
@@ -266,14 +266,14 @@ def analyze(graph: ComputationGraph, mapping: Mapping, inputs: Sequence[str], ou
 def check_input_publishers(graph: ComputationGraph, mapping: Mapping, inputs: Sequence[str],
                            in_topics: dict[str, str], namespace: str) -> list[InputPublisherFinding]:
     """P1: input proposition topics that nodes other than the input's mapped node(s) publish on."""
+    lanes_of = channel_lanes(graph)
     found = []
     for x in inputs:
         topic = in_topics.get(x)
         v = graph.channel_vertex(topic) if topic else None
         if v is None:
             continue
-        lanes = [lane for lane, c in enumerate(graph.lane_channel) if c == v - len(graph.nodes)]
-        publishers = [graph.nodes[p] for lane in lanes for p in graph.lane_publishers[lane]]
+        publishers = [graph.nodes[p] for lane in lanes_of[v - len(graph.nodes)] for p in graph.lane_publishers[lane]]
         own = tuple(resolve_node_name(e.node, namespace) for e in mapping.inputs.get(x) or [] if e.node)
         others = tuple(sorted(set(publishers) - set(own)))
         if others and own:
@@ -281,12 +281,11 @@ def check_input_publishers(graph: ComputationGraph, mapping: Mapping, inputs: Se
     return found
 
 
-def check_e1(a: Analysis, blocked: Collection[int] = ()) -> list[E1Finding]:
+def check_e1(a: Analysis) -> list[E1Finding]:
     """Output propositions whose nodes publish-reach an input proposition node (thesis Fig. 3.6).
 
     One finding per (output, input) pair in spec order, with a chain for every (output node,
-    input node) pair that reaches; each is marked with ``expected_feedback``'s reason, if any
-    (needs ``a.e2``, so run it after ``check_conflicts``).
+    input node) pair that reaches; each is marked with ``expected_feedback``'s reason, if any.
     """
     input_nodes = [(x, [(n, a.graph.node_index[n]) for n in a.nodes.get(x, [])]) for x in a.inputs]
     found = []
