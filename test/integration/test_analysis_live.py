@@ -14,6 +14,8 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 import pytest
@@ -50,19 +52,26 @@ def wait_until_registered(master: RosMaster, expected: set, timeout: float = 60.
         raise AssertionError(f"not registered after {timeout} s: {missing}\n{logs}") from None
 
 
-@pytest.fixture(scope="module")
-def clean_and_patrol(tmp_path_factory):
-    mapping = require_shared("specs", "move_group_and_move_base", "move_group_and_move_base.yaml")
-    master = RosMaster(tmp_path_factory.mktemp("clean_and_patrol"))
+@contextmanager
+def scenario_on_a_master(tmp_path_factory, name: str) -> Iterator[RosMaster]:
+    """A master of its own with every node of test/data/analysis/<name>.yaml running and registered."""
+    master = RosMaster(tmp_path_factory.mktemp(name))
     try:
-        scenario = DATA / "clean_and_patrol.yaml"
+        scenario = DATA / f"{name}.yaml"
         for node in scenario_graph.load_scenario(scenario)["nodes"]:
             master.run([sys.executable, str(DATA / "scenario_graph.py"), str(scenario), node],
                        name=node.strip("/").replace("/", "_"))
         wait_until_registered(master, scenario_graph.expected_registrations(scenario))
-        yield master, mapping
+        yield master
     finally:
         master.shutdown()
+
+
+@pytest.fixture(scope="module")
+def clean_and_patrol(tmp_path_factory):
+    mapping = require_shared("specs", "move_group_and_move_base", "move_group_and_move_base.yaml")
+    with scenario_on_a_master(tmp_path_factory, "clean_and_patrol") as master:
+        yield master, mapping
 
 
 def test_live_snapshot_is_the_graph_the_nodes_registered(clean_and_patrol):
@@ -218,16 +227,8 @@ def test_live_fig_3_9_mapping_as_the_thesis_gui_writes_it(clean_and_patrol, tmp_
 
 @pytest.fixture(scope="module")
 def relay_and_tester(tmp_path_factory):
-    master = RosMaster(tmp_path_factory.mktemp("relay_and_tester"))
-    try:
-        scenario = DATA / "relay_and_tester.yaml"
-        for node in scenario_graph.load_scenario(scenario)["nodes"]:
-            master.run([sys.executable, str(DATA / "scenario_graph.py"), str(scenario), node],
-                       name=node.strip("/").replace("/", "_"))
-        wait_until_registered(master, scenario_graph.expected_registrations(scenario))
+    with scenario_on_a_master(tmp_path_factory, "relay_and_tester") as master:
         yield master
-    finally:
-        master.shutdown()
 
 
 def test_live_relay_conflict_and_second_input_publisher(relay_and_tester):
