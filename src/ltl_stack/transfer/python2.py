@@ -15,8 +15,13 @@ import tokenize
 
 from ltl_stack.errors import InputError
 
-#: Python 2 tokens this reader does not take, with the words that name them
-REFUSED = {"`": "backquotes (repr)", "<>": "the <> operator"}
+
+class Python2Unsupported(InputError):
+    """Python 2 syntax this reader does not take, named in one line."""
+
+    def __init__(self, file: str, what: str, line: int):
+        super().__init__(file, f"Python 2 syntax this tool does not read: {what}; convert the program (2to3) first",
+                         line)
 
 
 def expand_indentation(text: str) -> tuple[str, list[int]]:
@@ -56,19 +61,15 @@ def python2_parse_text(text: str, filename: str) -> tuple[str, list[int]]:
     depth = 0
     statement = None    # 'except' or 'raise' while inside one at bracket depth 0
     for i, tok in enumerate(tokens):
-        if tok.string in REFUSED and tok.type in (tokenize.OP, tokenize.ERRORTOKEN):
-            raise InputError(filename, f"Python 2 syntax this tool does not read: {REFUSED[tok.string]}; "
-                                       "convert the program (2to3) first", tok.start[0])
+        if tok.string == "`" and tok.type in (tokenize.OP, tokenize.ERRORTOKEN):
+            raise Python2Unsupported(filename, "backquotes (repr)", tok.start[0])
         following = tokens[i + 1] if i + 1 < len(tokens) else None
         adjacent = following is not None and following.start == tok.end
-        if adjacent and tok.string == "<" and following.string == ">":
-            raise InputError(filename, "Python 2 syntax this tool does not read: the <> operator; "
-                                       "convert the program (2to3) first", tok.start[0])
+        if adjacent and tok.string == "<" and following.string == ">":  # tokenize splits '<>'
+            raise Python2Unsupported(filename, "the <> operator", tok.start[0])
         if adjacent and tok.type == tokenize.NUMBER and (following.string in ("l", "L") or (
                 tok.string == "0" and following.type == tokenize.NUMBER and following.string.isdigit())):
-            raise InputError(filename, f"Python 2 syntax this tool does not read: the number "
-                                       f"{tok.string + following.string}; convert the program (2to3) first",
-                             tok.start[0])
+            raise Python2Unsupported(filename, f"the number {tok.string + following.string}", tok.start[0])
         if tok.type in (tokenize.NEWLINE, tokenize.INDENT, tokenize.DEDENT):
             logical_start, statement = True, None
             continue
@@ -83,8 +84,7 @@ def python2_parse_text(text: str, filename: str) -> tuple[str, list[int]]:
             continue
         if logical_start and tok.type == tokenize.NAME:
             if tok.string == "exec" and following is not None and following.type == tokenize.STRING:
-                raise InputError(filename, "Python 2 syntax this tool does not read: the exec statement; "
-                                           "convert the program (2to3) first", tok.start[0])
+                raise Python2Unsupported(filename, "the exec statement", tok.start[0])
             if tok.string == "print" and following is not None and not (
                     following.type == tokenize.OP and following.string in ("(", "=", ".", "[")):
                 end = next(t for t in tokens[i:] if t.type in (tokenize.NEWLINE, tokenize.ENDMARKER)

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 from ltl_stack.errors import InputError
 
-from .python2 import parse_python2
+from .python2 import Python2Unsupported, parse_python2
 
 #: deeper syntax trees than this are refused: real programs stay far below it, and the scanners walk
 #: some expressions recursively (``- - - 1``)
@@ -37,13 +37,13 @@ class SourceFile:
         self._shifts: list[int] | None = None   # Python 2: columns each line's indentation moved when parsed
         try:
             self.tree = parse_program(text, filename)
-        except InputError as err:
-            if "not valid Python" not in str(err):
-                raise
+        except InvalidSyntax as err:
             try:
                 self.tree, self._shifts = parse_python2(text, filename)
-            except InputError as err2:
-                raise (err2 if "Python 2 syntax" in str(err2) else err) from None
+            except Python2Unsupported:
+                raise
+            except InputError:
+                raise err from None  # not Python 2 either: Python 3's own message
             check_depth(self.tree, filename)
             self.python = "2"
         self._line_starts = [0]
@@ -161,12 +161,16 @@ def _is_self_attribute(node: ast.AST) -> bool:
     return isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name) and node.value.id == "self"
 
 
+class InvalidSyntax(InputError):
+    """A program Python 3's parser refuses (``SourceFile`` then tries it as Python 2)."""
+
+
 def parse_program(text: str, filename: str) -> ast.Module:
     """``ast.parse`` with one ``InputError`` (file:line) for invalid or absurdly nested programs."""
     try:
         tree = ast.parse(text, filename=filename)
     except SyntaxError as err:  # also IndentationError ("too many levels of indentation")
-        raise InputError(filename, f"not valid Python: {err.msg}", err.lineno or 0) from None
+        raise InvalidSyntax(filename, f"not valid Python: {err.msg}", err.lineno or 0) from None
     except (RecursionError, MemoryError):
         raise InputError(filename, "not a program this tool reads: nested too deeply for Python's parser") from None
     check_depth(tree, filename)
