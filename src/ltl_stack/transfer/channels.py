@@ -150,7 +150,7 @@ def find_channel_sites(src: SourceFile) -> list[ChannelSite]:
                                                         line or node.lineno), node))
         else:
             last = callee.split(".")[-1] if callee else getattr(node.func, "attr", "")
-            if last in UNFOLLOWED_APIS and callee not in CHANNEL_CALLS:
+            if last in UNFOLLOWED_APIS:
                 api = UNFOLLOWED_APIS[last] or "an API this tool does not know"
                 problem = f"{src.segment(node.func)}(...) is {api}; its channel is not followed"
                 sites.append(ChannelSite(ChannelUse("unknown_api", NameRef(None, problem=problem), None,
