@@ -24,7 +24,7 @@ from collections.abc import Callable, Iterable
 from typing import Any, NoReturn, TextIO
 
 from ltl_stack.errors import Exit, OutputError, UserError, exit_codes_epilog
-from ltl_stack.fileio import write_atomic
+from ltl_stack.fileio import output_refusal, write_atomic
 
 
 class ToolParser(argparse.ArgumentParser):
@@ -189,13 +189,18 @@ def _same_file(a: str, b: str) -> bool:
 
 def check_outputs(inputs: Iterable[str | os.PathLike | None], outputs: Iterable[str | os.PathLike | None]) -> None:
     """Refuse (``OutputError``, exit 2) an output path that is one of the inputs, also through links
-    or another spelling of the path, and two outputs that are one file. ``None`` entries are skipped.
+    or another spelling of the path, two outputs that are one file, and an output naming something
+    that is not a regular file or a new path (a FIFO, a device, a folder: ``output_refusal``).
+    ``None`` entries are skipped.
 
     Call before any work is written, so a refused call leaves every file as it was.
     """
     ins = [os.fspath(p) for p in inputs if p is not None]
     outs = [os.fspath(p) for p in outputs if p is not None]
     for out in outs:
+        refusal = output_refusal(out)
+        if refusal:
+            raise OutputError(f"{out}: cannot be an output: {refusal}; choose a file path")
         for inp in ins:
             if _same_file(out, inp):
                 raise OutputError(f"{out}: output would overwrite the input {inp}; choose another output path")
@@ -226,8 +231,9 @@ def write_outputs(outputs: Iterable[tuple[str | os.PathLike, str | bytes, str]])
         for path, data, what in outputs:
             target = os.fspath(path)
             raw = data.encode("utf-8") if isinstance(data, str) else data
-            if os.path.isdir(target):
-                raise OutputError(f"{target}: cannot write the {what}: it is a directory", Exit.WRITE_FAILED)
+            refusal = output_refusal(target)
+            if refusal:
+                raise OutputError(f"{target}: cannot write the {what}: {refusal}", Exit.WRITE_FAILED)
             try:
                 fd, tmp = tempfile.mkstemp(prefix=f".{os.path.basename(target)}.", dir=os.path.dirname(target) or ".")
                 staged.append((tmp, target))

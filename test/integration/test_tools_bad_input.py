@@ -8,6 +8,7 @@ file (and line), exit 2. No file is created or changed.
 """
 from __future__ import annotations
 
+import os
 import subprocess
 from pathlib import Path
 
@@ -78,6 +79,13 @@ TOOLS = {
     "controller_trace non-UTF-8 spec": (["controller_trace", "--spec", "{d}/s.slugsin"],
                                         {"s.slugsin": b"[INPUT]\n\xe9\n"}, Exit.BAD_INPUT,
                                         "{d}/s.slugsin:2: not a text spec file: not UTF-8"),
+    "controller_executor spec FIFO": (["controller_executor", "{d}/s.slugsin"], {"s.slugsin": None},
+                                      Exit.BAD_INPUT, "{d}/s.slugsin: is a FIFO (named pipe), not a regular file"),
+    "controller_executor mapping /dev/zero": (["controller_executor", "{d}/s.slugsin", "/dev/zero"],
+                                              {"s.slugsin": b"[INPUT]\na\n[OUTPUT]\nb\n"}, Exit.BAD_INPUT,
+                                              "/dev/zero: is a character device, not a regular file"),
+    "controller_trace spec /dev/zero": (["controller_trace", "--spec", "/dev/zero"], {}, Exit.BAD_INPUT,
+                                        "/dev/zero: is a character device, not a regular file"),
 }
 
 NODES = {
@@ -116,6 +124,14 @@ NODES = {
     "scripted_environment time_scale 0": (["scripted_environment", "_schedule:={d}/env.yaml", "_time_scale:=0"],
                                           {"env.yaml": GOOD_SCHEDULE.encode()},
                                           "parameter ~time_scale must be a number > 0"),
+    "scripted_environment schedule /dev/zero": (["scripted_environment", "_schedule:=/dev/zero"], {},
+                                                "/dev/zero: is a character device, not a regular file"),
+    "scripted_environment schedule FIFO": (["scripted_environment", "_schedule:={d}/env.yaml"], {"env.yaml": None},
+                                           "{d}/env.yaml: is a FIFO (named pipe), not a regular file"),
+    "region_sensor region map FIFO": (["region_sensor", "_region:=left", "_regions_file:={d}/map.regions"],
+                                      {"map.regions": None}, "{d}/map.regions: is a FIFO (named pipe), not a regular"),
+    "region_sensor region map /dev/zero": (["region_sensor", "_region:=left", "_regions_file:=/dev/zero"], {},
+                                           "/dev/zero: is a character device, not a regular file"),
     "region_sensor binary region map": (["region_sensor", "_region:=left", "_regions_file:={d}/map.regions"],
                                         {"map.regions": GOOD_REGIONS.encode() + b"\x00"},
                                         "{d}/map.regions:4: not a text regions file: it holds a NUL byte"),
@@ -142,13 +158,16 @@ def master(tmp_path_factory):
         ros.shutdown()
 
 
-def _files(folder: Path) -> dict[str, bytes]:
-    return {p.name: p.read_bytes() for p in sorted(folder.iterdir())}
+def _files(folder: Path) -> dict[str, bytes | str]:
+    return {p.name: p.read_bytes() if p.is_file() else "not a regular file" for p in sorted(folder.iterdir())}
 
 
-def _run(master: RosMaster, folder: Path, command: list[str], files: dict[str, bytes]) -> tuple:
+def _run(master: RosMaster, folder: Path, command: list[str], files: dict[str, bytes | None]) -> tuple:
     for name, data in files.items():
-        (folder / name).write_bytes(data)
+        if data is None:  # a FIFO (never read: reading it would block)
+            os.mkfifo(folder / name)
+        else:
+            (folder / name).write_bytes(data)
     before = _files(folder)
     args = [a.format(d=folder) for a in command]
     done = subprocess.run(direct_script(["rosrun", "ltl_stack", *args], master.env), env=master.env, capture_output=True, text=True,
