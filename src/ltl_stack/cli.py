@@ -13,6 +13,7 @@ Conventions (the README's "Tools" section describes them to users):
 from __future__ import annotations
 
 import argparse
+import errno
 import gc
 import json
 import math
@@ -23,6 +24,7 @@ import threading
 from collections.abc import Callable, Iterable
 from typing import Any, NoReturn, TextIO
 
+from ltl_stack import stdstreams
 from ltl_stack.errors import Exit, OutputError, UserError, exit_codes_epilog
 from ltl_stack.fileio import output_refusal, write_atomic
 
@@ -42,8 +44,11 @@ class ToolParser(argparse.ArgumentParser):
         super().__init__(prog=prog, description=description, epilog=text, **kwargs)
 
     def print_help(self, file: TextIO | None = None) -> None:
-        """Help on stdout; a closed pipe ends quietly, a full disk with one error line (exit 4)."""
+        """Help on stdout; a closed pipe ends quietly, a full disk or a closed stdout with one error
+        line (exit 4)."""
         try:
+            if file is None and stdstreams.STDOUT_CLOSED:
+                raise OSError(errno.EBADF, "standard output is closed")
             super().print_help(file)
             (file or sys.stdout).flush()
         except OSError as err:
@@ -85,12 +90,15 @@ class StdoutFailed(OSError):
 
 
 class _CheckedStdout:
-    """``sys.stdout`` while a tool runs (``run``): a failed write or flush raises ``StdoutFailed``."""
+    """``sys.stdout`` while a tool runs (``run``): a failed write or flush raises ``StdoutFailed``,
+    and so does any write when the tool was started with its stdout closed (``tool >&-``)."""
 
     def __init__(self, stream: TextIO) -> None:
         self.stream = stream
 
     def write(self, text: str) -> int:
+        if text and stdstreams.STDOUT_CLOSED:
+            raise StdoutFailed(OSError(errno.EBADF, "standard output is closed"))
         try:
             return self.stream.write(text)
         except OSError as err:
@@ -285,6 +293,8 @@ def _number(text: str, kind: type, minimum: float, strict: bool) -> float | int:
             value = None
     if value is None or not math.isfinite(value) or value < minimum or (strict and value == minimum):
         raise argparse.ArgumentTypeError(f"{_shown(text)} is not {word} {bound}")
+    if abs(value) >= 10 ** MAX_OPTION_DIGITS:
+        raise argparse.ArgumentTypeError(f"{_shown(text)} has more than {MAX_OPTION_DIGITS} digits")
     return value
 
 

@@ -13,7 +13,7 @@ import subprocess
 from pathlib import Path
 
 import pytest
-from helpers import RosMaster, closed_port, direct_script, run_script, wait_for
+from helpers import REPO_ROOT, RosMaster, closed_port, direct_script, run_script, wait_for
 
 from ltl_stack.errors import Exit
 
@@ -93,6 +93,13 @@ NODES = {
                                               "parameter ~duration must be a number >= 0"),
     "timed_proposition_server rate 0": (["timed_proposition_server", "_feedback_rate:=0"], {},
                                         "parameter ~feedback_rate must be a number > 0"),
+    "timed_proposition_server duration of 5000 digits": (["timed_proposition_server", f"_duration:={LONG}"], {},
+                                                         "parameter ~duration must be a number of at most 18 digits, "
+                                                         "got one of 5000 digits"),
+    "timed_proposition_server duration of 22 digits": (["timed_proposition_server", "_duration:=" + "1" * 22], {},
+                                                       "parameter ~duration must be a number of at most 18 digits"),
+    "timed_proposition_server duration 1e19": (["timed_proposition_server", "_duration:=1e19"], {},
+                                               "parameter ~duration must be a number of at most 18 digits"),
     "timed_proposition_server illegal action": (["timed_proposition_server", "_action:=bad-name"], {},
                                                 "parameter ~action must be a legal ROS name"),
     "scripted_environment binary schedule": (["scripted_environment", "_schedule:={d}/env.yaml"],
@@ -234,3 +241,33 @@ def test_master_uri_of_a_node_is_refused_not_waited_on(master, tmp_path, tool):
         assert "Traceback" not in done.stderr + done.stdout
     finally:
         node.stop()
+
+
+SCRIPTS = sorted(p.name for p in (REPO_ROOT / "scripts").iterdir() if p.is_file())
+
+
+def test_every_script_is_covered():
+    assert len(SCRIPTS) >= 25 and "synthesize" in SCRIPTS and "story_environment" in SCRIPTS, SCRIPTS
+
+
+@pytest.mark.parametrize("tool", SCRIPTS)
+def test_help_of_every_script_with_stdout_closed_is_one_error_line_and_exit_4(master, tool, tmp_path):
+    """``tool --help >&-``: no traceback, one line saying stdout is closed, exit 4 (as for a full disk)."""
+    command = ["bash", "-c", 'exec "$@" >&-', "bash", *direct_script(["rosrun", "ltl_stack", tool, "--help"],
+                                                                    master.env)]
+    done = subprocess.run(command, env=master.env, stderr=subprocess.PIPE, text=True, timeout=300, cwd=tmp_path)
+    assert "Traceback" not in done.stderr, done.stderr[-3000:]
+    assert (done.returncode, done.stderr) == (Exit.WRITE_FAILED, f"{tool}: error: cannot write the output: "
+                                                                 "standard output is closed\n"), done.stderr[-2000:]
+
+
+@pytest.mark.parametrize("case", list(NODES)[:3])
+def test_a_node_with_stdout_closed_still_gives_its_one_fatal_line(master, tmp_path, case):
+    command, files, message = NODES[case]
+    args = [a.format(d=tmp_path) for a in [*command, f"__name:=closed{list(NODES).index(case)}"]]
+    done = subprocess.run(["bash", "-c", 'exec "$@" >&-', "bash",
+                           *direct_script(["rosrun", "ltl_stack", *args], master.env)],
+                          env=master.env, stderr=subprocess.PIPE, text=True, timeout=300, cwd=tmp_path)
+    assert done.returncode == Exit.BAD_INPUT, (done.returncode, done.stderr[-2000:])
+    fatal = [line for line in done.stderr.splitlines() if "[FATAL]" in line]
+    assert len(fatal) == 1 and message in fatal[0] and "Traceback" not in done.stderr, done.stderr[-2000:]

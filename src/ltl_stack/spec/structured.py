@@ -76,6 +76,11 @@ class _Token:
         self.column = column
 
 
+#: digits of a number in a formula or a declaration (integer ranges are far smaller; Python refuses to
+#: convert more than 4300 digits)
+MAX_NUMBER_DIGITS = 18
+
+
 def tokenize(line: Line, names: Names) -> list[_Token]:
     out: list[_Token] = []
     text = line.text
@@ -88,6 +93,8 @@ def tokenize(line: Line, names: Names) -> list[_Token]:
             raise names.error(position + 1, f"unexpected character {char!r}{hint}")
         if m.lastgroup != "space":
             word = m.group()
+            if m.lastgroup == "number" and len(word) > MAX_NUMBER_DIGITS:
+                raise names.error(position + 1, f"a number of {len(word)} digits (at most {MAX_NUMBER_DIGITS})")
             out.append(_Token(m.lastgroup, _SPELLING.get(word, word), position + 1))
         position = m.end()
     return out
