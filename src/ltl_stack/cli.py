@@ -32,8 +32,9 @@ from ltl_stack.fileio import output_refusal, write_atomic
 class ToolParser(argparse.ArgumentParser):
     """``argparse.ArgumentParser`` whose epilog lists the tool's exit codes from the one table.
 
-    Usage errors print ``usage`` and ``<tool>: error: …`` and exit ``Exit.BAD_INPUT`` (argparse's
-    own 2), ``--help`` prints help and exits 0 without doing anything else.
+    A usage error is one line ``<tool>: error: … (see <tool> --help)`` on stderr and exit
+    ``Exit.BAD_INPUT`` (argparse's own 2; its usage block is left out: every error is one line),
+    ``--help`` prints help and exits 0 without doing anything else.
     """
 
     def __init__(self, prog: str, description: str, exit_codes: Iterable[Exit] = (), epilog: str = "",
@@ -42,6 +43,10 @@ class ToolParser(argparse.ArgumentParser):
         text = (epilog + "\n\n" if epilog else "") + exit_codes_epilog(*codes)
         kwargs.setdefault("formatter_class", argparse.RawDescriptionHelpFormatter)
         super().__init__(prog=prog, description=description, epilog=text, **kwargs)
+
+    def error(self, message: str) -> NoReturn:
+        """A usage error: one line on stderr, exit 2."""
+        self.exit(int(Exit.BAD_INPUT), f"{self.prog}: error: {message} (see {self.prog} --help)\n")
 
     def print_help(self, file: TextIO | None = None) -> None:
         """Help on stdout; a closed pipe ends quietly, a full disk or a closed stdout with one error

@@ -84,6 +84,11 @@ TOOLS = {
     "controller_executor mapping /dev/zero": (["controller_executor", "{d}/s.slugsin", "/dev/zero"],
                                               {"s.slugsin": b"[INPUT]\na\n[OUTPUT]\nb\n"}, Exit.BAD_INPUT,
                                               "/dev/zero: is a character device, not a regular file"),
+    "controller_executor mapping misfit": (["controller_executor", "{d}/s.slugsin", "{d}/m.yaml"],
+                                           {"s.slugsin": b"[INPUT]\na\n[OUTPUT]\nb\n",
+                                            "m.yaml": b"inputs:\n  nosuch: {node: /x}\n  other: {node: /y}\n"},
+                                           Exit.BAD_INPUT, "{d}/m.yaml:2: input 'nosuch' is not a proposition of the "
+                                                           "spec (its inputs: a) (and 1 more mapping errors)"),
     "controller_trace spec /dev/zero": (["controller_trace", "--spec", "/dev/zero"], {}, Exit.BAD_INPUT,
                                         "/dev/zero: is a character device, not a regular file"),
 }
@@ -190,7 +195,10 @@ def test_tool_bad_input_one_error_and_exit_code(master, tmp_path, case):
     assert done.returncode == code, (done.returncode, done.stdout[-1000:], done.stderr[-2000:])
     errors = [line for line in (done.stdout + done.stderr).splitlines() if "error:" in line.lower()]
     assert len(errors) == 1, done.stderr[-2000:]
-    assert errors[0].startswith(f"{tool}: error: ") and message.format(d=tmp_path) in errors[0], errors
+    # no continuation line: every line is the tool's own (progress, or the one error)
+    assert all(line.startswith(f"{tool}: ") for line in done.stderr.splitlines()), done.stderr[-2000:]
+    assert errors[0].startswith(f"{tool}: error: ") and errors[0].count("error:") == 1, errors
+    assert message.format(d=tmp_path) in errors[0], errors
     assert "Traceback" not in done.stderr + done.stdout, done.stderr[-3000:]
     assert _files(tmp_path) == before
 

@@ -116,7 +116,7 @@ def test_special_files_are_refused_with_one_error_line(folder, case):
     assert done.returncode == code, (done.returncode, done.stderr[-2000:])
     lines = done.stderr.splitlines()
     errors = [line for line in lines if "error:" in line]
-    assert len(errors) == 1 and errors[0].startswith(f"{tool}: error: "), lines
+    assert len(errors) == 1 and lines == errors and errors[0].startswith(f"{tool}: error: "), lines
     assert message.format(d=folder) in errors[0], (message.format(d=folder), errors[0])
     assert "Traceback" not in done.stderr + done.stdout, done.stderr[-3000:]
     assert _state(folder) == before

@@ -116,3 +116,42 @@ def test_the_readme_says_what_the_input_nodes_allow_for_a_zero_rate():
     assert rate.bound is Bound.NON_NEGATIVE and "0: only on change" in rate.doc and coerce_param(rate, 0) == 0
     readme = " ".join((REPO_ROOT / "README.md").read_text().split())
     assert "an input node's `_rate:=0` is allowed: it publishes only on change" in readme
+
+
+MISFIT = "inputs:\n  person: {node: /p}\n  nosuch: {node: /n}\noutputs:\n  other: {node: /o}\n"
+SPEC_OF = "[INPUT]\nperson\n[OUTPUT]\nstop\n[SYS_TRANS]\n{}\n"
+
+# case: (arguments, files {name: text}, the whole of stderr: one line)
+ONE_LINE = {
+    "generate_launch mapping misfit": (["generate_launch", "m.yaml", "--spec", "s.structuredslugs"],
+                                       {"m.yaml": MISFIT, "s.structuredslugs": SPEC_OF.format("stop'")},
+                                       "generate_launch: error: m.yaml:3: input 'nosuch' is not a proposition of the "
+                                       "spec (its inputs: person) (and 1 more mapping errors)"),
+    "analyze_graph mapping misfit": (["analyze_graph", "--spec", "s.structuredslugs", "--mapping", "m.yaml",
+                                      "--snapshot", "snap.yaml"],
+                                     {"m.yaml": MISFIT, "s.structuredslugs": SPEC_OF.format("stop'"),
+                                      "snap.yaml": "nodes: [/p]\n"},
+                                     "analyze_graph: error: m.yaml:3: input 'nosuch' is not a proposition of the "
+                                     "spec (its inputs: person) (and 1 more mapping errors)"),
+    "synthesize =>": (["synthesize", "s.structuredslugs"], {"s.structuredslugs": SPEC_OF.format("person' => stop'")},
+                      "synthesize: error: s.structuredslugs:6:1: 'person' is a Boolean proposition; only integer "
+                      "variables (name:lo...hi) can be compared or added; for 'implies' write '->' (not '=>')"),
+    "synthesize = between propositions": (
+        ["synthesize", "s.structuredslugs"], {"s.structuredslugs": SPEC_OF.format("stop' = person'")},
+        "synthesize: error: s.structuredslugs:6:1: 'stop' is a Boolean proposition; only integer variables "
+        "(name:lo...hi) can be compared or added; for 'if and only if' between propositions write '<->'"),
+    "synthesize == between propositions": (
+        ["synthesize", "s.structuredslugs"], {"s.structuredslugs": SPEC_OF.format("(stop == person)")},
+        "synthesize: error: s.structuredslugs:6:2: 'stop' is a Boolean proposition; only integer variables "
+        "(name:lo...hi) can be compared or added; for 'if and only if' between propositions write '<->'"),
+}
+
+
+@pytest.mark.parametrize("case", list(ONE_LINE))
+def test_every_error_is_exactly_one_line_on_stderr(case, tmp_path):
+    args, files, line = ONE_LINE[case]
+    for name, text in files.items():
+        (tmp_path / name).write_text(text)
+    done = run(args, tmp_path)
+    assert done.returncode == Exit.BAD_INPUT, (done.returncode, done.stderr[-2000:])
+    assert done.stderr.splitlines() == [line], done.stderr[-2000:]
