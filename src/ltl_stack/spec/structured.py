@@ -199,6 +199,8 @@ def _operator_hint(tokens: list[_Token], i: int) -> str:
     after = tokens[i + 1] if i + 1 < len(tokens) else None
     if op.text == "=" and after is not None and after.text == ">" and after.column == op.column + 1:
         return "; for 'implies' write '->' (not '=>')"
+    if after is None or after.kind != "name":  # compared with a number: no Boolean operator meant
+        return ""
     if op.text == "=":
         return "; for 'if and only if' between propositions write '<->'"
     if op.text == ">=":
