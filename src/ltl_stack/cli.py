@@ -276,6 +276,11 @@ def write_outputs(outputs: Iterable[tuple[str | os.PathLike, str | bytes, str]])
 MAX_OPTION_DIGITS = 18
 
 
+#: the smallest positive time or rate an option takes (ROS' clock counts nanoseconds; the inverse
+#: of a smaller rate overflows it)
+SMALLEST_OPTION = 1e-9
+
+
 def _shown(text: str) -> str:
     return repr(text if len(text) <= 24 else text[:20] + "…")
 
@@ -300,6 +305,9 @@ def _number(text: str, kind: type, minimum: float, strict: bool) -> float | int:
         raise argparse.ArgumentTypeError(f"{_shown(text)} is not {word} {bound}")
     if abs(value) >= 10 ** MAX_OPTION_DIGITS:
         raise argparse.ArgumentTypeError(f"{_shown(text)} has more than {MAX_OPTION_DIGITS} digits")
+    if kind is float and 0 < value < SMALLEST_OPTION:
+        raise argparse.ArgumentTypeError(f"{_shown(text)} is not 0 and below {SMALLEST_OPTION:g} (a time or rate "
+                                         "that small is 0 for ROS' clock)")
     return value
 
 

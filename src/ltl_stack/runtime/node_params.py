@@ -73,6 +73,8 @@ class Param:
 #: longer integers overflow ROS' XML-RPC or Python's 4300-digit conversion limit)
 MAX_DIGITS = 18
 _LIMIT = 10.0 ** MAX_DIGITS
+#: the smallest positive rate, duration or scale (ROS' clock counts nanoseconds)
+SMALLEST = 1e-9
 _LONG_INTEGER = re.compile(rf"^\s*[+-]?\d{{{MAX_DIGITS + 1},}}\s*$")
 _PARAM_ARG = re.compile(r"^_(?P<name>[^:=]+):=(?P<value>.*)$", re.DOTALL)
 
@@ -176,6 +178,9 @@ def _convert(param: Param, want: type | None, value: Any, node: str) -> Any:
 
 def _check_value(param: Param, value: Any, node: str) -> None:
     if isinstance(value, int | float) and not isinstance(value, bool):
+        if param.bound is not Bound.ANY and 0 < value < SMALLEST:
+            raise _fail(param, node, f"must be 0 or at least {SMALLEST:g} (a rate or time that small is 0 for "
+                                     f"ROS' clock, its inverse infinite), got {shown(value)}")
         if param.bound is Bound.NON_NEGATIVE and not 0 <= value < math.inf:
             raise _fail(param, node, f"must be a number >= 0, got {value!r}")
         if param.bound is Bound.POSITIVE and not 0 < value < math.inf:

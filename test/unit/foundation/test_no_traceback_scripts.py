@@ -99,7 +99,7 @@ def test_a_slugs_integer_bit_with_a_long_bound_is_a_plain_proposition(tmp_path):
 
 
 @pytest.mark.parametrize("option, value", [("--timeout", "1" * 19), ("--timeout", "1e19"), ("--max-states", "9" * 19),
-                                           ("--timeout", LONG), ("--max-states", LONG)])
+                                           ("--timeout", LONG), ("--max-states", LONG), ("--timeout", "1e-300")])
 def test_over_long_option_numbers_are_one_error_line(option, value, tmp_path):
     done = run(["synthesize", str(SIMPLE / "simple.structuredslugs"), option, value], tmp_path)
     assert done.returncode == Exit.BAD_INPUT, (done.returncode, done.stderr[-2000:])
