@@ -165,3 +165,16 @@ def test_no_absolute_path_of_a_particular_machine_in_the_repository():
         found += [f"{path.relative_to(REPO_ROOT)}:{n}" for n, line in enumerate(text.splitlines(), 1)
                   if MACHINE_PATH.search(line)]
     assert not found, f"absolute paths of one machine (use paths relative to the repository): {found}"
+
+
+@pytest.mark.parametrize("bench", ["bench_explicit", "bench_resilience", "bench_cli_latency", "bench_synthesis",
+                                   "bench_transfer"])
+def test_benchmarks_find_the_shared_folder_beside_the_repository(bench):
+    """``../shared`` relative to the repository (bench_explicit and bench_resilience looked one level
+    too high, then fell back to one machine's absolute path)."""
+    tree = ast.parse((TEST_ROOT / "benchmarks" / f"{bench}.py").read_text(encoding="utf-8"))
+    shared = next(node for node in tree.body if isinstance(node, ast.Assign)
+                  and any(isinstance(t, ast.Name) and t.id == "SHARED" for t in node.targets))
+    text = ast.unparse(shared.value)
+    assert text.split(" / ")[0] in ("ROOT.parent", "REPO.parent") and "'shared'" in text, text
+    assert "if" not in text.split(), text  # no fallback
