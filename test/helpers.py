@@ -7,6 +7,7 @@ import random
 import signal
 import socket
 import subprocess
+import sys
 import time
 import xmlrpc.client
 from collections.abc import Callable, Mapping, Sequence
@@ -81,6 +82,28 @@ def wait_for(predicate: Callable[[], object], timeout: float = WAIT, what: str =
         time.sleep(interval)
 
 
+def work(fn: Callable[[], object], weigh: Callable[[object], int] | None = None) -> int:
+    """The work ``fn`` does, counted rather than timed (the machine is shared): every Python and C
+    function call made while it runs, plus ``weigh(frame)`` for each Python call (e.g. the operands an
+    n-ary node copies). Linearity is checked by comparing the work of a small and a large input."""
+    count = 0
+
+    def profile(frame, event, arg) -> None:
+        nonlocal count
+        if event == "call":
+            count += 1 + (weigh(frame) if weigh else 0)
+        elif event == "c_call":
+            count += 1
+
+    old = sys.getprofile()
+    sys.setprofile(profile)
+    try:
+        fn()
+    finally:
+        sys.setprofile(old)
+    return count
+
+
 class RosProcess:
     """A child process (a node, roslaunch, rosrun) whose output goes to a log file."""
 
@@ -114,6 +137,10 @@ class RosProcess:
         return self.popen.returncode
 
 
+#: test masters' ports start above ROS' default master port 11311, which the suite never uses
+FIRST_TEST_PORT = 11400
+
+
 def _port_range() -> range:
     """Ports for test masters: below the kernel's ephemeral range, where every node binds its own
     servers (port 0), so no node can take a master's port; one slice per pytest-xdist worker."""
@@ -125,8 +152,8 @@ def _port_range() -> range:
     worker = os.environ.get("PYTEST_XDIST_WORKER", "gw0")[2:]
     slices = 8
     index = int(worker) % slices if worker.isdigit() else 0
-    width = (low - 10000) // slices
-    start = 10000 + index * width
+    width = (low - FIRST_TEST_PORT) // slices
+    start = FIRST_TEST_PORT + index * width
     return range(start, start + width)
 
 

@@ -13,6 +13,7 @@ Conventions (the README's "Tools" section describes them to users):
 from __future__ import annotations
 
 import argparse
+import errno
 import gc
 import json
 import math
@@ -23,15 +24,17 @@ import threading
 from collections.abc import Callable, Iterable
 from typing import Any, NoReturn, TextIO
 
+from ltl_stack import stdstreams
 from ltl_stack.errors import Exit, OutputError, UserError, exit_codes_epilog
-from ltl_stack.fileio import write_atomic
+from ltl_stack.fileio import output_refusal, write_atomic
 
 
 class ToolParser(argparse.ArgumentParser):
     """``argparse.ArgumentParser`` whose epilog lists the tool's exit codes from the one table.
 
-    Usage errors print ``usage`` and ``<tool>: error: …`` and exit ``Exit.BAD_INPUT`` (argparse's
-    own 2), ``--help`` prints help and exits 0 without doing anything else.
+    A usage error is one line ``<tool>: error: … (see <tool> --help)`` on stderr and exit
+    ``Exit.BAD_INPUT`` (argparse's own 2; its usage block is left out: every error is one line),
+    ``--help`` prints help and exits 0 without doing anything else.
     """
 
     def __init__(self, prog: str, description: str, exit_codes: Iterable[Exit] = (), epilog: str = "",
@@ -41,9 +44,16 @@ class ToolParser(argparse.ArgumentParser):
         kwargs.setdefault("formatter_class", argparse.RawDescriptionHelpFormatter)
         super().__init__(prog=prog, description=description, epilog=text, **kwargs)
 
+    def error(self, message: str) -> NoReturn:
+        """A usage error: one line on stderr, exit 2."""
+        self.exit(int(Exit.BAD_INPUT), f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
     def print_help(self, file: TextIO | None = None) -> None:
-        """Help on stdout; a closed pipe ends quietly, a full disk with one error line (exit 4)."""
+        """Help on stdout; a closed pipe ends quietly, a full disk or a closed stdout with one error
+        line (exit 4)."""
         try:
+            if file is None and stdstreams.STDOUT_CLOSED:
+                raise OSError(errno.EBADF, "standard output is closed")
             super().print_help(file)
             (file or sys.stdout).flush()
         except OSError as err:
@@ -85,12 +95,15 @@ class StdoutFailed(OSError):
 
 
 class _CheckedStdout:
-    """``sys.stdout`` while a tool runs (``run``): a failed write or flush raises ``StdoutFailed``."""
+    """``sys.stdout`` while a tool runs (``run``): a failed write or flush raises ``StdoutFailed``,
+    and so does any write when the tool was started with its stdout closed (``tool >&-``)."""
 
     def __init__(self, stream: TextIO) -> None:
         self.stream = stream
 
     def write(self, text: str) -> int:
+        if text and stdstreams.STDOUT_CLOSED:
+            raise StdoutFailed(OSError(errno.EBADF, "standard output is closed"))
         try:
             return self.stream.write(text)
         except OSError as err:
@@ -189,13 +202,18 @@ def _same_file(a: str, b: str) -> bool:
 
 def check_outputs(inputs: Iterable[str | os.PathLike | None], outputs: Iterable[str | os.PathLike | None]) -> None:
     """Refuse (``OutputError``, exit 2) an output path that is one of the inputs, also through links
-    or another spelling of the path, and two outputs that are one file. ``None`` entries are skipped.
+    or another spelling of the path, two outputs that are one file, and an output naming something
+    that is not a regular file or a new path (a FIFO, a device, a folder: ``output_refusal``).
+    ``None`` entries are skipped.
 
     Call before any work is written, so a refused call leaves every file as it was.
     """
     ins = [os.fspath(p) for p in inputs if p is not None]
     outs = [os.fspath(p) for p in outputs if p is not None]
     for out in outs:
+        refusal = output_refusal(out)
+        if refusal:
+            raise OutputError(f"{out}: cannot be an output: {refusal}; choose a file path")
         for inp in ins:
             if _same_file(out, inp):
                 raise OutputError(f"{out}: output would overwrite the input {inp}; choose another output path")
@@ -226,8 +244,9 @@ def write_outputs(outputs: Iterable[tuple[str | os.PathLike, str | bytes, str]])
         for path, data, what in outputs:
             target = os.fspath(path)
             raw = data.encode("utf-8") if isinstance(data, str) else data
-            if os.path.isdir(target):
-                raise OutputError(f"{target}: cannot write the {what}: it is a directory", Exit.WRITE_FAILED)
+            refusal = output_refusal(target)
+            if refusal:
+                raise OutputError(f"{target}: cannot write the {what}: {refusal}", Exit.WRITE_FAILED)
             try:
                 fd, tmp = tempfile.mkstemp(prefix=f".{os.path.basename(target)}.", dir=os.path.dirname(target) or ".")
                 staged.append((tmp, target))
@@ -257,6 +276,11 @@ def write_outputs(outputs: Iterable[tuple[str | os.PathLike, str | bytes, str]])
 MAX_OPTION_DIGITS = 18
 
 
+#: the smallest positive time or rate an option takes (ROS' clock counts nanoseconds; the inverse
+#: of a smaller rate overflows it)
+SMALLEST_OPTION = 1e-9
+
+
 def _shown(text: str) -> str:
     return repr(text if len(text) <= 24 else text[:20] + "…")
 
@@ -279,6 +303,11 @@ def _number(text: str, kind: type, minimum: float, strict: bool) -> float | int:
             value = None
     if value is None or not math.isfinite(value) or value < minimum or (strict and value == minimum):
         raise argparse.ArgumentTypeError(f"{_shown(text)} is not {word} {bound}")
+    if abs(value) >= 10 ** MAX_OPTION_DIGITS:
+        raise argparse.ArgumentTypeError(f"{_shown(text)} has more than {MAX_OPTION_DIGITS} digits")
+    if kind is float and 0 < value < SMALLEST_OPTION:
+        raise argparse.ArgumentTypeError(f"{_shown(text)} is not 0 and below {SMALLEST_OPTION:g} (a time or rate "
+                                         "that small is 0 for ROS' clock)")
     return value
 
 

@@ -2,7 +2,8 @@
 what it should be, and bounded time and memory on hostile input.
 
 Every loader of the project (specs, mappings, snapshots, region maps, schedules, limits, URDF,
-codebase counts, saved strategies, programs) reads through these functions, so a binary file, a
+codebase counts, saved strategies, programs) reads through these functions, so a device or FIFO
+where a file should be, a file above ``MAX_INPUT_BYTES``, a binary file, a
 file that is not UTF-8, YAML whose keys are not strings, nesting deeper than any real file has, or an
 integer longer than Python converts all give the same kind of message instead of a traceback.
 """
@@ -17,10 +18,10 @@ from typing import Any
 import yaml
 
 from ltl_stack.errors import InputError
-from ltl_stack.textio import decode_text, read_text
+from ltl_stack.textio import MAX_INPUT_BYTES, decode_text, read_bytes, read_text
 
-__all__ = ["MAX_ALIASES", "MAX_DEPTH", "MAX_INT_DIGITS", "construct_yaml", "decode_text", "load_json", "load_yaml",
-           "parse_json", "parse_yaml", "parse_yaml_node", "read_text"]
+__all__ = ["MAX_ALIASES", "MAX_DEPTH", "MAX_INPUT_BYTES", "MAX_INT_DIGITS", "construct_yaml", "decode_text",
+           "load_json", "load_yaml", "parse_json", "parse_yaml", "parse_yaml_node", "read_bytes", "read_text"]
 
 #: nesting deeper than this (YAML or JSON) is refused: no file of ours needs a tenth of it, and the
 #: recursive parsers of PyYAML and json would otherwise end in RecursionError

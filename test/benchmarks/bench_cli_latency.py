@@ -1,6 +1,6 @@
 """Whole-process latency of ``synthesize`` as a user runs it, against slugs in the same run (issue 16).
 
-    python test/benchmarks/bench_cli_latency.py --slugs /root/.cache/slugs/src/src/slugs
+    python test/benchmarks/bench_cli_latency.py --slugs SLUGS
     python test/benchmarks/bench_cli_latency.py --slugs PATH --generated 1.0   # + generated members up to 1 s
     python test/benchmarks/bench_cli_latency.py --pythonpath /tmp/old/src      # an older checkout's code
 

@@ -1,6 +1,6 @@
 """Explicit strategy export vs slugs, whole process (run on demand; issue 16).
 
-    python test/benchmarks/bench_explicit.py --slugs /root/.cache/slugs/src/src/slugs [--repeat 3]
+    python test/benchmarks/bench_explicit.py --slugs SLUGS [--repeat 3]
 
 For each shared spec: ``synthesize SPEC --no-robotics-semantics --no-cooperative --slugs-json OUT``
 (slugs' default init semantics, any winning move: what slugs computes) against
@@ -35,7 +35,7 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-SHARED = ROOT.parent.parent / "shared" if (ROOT.parent.parent / "shared").is_dir() else Path("/work/shared")
+SHARED = ROOT.parent / "shared"  # the project's shared folder, beside the repository
 SPECS = SHARED / "specs"
 OUT = ROOT / "docs" / "benchmarks" / "explicit.md"
 

@@ -44,7 +44,7 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-SHARED = ROOT.parent.parent / "shared" if (ROOT.parent.parent / "shared").is_dir() else Path("/work/shared")
+SHARED = ROOT.parent / "shared"  # the project's shared folder, beside the repository
 OUT = ROOT / "docs" / "benchmarks" / "resilience.md"
 OUT_MASTER = ROOT / "docs" / "benchmarks" / "resilience_master.md"
 sys.path.insert(0, str(ROOT / "test"))

@@ -345,11 +345,13 @@ def test_bad_spec_and_mapping_exit_2_naming_file_and_line(tmp_path, lock_spec):
     bad_map = tmp_path / "bad.yaml"
     bad_map.write_text("inputs:\n  a:\n    node: x\n  ghost:\n    node: y\n")
     for args, fragment in (([str(bad_spec)], f"{bad_spec}:5"),
-                           ([str(lock_spec), str(bad_map)], f"{bad_map}:4: error: input 'ghost' is not a proposition")):
+                           ([str(lock_spec), str(bad_map)], f"{bad_map}:4: input 'ghost' is not a proposition")):
         proc = run_script(["rosrun", "ltl_stack", "controller_executor", *args, "--check"], capture_output=True,
                               text=True, timeout=300)
         assert proc.returncode == 2, proc
         assert fragment in proc.stderr and "Traceback" not in proc.stderr, proc.stderr
+        assert proc.stderr.count("error:") == 1 and proc.stderr.endswith("\n") and \
+            proc.stderr.splitlines()[-1].startswith("controller_executor: error: "), proc.stderr
 
 
 def test_rate_steps_without_input_changes_and_start_paused_waits(ros_master, probes, tmp_path):

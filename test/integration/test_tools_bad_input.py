@@ -8,11 +8,12 @@ file (and line), exit 2. No file is created or changed.
 """
 from __future__ import annotations
 
+import os
 import subprocess
 from pathlib import Path
 
 import pytest
-from helpers import RosMaster, closed_port, direct_script, run_script, wait_for
+from helpers import REPO_ROOT, RosMaster, closed_port, direct_script, run_script, wait_for
 
 from ltl_stack.errors import Exit
 
@@ -78,6 +79,18 @@ TOOLS = {
     "controller_trace non-UTF-8 spec": (["controller_trace", "--spec", "{d}/s.slugsin"],
                                         {"s.slugsin": b"[INPUT]\n\xe9\n"}, Exit.BAD_INPUT,
                                         "{d}/s.slugsin:2: not a text spec file: not UTF-8"),
+    "controller_executor spec FIFO": (["controller_executor", "{d}/s.slugsin"], {"s.slugsin": None},
+                                      Exit.BAD_INPUT, "{d}/s.slugsin: is a FIFO (named pipe), not a regular file"),
+    "controller_executor mapping /dev/zero": (["controller_executor", "{d}/s.slugsin", "/dev/zero"],
+                                              {"s.slugsin": b"[INPUT]\na\n[OUTPUT]\nb\n"}, Exit.BAD_INPUT,
+                                              "/dev/zero: is a character device, not a regular file"),
+    "controller_executor mapping misfit": (["controller_executor", "{d}/s.slugsin", "{d}/m.yaml"],
+                                           {"s.slugsin": b"[INPUT]\na\n[OUTPUT]\nb\n",
+                                            "m.yaml": b"inputs:\n  nosuch: {node: /x}\n  other: {node: /y}\n"},
+                                           Exit.BAD_INPUT, "{d}/m.yaml:2: input 'nosuch' is not a proposition of the "
+                                                           "spec (its inputs: a) (and 1 more mapping errors)"),
+    "controller_trace spec /dev/zero": (["controller_trace", "--spec", "/dev/zero"], {}, Exit.BAD_INPUT,
+                                        "/dev/zero: is a character device, not a regular file"),
 }
 
 NODES = {
@@ -85,6 +98,20 @@ NODES = {
                                               "parameter ~duration must be a number >= 0"),
     "timed_proposition_server rate 0": (["timed_proposition_server", "_feedback_rate:=0"], {},
                                         "parameter ~feedback_rate must be a number > 0"),
+    "timed_proposition_server duration of 5000 digits": (["timed_proposition_server", f"_duration:={LONG}"], {},
+                                                         "parameter ~duration must be a number of at most 18 digits, "
+                                                         "got one of 5000 digits"),
+    "timed_proposition_server duration of 22 digits": (["timed_proposition_server", "_duration:=" + "1" * 22], {},
+                                                       "parameter ~duration must be a number of at most 18 digits"),
+    "timed_proposition_server duration 1e19": (["timed_proposition_server", "_duration:=1e19"], {},
+                                               "parameter ~duration must be a number of at most 18 digits"),
+    "timed_proposition_server feedback rate 1e-300": (["timed_proposition_server", "_feedback_rate:=1e-300"], {},
+                                                      "parameter ~feedback_rate must be 0 or at least 1e-09"),
+    "sim_robot rate 1e-300": (["sim_robot", "_rate:=1e-300"], {}, "parameter ~rate must be 0 or at least 1e-09"),
+    "topic_threshold_sensor rate 1e-300": (["topic_threshold_sensor", "_topic:=/x", "_type:=std_msgs/Float64",
+                                            "_rate:=1e-300"], {}, "parameter ~rate must be 0 or at least 1e-09"),
+    "scripted_environment rate 1e-300": (["scripted_environment", "_schedule:=/nonexistent", "_rate:=1e-300"], {},
+                                         "parameter ~rate must be 0 or at least 1e-09"),
     "timed_proposition_server illegal action": (["timed_proposition_server", "_action:=bad-name"], {},
                                                 "parameter ~action must be a legal ROS name"),
     "scripted_environment binary schedule": (["scripted_environment", "_schedule:={d}/env.yaml"],
@@ -116,6 +143,27 @@ NODES = {
     "scripted_environment time_scale 0": (["scripted_environment", "_schedule:={d}/env.yaml", "_time_scale:=0"],
                                           {"env.yaml": GOOD_SCHEDULE.encode()},
                                           "parameter ~time_scale must be a number > 0"),
+    "scripted_environment schedule /dev/zero": (["scripted_environment", "_schedule:=/dev/zero"], {},
+                                                "/dev/zero: is a character device, not a regular file"),
+    "scripted_environment schedule FIFO": (["scripted_environment", "_schedule:={d}/env.yaml"], {"env.yaml": None},
+                                           "{d}/env.yaml: is a FIFO (named pipe), not a regular file"),
+    "region_sensor region map FIFO": (["region_sensor", "_region:=left", "_regions_file:={d}/map.regions"],
+                                      {"map.regions": None}, "{d}/map.regions: is a FIFO (named pipe), not a regular"),
+    "region_sensor region map /dev/zero": (["region_sensor", "_region:=left", "_regions_file:=/dev/zero"], {},
+                                           "/dev/zero: is a character device, not a regular file"),
+    "scripted_environment loop 'false'": (["scripted_environment", "_schedule:={d}/env.yaml"],
+                                          {"env.yaml": b"loop: 'false'\n" + GOOD_SCHEDULE.encode()},
+                                          "{d}/env.yaml: 'loop' must be true or false (unquoted), got 'false'"),
+    "scripted_environment loop period 1 ns": (["scripted_environment", "_schedule:={d}/env.yaml"],
+                                              {"env.yaml": b"loop: true\nperiod: 1.0e-9\nevents:\n"
+                                                           b"  - {at: 0, topic: /env/person, value: true}\n"},
+                                              "'loop: true' needs events and a period of at least 0.01 s"),
+    "story_environment user names no proposition": (["story_environment", "_story:={d}/story.yaml"],
+                                                    {"story.yaml": b"inputs: {door: true}\nuser: 'TRUE'\nbeats: []\n"},
+                                                    "{d}/story.yaml:2: 'user': 'TRUE' names no proposition"),
+    "story_environment user does not parse": (["story_environment", "_story:={d}/story.yaml"],
+                                              {"story.yaml": b"inputs: {door: true}\nuser: 'door &'\nbeats: []\n"},
+                                              "{d}/story.yaml:2: 'user': 'door &' does not parse"),
     "region_sensor binary region map": (["region_sensor", "_region:=left", "_regions_file:={d}/map.regions"],
                                         {"map.regions": GOOD_REGIONS.encode() + b"\x00"},
                                         "{d}/map.regions:4: not a text regions file: it holds a NUL byte"),
@@ -142,13 +190,16 @@ def master(tmp_path_factory):
         ros.shutdown()
 
 
-def _files(folder: Path) -> dict[str, bytes]:
-    return {p.name: p.read_bytes() for p in sorted(folder.iterdir())}
+def _files(folder: Path) -> dict[str, bytes | str]:
+    return {p.name: p.read_bytes() if p.is_file() else "not a regular file" for p in sorted(folder.iterdir())}
 
 
-def _run(master: RosMaster, folder: Path, command: list[str], files: dict[str, bytes]) -> tuple:
+def _run(master: RosMaster, folder: Path, command: list[str], files: dict[str, bytes | None]) -> tuple:
     for name, data in files.items():
-        (folder / name).write_bytes(data)
+        if data is None:  # a FIFO (never read: reading it would block)
+            os.mkfifo(folder / name)
+        else:
+            (folder / name).write_bytes(data)
     before = _files(folder)
     args = [a.format(d=folder) for a in command]
     done = subprocess.run(direct_script(["rosrun", "ltl_stack", *args], master.env), env=master.env, capture_output=True, text=True,
@@ -164,7 +215,10 @@ def test_tool_bad_input_one_error_and_exit_code(master, tmp_path, case):
     assert done.returncode == code, (done.returncode, done.stdout[-1000:], done.stderr[-2000:])
     errors = [line for line in (done.stdout + done.stderr).splitlines() if "error:" in line.lower()]
     assert len(errors) == 1, done.stderr[-2000:]
-    assert errors[0].startswith(f"{tool}: error: ") and message.format(d=tmp_path) in errors[0], errors
+    # no continuation line: every line is the tool's own (progress, or the one error)
+    assert all(line.startswith(f"{tool}: ") for line in done.stderr.splitlines()), done.stderr[-2000:]
+    assert errors[0].startswith(f"{tool}: error: ") and errors[0].count("error:") == 1, errors
+    assert message.format(d=tmp_path) in errors[0], errors
     assert "Traceback" not in done.stderr + done.stdout, done.stderr[-3000:]
     assert _files(tmp_path) == before
 
@@ -215,3 +269,33 @@ def test_master_uri_of_a_node_is_refused_not_waited_on(master, tmp_path, tool):
         assert "Traceback" not in done.stderr + done.stdout
     finally:
         node.stop()
+
+
+SCRIPTS = sorted(p.name for p in (REPO_ROOT / "scripts").iterdir() if p.is_file())
+
+
+def test_every_script_is_covered():
+    assert len(SCRIPTS) >= 25 and "synthesize" in SCRIPTS and "story_environment" in SCRIPTS, SCRIPTS
+
+
+@pytest.mark.parametrize("tool", SCRIPTS)
+def test_help_of_every_script_with_stdout_closed_is_one_error_line_and_exit_4(master, tool, tmp_path):
+    """``tool --help >&-``: no traceback, one line saying stdout is closed, exit 4 (as for a full disk)."""
+    command = ["bash", "-c", 'exec "$@" >&-', "bash", *direct_script(["rosrun", "ltl_stack", tool, "--help"],
+                                                                    master.env)]
+    done = subprocess.run(command, env=master.env, stderr=subprocess.PIPE, text=True, timeout=300, cwd=tmp_path)
+    assert "Traceback" not in done.stderr, done.stderr[-3000:]
+    assert (done.returncode, done.stderr) == (Exit.WRITE_FAILED, f"{tool}: error: cannot write the output: "
+                                                                 "standard output is closed\n"), done.stderr[-2000:]
+
+
+@pytest.mark.parametrize("case", list(NODES)[:3])
+def test_a_node_with_stdout_closed_still_gives_its_one_fatal_line(master, tmp_path, case):
+    command, files, message = NODES[case]
+    args = [a.format(d=tmp_path) for a in [*command, f"__name:=closed{list(NODES).index(case)}"]]
+    done = subprocess.run(["bash", "-c", 'exec "$@" >&-', "bash",
+                           *direct_script(["rosrun", "ltl_stack", *args], master.env)],
+                          env=master.env, stderr=subprocess.PIPE, text=True, timeout=300, cwd=tmp_path)
+    assert done.returncode == Exit.BAD_INPUT, (done.returncode, done.stderr[-2000:])
+    fatal = [line for line in done.stderr.splitlines() if "[FATAL]" in line]
+    assert len(fatal) == 1 and message in fatal[0] and "Traceback" not in done.stderr, done.stderr[-2000:]

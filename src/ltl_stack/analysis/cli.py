@@ -39,7 +39,7 @@ from ltl_stack.analysis.suggest import (
 )
 from ltl_stack.errors import Exit, UserError
 from ltl_stack.inputs import read_text
-from ltl_stack.runtime.mapping import check_mapping, errors, load_mapping
+from ltl_stack.runtime.mapping import check_mapping, load_mapping, misfit
 from ltl_stack.spec import formula_to_slugsin, load_spec, write_slugsin
 from ltl_stack.spec.english_reader import ENGLISH_SUFFIXES, has_section_headers, parse_english
 from ltl_stack.spec.english_writer import sentences_for
@@ -119,10 +119,9 @@ def run(args: argparse.Namespace, take_live: Callable[..., Snapshot] | None) -> 
     spec = load_spec(args.spec)
     mapping = load_mapping(args.mapping)
     issues = check_mapping(mapping, spec.inputs, spec.outputs)
-    bad = errors(issues)
-    if bad:
-        more = f" (and {len(bad) - 1} more errors)" if len(bad) > 1 else ""
-        raise UserError(f"{bad[0]}{more}")
+    error = misfit(issues)
+    if error is not None:
+        raise error
     snapshot = _snapshot(args, take_live)
     ignored = list(DEFAULT_IGNORED_TOPICS if args.generic_topics is None else args.generic_topics)
     graph = ComputationGraph(snapshot, [*ignored, *args.add_generic_topics])

@@ -12,6 +12,7 @@ from __future__ import annotations
 import atexit
 import faulthandler
 
+from ltl_stack import stdstreams  # noqa: F401 - a closed stdout or stderr is /dev/null from here on
 from ltl_stack.ros import rospy_fixes
 
 if not faulthandler.is_enabled():

@@ -68,6 +68,7 @@ from ltl_stack.runtime.executor_setup import (
 )
 from ltl_stack.runtime.mapping import resolve_topics
 from ltl_stack.runtime.negotiation import negotiation_classes
+from ltl_stack.runtime.node_params import split_param_args
 from ltl_stack.runtime.recovery import RecoveringStrategy
 from ltl_stack.runtime.resilient_executor import BackgroundResilience, Busy, thread_runner
 from ltl_stack.spec import SpecError
@@ -802,8 +803,11 @@ def _run(args: argparse.Namespace, negotiate: Negotiate | None = None,
     spec, mapping, warnings_ = load_inputs(args.spec, args.mapping)
     for warning in warnings_:
         cli.warn(PROG, warning)
-    rospy.init_node(NODE_NAME)
+    node_argv, refused = split_param_args(sys.argv)
+    rospy.init_node(NODE_NAME, argv=node_argv)
     try:
+        if refused:
+            raise ExecutorError(refused)
         options = merge_options(_cli_values(args), params_lookup(_private_params()))
         check_characterized_spec(options, [args.spec, args.mapping, options.strategy or None])
         namespace = scenario_namespace(options.namespace, rospy.get_namespace(), mapping, args.spec)

@@ -38,6 +38,7 @@ from ltl_stack.runtime.node_params import (
     coerce_param,
     describe_params,
     params_help,
+    split_param_args,
 )
 
 #: Exit code of a node whose parameters are wrong (missing file, bad value, unknown type).
@@ -340,12 +341,15 @@ def run_node(spec: NodeSpec, build: Callable[[dict[str, Any]], Any],
     """
     args = rospy.myargv(argv=list(sys.argv if argv is None else argv))
     parse_node_cli(spec.name, spec.kind, spec.description, spec.params, args[1:])
-    rospy.init_node(spec.name, anonymous=False)
+    node_argv, refused = split_param_args(list(sys.argv if argv is None else argv))
+    rospy.init_node(spec.name, argv=node_argv, anonymous=False)
     try:
+        if refused:
+            raise NodeConfigError(f"{rospy.get_name()}: {refused}")
         config = read_params(spec.params)
         node = build(config)
         MasterWatch()
-        node.spin()
+        getattr(node, "spin", rospy.spin)()  # a node without a loop of its own (an action server) just spins
     except NodeConfigError as error:
         rospy.logfatal(str(error))
         rospy.signal_shutdown("bad parameters")

@@ -48,7 +48,7 @@ from ltl_stack.spec import (
     parse_structured,
     write_slugsin,
 )
-from ltl_stack.spec.formula import And, Formula, Not, Or, Var
+from ltl_stack.spec.formula import And, Formula, Not, Or, Var, variables
 from ltl_stack.spec.model import SECTIONS, Clause, Spec
 from ltl_stack.synthesis import synthesize
 from ltl_stack.synthesis.errors import AssumptionViolation, SynthesisError
@@ -283,18 +283,7 @@ class Characterizer:
 
 
 def _variables(formula: Formula) -> list[Var]:
-    found, stack = [], [formula]
-    while stack:
-        node = stack.pop()
-        if isinstance(node, Var):
-            found.append(node)
-        elif isinstance(node, Not):
-            stack.append(node.arg)
-        elif isinstance(node, (And, Or)):
-            stack.extend(node.args)
-        elif hasattr(node, "left"):
-            stack.extend((node.left, node.right))
-    return found
+    return list(variables(formula))  # each shared subformula once: linear in the DAG (issue 28)
 
 
 class Threshold:

@@ -39,7 +39,7 @@ from ltl_stack.runtime.characterize import Threshold
 from ltl_stack.runtime.controller import VIOLATION_POLICIES, Controller, ViolationPolicy
 from ltl_stack.runtime.explicit import AutomatonStrategy
 from ltl_stack.runtime.mapping import Mapping as PropositionMapping
-from ltl_stack.runtime.mapping import MappingError, check_mapping, load_mapping, resolve_topics
+from ltl_stack.runtime.mapping import MappingError, check_mapping, load_mapping, misfit, resolve_topics
 from ltl_stack.runtime.node_params import Bound, NodeConfigError, Param, coerce_param
 from ltl_stack.runtime.recovery import RecoveringStrategy
 from ltl_stack.runtime.resilient_executor import BackgroundResilience
@@ -242,9 +242,9 @@ def load_inputs(spec_path: str, mapping_path: str | None) -> tuple[Any, Proposit
             raise ExecutorError(str(err)) from None
         check_proposition_names([*mapping.inputs, *mapping.outputs], mapping_path)
         issues = check_mapping(mapping, spec.inputs, spec.outputs)
-        errors = [str(i) for i in issues if i.severity == "error"]
-        if errors:
-            raise ExecutorError("the mapping does not fit the spec:\n  " + "\n  ".join(errors))
+        error = misfit(issues)
+        if error is not None:
+            raise ExecutorError(str(error))
         warnings = [str(i) for i in issues if i.severity != "error"]
     return spec, mapping, warnings
 

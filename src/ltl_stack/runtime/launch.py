@@ -40,6 +40,7 @@ from ltl_stack.runtime.mapping import (
     NodeEntry,
     check_mapping,
     load_mapping,
+    misfit,
 )
 from ltl_stack.runtime.ros_names import check_proposition_names, is_legal_base_name, is_legal_name
 from ltl_stack.spec import SpecError, load_spec
@@ -98,9 +99,9 @@ def generate_launch(mapping: Mapping, *, spec_path: str | None, namespace: str,
     check_proposition_names([*mapping.inputs, *mapping.outputs], mapping.file)
     if propositions is not None:
         issues = check_mapping(mapping, *propositions)
-        bad = [str(i) for i in issues if i.severity == "error"]
-        if bad:
-            raise LaunchError("the mapping does not fit the spec:\n  " + "\n  ".join(bad))
+        error = misfit(issues)
+        if error is not None:
+            raise LaunchError(str(error))
         result.warnings += [str(i) for i in issues if i.severity != "error"]
     groups: dict[tuple[str, str], list[tuple[NodeEntry, str, str]]] = {}
     seen: dict[str, NodeEntry] = {}

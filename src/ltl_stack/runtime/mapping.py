@@ -414,3 +414,13 @@ def _entry_dict(entry: NodeEntry) -> dict[str, Any]:
 
 def errors(issues: Iterable[MappingIssue]) -> list[MappingIssue]:
     return [i for i in issues if i.severity == "error"]
+
+
+def misfit(issues: Iterable[MappingIssue]) -> MappingError | None:
+    """The one error line of a mapping that does not fit its spec (every tool says it alike): the
+    first error with its file and line, and how many more there are; None when there is none."""
+    bad = errors(issues)
+    if not bad:
+        return None
+    more = f" (and {len(bad) - 1} more mapping errors)" if len(bad) > 1 else ""
+    return MappingError(bad[0].file, bad[0].line, bad[0].message + more)

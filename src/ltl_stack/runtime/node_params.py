@@ -11,6 +11,7 @@ or raises ``NodeConfigError`` naming the parameter: a node with a bad value exit
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 from enum import Enum
@@ -68,6 +69,41 @@ class Param:
         return want.__name__ if want is not None else "value"
 
 
+#: digits a number may have (a rate, duration, threshold or count of 10^18 is a typing mistake, and
+#: longer integers overflow ROS' XML-RPC or Python's 4300-digit conversion limit)
+MAX_DIGITS = 18
+_LIMIT = 10.0 ** MAX_DIGITS
+#: the smallest positive rate, duration or scale (ROS' clock counts nanoseconds)
+SMALLEST = 1e-9
+_LONG_INTEGER = re.compile(rf"^\s*[+-]?\d{{{MAX_DIGITS + 1},}}\s*$")
+_PARAM_ARG = re.compile(r"^_(?P<name>[^:=]+):=(?P<value>.*)$", re.DOTALL)
+
+
+def shown(value: Any) -> str:
+    """``repr`` of a value for a message, cut short (a 5000-digit number is not repeated)."""
+    text = repr(value)
+    return text if len(text) <= 40 else text[:36] + "…"
+
+
+def split_param_args(argv: Sequence[str]) -> tuple[list[str], str | None]:
+    """``argv`` without its ``_name:=value`` items whose value is an integer of more than
+    ``MAX_DIGITS`` digits, and the message for the first such item (None when there is none).
+
+    rospy converts ``_name:=value`` items itself when the node starts, before any check of ours,
+    and ends in a traceback for such a value (Python's int limit, XML-RPC's); the node starts
+    without them and then reports the message as its one ``[FATAL]`` line."""
+    kept, message = [], None
+    for arg in argv:
+        m = _PARAM_ARG.match(arg)
+        if m and _LONG_INTEGER.match(m["value"]):
+            digits = len(m["value"].strip().lstrip("+-"))
+            message = message or (f"parameter ~{m['name']} must be a number of at most {MAX_DIGITS} digits, "
+                                  f"got one of {digits} digits")
+            continue
+        kept.append(arg)
+    return kept, message
+
+
 def _fail(param: Param, node: str, message: str, label: str | None = None) -> NodeConfigError:
     return NodeConfigError(f"{node + ': ' if node else ''}{label or 'parameter ~' + param.name} {message}")
 
@@ -114,7 +150,9 @@ def _convert(param: Param, want: type | None, value: Any, node: str) -> Any:
         try:
             number = float(value)
         except (TypeError, ValueError, OverflowError):
-            raise _fail(param, node, f"must be a number, got {value!r}") from None
+            raise _fail(param, node, f"must be a number, got {shown(value)}") from None
+        if math.isfinite(number) and abs(number) >= _LIMIT:
+            raise _fail(param, node, f"must be a number of at most {MAX_DIGITS} digits, got {shown(value)}")
         if want is int:
             if not math.isfinite(number):
                 raise _fail(param, node, f"must be an integer, got {value!r}")
@@ -140,6 +178,9 @@ def _convert(param: Param, want: type | None, value: Any, node: str) -> Any:
 
 def _check_value(param: Param, value: Any, node: str) -> None:
     if isinstance(value, int | float) and not isinstance(value, bool):
+        if param.bound is not Bound.ANY and 0 < value < SMALLEST:
+            raise _fail(param, node, f"must be 0 or at least {SMALLEST:g} (a rate or time that small is 0 for "
+                                     f"ROS' clock, its inverse infinite), got {shown(value)}")
         if param.bound is Bound.NON_NEGATIVE and not 0 <= value < math.inf:
             raise _fail(param, node, f"must be a number >= 0, got {value!r}")
         if param.bound is Bound.POSITIVE and not 0 < value < math.inf:
@@ -188,4 +229,5 @@ def params_help(params: Sequence[Param]) -> str:
     return "\n".join(lines)
 
 
-__all__ = ["Bound", "NodeConfigError", "Param", "coerce_param", "describe_params", "params_help"]
+__all__ = ["MAX_DIGITS", "Bound", "NodeConfigError", "Param", "coerce_param", "describe_params", "params_help",
+           "shown", "split_param_args"]

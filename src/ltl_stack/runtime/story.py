@@ -36,7 +36,10 @@ import yaml
 
 from ltl_stack.errors import Exit, InputError, UserError
 from ltl_stack.inputs import construct_yaml, parse_yaml_node, read_text
+from ltl_stack.spec.errors import SpecError
+from ltl_stack.spec.formula import variables
 from ltl_stack.spec.model import Spec
+from ltl_stack.spec.structured import parse_structured
 
 KEYS = {"regions", "inputs", "pulse", "stop", "user", "beats", "threshold", "notes"}
 BEAT_KEYS = {"name", "when", "after", "set"}
@@ -93,6 +96,23 @@ class Story:
             for name in beat.outputs:
                 if name not in spec.outputs:
                     raise StoryError(f"{self.source}:{beat.line}: beat {beat.name!r}: {name!r} is not an output")
+        if self.user is not None:
+            check_user_liveness(self.user, spec.inputs, spec.outputs, f"{where}: 'user'")
+
+
+def check_user_liveness(text: str, inputs: list[str], outputs: list[str], where: str) -> None:
+    """The user's env liveness (``user:``) must be one formula that parses over ``inputs`` and
+    ``outputs`` and names at least one of them (Alg. 3 line 6 adds it as GF(text)); StoryError else."""
+    if "\n" in text.strip() or "\r" in text:
+        raise StoryError(f"{where}: must be one formula on one line")
+    header = "[INPUT]\n" + "\n".join(inputs) + "\n[OUTPUT]\n" + "\n".join(outputs) + "\n[ENV_LIVENESS]\n"
+    try:
+        formula = parse_structured(header + text.strip() + "\n", "user").env_liveness[0].formula
+    except (SpecError, IndexError) as err:
+        detail = f"column {err.column}: {err.message}" if isinstance(err, SpecError) else "an empty formula"
+        raise StoryError(f"{where}: {text!r} does not parse ({detail})") from None
+    if not variables(formula):
+        raise StoryError(f"{where}: {text!r} names no proposition (write one like: doorOpen | doorBroken)")
 
 
 def _line(node: yaml.Node | None, key: str) -> dict[int, int]:
@@ -161,7 +181,21 @@ def parse_story(text: str, source: str = "<story>") -> Story:
             raise StoryError(f"{where}: 'set' names {', '.join(strange)}, not in the story's 'inputs'")
         beats.append(Beat(item["name"], when.get("at"), when.get("heading"), _bools(when.get("outputs"), where,
                           "outputs"), after, sets, lines.get(index, 0)))
+    if data.get("user") is not None:
+        line = _key_line(root, "user")
+        outputs = [*regions, *([data["stop"]] if data.get("stop") else [])]
+        check_user_liveness(data["user"], [*inputs, *(f"{r}_c" for r in regions)], outputs,
+                            f"{source}:{line}: 'user'" if line else f"{source}: 'user'")
     return Story(list(regions), inputs, beats, list(pulse), data.get("stop"), data.get("user"), threshold, source)
+
+
+def _key_line(node: yaml.Node | None, key: str) -> int:
+    """The line of the top-level ``key`` (0 when it is not there)."""
+    if isinstance(node, yaml.MappingNode):
+        for k, _ in node.value:
+            if k.value == key:
+                return k.start_mark.line + 1
+    return 0
 
 
 def load_story(path: str | Path) -> Story:

@@ -7,7 +7,8 @@ senses, what it does, what changed — and stops everything after the strategy h
 its goals the given number of times (for a spec without goals: ``--duration`` seconds after the
 controller's first state). For clean_and_patrol it also tells the thesis' story (Fig. 3.10 a-d,
 ``sim.narration``) from the trace and runs until the story is complete. Exit
-code 0 when it did, 1 when it did not in time.
+code 0 when it did, 1 when it did not in time or a node of the scenario died (roslaunch's
+"process has died" line: the node is named as soon as it is reported).
 
 ``--scenario NAME`` runs another scenario of the registry ``SCENARIOS`` (``--help`` lists them). A
 scenario with a story (thesis Examples 11 and 12: ``config/<example>/story.yaml`` played by the
@@ -19,6 +20,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import re
 import sys
 import threading
 import time
@@ -88,6 +90,35 @@ SCENARIOS: dict[str, Scenario] = {
         "environment characterization only: every violation (metal item, alarm + spill, early tap) is "
         "resynthesized; the spill needs the user's GF !spill.", "no-recovery characterize"),
 }
+
+
+#: roslaunch's line for a node process that ended: ``[story_environment-9] process has died [pid 42,
+#: exit code 2, cmd …]``, in red (an ANSI colour code before the bracket)
+_DIED = re.compile(r"\[(?P<node>[^\[\]\s]+)-\d+\] process has died \[pid \d+, exit code (?P<code>-?\d+)")
+
+
+class LaunchLog:
+    """roslaunch's output, read as it grows: ``died()`` names the first scenario node that ended."""
+
+    def __init__(self, path: Path) -> None:
+        self.path, self._offset, self._rest = path, 0, b""
+
+    def died(self) -> str | None:
+        """``node <name> died (exit code N)`` once roslaunch reported it, else None."""
+        try:
+            with open(self.path, "rb") as f:
+                f.seek(self._offset)
+                chunk = f.read()
+        except OSError:
+            return None
+        self._offset += len(chunk)
+        lines = (self._rest + chunk).split(b"\n")
+        self._rest = lines.pop()  # an unfinished line is read again with what follows it
+        for line in lines:
+            m = _DIED.search(line.decode("utf-8", "replace"))
+            if m:
+                return f"node {m['node']} died (exit code {m['code']})"
+        return None
 
 
 def package_dir() -> Path:
@@ -215,7 +246,11 @@ def run(args: argparse.Namespace) -> int:
         started = time.monotonic()
         first_state = None  # --duration counts from here: start-up takes long on a busy machine
         reached = False
+        watch, dead = LaunchLog(log_path), None
         while time.monotonic() - started < args.timeout and launch.poll() is None:
+            dead = watch.died()
+            if dead:
+                break
             cycles_done = has_goals and trace.wait_cycles(args.cycles, 1.0 if story is None else 0.5)
             if story is not None:
                 read = _tell(story, trace.steps, read, args.json)
@@ -245,7 +280,9 @@ def run(args: argparse.Namespace) -> int:
             say(f"done: {cycles}{len(trace.steps)} controller states, {elapsed:.1f} s, "
                 f"{len(problems)} problem(s) reported")
         if not reached:
-            if launch.poll() is not None:
+            if dead:
+                why = f"{dead} after {elapsed:.0f} s"
+            elif launch.poll() is not None:
                 why = f"roslaunch exited with code {launch.returncode} after {elapsed:.0f} s"
             elif story is not None and trace.cycles.completed >= args.cycles:
                 why = f"the story did not reach '{story.next_key}' within {args.timeout:.0f} s"
@@ -381,8 +418,12 @@ def _follow_story(args, scenario: Scenario, launch, log_path: Path, problems: li
     follower = StoryFollower(scenario.namespace, story.regions, args.json, say)
     say(f"synthesizing and starting; the run ends when the story's {len(story.beats)} beats have played")
     started = time.monotonic()
+    watch, dead = LaunchLog(log_path), None
     while time.monotonic() - started < args.timeout and launch.poll() is None:
         if follower.complete.wait(0.5):
+            break
+        dead = watch.died()
+        if dead:
             break
     # the last beat's message travels on story/fired, the completion on story/complete: tell it too
     deadline = time.monotonic() + 10.0
@@ -404,7 +445,8 @@ def _follow_story(args, scenario: Scenario, launch, log_path: Path, problems: li
             f"(EC1 {c.get('resyntheses_ec1', 0)}, EC2 {c.get('resyntheses_ec2', 0)}, "
             f"user {c.get('resyntheses_user', 0)}), {c.get('violations', 0)} violating transitions")
     if not reached:
-        why = (f"roslaunch exited with code {launch.returncode} after {elapsed:.0f} s" if launch.poll() is not None
+        why = (f"{dead} after {elapsed:.0f} s" if dead
+               else f"roslaunch exited with code {launch.returncode} after {elapsed:.0f} s" if launch.poll() is not None
                else f"the story did not complete within {args.timeout:.0f} s")
         _not_reached(why, log_path)
         return Exit.NEGATIVE
@@ -469,8 +511,12 @@ def _follow_negotiation(args, launch, log_path: Path, problems: list[str], say) 
         rospy.Subscriber(f"/kitchen/{robot}/controller_executor/negotiations", String, on_reports,
                          callback_args=robot, queue_size=100)
     say("synthesizing and starting three controllers; the run ends when C has cooked and D is back in company")
+    watch, dead = LaunchLog(log_path), None
     while time.monotonic() - started < args.timeout and launch.poll() is None:
         if done.wait(0.5):
+            break
+        dead = watch.died()
+        if dead:
             break
     elapsed = time.monotonic() - started
     rospy.signal_shutdown("demo finished")
@@ -482,7 +528,8 @@ def _follow_negotiation(args, launch, log_path: Path, problems: list[str], say) 
     elif reached:
         say(f"done: {state['negotiations']} negotiation(s), C cooked and D is back in company after {elapsed:.1f} s")
     if not reached:
-        why = (f"roslaunch exited with code {launch.returncode} after {elapsed:.0f} s" if launch.poll() is not None
+        why = (f"{dead} after {elapsed:.0f} s" if dead
+               else f"roslaunch exited with code {launch.returncode} after {elapsed:.0f} s" if launch.poll() is not None
                else f"the kitchen did not finish within {args.timeout:.0f} s")
         _not_reached(why, log_path)
         return Exit.NEGATIVE

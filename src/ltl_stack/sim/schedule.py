@@ -3,8 +3,8 @@
 A schedule file says what the environment does and when, so a scenario replays the same way every
 time::
 
-    loop: false          # optional; true replays the events every `period` seconds
-    period: 10.0         # optional; default: the time of the last event
+    loop: false          # optional (true or false); true replays the events every `period` seconds
+    period: 10.0         # optional; default: the time of the last event; a loop's at least 0.01 s
     events:
       - at: 1.0                      # seconds after the start
         topic: /env/person           # where to publish (latched)
@@ -43,6 +43,13 @@ from ltl_stack.errors import InputError, UserError
 from ltl_stack.inputs import construct_yaml, parse_yaml_node, read_text
 
 DEFAULT_TYPE = "std_msgs/Bool"
+#: the shortest period of a looping schedule: 1 ns or 1e-300 s would replay the whole schedule at
+#: every check of the node (a core spinning); 10 ms is shorter than any scenario needs
+MIN_LOOP_PERIOD = 0.01
+#: missed cycles of a looping schedule replayed at once at most (older ones are skipped)
+MAX_CATCH_UP = 100
+#: the longest time in a schedule (18 digits, as every number a user gives)
+MAX_SECONDS = 1e18
 #: a legal ROS graph name, as rosgraph.names.is_legal_name checks it (this module stays ROS-free)
 _TOPIC = re.compile(r"^[~/A-Za-z][\w/]*$")
 
@@ -121,7 +128,7 @@ def _seconds(value: Any) -> float | None:
         number = float(value)
     except (TypeError, ValueError, OverflowError):
         return None
-    return number if number >= 0 and number == number and number != float("inf") else None
+    return number if 0 <= number < MAX_SECONDS else None  # also refuses nan and inf
 
 
 def parse_schedule(text: str, source: str = "<schedule>") -> Schedule:
@@ -166,15 +173,18 @@ def parse_schedule(text: str, source: str = "<schedule>") -> Schedule:
         when = _trigger(item["when"], where) if "when" in item else None
         events.append(Event(at, topic, msg_type, fields, name, line, when))
     events.sort(key=lambda e: e.at)  # stable: equal times keep file order
-    loop = bool(data.get("loop", False))
+    loop = data.get("loop", False)
+    if not isinstance(loop, bool):
+        raise ScheduleError(f"{source}: 'loop' must be true or false (unquoted), got {loop!r}")
     if loop and any(e.when is not None for e in events):
         raise ScheduleError(f"{source}: 'loop: true' cannot replay events with 'when:'")
     timed = [e for e in events if e.when is None]
     period = _seconds(data.get("period", timed[-1].at if timed else 0.0))
     if period is None:
         raise ScheduleError(f"{source}: 'period' must be a number of seconds >= 0, got {data['period']!r}")
-    if loop and (not events or period <= 0):
-        raise ScheduleError(f"{source}: 'loop: true' needs events and a positive period")
+    if loop and (not events or period < MIN_LOOP_PERIOD):
+        raise ScheduleError(f"{source}: 'loop: true' needs events and a period of at least {MIN_LOOP_PERIOD} s "
+                            f"(got {period:g}); a shorter one would replay the events as fast as the node runs")
     if timed and period < timed[-1].at:
         raise ScheduleError(f"{source}: period {period} is shorter than the last event time {timed[-1].at}")
     return Schedule(events, loop, period, source)
@@ -276,7 +286,10 @@ class Scheduler:
             if self._next >= len(events):
                 if not self.schedule.loop:
                     break
-                self._next, self._cycle = 0, self._cycle + 1
+                # a stalled node catches up at most MAX_CATCH_UP cycles; older ones (a long stall, a
+                # large ~time_scale) are skipped rather than replayed one after another
+                self._next = 0
+                self._cycle = max(self._cycle + 1, int(elapsed // self.schedule.period) - MAX_CATCH_UP)
             event = events[self._next]
             if self._cycle * self.schedule.period + event.at > elapsed:
                 break

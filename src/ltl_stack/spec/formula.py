@@ -78,10 +78,16 @@ def children(f: Formula) -> tuple[Formula, ...]:
 
 
 def walk(f: Formula) -> Iterator[Formula]:
-    """Every node of ``f``, parents before children, without recursion (specs can be deep)."""
+    """Every distinct node of ``f`` once, parents before children, without recursion (specs can be
+    deep). A subformula shared by several parents (slugsin's ``$`` buffers) is visited once: the
+    work is linear in the size of the formula's DAG, not in the size of its expansion."""
+    seen: set[int] = set()
     stack = [f]
     while stack:
         node = stack.pop()
+        if id(node) in seen:
+            continue
+        seen.add(id(node))
         yield node
         stack.extend(reversed(children(node)))
 
@@ -92,24 +98,38 @@ def variables(f: Formula) -> set[Var]:
 
 
 def evaluate(f: Formula, current: dict[str, bool], nxt: dict[str, bool] | None = None) -> bool:
-    """Truth value of ``f`` with unprimed variables from ``current`` and primed ones from ``nxt``."""
-    if isinstance(f, Var):
-        source = nxt if f.primed else current
-        if source is None or f.name not in source:
-            raise KeyError(f"{f.name}{chr(39) if f.primed else ''} has no value")
-        return source[f.name]
-    if isinstance(f, Const):
-        return f.value
-    if isinstance(f, Not):
-        return not evaluate(f.arg, current, nxt)
-    if isinstance(f, And):
-        return all(evaluate(a, current, nxt) for a in f.args)
-    if isinstance(f, Or):
-        return any(evaluate(a, current, nxt) for a in f.args)
-    left = evaluate(f.left, current, nxt)
-    right = evaluate(f.right, current, nxt)
-    if isinstance(f, Xor):
-        return left != right
-    if isinstance(f, Implies):
-        return (not left) or right
-    return left == right
+    """Truth value of ``f`` with unprimed variables from ``current`` and primed ones from ``nxt``.
+
+    Each distinct subformula is evaluated at most once (a shared one's value is remembered), so the
+    work is linear in the size of the formula's DAG; ``&`` and ``|`` stop at the first operand that
+    decides them. A variable without a value raises ``KeyError``."""
+    known: dict[int, bool] = {}
+
+    def value(g: Formula) -> bool:
+        got = known.get(id(g))
+        if got is None:
+            got = known[id(g)] = _value(g)
+        return got
+
+    def _value(g: Formula) -> bool:
+        if isinstance(g, Var):
+            source = nxt if g.primed else current
+            if source is None or g.name not in source:
+                raise KeyError(f"{g.name}{chr(39) if g.primed else ''} has no value")
+            return source[g.name]
+        if isinstance(g, Const):
+            return g.value
+        if isinstance(g, Not):
+            return not value(g.arg)
+        if isinstance(g, And):
+            return all(value(a) for a in g.args)
+        if isinstance(g, Or):
+            return any(value(a) for a in g.args)
+        left, right = value(g.left), value(g.right)
+        if isinstance(g, Xor):
+            return left != right
+        if isinstance(g, Implies):
+            return (not left) or right
+        return left == right
+
+    return value(f)

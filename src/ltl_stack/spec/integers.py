@@ -31,7 +31,7 @@ from ltl_stack.spec.ops import and_, conjunction, iff_, not_, or_, xor_
 
 Bits = list[Formula]  # least significant first
 
-_FIRST_BIT = re.compile(r"^(?P<name>.+)@0\.(?P<low>-?\d+)\.(?P<high>-?\d+)$")
+_FIRST_BIT = re.compile(r"^(?P<name>.+)@0\.(?P<low>-?\d{1,18})\.(?P<high>-?\d{1,18})$")
 
 
 def bit_count(low: int, high: int) -> int:

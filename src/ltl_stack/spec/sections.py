@@ -131,6 +131,8 @@ class SpecBuilder:
         text = line.text.strip()
         column = line.first_column()
         m = _INTEGER_DECLARATION.match(text)
+        if m and max(len(m["low"]), len(m["high"])) > 19:  # a sign and 18 digits
+            raise self.error(line.number, column, f"integer '{m['name']}' has a bound of more than 18 digits")
         if m:
             name, low, high = m["name"], int(m["low"]), int(m["high"])
             self._check_name(name, line, column)

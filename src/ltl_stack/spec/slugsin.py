@@ -23,6 +23,7 @@ OPERATORS = {"!": 1, "&": 2, "|": 2, "^": 2}
 _TOKEN = re.compile(r"\S+")
 _GLUED = re.compile(r"^([$?])(\d+)$")
 _NUMBER = re.compile(r"^\d+$")
+_COUNT = re.compile(r"^\d{1,18}$")  # a longer count is no real buffer (and int() refuses 4300+ digits)
 
 NAME_RULE = "a slugsin name is one word without a prime that is not an operator or a number"
 
@@ -100,7 +101,7 @@ def parse_prefix(line: Line, names: Names) -> Formula:
                 count_word, count_at, count_shift = words[i], i, 0
                 i += 1
             if word == "$":
-                if not _NUMBER.match(count_word) or int(count_word) < 1:
+                if not _COUNT.match(count_word) or int(count_word) < 1:
                     raise names.error(columns[count_at] + count_shift,
                                       f"expected a positive number of entries after '$', got '{count_word}'")
                 stack.append(_Frame("$", token, int(count_word)))
@@ -153,7 +154,7 @@ def _recall(stack: list[_Frame], index_word: str, index_at: tuple[int, int], tok
     buffer = next((f for f in reversed(stack) if f.op == "$"), None)
     if buffer is None:
         raise names.error(columns[token], "'?' outside a '$' buffer (? i refers to entry i of the enclosing $ n)")
-    if not _NUMBER.match(index_word):
+    if not _COUNT.match(index_word):
         raise names.error(index_column(), f"expected an entry number after '?', got '{index_word}'")
     index = int(index_word)
     if index >= len(buffer.args):

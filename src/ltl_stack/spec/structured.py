@@ -76,6 +76,11 @@ class _Token:
         self.column = column
 
 
+#: digits of a number in a formula or a declaration (integer ranges are far smaller; Python refuses to
+#: convert more than 4300 digits)
+MAX_NUMBER_DIGITS = 18
+
+
 def tokenize(line: Line, names: Names) -> list[_Token]:
     out: list[_Token] = []
     text = line.text
@@ -88,6 +93,8 @@ def tokenize(line: Line, names: Names) -> list[_Token]:
             raise names.error(position + 1, f"unexpected character {char!r}{hint}")
         if m.lastgroup != "space":
             word = m.group()
+            if m.lastgroup == "number" and len(word) > MAX_NUMBER_DIGITS:
+                raise names.error(position + 1, f"a number of {len(word)} digits (at most {MAX_NUMBER_DIGITS})")
             out.append(_Token(m.lastgroup, _SPELLING.get(word, word), position + 1))
         position = m.end()
     return out
@@ -185,6 +192,24 @@ def _split_prime(token: _Token, names: Names) -> tuple[str, bool]:
     return name, False
 
 
+def _operator_hint(tokens: list[_Token], i: int) -> str:
+    """A hint for a Boolean operator written as a comparison: ``=>`` (implication is ``->``), ``=``
+    or ``==`` between propositions (equivalence is ``<->``), ``>=``/``<=`` for ``->``/``<-``."""
+    op = tokens[i]
+    after = tokens[i + 1] if i + 1 < len(tokens) else None
+    if op.text == "=" and after is not None and after.text == ">" and after.column == op.column + 1:
+        return "; for 'implies' write '->' (not '=>')"
+    if after is None or after.kind != "name":  # compared with a number: no Boolean operator meant
+        return ""
+    if op.text == "=":
+        return "; for 'if and only if' between propositions write '<->'"
+    if op.text == ">=":
+        return "; for 'implies' write '->' (not '>=')"
+    if op.text == "<=":
+        return "; for 'is implied by' swap the sides and write '->' (not '<=')"
+    return ""
+
+
 def _atom(tokens: list[_Token], i: int, names: Names) -> tuple[Formula, int]:
     """A proposition, a constant or a comparison starting at ``tokens[i]``; returns the next index."""
     token = tokens[i]
@@ -197,7 +222,8 @@ def _atom(tokens: list[_Token], i: int, names: Names) -> tuple[Formula, int]:
             if nxt in COMPARISONS or nxt == "+":
                 if name in names.builder.inputs or name in names.builder.outputs:
                     raise names.error(token.column, f"'{name}' is a Boolean proposition; only integer "
-                                                    f"variables (name:lo...hi) can be compared or added")
+                                                    f"variables (name:lo...hi) can be compared or added"
+                                                    f"{_operator_hint(tokens, i + 1)}")
             return names.boolean(name, primed, token.column), i + 1
     elif nxt not in COMPARISONS and nxt != "+":
         if token.text in ("0", "1"):

@@ -94,6 +94,17 @@ def extract(strategy: SymbolicStrategy, *, max_states: int | None = None, progre
     return _Extraction(strategy, max_states, progress).run(recovery)
 
 
+def traps_environment(game: Any, automaton: Automaton) -> bool:
+    """Whether a state the automaton reaches without recovery edges leaves the environment no
+    admissible next input (a strategy that wins by blocking the environment: what the cooperative
+    default promises never to do; slugs' 2-state export of error_resilience_exampleA does)."""
+    bdd = game.bdd
+    alive = bdd.exist(game.variables_next, game.env_trans)
+    plain = automaton.metadata.get("states_without_recovery", len(automaton.states))
+    return any(bdd.let(game.assignment({**s.inputs, **s.outputs}), alive) != bdd.true
+               for s in automaton.states[:plain])
+
+
 def _codes(bdd, u, bit_of: dict[str, int]) -> list[int]:
     """Every satisfying valuation of ``u`` over the variables of ``bit_of`` (which must cover its
     support) as an integer with bit ``bit_of[v]`` set when v is true (see ``_Codes``)."""

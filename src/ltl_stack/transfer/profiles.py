@@ -92,7 +92,7 @@ def _find_by_convention(folder: Path, name: str, suffix: str, by_robot_name: boo
         return None
     candidates = sorted(folder.glob(f"{name}_*{suffix}"))
     if by_robot_name and not candidates:
-        candidates = [p for p in sorted(folder.glob(f"*{suffix}")) if _urdf_robot_name(p) == name]
+        candidates = [p for p in sorted(folder.glob(f"*{suffix}")) if p.is_file() and _urdf_robot_name(p) == name]
     return candidates[0] if len(candidates) == 1 else None
 
 

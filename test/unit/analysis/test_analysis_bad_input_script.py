@@ -62,6 +62,8 @@ CASES = {
                        "{d}/map.yaml:2: not a text mapping file: it holds a NUL byte"),
     "non-UTF-8 mapping": ({"map.yaml": b"inputs:\n\n  person: {node: /caf\xe9}\n"}, [], Exit.BAD_INPUT,
                           "{d}/map.yaml:3: not a text mapping file: not UTF-8"),
+    "mapping does not fit the spec": ({"map.yaml": MAPPING.encode() + b"  nosuch: {node: /n}\n"}, [], Exit.BAD_INPUT,
+                                      "{d}/map.yaml:6: output 'nosuch' is not a proposition of the spec"),
     "mapping key 5": ({"map.yaml": MAPPING.encode() + b"  5: {node: /x}\n"}, [], Exit.BAD_INPUT,
                       "{d}/map.yaml:6: key '5' is not a string"),
     "mapping key yes": ({"map.yaml": b"inputs:\n  yes: {node: /x}\n"}, [], Exit.BAD_INPUT,
@@ -153,7 +155,10 @@ def test_bad_input_through_the_real_script(folder, case):
     assert done.returncode == code, (done.returncode, done.stderr[-2000:])
     errors = [line for line in done.stderr.splitlines() if "error:" in line]
     assert len(errors) == 1, done.stderr[-2000:]
-    assert errors[0].startswith("analyze_graph: error: ") and message.format(**fill) in errors[0], errors
+    # no continuation line: every line is the tool's own (progress, or the one error)
+    assert all(line.startswith("analyze_graph: ") for line in done.stderr.splitlines()), done.stderr[-2000:]
+    assert errors[0].startswith("analyze_graph: error: ") and errors[0].count("error:") == 1, errors
+    assert message.format(**fill) in errors[0], errors
     assert "Traceback" not in done.stderr, done.stderr[-3000:]
     assert done.stdout == "", done.stdout[-2000:]
     assert _files(folder) == before, "an output was created or an input changed"

@@ -148,7 +148,7 @@ def test_bad_input_is_one_line_and_exit_2(snapshots, tmp_path, capsys, case):
         bad = tmp_path / "bad.yaml"
         bad.write_text("outputs:\n  nosuch:\n    node: /x\n")
         args[3] = str(bad)
-        expect = f"{bad}:2: error: output 'nosuch' is not a proposition of the spec"
+        expect = f"{bad}:2: output 'nosuch' is not a proposition of the spec"
     elif case == "snapshot":
         bad = tmp_path / "bad_snap.yaml"
         bad.write_text("topics: 3\n")
@@ -170,6 +170,7 @@ def test_bad_input_is_one_line_and_exit_2(snapshots, tmp_path, capsys, case):
     assert captured.out == ""
     errors = [line for line in captured.err.splitlines() if "error:" in line]
     assert len(errors) == 1 and errors[0].startswith("analyze_graph: error: ") and expect in errors[0], captured.err
+    assert errors[0].count("error:") == 1, errors  # issue 28: it once said "error:" twice
     assert "Traceback" not in captured.err
     assert not (tmp_path / "o.slugsin").exists()
     assert {p: p.read_bytes() for p in before} == before

@@ -74,3 +74,22 @@ def test_lines_printed_by_many_threads_never_share_a_line():
     seen = [json.loads(line) for line in lines]  # every line is one whole document
     for n in range(6):
         assert [d["i"] for d in seen if d["thread"] == n] == list(range(300))
+
+
+def test_the_launch_log_names_the_first_node_that_died(tmp_path):
+    """The demo stops as soon as roslaunch reports a scenario node's end (issue 28), instead of
+    waiting out --timeout; a line written in two pieces is read whole."""
+    from ltl_stack.sim.demo import LaunchLog
+
+    log = tmp_path / "roslaunch.log"
+    log.write_text("started roslaunch server http://127.0.0.1:1/\nprocess[alice/sim_robot-1]: started with pid [7]\n")
+    watch = LaunchLog(log)
+    assert watch.died() is None
+    with open(log, "a") as f:
+        f.write("\x1b[31m[alice/story_environment-9] process has died [pid 42, exit code 2, cmd /x/story_en")
+    assert watch.died() is None  # not a whole line yet
+    with open(log, "a") as f:
+        f.write("vironment __name:=story_environment].\nlog file: /tmp/x.log\n")
+    assert watch.died() == "node alice/story_environment died (exit code 2)"
+    assert watch.died() is None  # told once
+    assert LaunchLog(tmp_path / "absent.log").died() is None

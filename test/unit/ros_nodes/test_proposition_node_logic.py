@@ -124,9 +124,9 @@ def test_a_checked_positive_number_is_finite_and_positive(value):
     try:
         got = coerce_param(param, value)
     except NodeConfigError:
-        assert not (value > 0 and value < float("inf")), value
+        assert not (1e-9 <= value < 1e18), value  # at most 18 digits, not below ROS' nanoseconds
     else:
-        assert 0 < got < float("inf") and got == value
+        assert 1e-9 <= got < 1e18 and got == value
 
 
 def test_node_cli_json_prints_the_parameters_and_exits(capsys):

@@ -5,7 +5,14 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from ltl_stack.sim.schedule import Schedule, ScheduleError, Scheduler, load_schedule, parse_schedule
+from ltl_stack.sim.schedule import (
+    MAX_CATCH_UP,
+    Schedule,
+    ScheduleError,
+    Scheduler,
+    load_schedule,
+    parse_schedule,
+)
 
 TEXT = """
 events:
@@ -52,6 +59,13 @@ def test_looping_schedule_replays_every_period():
     assert not scheduler.finished()
 
 
+def test_a_looping_schedule_far_behind_catches_up_a_bounded_number_of_cycles():
+    """A stall (or a huge ~time_scale) does not replay every missed cycle (1e14 of them here)."""
+    scheduler = Scheduler(parse_schedule("loop: true\nperiod: 0.01\nevents:\n- {at: 0, topic: a, value: 1}\n"))
+    assert len(scheduler.due(1e12)) <= MAX_CATCH_UP + 5  # a few more where float rounding lands
+    assert len(scheduler.due(1e12 + 0.05)) <= 6 and not scheduler.finished()
+
+
 @given(st.lists(st.floats(0, 100), min_size=1, max_size=20), st.lists(st.floats(0, 200), max_size=20))
 def test_every_event_fires_once_in_time_order_whatever_the_polling(times, polls):
     events = "\n".join(f"- {{at: {t!r}, topic: /t{i}, value: true}}" for i, t in enumerate(times))
@@ -80,7 +94,14 @@ def test_every_event_fires_once_in_time_order_whatever_the_polling(times, polls)
     ("events:\n  - {at: 1, topic: /a, value: 1, colour: red}\n", "event #0: unknown key(s) colour"),
     ("events:\n  - {at: 1, topic: /a, value: 1}\n  - {at: 2, topic: /a, type: std_msgs/Int32, value: 1}\n",
      "s.yaml:3: event #1: topic /a was given type std_msgs/Bool at line 2, now std_msgs/Int32"),
-    ("loop: true\nevents: []\n", "'loop: true' needs events and a positive period"),
+    ("loop: true\nevents: []\n", "'loop: true' needs events and a period of at least 0.01 s"),
+    # issue 28: a string is not a Boolean; a period that would spin a core; times of more than 18 digits
+    ("loop: 'false'\nevents:\n  - {at: 1, topic: /a, value: 1}\n", "'loop' must be true or false (unquoted), got 'false'"),
+    ("loop: 'no'\nevents:\n  - {at: 1, topic: /a, value: 1}\n", "'loop' must be true or false"),
+    ("loop: 1\nevents:\n  - {at: 0, topic: /a, value: 1}\n", "'loop' must be true or false"),
+    ("loop: true\nperiod: 1e-9\nevents:\n  - {at: 0, topic: /a, value: 1}\n", "a period of at least 0.01 s (got 1e-09)"),
+    ("loop: true\nperiod: 1e-300\nevents:\n  - {at: 0, topic: /a, value: 1}\n", "a period of at least 0.01 s"),
+    ("events:\n  - {at: 1e18, topic: /a, value: 1}\n", "s.yaml:2: event #0: 'at' must be a number of seconds"),
     ("period: 1\nevents:\n  - {at: 2, topic: /a, value: 1}\n", "period 1.0 is shorter than the last event time 2.0"),
 ])
 def test_bad_schedules_give_one_clear_error(text, message):

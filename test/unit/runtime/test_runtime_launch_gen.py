@@ -190,7 +190,7 @@ def test_output_that_is_an_input_is_refused_and_nothing_is_written(tmp_path, cap
 
 
 def test_spec_checks_reject_unknown_propositions_before_writing():
-    with pytest.raises(LaunchError, match="demo.yaml:2: error: input 'person' is not a proposition"):
+    with pytest.raises(LaunchError, match="demo.yaml:2: input 'person' is not a proposition"):
         launch_tree(propositions=(["human"], ["move", "stop"]))
 
 

@@ -59,8 +59,17 @@ def test_beats_fire_in_order_once_their_condition_holds():
     ("beats:\n  - {set: {}}", "expected a mapping with a 'name'"),
     ("threshold: yes\nbeats: []", "'threshold' must be a number"),
     ("beats: [\n", "s.yaml:"),
+    # issue 28: the user's env liveness must parse and name a proposition of the story
+    ("inputs: {door: true}\nuser: 'TRUE'\nbeats: []", "s.yaml:2: 'user': 'TRUE' names no proposition"),
+    ("inputs: {door: true}\nuser: '1'\nbeats: []", "s.yaml:2: 'user': '1' names no proposition"),
+    ("inputs: {door: true}\nuser: 'door |'\nbeats: []", "s.yaml:2: 'user': 'door |' does not parse (column"),
+    ("inputs: {door: true}\nuser: 'window'\nbeats: []", "s.yaml:2: 'user': 'window' does not parse"),
+    ("regions: [r]\nuser: 'r_c & !r'\nbeats: []", None),
 ])
 def test_bad_stories_are_refused_with_file_and_line(text, message):
+    if message is None:  # a good one: regions give r_c (input) and r (output)
+        assert parse_story(text, "s.yaml").user
+        return
     with pytest.raises(StoryError) as info:
         parse_story(text, "s.yaml")
     assert message in str(info.value) and info.value.code == Exit.BAD_INPUT
@@ -84,6 +93,7 @@ def test_story_is_checked_against_the_spec():
         ("regions: [a]\ninputs: {door: true, tap: false}\nstop: halt\nbeats: []", "'stop: halt'"),
         ("regions: [a]\ninputs: {door: true, tap: false}\nbeats:\n  - name: n\n    when: {outputs: {q: true}}",
          "'q' is not an output"),
+        ("regions: [a]\ninputs: {door: true, tap: false}\nstop: halt\nuser: 'halt'\nbeats: []", "'stop: halt'"),
     ]:
         with pytest.raises(StoryError, match="s.yaml") as info:
             parse_story(text, "s.yaml").check(spec)

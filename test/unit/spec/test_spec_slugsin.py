@@ -1,9 +1,8 @@
 """The .slugsin reader and writer: real specs, buffers, integers, deep chains, errors, round trips."""
 from __future__ import annotations
 
-import time
-
 import pytest
+from helpers import work
 from hypothesis import given, settings
 from spec_testing import SPECS, formulas, random_samples, same_content, shared_specs, truth_bits
 
@@ -243,31 +242,32 @@ def test_byte_order_mark_and_windows_line_ends(tmp_path):
     assert info.value.code == 2 and isinstance(info.value, UserError)
 
 
-def _chain_seconds(n: int, nesting: str) -> float:
+def _read_chain(n: int, nesting: str) -> None:
     names = [f"v{i}" for i in range(n + 1)]
-    if nesting == "left":
-        body = " ".join(["&"] * n + names)
-    elif nesting == "right":
-        body = " ".join(word for name in names[:-1] for word in ("|", name)) + " " + names[-1]
-    else:
-        body = None
     header = "[INPUT]\n" + "\n".join(names) + "\n[OUTPUT]\n[ENV_INIT]\n"
-    start = time.process_time()  # CPU time: other processes on the machine do not count
-    if body is None:
-        spec = parse_structured(header + " & ".join(names) + "\n")
+    if nesting == "left":
+        spec = parse_slugsin(header + " ".join(["&"] * n + names) + "\n")
+    elif nesting == "right":
+        spec = parse_slugsin(header + " ".join(w for name in names[:-1] for w in ("|", name)) + f" {names[-1]}\n")
     else:
-        spec = parse_slugsin(header + body + "\n")
-    seconds = time.process_time() - start
+        spec = parse_structured(header + " & ".join(names) + "\n")
     assert len(spec.env_init[0].formula.args) == n + 1
-    return seconds
+
+
+def _operands(frame) -> int:
+    """Copying a growing operand tuple is one C call but work linear in its length: count it."""
+    if frame.f_code in (And.__init__.__code__, Or.__init__.__code__):
+        return len(frame.f_locals["args"])
+    return 0
 
 
 @pytest.mark.parametrize("nesting", ["left", "right", "infix"])
-def test_long_chains_read_in_linear_time(nesting):
-    small = min(_chain_seconds(5000, nesting) for _ in range(3))
-    large = min(_chain_seconds(40000, nesting) for _ in range(2))
-    # 8x the input: about 8x the time when linear, about 64x when quadratic
-    assert large / small < 20, (small, large)
+def test_long_chains_read_in_linear_work(nesting):
+    # work (calls and operands copied) is counted, never timed: 8x the input is about 8x the work when
+    # linear, about 64x when quadratic
+    small = work(lambda: _read_chain(1000, nesting), _operands)
+    large = work(lambda: _read_chain(8000, nesting), _operands)
+    assert 7 < large / small < 9, (small, large)
 
 
 def test_writer_refuses_names_slugsin_cannot_hold():
