@@ -2,7 +2,7 @@
 
     python test/benchmarks/bench_transfer_real.py [PROGRAMS] [--write]
 
-PROGRAMS (default ``$LTL_REAL_PROGRAMS`` or /work/real_programs) holds public repositories fetched
+PROGRAMS (default ``$LTL_REAL_PROGRAMS`` or ``../real_programs`` beside the repository) holds public repositories fetched
 outside this repository (teleop_twist_keyboard, turtlebot3, fetch_ros/fetch_gazebo, a Python 2 era
 TurtleBot tutorial, ros_tutorials/geometry_tutorials, universal_robot, teleop_tools); they are never
 copied into the project. Per run (a program and a robot pair) it reports what was rewritten, what is
@@ -169,7 +169,7 @@ def baseline_rows(programs: Path, commit: str) -> list[dict] | None:
 
 def main(argv: list[str]) -> int:
     args = [a for a in argv if not a.startswith("--")]
-    programs = Path(args[0] if args else os.environ.get("LTL_REAL_PROGRAMS", "/work/real_programs"))
+    programs = Path(args[0] if args else os.environ.get("LTL_REAL_PROGRAMS", ROOT.parent / "real_programs"))
     rows = [run(programs, *r) for r in RUNS]
     if "--json-rows" in argv:
         print(json.dumps(rows, default=str))
