@@ -53,7 +53,8 @@ PROBE = textwrap.dedent('''\
              inputs=valuation(msg.inputs), outputs=valuation(msg.outputs), mode=msg.mode,
              violations=msg.violations, recovery_steps=msg.recovery_steps, unsafe_steps=msg.unsafe_steps,
              resyntheses=msg.resyntheses, ec1=msg.resyntheses_ec1, ec2=msg.resyntheses_ec2,
-             user=msg.resyntheses_user, unrealizable=msg.unrealizable, violated=list(msg.violated_clauses))
+             user=msg.resyntheses_user, unrealizable=msg.unrealizable, violated=list(msg.violated_clauses),
+             spec_file=msg.spec_file, generation=msg.strategy_generation)
 
     def on_diag(msg, topic):
         for s in msg.status:

@@ -67,6 +67,7 @@ from ltl_stack.runtime.executor_setup import (
     scenario_namespace,
 )
 from ltl_stack.runtime.mapping import resolve_topics
+from ltl_stack.runtime.modes import strategy_source
 from ltl_stack.runtime.negotiation import negotiation_classes
 from ltl_stack.runtime.recovery import RecoveringStrategy
 from ltl_stack.runtime.resilient_executor import BackgroundResilience, Busy, thread_runner
@@ -643,6 +644,7 @@ class ExecutorNode:
             counters.resyntheses, counters.ec1, counters.ec2, counters.user)
         msg.unrealizable = counters.unrealizable
         msg.violated_clauses = self._violated_clauses()
+        msg.spec_file, msg.strategy_generation = strategy_source(self.prepared.spec_path, self.resilient)
         self.state_pub.publish(msg)
         self.valuation_pub.publish(valuation_to_msg({**inputs, **update.outputs}, stamp))
 
@@ -808,7 +810,7 @@ def _run(args: argparse.Namespace, negotiate: Negotiate | None = None,
         check_characterized_spec(options, [args.spec, args.mapping, options.strategy or None])
         namespace = scenario_namespace(options.namespace, rospy.get_namespace(), mapping, args.spec)
         in_topics, out_topics = resolve_topics(mapping, spec.inputs, spec.outputs, namespace.strip("/"))
-        prepared = Prepared(spec, mapping, namespace, in_topics, out_topics, warnings_)
+        prepared = Prepared(spec, mapping, namespace, in_topics, out_topics, warnings_, args.spec)
         init = parse_init_props(options.init_props, spec)
         strategy = build_strategy(spec, options, log=lambda text: rospy.loginfo("%s: %s", rospy.get_name(), text))
         controller = make_controller(strategy, options, init)

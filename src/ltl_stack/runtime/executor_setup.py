@@ -222,6 +222,8 @@ class Prepared:
     input_topics: dict[str, str]
     output_topics: dict[str, list[str]]
     warnings: list[str] = field(default_factory=list)
+    #: the spec file as given ("" when it was not read from a file)
+    spec_path: str = ""
 
 
 def load_inputs(spec_path: str, mapping_path: str | None) -> tuple[Any, PropositionMapping | None, list[str]]:
@@ -272,7 +274,7 @@ def prepare(spec_path: str, mapping_path: str | None, namespace: str = "", node_
     spec, mapping, warnings = load_inputs(spec_path, mapping_path)
     ns = scenario_namespace(namespace, node_namespace, mapping, spec_path)
     in_topics, out_topics = resolve_topics(mapping, spec.inputs, spec.outputs, ns.strip("/"))
-    return Prepared(spec, mapping, ns, in_topics, out_topics, warnings)
+    return Prepared(spec, mapping, ns, in_topics, out_topics, warnings, spec_path)
 
 
 def parse_init_props(text: str, spec: Any) -> dict[str, bool]:
