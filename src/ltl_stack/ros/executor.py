@@ -49,7 +49,7 @@ from ltl_stack.ros.master_watch import MasterWatch
 from ltl_stack.ros.negotiation import NegotiationEndpoint, prepare_negotiation
 from ltl_stack.ros.valuation import valuation_to_msg
 from ltl_stack.runtime.characterize import Counters, Event, ExecutionAborted, Mode, Negotiate
-from ltl_stack.runtime.controller import HOLD, VIOLATION_POLICIES, Controller, Update
+from ltl_stack.runtime.controller import VIOLATION_POLICIES, Controller, Update
 from ltl_stack.runtime.executor_setup import (
     NODE_NAME,
     ExecutorError,
@@ -67,7 +67,7 @@ from ltl_stack.runtime.executor_setup import (
     scenario_namespace,
 )
 from ltl_stack.runtime.mapping import resolve_topics
-from ltl_stack.runtime.modes import strategy_source
+from ltl_stack.runtime.modes import current_mode, mode_text, policy_text, strategy_source
 from ltl_stack.runtime.negotiation import negotiation_classes
 from ltl_stack.runtime.recovery import RecoveringStrategy
 from ltl_stack.runtime.resilient_executor import BackgroundResilience, Busy, thread_runner
@@ -436,18 +436,9 @@ class ExecutorNode:
         """normal, recovering, holding, characterizing, waiting_for_user or aborted."""
         controller = self.controller
         with controller.lock:
-            if controller.aborted is not None:
-                return "aborted"
-            if self.resilient is not None:
-                mode = self.resilient.mode.value
-                if mode in ("normal", "recovering") and controller.violation is not None:
-                    return "holding"
-                if mode == "normal" and self._recovered_in_update:
-                    return "recovering"
-                return mode
-            if controller.violation is not None:
-                return "holding"
-            return "recovering" if self._recovering else "normal"
+            return current_mode(controller.aborted is not None, controller.violation is not None,
+                                self.resilient.mode.value if self.resilient is not None else None,
+                                self._recovered_in_update if self.resilient is not None else self._recovering)
 
     def _counters(self) -> Counters:
         return self.resilient.counters if self.resilient is not None else self.counters
@@ -463,13 +454,7 @@ class ExecutorNode:
                   ("unrealizable", str(counters.unrealizable))]
         violated = self._violated_clauses()
         values += [("violated_clause", c) for c in violated]
-        text = {"normal": "normal", "recovering": "recovering: recovery moves keep the system safety",
-                "holding": f"holding: no recovery move; outputs by --on-violation {self.options.on_violation.value}",
-                "characterizing": "characterizing: resynthesizing (recovery moves meanwhile)"
-                if self.options.recovery else "characterizing: resynthesizing (holding meanwhile)",
-                "waiting_for_user": "waiting for the user: unrealizable after environment characterization; call "
-                                    "~add_env_liveness with an environment liveness assumption, or ~abort",
-                "aborted": f"aborted ({self.controller.aborted}): every output is false"}[mode]
+        text = mode_text(mode, self.options.on_violation.value, self.options.recovery, self.controller.aborted)
         if violated and mode in ("recovering", "holding", "characterizing"):
             text += "; violated: " + "; ".join(violated)
         if mode == "waiting_for_user" and self.resilient is not None and self.resilient.explanation is not None:
@@ -677,9 +662,9 @@ class ExecutorNode:
         clauses = [f"{c.location}: {c.text}" for c in broken] or ["(no single clause)"]
         meanings = [_english(c) for c in broken]
         shown = [f"{c} ({m})" if m else c for c, m in zip(clauses, meanings + [""] * len(clauses), strict=False)]
-        unsafe = [f"{c.location}: {c.text}" for c in result.unsafe] if result is not None else []
+        unsafe = [f"{c.location}: {c.text}" for c in (result.unsafe if result is not None else update.unkeepable)]
         kind = result.kind.value if result is not None else None
-        policy = "holding the last safe outputs" if self.options.on_violation == HOLD else "all outputs false"
+        policy = policy_text(self.options.on_violation, bool(update.unkeepable))
         if update.recovered:
             text = (f"environment assumption violated by inputs {format_valuation(readings)}: {'; '.join(shown)}; "
                     f"recovering ({kind}), now in state {update.state.id}")

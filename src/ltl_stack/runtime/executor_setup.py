@@ -40,6 +40,7 @@ from ltl_stack.runtime.controller import VIOLATION_POLICIES, Controller, Violati
 from ltl_stack.runtime.explicit import AutomatonStrategy
 from ltl_stack.runtime.mapping import Mapping as PropositionMapping
 from ltl_stack.runtime.mapping import MappingError, check_mapping, load_mapping, resolve_topics
+from ltl_stack.runtime.modes import OutputGuard
 from ltl_stack.runtime.node_params import Bound, NodeConfigError, Param, coerce_param
 from ltl_stack.runtime.recovery import RecoveringStrategy
 from ltl_stack.runtime.resilient_executor import BackgroundResilience
@@ -361,11 +362,13 @@ def _primary(strategy: Any, spec: Any, options: Options, log: Callable[[str], No
 
 
 def make_controller(strategy: Any, options: Options, init: Mapping[str, bool]) -> Controller:
-    """The Controller for ``strategy``; a ``RecoveringStrategy`` also becomes its recovery hook."""
+    """The Controller for ``strategy``; a ``RecoveringStrategy`` also becomes its recovery hook, and the
+    ``OutputGuard`` keeps the policy's outputs safe (Lemma 1(a), ``runtime.modes``)."""
     recovery = strategy.recover if isinstance(strategy, RecoveringStrategy) else None
     try:
         controller = Controller(strategy, on_violation=options.on_violation, init_props=init,
-                                running=True, settle_steps=options.settle_steps, recovery=recovery)
+                                running=True, settle_steps=options.settle_steps, recovery=recovery,
+                                guard=OutputGuard(strategy))
     except ValueError as err:
         raise ExecutorError(str(err)) from None
     if isinstance(strategy, BackgroundResilience):
