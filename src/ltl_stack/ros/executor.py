@@ -67,7 +67,7 @@ from ltl_stack.runtime.executor_setup import (
     scenario_namespace,
 )
 from ltl_stack.runtime.mapping import resolve_topics
-from ltl_stack.runtime.modes import current_mode, mode_text, policy_text, strategy_source
+from ltl_stack.runtime.modes import current_mode, liveness_refusal, mode_text, policy_text, strategy_source
 from ltl_stack.runtime.negotiation import negotiation_classes
 from ltl_stack.runtime.recovery import RecoveringStrategy
 from ltl_stack.runtime.resilient_executor import BackgroundResilience, Busy, thread_runner
@@ -357,10 +357,18 @@ class ExecutorNode:
         """Alg. 3 line 6: the user's environment liveness; synthesis runs in this service thread,
         not under the controller's lock."""
         formula = request.formula
-        if self.resilient is None:
-            return AddEnvLivenessResponse(success=False, code=Exit.NEGATIVE, mode=self._mode, message=(
-                "environment characterization is off: start the executor with --characterize or "
-                "--characterized-spec FILE (docs/resilience.md)"))
+        if self.resilient is not None:
+            try:
+                self.resilient.characterizer.check_liveness(formula)
+            except SpecError as err:
+                rospy.logwarn("%s: ~add_env_liveness %r refused: %s", self.name, formula, err)
+                return AddEnvLivenessResponse(success=False, code=Exit.BAD_INPUT, mode=self._current_mode(),
+                                              message=str(err))
+        refusal = liveness_refusal(self.resilient is not None, self.controller.state is not None,
+                                   self._current_mode())
+        if refusal is not None:
+            return AddEnvLivenessResponse(success=False, code=Exit.NEGATIVE, mode=self._current_mode(),
+                                          message=refusal)
         try:
             attempt = self.resilient.add_env_liveness(formula)
         except SpecError as err:
@@ -383,8 +391,8 @@ class ExecutorNode:
     def _on_abort(self, _request: Any) -> TriggerResponse:
         """Abort (Alg. 3 line 11): every output false, the node stays up reporting ERROR."""
         with self.controller.lock:
-            if self.controller.aborted is not None:
-                return TriggerResponse(success=True, message=f"already aborted: {self.controller.aborted}")
+            if self.controller.aborted is not None:  # not done again: the tool's exit 1
+                return TriggerResponse(success=False, message=f"already aborted: {self.controller.aborted}")
             reason = "aborted by the user (~abort)"
             if self.resilient is not None:
                 self.resilient.abort(reason)  # -> _on_resilience_changed aborts the controller
@@ -464,6 +472,11 @@ class ExecutorNode:
             values.append(("explanation", explanation_text(explanation)))
         if self.resilient is not None and self.resilient.write_error:
             values.append(("write_error", self.resilient.write_error))
+        if self.resilient is not None and self.resilient.characterizer.path is not None:
+            error = self.resilient.write_error
+            self._set_status(ERROR if error else OK, "spec file", error or
+                             f"{self.resilient.characterizer.path}: written after each new strategy",
+                             [("path", str(self.resilient.characterizer.path))], publish)
         text += (f"; resyntheses {counters.resyntheses} (EC1 {counters.ec1}, EC2 {counters.ec2}, "
                  f"user {counters.user})" if self.resilient is not None else "")
         changed = mode != self._mode

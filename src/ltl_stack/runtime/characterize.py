@@ -32,6 +32,7 @@ what an executor publishes.
 """
 from __future__ import annotations
 
+import re
 import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
@@ -57,6 +58,8 @@ from ltl_stack.synthesis.recovery import StepKind, StepResult, UnsafeStep
 from ltl_stack.synthesis.strategy import State, SymbolicStrategy
 
 EC1, EC2 = "EC1", "EC2"
+#: the characters ``str.splitlines`` breaks a line at
+LINE_BREAKS = "\n\r\x0b\x0c\x1c\x1d\x1e\x85\u2028\u2029"
 HEADERS = {"env_init": "ENV_INIT", "sys_init": "SYS_INIT", "env_safety": "ENV_TRANS",
            "sys_safety": "SYS_TRANS", "env_liveness": "ENV_LIVENESS", "sys_liveness": "SYS_LIVENESS"}
 
@@ -197,8 +200,13 @@ class Characterizer:
         where = "env liveness"
         if not isinstance(text, str) or not text.strip():
             raise SpecError(where, 1, 1, "empty formula; write one like: doorOpen | doorBroken")
-        if "\n" in text.strip() or "\r" in text:
-            raise SpecError(where, 1, 1, "one formula on one line")
+        breaks = [c for c in text.strip() if c in LINE_BREAKS]
+        if breaks:  # str.splitlines splits there too: two formulas would be taken as one text
+            raise SpecError(where, 1, text.strip().index(breaks[0]) + 1,
+                            f"one formula on one line (it contains the line break U+{ord(breaks[0]):04X})")
+        if re.fullmatch(r"\[[^\]]*\]", text.strip()):
+            raise SpecError(where, 1, 1, f"{text.strip()} is a section header, not a formula; write one like: "
+                            "doorOpen | doorBroken")
         spec = self.original
         bits = {b for var in spec.integers for b in var.bits}
         decl = ["[INPUT]"]
@@ -214,6 +222,8 @@ class Characterizer:
             if err.line == 2:
                 raise SpecError(where, 1, err.column, err.message) from None
             raise SpecError(where, 1, 1, err.message) from None
+        if len(parsed.env_liveness) != 1:
+            raise SpecError(where, 1, 1, "not one formula; write one like: doorOpen | doorBroken")
         formula = parsed.env_liveness[0].formula
         primed = sorted({v.name for v in _variables(formula) if v.primed and v.name in spec.outputs})
         if primed:

@@ -27,7 +27,9 @@ controller characterizes at the first violation.
 """
 from __future__ import annotations
 
+import os
 import posixpath
+import stat
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -188,6 +190,22 @@ def merge_options(cli: Mapping[str, Any], lookup: ParamLookup = no_params) -> Op
     return options
 
 
+def _special(path: str) -> str:
+    """What a path that is neither absent nor a regular file or folder is ("" otherwise): a FIFO or a
+    device would be replaced by the atomic write (or block it)."""
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return ""
+    if stat.S_ISFIFO(mode):
+        return "a FIFO"
+    if stat.S_ISCHR(mode) or stat.S_ISBLK(mode):
+        return "a device"
+    if stat.S_ISSOCK(mode):
+        return "a socket"
+    return ""
+
+
 def _label(options: Options, name: str) -> str:
     source = options.sources.get(name, "default")
     return source if source.startswith("--") else f"parameter ~{name}"
@@ -205,7 +223,11 @@ def threshold_of(options: Options) -> Threshold:
 
 
 def check_characterized_spec(options: Options, inputs: list[str | None]) -> None:
-    """Refuse a ``~characterized_spec`` that is one of the node's input files (before anything runs)."""
+    """Refuse a ``~characterized_spec`` that is one of the node's input files, a FIFO or a device
+    (before anything runs: the atomic write would replace it)."""
+    if options.characterized_spec and _special(options.characterized_spec):
+        raise ExecutorError(f"{NODE_NAME}: {_label(options, 'characterized_spec')} {options.characterized_spec!r} "
+                            f"is {_special(options.characterized_spec)}, not a regular file; name the file to write")
     if options.characterized_spec:
         try:
             cli.check_outputs(inputs, [options.characterized_spec])

@@ -111,6 +111,22 @@ def mode_text(mode: str, policy: str, recovery: bool, aborted: str | None) -> st
             "aborted": f"aborted ({aborted}): every output is false"}[mode]
 
 
+def liveness_refusal(characterize: bool, started: bool, mode: str) -> str | None:
+    """Why ``~add_env_liveness`` is not taken now (exit 1, nothing changes), or None: it is Alg. 3
+    line 6, the user's answer once environment characterization found no realizable spec."""
+    if not characterize:
+        return ("environment characterization is off: start the executor with --characterize or "
+                "--characterized-spec FILE (docs/resilience.md)")
+    if mode == "aborted":
+        return "already aborted: every output is false"
+    if not started:
+        return "not ready: the controller has not started yet (waiting for every input to report)"
+    if mode != "waiting_for_user":
+        return (f"not waiting for the user (mode {mode}): an environment liveness assumption is taken after "
+                "environment characterization found no realizable specification (docs/resilience.md)")
+    return None
+
+
 def policy_text(policy: str, unsafe: bool) -> str:
     """How the outputs follow the ``--on-violation`` policy, for the violation report."""
     if unsafe:
@@ -172,4 +188,4 @@ def strategy_source(original: str, resilient: Any | None) -> tuple[str, int]:
     return (os.path.abspath(path) if written else ""), resilient.counters.resyntheses
 
 
-__all__ = ["Guarded", "OutputGuard", "current_mode", "game_of", "mode_text", "nearest_safe_outputs", "policy_text", "strategy_source"]
+__all__ = ["Guarded", "OutputGuard", "current_mode", "game_of", "liveness_refusal", "mode_text", "nearest_safe_outputs", "policy_text", "strategy_source"]

@@ -295,6 +295,8 @@ class BackgroundResilience(ResilientStrategy):
                 raise ExecutionAborted(self._abort_reason)
             if self.job is not None:
                 raise Busy("a resynthesis is running; try again when it is done")
+            if self._state is None:
+                raise NotReady("not ready: the controller has not started yet (waiting for every input to report)")
             state = self._state
             readings = {**(state.inputs if state else {}), **self.readings}
             observation = Observation(self.steps, self.wall_clock(), dict(state.inputs) if state else {},
@@ -365,4 +367,8 @@ class Busy(SynthesisError):
     """A user request arrived while a resynthesis job runs."""
 
 
-__all__ = ["BackgroundResilience", "Busy", "SpecError", "adopt", "is_winning", "thread_runner"]
+class NotReady(Busy):
+    """A user request arrived before the controller started (no position to resynthesize from)."""
+
+
+__all__ = ["BackgroundResilience", "Busy", "NotReady", "SpecError", "adopt", "is_winning", "thread_runner"]

@@ -2,10 +2,15 @@
 from __future__ import annotations
 
 import os
+import re
 
-from ltl_stack.runtime.modes import strategy_source
-from ltl_stack.runtime.resilient_executor import BackgroundResilience
-from ltl_stack.spec import parse_structured
+import pytest
+
+from ltl_stack.runtime.characterize import Mode
+from ltl_stack.runtime.executor_setup import ExecutorError, check_characterized_spec, merge_options
+from ltl_stack.runtime.modes import liveness_refusal, strategy_source
+from ltl_stack.runtime.resilient_executor import BackgroundResilience, NotReady
+from ltl_stack.spec import SpecError, parse_structured
 
 PROBE = "[INPUT]\nperson\ndoor\n\n[OUTPUT]\nstop\n\n[ENV_INIT]\ndoor\n\n[ENV_TRANS]\ndoor'\n\n" \
         "[SYS_TRANS]\nperson' -> stop'\n"
@@ -20,3 +25,45 @@ def test_strategy_source_names_the_original_then_the_written_spec_and_counts_gen
     assert strategy_source("probe.structuredslugs", rs) == (str(written), 2)
     rs.write_error = "cannot write"
     assert strategy_source("probe.structuredslugs", rs) == ("", 2)
+
+
+# --- issue 23 item 8: the user's liveness and the characterized spec never trace back ------------------
+@pytest.mark.parametrize("text, needle", [
+    ("[ENV_TRANS]", "is a section header, not a formula"),
+    ("[INPUT]", "is a section header, not a formula"),
+    ("door\u2028person", "U+2028"), ("door\x0bperson", "U+000B"), ("door\x1cperson", "U+001C"),
+    ("door\x85person", "U+0085"), ("door\u2029!door", "U+2029"),
+])
+def test_liveness_that_is_a_header_or_two_lines_is_one_error_and_nothing_changes(text, needle):
+    rs = BackgroundResilience(parse_structured(PROBE, "probe.structuredslugs"), lock=None)
+    rs.initial_state({"person": False, "door": True})
+    with pytest.raises(SpecError, match=re.escape(needle)):
+        rs.add_env_liveness(text)
+    assert rs.characterizer.user_liveness == [] and rs.counters.resyntheses == 0
+
+
+def test_liveness_before_the_controller_started_is_not_ready():
+    rs = BackgroundResilience(parse_structured(PROBE, "probe.structuredslugs"), lock=None)
+    with pytest.raises(NotReady, match="not ready"):
+        rs.add_env_liveness("door")
+    assert rs.job is None and rs.mode is Mode.NORMAL
+
+
+def test_liveness_refusal_says_why_by_mode():
+    assert "characterization is off" in liveness_refusal(False, True, "waiting_for_user")
+    assert "not ready" in liveness_refusal(True, False, "normal")
+    assert "already aborted" in liveness_refusal(True, True, "aborted")
+    assert "not waiting for the user (mode normal)" in liveness_refusal(True, True, "normal")
+    assert liveness_refusal(True, True, "waiting_for_user") is None
+
+
+@pytest.mark.parametrize("kind", ["fifo", "device"])
+def test_characterized_spec_naming_a_fifo_or_a_device_is_refused(tmp_path, kind):
+    if kind == "fifo":
+        target = tmp_path / "pipe"
+        os.mkfifo(target)
+    else:
+        target = "/dev/null"
+    options = merge_options({"characterized_spec": str(target)})
+    with pytest.raises(ExecutorError, match="not a regular file"):
+        check_characterized_spec(options, [str(tmp_path / "spec.structuredslugs")])
