@@ -25,7 +25,11 @@ for both robots (the transport decides who sends first; the initiator sends, the
 
 1. ``offer()`` (line 3): phi^{t(r_env)}_{e,r} and phi^g_{s,r}, renamed into r_env's names, as
    structured spec text (``[SYS_TRANS]`` / ``[ENV_LIVENESS]`` of the receiver) — the received
-   assumptions become system safety and the received goals environment liveness (line 5);
+   assumptions become system safety and the received goals environment liveness (line 5), except
+   that a received assumption no next move of the receiver can keep (no next-state output of its
+   own) is kept through the activations its completion sensors report (``road_c'`` -> ``road'``), or,
+   when no move of the receiver can keep it, becomes an environment assumption of the receiver
+   (``split_by_ownership``: a robot guarantees only what it controls);
 2. ``receive(offer)`` (lines 4-9): parse it against our propositions (garbled text or an unknown
    name is a fault), phi^nego = init from the current state (lines 6-7: incoming inputs, current
    outputs), original env safety phi^t_e (line 2: the EC disjuncts are dropped), phi*^t_s /\\ received
@@ -206,6 +210,64 @@ def assumptions_about(spec: Spec, classes: Classes, peer: str) -> list[Clause]:
     """phi^{t(r_env)}_{e,r} (§4.8): the env-safety clauses that mention an eAP input about ``peer``."""
     eap = classes.eap(peer)
     return [c for c in spec.env_safety if any(v.name in eap for v in variables(c.formula))]
+
+
+#: name endings of completion sensors (activation-completion, thesis §4.3): ``R_c`` / ``R_rc`` / ``a_ac``
+#: report that the robot's own output ``R`` / ``a`` took effect
+COMPLETION_SUFFIXES = ("_rc", "_ac", "_c")
+
+
+def action_of(sensor: str, outputs: list[str]) -> str | None:
+    """The receiver's output whose completion ``sensor`` reports (``road_c`` -> ``road``), or None."""
+    for suffix in COMPLETION_SUFFIXES:
+        if sensor.endswith(suffix) and sensor[:-len(suffix)] in outputs:
+            return sensor[:-len(suffix)]
+    return None
+
+
+def split_by_ownership(clauses: list[Clause], inputs: list[str],
+                       outputs: list[str]) -> tuple[list[Clause], list[Clause]]:
+    """Received assumptions (Alg. 4 line 5) by who can keep them: ``(guarantees, assumptions)``.
+
+    * a clause that mentions a next-state output of the receiver is its guarantee as it is (it keeps
+      it by its next move, as A's ``openDoor'`` in Example 13);
+    * a clause over the receiver's own completion sensors (``road_c'``: the robot *is* in road) is
+      kept by the receiver through the activations they complete: it becomes the guarantee with each
+      next-state completion sensor replaced by its activation (``road'``), which the receiver
+      controls — D promising "never in the kitchen" promises never to head there;
+    * a clause whose next-state inputs include a sensor the receiver does not complete (a global
+      sensor, another robot's proposition) cannot be kept by any move: it becomes an environment
+      assumption of the receiver, never a guarantee it could be forced to break."""
+    mine = set(outputs)
+    guarantees, assumptions = [], []
+    for clause in clauses:
+        used = variables(clause.formula)
+        if any(v.primed and v.name in mine for v in used):
+            guarantees.append(clause)
+            continue
+        sensed = {v.name for v in used if v.primed and v.name in inputs}
+        actions = {name: action_of(name, outputs) for name in sensed}
+        if sensed and all(actions.values()):
+            formula = rename_next(clause.formula, actions)
+            guarantees.append(Clause(formula, formula_to_infix(formula), clause.file, clause.line))
+        else:
+            assumptions.append(clause)
+    return guarantees, assumptions
+
+
+def rename_next(f: Formula, table: Mapping[str, str]) -> Formula:
+    """``f`` with each next-state variable ``x'`` in ``table`` renamed to ``table[x]'``."""
+    def combine(node: Formula, kids: tuple) -> Formula:
+        if isinstance(node, Var):
+            return Var(table[node.name], True) if node.primed and node.name in table else node
+        if not kids or all(a is b for a, b in zip(kids, children(node), strict=True)):
+            return node
+        if isinstance(node, Not):
+            return Not(kids[0])
+        if isinstance(node, And | Or):
+            return type(node)(kids)
+        return type(node)(kids[0], kids[1])
+    return fold(f, combine)
 
 
 def rename(f: Formula, table: Mapping[str, str]) -> Formula:
@@ -403,14 +465,16 @@ class Negotiation:
             raise ProtocolFault(f"garbled specification text: {err}") from None
         if received.env_safety or received.sys_init or received.env_init or received.sys_liveness:
             raise ProtocolFault(f"{where}: only [SYS_TRANS] and [ENV_LIVENESS] may be sent")
-        self.received = [f"assumption of {self.peer.name}: {clause_to_english(c, 'sys_safety')}"
-                         for c in received.sys_safety]
+        guarantees, sensed = split_by_ownership(received.sys_safety, self.star.inputs, self.star.outputs)
+        self.received = [f"assumption of {self.peer.name}: {clause_to_english(c, 'sys_safety')}" for c in guarantees]
+        self.received += [f"assumption of {self.peer.name} over what this robot cannot control (kept as an "
+                          f"assumption): {clause_to_english(c, 'env_safety')}" for c in sensed]
         self.received += [f"goal of {self.peer.name}: {clause_to_english(c, 'env_liveness')}"
                           for c in received.env_liveness]
-        self._note(f"received {len(received.sys_safety)} assumption(s) and {len(received.env_liveness)} goal(s) "
-                   f"from {self.peer.name}")
-        # lines 5-9
-        extra = {"sys_safety": received.sys_safety, "env_liveness": received.env_liveness}
+        self._note(f"received {len(received.sys_safety)} assumption(s) ({len(sensed)} kept as assumptions) and "
+                   f"{len(received.env_liveness)} goal(s) from {self.peer.name}")
+        # lines 5-9; a received clause this robot's next outputs cannot satisfy is an assumption (ownership)
+        extra = {"sys_safety": guarantees, "env_safety": sensed, "env_liveness": received.env_liveness}
         spec, text = self._spec(self.star, extra, "phi^nego (Alg. 4 line 8)")
         strategy = self._synthesize(spec)
         self._nego = (spec, text, strategy)
@@ -544,7 +608,8 @@ class Negotiation:
                     out.append(f"# {c.location}: {' '.join(c.text.split())}")
                     out.append(formula_to_infix(c.formula))
                 for c in extra.get(section, []):
-                    origin = "assumption" if section == "sys_safety" else "goal"
+                    origin = {"sys_safety": "assumption", "env_safety": "assumption no move of ours keeps, kept as "
+                              "an assumption (ownership, docs/negotiation.md)"}.get(section, "goal")
                     out.append(f"# Alg. 4 line 5: {origin} of {self.peer.name} ({c.text.strip()})")
                     out.append(formula_to_infix(c.formula))
             out.append("")
