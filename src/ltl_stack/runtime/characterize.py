@@ -364,7 +364,15 @@ class Event:
     message: str
 
 
+#: The negotiation hook (Alg. 3 line 9): the agreed spec to run; None when negotiation does not apply —
+#: no collaborative robot is involved, the peer is absent or silent, or the pair already negotated —
+#: and the robot goes to S.1 (explanation and the user, §4.4: the peer is then uncontrollable
+#: environment); ``NegotiationAbort`` when the robots negotiated and cannot agree (4.8.3, line 20).
 Negotiate = Callable[["ResilientStrategy", Observation], Spec | None]
+
+
+class NegotiationAbort(Exception):
+    """The negotiation hook's answer when Alg. 4 ended in 4.8.3 or line 20: the robot aborts."""
 
 
 @dataclass
@@ -524,7 +532,11 @@ class ResilientStrategy:
             return self._install(attempt, observation)
         self.counters.unrealizable += 1
         if self.negotiate is not None:  # S.2: a collaborative robot caused it (Alg. 3 line 9, §4.8)
-            spec = self.negotiate(self, observation)
+            try:
+                spec = self.negotiate(self, observation)
+            except NegotiationAbort as ended:
+                self.abort(f"unrealizable after environment characterization and negotiation: {ended}")
+                raise ExecutionAborted(self._abort_reason) from None
             result = synthesize(spec, **self.characterizer.synthesis_options) if spec is not None else None
             if result is not None and result.realizable:
                 text = self.characterizer.text(None, observation)
@@ -532,8 +544,11 @@ class ResilientStrategy:
                 self.counters.resyntheses += 1
                 self._event("negotiation gave a realizable specification")
                 return self._install(attempt, observation)
-            self.abort("unrealizable after environment characterization and negotiation")
-            raise ExecutionAborted(self._abort_reason)
+            if spec is not None:
+                self.abort("the negotiated specification is unrealizable")
+                raise ExecutionAborted(self._abort_reason)
+            self._event("no collaborative robot to negotiate with (none involved, absent or silent, or "
+                        "already negotiated): S.1")
         # S.1 (Alg. 3 lines 4-5): explain and wait for the user
         self.explanation = explain(attempt.spec, robotics_semantics=self.characterizer.synthesis_options.get(
             "robotics_semantics", True))

@@ -49,6 +49,7 @@ the peer's realizable second status (``adopted`` is None otherwise).
 from __future__ import annotations
 
 import contextlib
+import threading
 import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
@@ -58,6 +59,7 @@ from typing import Any
 
 from ltl_stack.errors import UserError
 from ltl_stack.fileio import write_atomic
+from ltl_stack.runtime.characterize import NegotiationAbort
 from ltl_stack.runtime.mapping import Mapping as MappingFile
 from ltl_stack.spec import SpecError, clause_to_english, formula_to_infix, parse_structured, write_slugsin
 from ltl_stack.spec.formula import And, Formula, Not, Or, Var, children, evaluate, variables
@@ -68,9 +70,16 @@ from ltl_stack.synthesis.explain import explain
 from ltl_stack.synthesis.explain_render import explanation_text
 from ltl_stack.synthesis.strategy import SymbolicStrategy
 
+#: bounds of a received offer (issue 23): its text and its clauses; larger offers are refused in one line
+MAX_OFFER_BYTES = 64 * 1024
+MAX_OFFER_CLAUSES = 200
+#: the sections an offer may hold (Alg. 4 line 3: assumptions to guarantee, goals to assume)
+OFFER_SECTIONS = ("[SYS_TRANS]", "[ENV_LIVENESS]")
 HEADERS = {"env_init": "ENV_INIT", "sys_init": "SYS_INIT", "env_safety": "ENV_TRANS",
            "sys_safety": "SYS_TRANS", "env_liveness": "ENV_LIVENESS", "sys_liveness": "SYS_LIVENESS"}
 OFFER, STATUS, ABORT = "offer", "status", "abort"
+#: the refusal of an offer that crossed ours (both robots started at once)
+SIMULTANEOUS = "simultaneous negotiation:"
 
 
 class NegotiationError(UserError):
@@ -222,6 +231,42 @@ def action_of(sensor: str, outputs: list[str]) -> str | None:
     for suffix in COMPLETION_SUFFIXES:
         if sensor.endswith(suffix) and sensor[:-len(suffix)] in outputs:
             return sensor[:-len(suffix)]
+    return None
+
+
+def offer_refusal(text: str) -> str | None:
+    """Why an offer's text is refused before it is parsed (one line), or None: larger than
+    ``MAX_OFFER_BYTES`` or ``MAX_OFFER_CLAUSES``, or declaring a section other than ``[SYS_TRANS]``
+    and ``[ENV_LIVENESS]`` (an offer may not declare propositions or touch the receiver's init)."""
+    size = len(text.encode("utf-8", "replace"))
+    if size > MAX_OFFER_BYTES:
+        return f"offer refused: {size} bytes (at most {MAX_OFFER_BYTES})"
+    clauses = 0
+    for number, line in enumerate(text.splitlines(), 1):
+        stripped = line.strip()
+        if not stripped or stripped.startswith("#"):
+            continue
+        if stripped.startswith("[") and stripped.endswith("]"):
+            if stripped not in OFFER_SECTIONS:
+                return (f"offer refused: line {number} declares {stripped[:40]}; an offer holds only "
+                        f"{' and '.join(OFFER_SECTIONS)}")
+            continue
+        clauses += 1
+    if clauses > MAX_OFFER_CLAUSES:
+        return f"offer refused: {clauses} clauses (at most {MAX_OFFER_CLAUSES})"
+    return None
+
+
+def caller_refusal(caller: str, sender: str, peers: Mapping[str, str]) -> str | None:
+    """Why a message whose transport says it comes from node ``caller`` and which names ``sender``
+    is refused, or None. ``peers`` maps each declared peer to the node that serves its negotiation
+    (its ``~negotiate`` service's node): only that node may speak for it. ROS 1 does not
+    authenticate the caller id; this keeps honest misconfigurations and stray nodes out, not an
+    attacker (docs/negotiation.md)."""
+    if sender not in peers:
+        return f"{sender!r} is not a declared peer ({', '.join(peers) or 'none'})"
+    if caller != peers[sender]:
+        return f"a message for {sender} from node {caller or '(unknown)'}, not from {peers[sender]}"
     return None
 
 
@@ -459,6 +504,9 @@ class Negotiation:
             raise ProtocolFault(f"offer received in phase {self.phase.value}")
         decl = ["[INPUT]", *self.star.inputs, "[OUTPUT]", *self.star.outputs]
         where = f"offer from {self.peer.name}"
+        refusal = offer_refusal(message.text)
+        if refusal is not None:
+            raise ProtocolFault(refusal)
         try:
             received = parse_structured(message.text + "\n" + "\n".join(decl) + "\n", where)
         except SpecError as err:
@@ -475,7 +523,10 @@ class Negotiation:
                    f"{len(received.env_liveness)} goal(s) from {self.peer.name}")
         # lines 5-9; a received clause this robot's next outputs cannot satisfy is an assumption (ownership)
         extra = {"sys_safety": guarantees, "env_safety": sensed, "env_liveness": received.env_liveness}
-        spec, text = self._spec(self.star, extra, "phi^nego (Alg. 4 line 8)")
+        try:
+            spec, text = self._spec(self.star, extra, "phi^nego (Alg. 4 line 8)")
+        except SpecError as err:
+            raise ProtocolFault(f"garbled specification text: {err}") from None
         strategy = self._synthesize(spec)
         self._nego = (spec, text, strategy)
         self._status[1] = strategy is not None
@@ -707,7 +758,14 @@ class Negotiator:
         self.synthesis_options = dict(synthesis_options or {})
         self.history: list[Negotiation] = []
         self.active: dict[str, Negotiation] = {}   # responder side, by peer
+        self.initiating: dict[str, Negotiation] = {}  # initiator side while its messages are exchanged
+        #: peers whose offer we answered while our own offer to them was in flight (simultaneous start)
+        self.yielded: set[str] = set()
+        #: one message handled at a time, never under the controller's lock (the robot keeps stepping)
+        self.lock = threading.RLock()
         self.partners: set[frozenset[str]] = set()
+        #: how long an initiator that yielded waits for the negotiation it answers (seconds)
+        self.answer_wait = 60.0
         #: called after every message handled and every negotiation started or ended (reports changed)
         self.on_change: Callable[[Negotiation], None] | None = None
 
@@ -723,15 +781,37 @@ class Negotiator:
         """Run Alg. 4 as the robot that detected the conflict."""
         n = Negotiation(star, self.classes, peer, incoming=incoming, outputs=outputs, initiator=True,
                         synthesis_options=self.synthesis_options)
-        self.partners.add(frozenset((self.classes.robot, peer)))
-        self.history.append(n)
-        if self.transport is None:
-            n.fail("no transport to reach the peer")
-        else:
-            self._changed(n)
-            drive(n, self.transport(self.classes.peers[peer]))
+        with self.lock:
+            self.partners.add(frozenset((self.classes.robot, peer)))
+            self.history.append(n)
+            self.initiating[peer] = n
+        try:
+            if self.transport is None:
+                n.fail("no transport to reach the peer")
+            else:
+                self._changed(n)
+                drive(n, self.transport(self.classes.peers[peer]))
+        finally:
+            with self.lock:
+                self.initiating.pop(peer, None)
+                if n.outcome is Outcome.FAILED and SIMULTANEOUS in n.reason:
+                    # the peer initiates instead: no negotiation of ours took place, answer theirs
+                    self.partners.discard(frozenset((self.classes.robot, peer)))
+                    self.yielded.add(peer)
         self._changed(n)
         return n
+
+    def wait_answered(self, peer: str, timeout: float) -> Negotiation | None:
+        """After yielding to ``peer`` (simultaneous negotiation, ``respond``): wait up to ``timeout``
+        seconds for the negotiation it started to end; that negotiation, or None."""
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            with self.lock:
+                theirs = [m for m in self.history if not m.initiator and m.peer.name == peer]
+            if theirs and theirs[-1].done:
+                return theirs[-1]
+            time.sleep(0.02)
+        return None
 
     def _changed(self, n: Negotiation) -> None:
         if self.on_change is not None:
@@ -746,9 +826,21 @@ class Negotiator:
             if peer not in self.classes.peers:
                 return Message(ABORT, self.classes.robot, message.session,
                                reason=f"{self.classes.robot} has no peer {peer!r}"), None
+            refusal = offer_refusal(message.text)
+            if refusal is not None:  # nothing started: the real peer may still negotiate
+                return Message(ABORT, self.classes.robot, message.session, reason=refusal), None
             if frozenset((self.classes.robot, peer)) in self.partners:
-                return Message(ABORT, self.classes.robot, message.session,
-                               reason=f"{self.classes.robot} already negotiated with {peer} (once per pair)"), None
+                mine = self.initiating.get(peer)
+                if mine is None or mine.done:
+                    return Message(ABORT, self.classes.robot, message.session,
+                                   reason=f"{self.classes.robot} already negotiated with {peer} (once per pair)"), None
+                # both started at once: the robot whose name sorts first initiates, the other answers
+                # (deterministic, and the outcome is the one of negotiating in turn)
+                if self.classes.robot < peer:
+                    return Message(ABORT, self.classes.robot, message.session,
+                                   reason=f"{SIMULTANEOUS} {self.classes.robot} initiates "
+                                          f"(robots negotiate in the order of their names)"), None
+                self.yielded.add(peer)
             n = Negotiation(star, self.classes, peer, incoming=incoming, outputs=outputs, initiator=False,
                             synthesis_options=self.synthesis_options)
             self.partners.add(frozenset((self.classes.robot, peer)))
@@ -762,6 +854,9 @@ class Negotiator:
         reply = answer(n, message)
         if n.done:
             self.active.pop(peer, None)
+            if n.outcome is Outcome.FAILED and n._nego is None:
+                # the offer itself was refused (garbled, foreign): no negotiation took place
+                self.partners.discard(frozenset((self.classes.robot, peer)))
         self._changed(n)
         return reply, n
 
@@ -782,14 +877,25 @@ class Negotiator:
         docs/resilience.md): Alg. 3 line 9. Negotiates with the peer whose eAP inputs the violated
         clauses mention (once per pair). On adoption the negotiated spec becomes the strategy's base
         spec phi* (later characterizations start from it with empty EC sets, Alg. 4 line 2), is
-        written atomically to the characterized-spec path, and is returned for the strategy to run;
-        otherwise None (the strategy aborts: no peer to ask, or no agreement)."""
+        written atomically to the characterized-spec path, and is returned for the strategy to run.
+        Alg. 3 by cause (§4.4): None — the strategy goes to S.1, explanation and the user — when no
+        peer is involved, the pair already negotiated, or the negotiation failed (a peer absent or
+        silent is uncontrollable environment); ``NegotiationAbort`` when the robots negotiated and
+        cannot agree (4.8.3, line 20)."""
         star = strategy.characterizer.original
         current = {**observation.current_inputs, **observation.current_outputs}
         peer = self.choose(star, current, observation.incoming)
         if peer is None:
             return None
-        adopted = self.initiate(star, peer, observation.incoming, observation.current_outputs).adopted
+        n = self.initiate(star, peer, observation.incoming, observation.current_outputs)
+        if peer in self.yielded:  # we answer the peer's negotiation instead (serve installs its outcome)
+            self.wait_answered(peer, self.answer_wait)
+            with self.lock:
+                self.yielded.discard(peer)
+            return None
+        if n.outcome in (Outcome.BOTH_ABORT, Outcome.ABORT_LINE_20):
+            raise NegotiationAbort(f"negotiation with {peer}: {n.outcome.value}")
+        adopted = n.adopted
         if adopted is None:
             return None
         with getattr(strategy, "lock", None) or contextlib.nullcontext():  # the executor steps meanwhile
@@ -801,21 +907,28 @@ class Negotiator:
 
     def serve(self, message: Message, strategy: Any, controller: Any, start_wait: float = 0.0) -> Message:
         """Answer a peer's message for the robot running ``controller`` (a ``runtime.Controller`` over
-        ``strategy``, a ``ResilientStrategy``), under the controller's lock. An adopted spec is installed
-        at once (``strategy.adopt``) from the position the negotiation started at (the adopted spec's
-        init; the robot keeps running between messages, and the controller's next step continues from
-        there with the current readings); 4.8.3 / line 20 abort the strategy (its safe outputs). A
-        controller that has not started yet (inputs still silent) is waited for up to ``start_wait``
-        seconds; then the answer is an abort."""
+        ``strategy``, a ``ResilientStrategy``). The position is read under the controller's lock; the
+        message (parsing, synthesis) is handled under the negotiator's lock only, so the controller
+        keeps stepping meanwhile; an adopted spec is installed under the controller's lock
+        (``strategy.adopt``) from the position the negotiation started at (the adopted spec's init;
+        the controller's next step continues from there with the current readings); 4.8.3 / line 20
+        abort the strategy (its safe outputs). A controller that has not started yet (inputs still
+        silent) is waited for up to ``start_wait`` seconds; then, and once aborted, the answer is an
+        abort."""
         deadline = time.monotonic() + start_wait
         while controller.state is None and time.monotonic() < deadline:
             time.sleep(0.02)  # our controller starts once every input has reported (not under the lock)
         with controller.lock:
             state = controller.state
-            if state is None:
-                return Message(ABORT, self.classes.robot, message.session, reason=f"{self.classes.robot} has not started")
-            reply, n = self.respond(message, strategy.characterizer.original, state.inputs, state.outputs)
-            if n is not None and n.done:
+            aborted = getattr(strategy, "mode", None) is not None and strategy.mode.value == "aborted"
+            if state is None or aborted:
+                why = "has aborted" if aborted else "has not started"
+                return Message(ABORT, self.classes.robot, message.session, reason=f"{self.classes.robot} {why}")
+            star, inputs, outputs = strategy.characterizer.original, dict(state.inputs), dict(state.outputs)
+        with self.lock:
+            reply, n = self.respond(message, star, inputs, outputs)
+        if n is not None and n.done:
+            with controller.lock:
                 if n.adopted is not None:  # from the position the negotiation started at (its init)
                     state = strategy.adopt(n.adopted.spec, n.adopted.text, n.adopted.strategy, n.incoming, n.outputs)
                     installed = getattr(strategy, "on_installed", None)
@@ -825,4 +938,4 @@ class Negotiator:
                         controller.state = state
                 elif n.outcome in (Outcome.BOTH_ABORT, Outcome.ABORT_LINE_20):
                     strategy.abort(f"negotiation with {n.peer.name}: {n.outcome.value}")
-            return reply
+        return reply

@@ -43,6 +43,7 @@ from ltl_stack.runtime.characterize import (
     Attempt,
     ExecutionAborted,
     Mode,
+    NegotiationAbort,
     Observation,
     ResilientStrategy,
     _Pending,
@@ -176,19 +177,33 @@ class BackgroundResilience(ResilientStrategy):
                 return
             if self.negotiate is not None:  # S.2 (Alg. 3 line 9, §4.8): a collaborative robot
                 self._finish(generation, lambda: self._count_unrealizable(observation))
-                spec = self.negotiate(self, observation)
+                try:
+                    spec = self.negotiate(self, observation)
+                except NegotiationAbort as ended:
+                    reason = f"unrealizable after environment characterization and negotiation: {ended}"
+                    self._finish(generation, lambda: self.abort(reason), always=True)
+                    return
                 result = synthesize(spec, **self.characterizer.synthesis_options) if spec is not None else None
                 if result is not None and result.realizable:
                     text = self.characterizer.text(None, observation)
                     agreed = Attempt(True, "negotiation", spec, text, result.strategy, 0.0)
                     self._finish(generation, lambda: self._accept(agreed, observation, write=False))
-                else:
-                    self._finish(generation, lambda: self.abort(
-                        "unrealizable after environment characterization and negotiation"), always=True)
-                return
+                    return
+                if spec is not None:
+                    self._finish(generation, lambda: self.abort("the negotiated specification is unrealizable"),
+                                 always=True)
+                    return
+                # negotiation does not apply (no peer involved, absent or silent, already negotiated):
+                # S.1, the peer is uncontrollable environment (§4.4)
+                with self.lock:
+                    self._event("no collaborative robot to negotiate with (none involved, absent or silent, or "
+                                "already negotiated): S.1")
+                counted = True
+            else:
+                counted = False
             explanation = explain(attempt.spec, robotics_semantics=self.characterizer.synthesis_options.get(
                 "robotics_semantics", True))
-            self._finish(generation, lambda: self._wait_for_user(observation, explanation))
+            self._finish(generation, lambda: self._wait_for_user(observation, explanation, counted))
         except Exception as err:  # noqa: BLE001 - a failed job must not end the thread silently
             failure = err
             self._finish(generation, lambda: self._failed(failure), always=True)
@@ -268,8 +283,9 @@ class BackgroundResilience(ResilientStrategy):
             self.write_error = f"cannot write {ch.path}: {err.strerror or err}"
             self._event(self.write_error)
 
-    def _wait_for_user(self, observation: Observation, explanation: Any) -> None:
-        self.counters.unrealizable += 1
+    def _wait_for_user(self, observation: Observation, explanation: Any, counted: bool = False) -> None:
+        if not counted:
+            self.counters.unrealizable += 1
         self.explanation = explanation
         self._pending = _Pending(observation, explanation)
         self.mode = Mode.WAITING_FOR_USER
