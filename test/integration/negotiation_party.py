@@ -34,6 +34,7 @@ def main() -> int:
     parser.add_argument("--timeout", type=float, default=5.0)
     parser.add_argument("--inputs", default="{}")
     parser.add_argument("--outputs", default="{}")
+    parser.add_argument("--adopted", help="where an adopted spec is written (two-phase; default: nowhere)")
     parser.add_argument("--start", help="the controller's first readings (JSON; default: --inputs)")
     args = parser.parse_args(rospy.myargv(sys.argv)[1:])
     rospy.init_node("controller_executor")
@@ -48,7 +49,7 @@ def main() -> int:
     controller = Controller(strategy, settle_steps=0)
     inputs = {n: False for n in spec.inputs} | json.loads(args.inputs)
     controller.report_many({n: False for n in spec.inputs} | json.loads(args.start) if args.start else inputs)
-    negotiator = Negotiator(classes)
+    negotiator = Negotiator(classes, path=args.adopted)
 
     def report(n) -> None:
         if n.done:

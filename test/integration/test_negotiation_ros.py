@@ -144,3 +144,25 @@ def test_two_robots_that_start_at_once_reach_the_in_turn_outcome(ros_master, tmp
     own = wait_for(lambda: [r for r in reports(q) if r["session"] == "Q->P"], 120, "Q's own attempt")[0]
     assert own["case"] == "FAILED", own
     assert "Traceback" not in p.output() + q.output()
+
+
+@pytest.mark.parametrize("broken", ["P", "Q"])
+def test_an_unwritable_adopted_spec_on_either_side_fails_both(ros_master, tmp_path, broken):
+    """Issue 23 item 5: two-phase adoption over ROS. The adopted-spec file of one robot cannot be
+    written (its folder is gone): both reports say FAILED, neither robot adopts, nothing is written;
+    the responder keeps running its own controller."""
+    paths = {r: tmp_path / f"out_{r}" / f"{r}.adopted.structuredslugs" for r in "PQ"}
+    for r in "PQ":
+        if r != broken:
+            paths[r].parent.mkdir()
+    q = start(ros_master, tmp_path, "responder", "Q", q_spec(), Q_MAP, "--adopted", str(paths["Q"]))
+    q.wait_output('"ready"', timeout=60)
+    p = start(ros_master, tmp_path, "initiator", "P", p_spec(), P_MAP, "--peer", "Q", "--inputs",
+              '{"x_Q": false}', "--timeout", "20", "--adopted", str(paths["P"]))
+    wait_for(lambda: reports(p) and reports(q), 90, "both reports")
+    rp, rq = reports(p)[0], reports(q)[0]
+    assert rp["case"] == rq["case"] == "FAILED", (rp, rq)
+    assert "cannot write its adopted specification" in rp["reason"] + rq["reason"], (rp, rq)
+    assert '"adopted"' not in p.output() + q.output()
+    assert not any(f for r in "PQ" if paths[r].parent.exists() for f in paths[r].parent.iterdir())
+    assert q.running() and "Traceback" not in p.output() + q.output()

@@ -228,7 +228,8 @@ def prepare_negotiation(classes: Classes, strategy: Any, timeout: float = DEFAUL
                       ", ".join(classes.peers) or "none")
         return None
     negotiator = Negotiator(classes, transport=service_transport(timeout),
-                            synthesis_options=strategy.characterizer.synthesis_options)
+                            synthesis_options=strategy.characterizer.synthesis_options,
+                            path=strategy.characterizer.path)
     rospy.loginfo("%s: negotiating as %s with %s (~negotiate, timeout %g s)", rospy.get_name(), classes.robot,
                   ", ".join(f"{p} ({service_of(peer)})" for p, peer in classes.peers.items()) or "nobody", timeout)
     return negotiator

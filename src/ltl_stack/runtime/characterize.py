@@ -494,14 +494,14 @@ class ResilientStrategy:
         self._event(f"aborted: {reason}")
 
     def adopt(self, spec: Spec, text: str, strategy: SymbolicStrategy, inputs: Mapping[str, bool],
-              outputs: Mapping[str, bool]) -> State:
+              outputs: Mapping[str, bool], write: bool = True) -> State:
         """Run ``spec`` (with its ``strategy``) from the position (``inputs``, ``outputs``) on: a
         specification adopted by integrative negotiation (§4.8, Alg. 4 lines 12/15). It becomes the
         base of later characterizations, whose disjunction sets start empty (Alg. 4 line 2), and is
         written atomically to ``path`` (slugsin for a ``.slugsin`` path). Returns the new state."""
         path = self.characterizer.path
         self.characterizer = Characterizer(spec, path=path, synthesis_options=self.characterizer.synthesis_options)
-        if path is not None:
+        if path is not None and write:  # (negotiation writes it itself before agreeing: two-phase)
             write_atomic(path, write_slugsin(spec, comments=True) if path.suffix == ".slugsin" else text)
         observation = Observation(self.steps, self.wall_clock(), dict(inputs), dict(outputs), dict(inputs))
         self.counters.resyntheses += 1

@@ -78,6 +78,8 @@ OFFER_SECTIONS = ("[SYS_TRANS]", "[ENV_LIVENESS]")
 HEADERS = {"env_init": "ENV_INIT", "sys_init": "SYS_INIT", "env_safety": "ENV_TRANS",
            "sys_safety": "SYS_TRANS", "env_liveness": "ENV_LIVENESS", "sys_liveness": "SYS_LIVENESS"}
 OFFER, STATUS, ABORT = "offer", "status", "abort"
+#: how a status 2 says the adopted spec could not be written (two-phase adoption)
+WRITE_FAILED = "cannot write its adopted specification"
 #: the refusal of an offer that crossed ours (both robots started at once)
 SIMULTANEOUS = "simultaneous negotiation:"
 
@@ -402,7 +404,7 @@ class Negotiation:
     def __init__(self, star: Spec, classes: Classes, peer: str, *, incoming: Mapping[str, bool],
                  outputs: Mapping[str, bool], original: Spec | None = None, initiator: bool = True,
                  synthesis_options: Mapping[str, Any] | None = None, clock=time.monotonic,
-                 wall_clock=time.time) -> None:
+                 wall_clock=time.time, stage: Callable[[Spec, str], Any] | None = None) -> None:
         if peer not in classes.peers:
             raise ValueError(f"{classes.robot} has no peer {peer!r} (declared: {', '.join(classes.peers) or 'none'})")
         self.star = star
@@ -434,6 +436,11 @@ class Negotiation:
         self._star_candidate: tuple[Spec, str, SymbolicStrategy | None, bool] | None = None
         self._status: dict[int, bool] = {}
         self._peer_status: dict[int, bool] = {}
+        #: two-phase adoption (issue 23): writes phi* aside before our realizable status 2 is sent
+        #: (returns what ``commit`` needs; raises ``OSError``); None: nothing to write
+        self.stage = stage
+        self.staged: Any = None
+        self._stage_error = ""
 
     # --- line 3: what we send -----------------------------------------------------------------------
     def offer(self) -> Message:
@@ -534,16 +541,20 @@ class Negotiation:
         self.phase = Phase.SYNTHESIZED
 
     def status(self, round_: int) -> Message:
-        """Our synthesis status for exchange ``round_`` (Alg. 4 line 10 or 18)."""
+        """Our synthesis status for exchange ``round_`` (Alg. 4 line 10 or 18); a status 2 whose spec
+        could not be written aside says so (the peer then fails too: nothing adopted on either side)."""
         if round_ not in self._status:
             raise ProtocolFault(f"status {round_} requested in phase {self.phase.value}")
-        return Message(STATUS, self.me, self.session, round_, realizable=self._status[round_])
+        reason = self._stage_error if round_ == 2 else ""
+        return Message(STATUS, self.me, self.session, round_, realizable=self._status[round_], reason=reason)
 
     def _on_status(self, message: Message) -> None:
         expected = 1 if self.phase is Phase.SYNTHESIZED else 2 if self.phase is Phase.DECIDED else None
         if expected is None or message.round != expected:
             raise ProtocolFault(f"status {message.round} received in phase {self.phase.value}")
         self._peer_status[message.round] = bool(message.realizable)
+        if expected == 2 and message.reason.startswith(WRITE_FAILED):
+            raise ProtocolFault(f"{self.peer.name} {message.reason[:300]}")
         if expected == 1:
             self._decide(bool(message.realizable))
         else:
@@ -556,11 +567,14 @@ class Negotiation:
             self._star_candidate = (spec, text, strategy, True)
             self._status[2] = True
             self._note("phi* <- phi^nego (line 12)")
+            self._stage(spec, text)
         elif peer_nego:
             star_spec, star_text = self._spec(self.star, {}, "phi* with the new init (Alg. 4 line 14)")
             star_strategy = self._synthesize(star_spec)
             self._star_candidate = (star_spec, star_text, star_strategy, False)
             self._status[2] = star_strategy is not None
+            if star_strategy is not None:
+                self._stage(star_spec, star_text)
             self._note(f"{self.peer.name} can incorporate our specification; phi* with the new init is "
                        f"{'realizable' if star_strategy is not None else 'unrealizable'} (lines 14-15)")
         else:
@@ -575,6 +589,9 @@ class Negotiation:
             self.phase = Phase.DONE
             return
         spec, text, strategy, incorporated = self._star_candidate
+        if self._stage_error:
+            self.fail(f"this robot {self._stage_error}")
+            return
         if strategy is None or not peer_star:
             who = "ours" if strategy is None else f"{self.peer.name}'s"
             self._end(Outcome.ABORT_LINE_20, f"phi* ({who}) is unrealizable (line 20)",
@@ -595,6 +612,18 @@ class Negotiation:
             return
         self.adopted = None
         self._end(Outcome.FAILED, reason)
+
+    def _stage(self, spec: Spec, text: str) -> None:
+        """Phase one of the adoption: phi* written aside before our realizable status 2 (a failure
+        turns the status into a refusal that names it)."""
+        if self.stage is None:
+            return
+        try:
+            self.staged = self.stage(spec, text)
+        except OSError as err:
+            self._status[2] = False
+            self._stage_error = f"{WRITE_FAILED} {getattr(err, 'filename', '') or ''}: {err.strerror or err}"
+            self._note(self._stage_error)
 
     def abort_message(self) -> Message:
         return Message(ABORT, self.me, self.session, reason=self.reason or "aborted")
@@ -677,6 +706,30 @@ def write_adopted(adoption: Adoption, path: str | Path) -> None:
         write_atomic(path, adoption.text)
 
 
+def stage_adopted(spec: Spec, text: str, path: str | Path, session: str) -> Path:
+    """Phase one of a two-phase adoption: the spec written next to ``path`` under a name of its own
+    (``OSError`` when it cannot be: the folder is gone, not writable, ``path`` is a folder). Returns
+    the staged file for ``commit_adopted``."""
+    path = Path(path)
+    if path.is_dir():
+        raise IsADirectoryError(21, "is a folder", str(path))
+    staged = path.with_name(f".{path.name}.{session.replace('>', '').replace('/', '_')}.staged")
+    write_atomic(staged, write_slugsin(spec, comments=True) if path.suffix == ".slugsin" else text)
+    return staged
+
+
+def commit_adopted(staged: Path, path: str | Path) -> None:
+    """Phase two: the staged file replaces ``path`` (one rename in one folder)."""
+    staged.replace(path)
+
+
+def discard_staged(staged: Path | None) -> None:
+    """A negotiation that did not end in adoption leaves no staged file behind."""
+    if staged is not None:
+        with contextlib.suppress(OSError):
+            staged.unlink()
+
+
 def report_lines(report: Mapping[str, Any], robot: str = "") -> list[str]:
     """A finished negotiation's report (``Negotiation.report()``) as lines for people: who started or
     answered it and the outcome, then each clause sent and received (Structured English)."""
@@ -752,8 +805,10 @@ class Negotiator:
     ``peer`` and returns its answer (an in-process responder, or the ROS service)."""
 
     def __init__(self, classes: Classes, *, transport: Transport | None = None,
-                 synthesis_options: Mapping[str, Any] | None = None) -> None:
+                 synthesis_options: Mapping[str, Any] | None = None, path: str | Path | None = None) -> None:
         self.classes = classes
+        #: where an adopted spec is written (the characterized-spec file); staged before status 2
+        self.path = Path(path) if path is not None else None
         self.transport = transport
         self.synthesis_options = dict(synthesis_options or {})
         self.history: list[Negotiation] = []
@@ -781,6 +836,7 @@ class Negotiator:
         """Run Alg. 4 as the robot that detected the conflict."""
         n = Negotiation(star, self.classes, peer, incoming=incoming, outputs=outputs, initiator=True,
                         synthesis_options=self.synthesis_options)
+        n.stage = self._stager(n)
         with self.lock:
             self.partners.add(frozenset((self.classes.robot, peer)))
             self.history.append(n)
@@ -792,6 +848,8 @@ class Negotiator:
                 self._changed(n)
                 drive(n, self.transport(self.classes.peers[peer]))
         finally:
+            if n.adopted is None:
+                discard_staged(n.staged)
             with self.lock:
                 self.initiating.pop(peer, None)
                 if n.outcome is Outcome.FAILED and SIMULTANEOUS in n.reason:
@@ -812,6 +870,22 @@ class Negotiator:
                 return theirs[-1]
             time.sleep(0.02)
         return None
+
+    def _stager(self, n: Negotiation) -> Callable[[Spec, str], Path] | None:
+        if self.path is None:
+            return None
+        path = self.path
+        return lambda spec, text: stage_adopted(spec, text, path, n.session)
+
+    def commit(self, n: Negotiation) -> bool:
+        """Phase two of ``n``'s adoption (both parties sent a realizable status 2): the staged spec
+        replaces the adopted-spec file; a negotiation that did not adopt drops its staged file. True
+        when the file was written."""
+        if n.adopted is None or n.staged is None or self.path is None:
+            discard_staged(n.staged)
+            return False
+        commit_adopted(n.staged, self.path)
+        return True
 
     def _changed(self, n: Negotiation) -> None:
         if self.on_change is not None:
@@ -843,6 +917,7 @@ class Negotiator:
                 self.yielded.add(peer)
             n = Negotiation(star, self.classes, peer, incoming=incoming, outputs=outputs, initiator=False,
                             synthesis_options=self.synthesis_options)
+            n.stage = self._stager(n)
             self.partners.add(frozenset((self.classes.robot, peer)))
             self.history.append(n)
             self.active[peer] = n
@@ -854,6 +929,8 @@ class Negotiator:
         reply = answer(n, message)
         if n.done:
             self.active.pop(peer, None)
+            if n.adopted is None:
+                discard_staged(n.staged)
             if n.outcome is Outcome.FAILED and n._nego is None:
                 # the offer itself was refused (garbled, foreign): no negotiation took place
                 self.partners.discard(frozenset((self.classes.robot, peer)))
@@ -901,7 +978,7 @@ class Negotiator:
         with getattr(strategy, "lock", None) or contextlib.nullcontext():  # the executor steps meanwhile
             old = strategy.characterizer
             strategy.characterizer = type(old)(adopted.spec, path=old.path, synthesis_options=old.synthesis_options)
-        if old.path is not None:
+        if not self.commit(n) and old.path is not None:
             write_adopted(adopted, old.path)
         return adopted.spec
 
@@ -928,9 +1005,11 @@ class Negotiator:
         with self.lock:
             reply, n = self.respond(message, star, inputs, outputs)
         if n is not None and n.done:
+            written = self.commit(n)
             with controller.lock:
                 if n.adopted is not None:  # from the position the negotiation started at (its init)
-                    state = strategy.adopt(n.adopted.spec, n.adopted.text, n.adopted.strategy, n.incoming, n.outputs)
+                    state = strategy.adopt(n.adopted.spec, n.adopted.text, n.adopted.strategy, n.incoming, n.outputs,
+                                           write=not written)
                     installed = getattr(strategy, "on_installed", None)
                     if installed is not None:  # the executor node: continue with the current readings, publish
                         installed(state)

@@ -356,13 +356,18 @@ class BackgroundResilience(ResilientStrategy):
         return attempt
 
     def adopt(self, spec: Any, text: str, strategy: SymbolicStrategy, inputs: Mapping[str, bool],
-              outputs: Mapping[str, bool]) -> State:
+              outputs: Mapping[str, bool], write: bool = True) -> State:
         """``ResilientStrategy.adopt`` (a spec agreed by negotiation, installed by the responder) under
         ``lock``; a running job's result is dropped."""
         with self.lock:
             self._generation += 1
             self.job = None
-            state = super().adopt(spec, text, strategy, inputs, outputs)
+            self.write_error = None
+            try:
+                state = super().adopt(spec, text, strategy, inputs, outputs, write=write)
+            except OSError as err:  # written after the agreement (no two-phase staging): say so, run it
+                self.write_error = f"cannot write {self.characterizer.path}: {err.strerror or err}"
+                state = super().adopt(spec, text, strategy, inputs, outputs, write=False)
             self.readings = dict(state.inputs)
             self.violated_now = []
             if self.on_changed is not None:

@@ -407,3 +407,37 @@ def test_hook_by_cause_s1_unless_the_robots_negotiated_and_disagree():
     with pytest.raises(NegotiationAbort, match="4.8.3"):
         side.hook(Held(p), seen)
     assert side.hook(Held(p), seen) is None  # the pair already negotiated
+
+
+@pytest.mark.parametrize("broken", ["P", "Q"])
+def test_adoption_is_two_phase_a_write_failure_on_either_side_fails_both(tmp_path, broken):
+    """Issue 23 item 5: each party writes its adopted spec aside before its realizable status 2; one
+    that cannot (its folder is gone) says so, and both end FAILED with nothing adopted and nothing
+    written; with both folders there, both files are written and both adopt."""
+    p = parse_structured(p_spec(), "P")
+    q = parse_structured(q_spec(), "Q")
+    paths = {r: tmp_path / r / f"{r}.adopted.structuredslugs" for r in "PQ"}
+    for r in "PQ":
+        if r != broken:
+            paths[r].parent.mkdir()
+    q_side = Negotiator(Q_CLASSES, path=paths["Q"])
+    p_side = Negotiator(P_CLASSES, path=paths["P"], transport=lambda peer: lambda m: q_side.respond(
+        m, q, {"p_P": False}, {"x": False})[0])
+    mine = p_side.initiate(p, "Q", {"x_Q": False}, {"p": False, "q": False})
+    theirs = q_side.history[-1]
+    assert mine.outcome is theirs.outcome is Outcome.FAILED, (mine.reason, theirs.reason)
+    assert "cannot write its adopted specification" in mine.reason + theirs.reason
+    assert mine.adopted is None and theirs.adopted is None
+    assert not p_side.commit(mine) and not q_side.commit(theirs)
+    assert [f for r in "PQ" if paths[r].parent.exists() for f in paths[r].parent.iterdir()] == []
+    # both folders there: both written, both adopt
+    paths[broken].parent.mkdir()
+    q_side = Negotiator(Q_CLASSES, path=paths["Q"])
+    p_side = Negotiator(P_CLASSES, path=paths["P"], transport=lambda peer: lambda m: q_side.respond(
+        m, q, {"p_P": False}, {"x": False})[0])
+    mine = p_side.initiate(p, "Q", {"x_Q": False}, {"p": False, "q": False})
+    theirs = q_side.history[-1]
+    assert mine.outcome is theirs.outcome is Outcome.BOTH_ADOPT
+    assert p_side.commit(mine) and q_side.commit(theirs)
+    assert paths["P"].read_text() == mine.adopted.text and paths["Q"].read_text() == theirs.adopted.text
+    assert sorted(f.name for r in "PQ" for f in paths[r].parent.iterdir()) == sorted(p.name for p in paths.values())
