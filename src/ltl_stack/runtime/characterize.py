@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import re
 import time
+from collections import deque
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from enum import Enum
@@ -58,6 +59,9 @@ from ltl_stack.synthesis.recovery import StepKind, StepResult, UnsafeStep
 from ltl_stack.synthesis.strategy import State, SymbolicStrategy
 
 EC1, EC2 = "EC1", "EC2"
+#: attempts and events a resilient strategy keeps (issue 23: bounded memory under a violation flood)
+HISTORY_KEPT = 1
+EVENTS_KEPT = 1000
 #: the characters ``str.splitlines`` breaks a line at
 LINE_BREAKS = "\n\r\x0b\x0c\x1c\x1d\x1e\x85\u2028\u2029"
 HEADERS = {"env_init": "ENV_INIT", "sys_init": "SYS_INIT", "env_safety": "ENV_TRANS",
@@ -150,7 +154,9 @@ class Characterizer:
         self.user_liveness: list[tuple[str, float]] = []  # (text, when added)
         self.variant: str | None = None  # the EC variant of the running spec (None: original)
         self.observation: Observation | None = None  # the one the running spec's init comes from
-        self.history: list[Attempt] = []
+        #: the latest attempts (each holds a strategy and its BDD manager, megabytes: only the last
+        #: ``HISTORY_KEPT`` are kept, so memory stays flat over hundreds of resyntheses)
+        self.history: deque[Attempt] = deque(maxlen=HISTORY_KEPT)
 
     # --- Alg. 2 -----------------------------------------------------------------------------------
     def record(self, observation: Observation) -> tuple[bool, bool]:
@@ -408,7 +414,7 @@ class ResilientStrategy:
         self.outputs = list(spec.outputs)
         self.mode = Mode.NORMAL
         self.counters = Counters()
-        self.events: list[Event] = []
+        self.events: deque[Event] = deque(maxlen=EVENTS_KEPT)  # the latest (``on_event`` sees every one)
         self.last: StepResult | None = None
         self.explanation: Explanation | None = None
         self.steps = 0

@@ -31,6 +31,7 @@ waiting for the user, aborted — so the node republishes its state and diagnost
 """
 from __future__ import annotations
 
+import gc
 import threading
 import time
 from collections.abc import Callable, Mapping
@@ -168,6 +169,14 @@ class BackgroundResilience(ResilientStrategy):
 
     # --- the job (a worker thread) ---------------------------------------------------------------
     def _job(self, observation: Observation, generation: int) -> None:
+        try:
+            self._run_job(observation, generation)
+        finally:
+            # the replaced strategy's BDD manager sits in reference cycles: free it now, in this
+            # thread (not under the lock), so that managers do not pile up between collections
+            gc.collect()
+
+    def _run_job(self, observation: Observation, generation: int) -> None:
         try:
             attempt = self._synthesize(EC1, observation)
             if not attempt.realizable:
