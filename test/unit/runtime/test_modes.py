@@ -67,3 +67,23 @@ def test_characterized_spec_naming_a_fifo_or_a_device_is_refused(tmp_path, kind)
     options = merge_options({"characterized_spec": str(target)})
     with pytest.raises(ExecutorError, match="not a regular file"):
         check_characterized_spec(options, [str(tmp_path / "spec.structuredslugs")])
+
+
+def test_history_and_events_stay_bounded_over_many_resyntheses():
+    """Issue 23 item 7: each attempt holds a strategy and its BDD manager; only the last is kept."""
+    import itertools
+
+    from ltl_stack.runtime.characterize import EVENTS_KEPT, HISTORY_KEPT
+    from ltl_stack.runtime.controller import Controller
+
+    text = "[INPUT]\na\nb\nc\nd\n\n[OUTPUT]\nx\n\n[ENV_INIT]\n!a\n\n[ENV_TRANS]\n!a'\n\n[SYS_TRANS]\nb' -> x'\n"
+    rs = BackgroundResilience(parse_structured(text, "flood.structuredslugs"), lock=None, runner=lambda job: job())
+    controller = Controller(rs)
+    rs.lock = controller.lock
+    rs.on_installed = controller.restart_from
+    controller.report_many(dict.fromkeys("abcd", False))
+    for bits in itertools.product([False, True], repeat=3):  # 8 new violating valuations (a = 1)
+        controller.report_many({"a": True, **dict(zip("bcd", bits, strict=True))})
+        controller.report_many(dict.fromkeys("abcd", False))
+    assert rs.counters.resyntheses >= 5, rs.counters
+    assert len(rs.characterizer.history) <= HISTORY_KEPT == 1 and len(rs.events) <= EVENTS_KEPT
