@@ -441,3 +441,37 @@ def test_adoption_is_two_phase_a_write_failure_on_either_side_fails_both(tmp_pat
     assert p_side.commit(mine) and q_side.commit(theirs)
     assert paths["P"].read_text() == mine.adopted.text and paths["Q"].read_text() == theirs.adopted.text
     assert sorted(f.name for r in "PQ" for f in paths[r].parent.iterdir()) == sorted(p.name for p in paths.values())
+
+
+def test_serve_handles_a_message_off_the_controllers_lock_and_refuses_once_aborted():
+    """Issue 23 items 3, 6: while the responder parses and synthesizes an offer, another thread can
+    take the controller's lock (the robot keeps stepping); an aborted responder answers with an
+    abort and adopts nothing."""
+    import threading
+
+    from ltl_stack.runtime.characterize import ResilientStrategy
+    from ltl_stack.runtime.controller import Controller
+
+    q = parse_structured(q_spec(), "Q")
+    strategy = ResilientStrategy(q, recovery=False)
+    controller = Controller(strategy, settle_steps=0)
+    controller.report_many({"p_P": False})
+    side = Negotiator(Q_CLASSES)
+    taken: list = []
+    respond = side.respond
+
+    def respond_while_stepping(*args, **kwargs):
+        other = threading.Thread(target=lambda: taken.append(controller.lock.acquire(timeout=30)
+                                                             and controller.lock.release() is None))
+        other.start()
+        other.join()
+        return respond(*args, **kwargs)
+
+    side.respond = respond_while_stepping
+    p = parse_structured(p_spec(), "P")
+    offer = Negotiation(p, P_CLASSES, "Q", incoming={"x_Q": False}, outputs={"p": False, "q": False}).offer()
+    reply = side.serve(offer, strategy, controller)
+    assert taken == [True] and reply.kind == "offer", (taken, reply)
+    strategy.abort("test")
+    again = Negotiator(Q_CLASSES).serve(offer, strategy, controller)
+    assert again.kind == "abort" and "has aborted" in again.reason
