@@ -212,8 +212,9 @@ class ExecutorNode:
     ``negotiate`` (thesis §4.8, Alg. 3 S.2) is the negotiation hook: a callable
     ``negotiate(strategy, observation) -> Spec | None`` called from the resynthesis worker thread
     (never under the controller's lock) when environment characterization found no realizable
-    specification; a realizable spec it returns runs next, None aborts. Without it the node asks
-    the user (``~add_env_liveness``). See docs/resilience.md, "Negotiation hook".
+    specification; a realizable spec it returns runs next, None goes to S.1 (the user, as without a
+    hook: no peer involved, absent or silent, already negotiated), ``NegotiationAbort`` aborts.
+    Without it the node asks the user (``~add_env_liveness``). See docs/resilience.md, "Negotiation hook".
     """
 
     def __init__(self, controller: Controller, prepared: Prepared, options: Options, json_lines: bool = False,
