@@ -67,12 +67,18 @@ from ltl_stack.runtime.executor_setup import (
     scenario_namespace,
 )
 from ltl_stack.runtime.mapping import resolve_topics
-from ltl_stack.runtime.modes import current_mode, liveness_refusal, mode_text, policy_text, strategy_source
+from ltl_stack.runtime.modes import (
+    current_mode,
+    liveness_refusal,
+    mode_text,
+    shown,
+    strategy_source,
+    violation_report,
+)
 from ltl_stack.runtime.negotiation import negotiation_classes
 from ltl_stack.runtime.recovery import RecoveringStrategy
 from ltl_stack.runtime.resilient_executor import BackgroundResilience, Busy, thread_runner
 from ltl_stack.spec import SpecError
-from ltl_stack.spec.english import clause_to_english
 from ltl_stack.spec.valuation import format_valuation
 from ltl_stack.srv import AddEnvLiveness, AddEnvLivenessResponse
 from ltl_stack.synthesis.errors import AssumptionViolation
@@ -494,7 +500,7 @@ class ExecutorNode:
         if self.resilient is not None:
             clauses = self.resilient.violated_now or (self.resilient.last_violated if self._recovered_in_update
                                                       else [])
-            return [_shown(c) for c in clauses]
+            return [shown(c) for c in clauses]
         return list(self._violated_now)
 
     def _on_ready_timeout(self, _event: Any) -> None:
@@ -610,7 +616,7 @@ class ExecutorNode:
         counters = self.counters
         if update.violation is not None:
             counters.violations += 1
-            self._violated_now = [_shown(c) for c in update.violation.clauses]
+            self._violated_now = [shown(c) for c in update.violation.clauses]
             strategy = self.controller.strategy
             last = strategy.last if isinstance(strategy, RecoveringStrategy) else None
             if update.recovered:
@@ -672,33 +678,12 @@ class ExecutorNode:
         if key == self._last_violation_key:
             return
         self._last_violation_key = key
-        broken = violation.clauses or (result.violated if result is not None else [])
-        clauses = [f"{c.location}: {c.text}" for c in broken] or ["(no single clause)"]
-        meanings = [_english(c) for c in broken]
-        shown = [f"{c} ({m})" if m else c for c, m in zip(clauses, meanings + [""] * len(clauses), strict=False)]
-        unsafe = [f"{c.location}: {c.text}" for c in (result.unsafe if result is not None else update.unkeepable)]
-        kind = result.kind.value if result is not None else None
-        policy = policy_text(self.options.on_violation, bool(update.unkeepable))
-        if update.recovered:
-            text = (f"environment assumption violated by inputs {format_valuation(readings)}: {'; '.join(shown)}; "
-                    f"recovering ({kind}), now in state {update.state.id}")
-        else:
-            cannot = (f"; no move keeps the system safety, these guarantees cannot all be kept: {'; '.join(unsafe)}"
-                      if unsafe else "")
-            text = (f"environment assumption violated by inputs {format_valuation(readings)} from state "
-                    f"{update.state.id}: {'; '.join(shown)}{cannot}; {policy}, waiting for admissible inputs")
-        (rospy.logwarn if update.recovered else rospy.logerr)("%s: %s", self.name, text)
-        values = [("clause", c) for c in clauses] + [("meaning", m) for m in meanings if m] + [
-            ("unsafe_clause", c) for c in unsafe] + [
-            ("inputs", format_valuation(readings)), ("state", str(update.state.id)),
-            ("policy", f"recovery ({kind})" if update.recovered else self.options.on_violation.value)]
-        self._set_status(WARN if update.recovered else ERROR, "environment assumptions", text, values)
+        report = violation_report(violation, result, update.unkeepable, readings, update.state.id, update.recovered,
+                                  self.options.on_violation.value)
+        (rospy.logwarn if update.recovered else rospy.logerr)("%s: %s", self.name, report.text)
+        self._set_status(WARN if update.recovered else ERROR, "environment assumptions", report.text, report.values)
         if self.json_lines:
-            event = {"event": "violation", "state": update.state.id, "inputs": readings, "clauses": clauses,
-                     "outputs": update.outputs, "recovered": update.recovered, "kind": kind}
-            if unsafe:
-                event["unsafe"] = unsafe
-            print(json.dumps(event), flush=True)
+            print(json.dumps({**report.event, "outputs": update.outputs}), flush=True)
 
     # diagnostics: one status per concern, all republished every DIAGNOSTICS_PERIOD
     def _update_health(self, publish: bool = True) -> None:
@@ -750,21 +735,6 @@ class ExecutorNode:
 
 def _key(readings: Mapping[str, bool]) -> tuple:
     return tuple(sorted(readings.items()))
-
-
-def _shown(clause: Any) -> str:
-    """``file:line: text`` and, when it says more, the Structured English in parentheses."""
-    words = _english(clause)
-    text = f"{clause.location}: {clause.text}"
-    return f"{text} ({words})" if words and words.strip() != (clause.text or "").strip() else text
-
-
-def _english(clause: Any) -> str:
-    """The clause in Structured English, or "" when it cannot be rendered."""
-    try:
-        return clause_to_english(clause, "env_safety")
-    except Exception:  # noqa: BLE001 - a rendering problem must not hide the violation itself
-        return ""
 
 
 def _cli_values(args: argparse.Namespace) -> dict[str, Any]:

@@ -22,7 +22,9 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+from ltl_stack.spec.english import clause_to_english
 from ltl_stack.spec.model import Clause
+from ltl_stack.spec.valuation import format_valuation
 from ltl_stack.synthesis.game import Game, prime_name
 from ltl_stack.synthesis.recovery import unkeepable_clauses
 
@@ -136,6 +138,62 @@ def policy_text(policy: str, unsafe: bool) -> str:
     return "the fewest outputs true that keep the system safety"
 
 
+def english(clause: Any) -> str:
+    """The env-safety clause in Structured English, or "" when it cannot be rendered."""
+    try:
+        return clause_to_english(clause, "env_safety")
+    except Exception:  # noqa: BLE001 - a rendering problem must not hide the violation itself
+        return ""
+
+
+def shown(clause: Any) -> str:
+    """``file:line: text`` and, when it says more, the Structured English in parentheses."""
+    words = english(clause)
+    text = f"{clause.location}: {clause.text}"
+    return f"{text} ({words})" if words and words.strip() != (clause.text or "").strip() else text
+
+
+@dataclass(frozen=True)
+class ViolationReport:
+    """One violation as the node reports it: the log line / diagnostic message, the diagnostic's
+    key-value pairs and the ``--json`` event (without the outputs)."""
+
+    text: str
+    values: list[tuple[str, str]]
+    event: dict[str, Any]
+
+
+def violation_report(violation: Any, result: Any, unkeepable: list[Clause], readings: Mapping[str, bool],
+                     state_id: int, recovered: bool, policy: str) -> ViolationReport:
+    """The report of an environment-assumption violation: the broken clauses (``file:line``, text and
+    English), how the robot answered — a recovery move (``result``: its kind), or the ``policy``'s
+    outputs kept safe — and, when no move keeps the system safety, the guarantees that cannot all be
+    kept (the recovery's, else the policy guard's ``unkeepable``)."""
+    broken = violation.clauses or (result.violated if result is not None else [])
+    clauses = [f"{c.location}: {c.text}" for c in broken] or ["(no single clause)"]
+    meanings = [english(c) for c in broken]
+    parts = [f"{c} ({m})" if m else c for c, m in zip(clauses, meanings + [""] * len(clauses), strict=False)]
+    unsafe = [f"{c.location}: {c.text}" for c in (result.unsafe if result is not None else unkeepable)]
+    kind = result.kind.value if result is not None else None
+    inputs = format_valuation(readings)
+    if recovered:
+        text = (f"environment assumption violated by inputs {inputs}: {'; '.join(parts)}; "
+                f"recovering ({kind}), now in state {state_id}")
+    else:
+        cannot = (f"; no move keeps the system safety, these guarantees cannot all be kept: {'; '.join(unsafe)}"
+                  if unsafe else "")
+        text = (f"environment assumption violated by inputs {inputs} from state {state_id}: {'; '.join(parts)}"
+                f"{cannot}; {policy_text(policy, bool(unkeepable))}, waiting for admissible inputs")
+    values = [("clause", c) for c in clauses] + [("meaning", m) for m in meanings if m] + [
+        ("unsafe_clause", c) for c in unsafe] + [
+        ("inputs", inputs), ("state", str(state_id)), ("policy", f"recovery ({kind})" if recovered else policy)]
+    event: dict[str, Any] = {"event": "violation", "state": state_id, "inputs": dict(readings), "clauses": clauses,
+                             "recovered": recovered, "kind": kind}
+    if unsafe:
+        event["unsafe"] = unsafe
+    return ViolationReport(text, values, event)
+
+
 def game_of(strategy: Any) -> Game | None:
     """The game whose rho_s the running strategy keeps: the symbolic strategy's (for a resilient
     one, the strategy in place now), else one built from an explicit strategy's spec."""
@@ -188,4 +246,5 @@ def strategy_source(original: str, resilient: Any | None) -> tuple[str, int]:
     return (os.path.abspath(path) if written else ""), resilient.counters.resyntheses
 
 
-__all__ = ["Guarded", "OutputGuard", "current_mode", "game_of", "liveness_refusal", "mode_text", "nearest_safe_outputs", "policy_text", "strategy_source"]
+__all__ = ["Guarded", "OutputGuard", "ViolationReport", "current_mode", "english", "game_of", "liveness_refusal",
+           "shown", "violation_report", "mode_text", "nearest_safe_outputs", "policy_text", "strategy_source"]

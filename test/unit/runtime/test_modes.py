@@ -87,3 +87,20 @@ def test_history_and_events_stay_bounded_over_many_resyntheses():
         controller.report_many(dict.fromkeys("abcd", False))
     assert rs.counters.resyntheses >= 5, rs.counters
     assert len(rs.characterizer.history) <= HISTORY_KEPT == 1 and len(rs.events) <= EVENTS_KEPT
+
+
+def test_violation_report_names_the_broken_and_the_unkeepable_clauses():
+    """Item 9: the violation report is ROS-free; without a safe valuation it says so and names the
+    guarantees (file:line)."""
+    from ltl_stack.runtime.modes import violation_report
+    from ltl_stack.synthesis.errors import AssumptionViolation
+
+    spec = parse_structured("[INPUT]\np\n\n[OUTPUT]\nx\n\n[ENV_TRANS]\n!p'\n\n[SYS_TRANS]\np' -> x'\np' -> !x'\n", "s")
+    broken = AssumptionViolation(list(spec.env_safety), {"p": True})
+    report = violation_report(broken, None, list(spec.sys_safety), {"p": True}, 3, False, "hold")
+    assert "s:8: !p'" in report.text and "no move keeps the system safety" in report.text
+    assert "s:11: p' -> x'; s:12: p' -> !x'" in report.text and "publishing the hold valuation" in report.text
+    assert ("unsafe_clause", "s:12: p' -> !x'") in report.values and report.event["unsafe"] == [
+        "s:11: p' -> x'", "s:12: p' -> !x'"]
+    kept = violation_report(broken, None, [], {"p": True}, 3, False, "all-false")
+    assert "the fewest outputs true that keep the system safety" in kept.text and "unsafe" not in kept.event
