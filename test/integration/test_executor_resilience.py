@@ -387,3 +387,28 @@ def test_a_failed_write_of_the_characterized_spec_is_an_error_on_diagnostics(ros
     state = probe.wait_state(lambda s: s["resyntheses"] >= 1 and s["spec_file"] == "", "spec_file empty")
     assert state["generation"] >= 1, state
     assert node.running() and "Traceback" not in node.output(), node.output()
+
+
+def test_with_negotiation_configured_a_violation_no_peer_is_involved_in_asks_the_user(ros_master, rprobes, tmp_path):
+    """Issue 23 item 4 (Alg. 3 by cause, §4.4): the mapping declares a peer, but the broken clause
+    (door') names none of its eAP inputs: S.1 — the explanation and ~add_env_liveness — not an abort."""
+    spec = tmp_path / "door.structuredslugs"
+    spec.write_text(DOOR_SPEC.replace("[INPUT]\ndoor\n", "[INPUT]\ndoor\nbeacon\n"))
+    mapping = tmp_path / "door.yaml"
+    mapping.write_text("negotiation:\n  robot: R\n  peers:\n    Z:\n      eap: {beacon: signal}\n")
+    out = tmp_path / "door_learned.structuredslugs"
+    node = ros_master.run(["rosrun", "ltl_stack", "controller_executor", str(spec), str(mapping), "--json",
+                           "--violation-grace", "0", "--characterized-spec", str(out), "--negotiation-timeout", "2"],
+                          name="executor")
+    ros_master.wait_for_subscriber(DOOR_IN, timeout=60)
+    probe = rprobes([f"bool:{AT}", f"state:{STATE}", "diag:/diagnostics"])
+    probe.publish("/door/inputs/beacon", False)
+    probe.publish(DOOR_IN, True)
+    probe.wait_state(lambda s: s["inputs"] == {"door": True, "beacon": False}, "the initial state")
+    probe.publish(DOOR_IN, False)  # closed for good: EC1 and EC2 unrealizable
+    waiting = probe.wait_state(lambda s: s["mode"] in ("waiting_for_user", "aborted"), "S.1 or an abort",
+                               timeout=120)
+    assert waiting["mode"] == "waiting_for_user", (waiting, node.output()[-3000:])
+    good = probe.liveness("door")
+    assert good["success"] is True, good
+    assert node.running() and "Traceback" not in node.output(), node.output()
