@@ -3,7 +3,8 @@
 
 ROLE ``responder`` serves ``~negotiate`` around a ``Controller`` over a ``ResilientStrategy``;
 ``initiator`` also negotiates once with ``--peer`` from the given position and prints the report;
-``silent`` offers a ``~negotiate`` service that never answers. Every report is printed as one JSON
+``silent`` offers a ``~negotiate`` service that never answers. ``--start`` gives the controller's first
+readings when they differ from the position the initiator negotiates from (so that it answers too). Every report is printed as one JSON
 line ``{"report": …}``; an adopted spec as ``{"adopted": robot}``.
 """
 from __future__ import annotations
@@ -33,6 +34,8 @@ def main() -> int:
     parser.add_argument("--timeout", type=float, default=5.0)
     parser.add_argument("--inputs", default="{}")
     parser.add_argument("--outputs", default="{}")
+    parser.add_argument("--adopted", help="where an adopted spec is written (two-phase; default: nowhere)")
+    parser.add_argument("--start", help="the controller's first readings (JSON; default: --inputs)")
     args = parser.parse_args(rospy.myargv(sys.argv)[1:])
     rospy.init_node("controller_executor")
     if args.role == "silent":
@@ -45,8 +48,8 @@ def main() -> int:
     strategy = ResilientStrategy(spec, recovery=False)
     controller = Controller(strategy, settle_steps=0)
     inputs = {n: False for n in spec.inputs} | json.loads(args.inputs)
-    controller.report_many(inputs)
-    negotiator = Negotiator(classes)
+    controller.report_many({n: False for n in spec.inputs} | json.loads(args.start) if args.start else inputs)
+    negotiator = Negotiator(classes, path=args.adopted)
 
     def report(n) -> None:
         if n.done:

@@ -53,7 +53,8 @@ PROBE = textwrap.dedent('''\
              inputs=valuation(msg.inputs), outputs=valuation(msg.outputs), mode=msg.mode,
              violations=msg.violations, recovery_steps=msg.recovery_steps, unsafe_steps=msg.unsafe_steps,
              resyntheses=msg.resyntheses, ec1=msg.resyntheses_ec1, ec2=msg.resyntheses_ec2,
-             user=msg.resyntheses_user, unrealizable=msg.unrealizable, violated=list(msg.violated_clauses))
+             user=msg.resyntheses_user, unrealizable=msg.unrealizable, violated=list(msg.violated_clauses),
+             spec_file=msg.spec_file, generation=msg.strategy_generation)
 
     def on_diag(msg, topic):
         for s in msg.status:
@@ -253,11 +254,11 @@ def test_assumption_violation_is_diagnosed_and_outputs_follow_the_policy(ros_mas
     assert ["clause", f"{lock_spec}:{LOCK_CLAUSE_LINE}: | ! lock lock'"] in diag["values"], diag
     log = executor.wait_output("environment assumption violated")
     assert "Traceback" not in log, log
-    if policy == "hold":
-        assert probe.last(BUSY) is True and probe.last(OUT) is True, probe.of("bool")
-    else:
-        probe.wait_value(BUSY, False)
-        probe.wait_value(OUT, False)
+    # Lemma 1(a) (issue 23): both policies keep busy' <-> lock' and out' <-> a' (a valuation keeps them):
+    # hold changes the one output that breaks them, all-false leaves true only what they need
+    probe.wait_value(BUSY, False)
+    probe.wait_value(OUT, True)
+    assert probe.last(BUSY) is False and probe.last(OUT) is True, probe.of("bool")
     # The node is alive and answers; once the inputs are admissible again it continues.
     probe.publish(A, False)
     probe.publish(LOCK, True)

@@ -2,7 +2,8 @@
 
 The probe spec of the issue: the environment promises the door stays open, the robot must stop when
 it sees a person. person=1 door=0 breaks the promise; with recovery (the default) the executor still
-steps and keeps ``person' -> stop'``; with ``--no-recovery`` it holds stop=false (the old behaviour).
+steps and keeps ``person' -> stop'``; with ``--no-recovery`` it holds the outputs that keep the system
+safety (Lemma 1(a), issue 23): stop=true as well.
 """
 from __future__ import annotations
 
@@ -47,7 +48,8 @@ def test_violation_is_recovered_and_stop_stays_true(ros_master, probes, tmp_path
     else:
         diag = wait_for(lambda: [d for d in probe.of("diag") if d["level"] == 2], 60, "an ERROR diagnostic")[0]
         assert f"{spec}:12: door'" in diag["message"], diag
-        assert probe.last(STOP) is False, probe.of("bool")
+        probe.wait_value(STOP, True, timeout=60)  # Lemma 1(a): the held outputs keep person' -> stop'
+        assert probe.last(STOP) is True, probe.of("bool")
     events = [json.loads(x) for x in executor.output().splitlines() if x.startswith('{"event": "violation"')]
     assert events and all(e["recovered"] is recovery for e in events), events
     if recovery:
@@ -71,3 +73,44 @@ def test_violation_is_recovered_and_stop_stays_true(ros_master, probes, tmp_path
         back = wait_for(lambda: [e for e in probe.of("state") if e["inputs"] == {"person": False, "door": True}
                                  and e["t"] > recovered["t"]], 60, "a state with the door open again")[-1]
         assert states.get(back["state"]) == (back["goal"], back["inputs"], back["outputs"]), (back, states)
+
+
+# The probe of issue 23: two outputs, a goal; door=0 breaks the assumption, then a person appears.
+TWO_SPEC = "[INPUT]\nperson\ndoor\n\n[OUTPUT]\nstop\npass\n\n[ENV_INIT]\ndoor\n\n[SYS_INIT]\n!pass\n\n" \
+           "[ENV_TRANS]\ndoor'\n\n[SYS_TRANS]\nperson' -> stop'\npass' -> door'\n\n[SYS_LIVENESS]\npass\n"
+MODES = {"recovery": [], "hold": ["--no-recovery"], "all-false": ["--no-recovery", "--on-violation", "all-false"],
+         "characterization only": ["--no-recovery", "--characterized-spec", "{tmp}/ch.structuredslugs"],
+         "characterization with recovery": ["--characterized-spec", "{tmp}/ch.structuredslugs"]}
+
+
+@pytest.mark.parametrize("mode", list(MODES))
+def test_person_door_probe_keeps_stop_true_in_every_mode(ros_master, probes, tmp_path, mode):  # noqa: F811
+    """Lemma 1(a) in every mode (issue 23): with door=0 (assumption broken) and person=1 every valuation
+    the node publishes afterwards keeps person' -> stop' and pass' -> door' — while holding, while
+    characterizing and while waiting for the user."""
+    spec = tmp_path / "probe.structuredslugs"
+    spec.write_text(TWO_SPEC)
+    extra = [a.format(tmp=tmp_path) for a in MODES[mode]]
+    executor = ros_master.run(["rosrun", "ltl_stack", "controller_executor", str(spec), "--json",
+                               "--violation-grace", "0", *extra], name="executor")
+    ros_master.wait_for_subscriber(PERSON)
+    ros_master.wait_for_subscriber(DOOR)
+    probe = probes([f"state:{STATE}"])
+    probe.publish(PERSON, False)
+    probe.publish(DOOR, True)
+    wait_for(lambda: [e for e in probe.of("state") if e["inputs"] == {"person": False, "door": True}], 60,
+             "the first state")
+    probe.publish(DOOR, False)  # breaks door'
+    wait_for(lambda: [e for e in probe.of("state") if e["inputs"] == {"person": False, "door": False}], 60,
+             "a state with door=0")
+    probe.publish(PERSON, True)
+    seen = wait_for(lambda: [e for e in probe.of("state") if e["inputs"] == {"person": True, "door": False}], 60,
+                    "a state with person=1 door=0")
+    if "characterization" in mode:  # and through the resynthesis (or the wait for the user)
+        wait_for(lambda: probe.of("state")[-1]["mode"] != "characterizing" and probe.of("state")[-1]["t"] >= seen[0]["t"],
+                 120, "characterization done")
+    states = [e for e in probe.of("state") if e["inputs"]["person"]]
+    assert states, probe.of("state")
+    bad = [e for e in states if not e["outputs"]["stop"] or (e["outputs"]["pass"] and not e["inputs"]["door"])]
+    assert not bad, bad
+    assert "Traceback" not in executor.output(), executor.output()

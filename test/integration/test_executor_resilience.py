@@ -344,3 +344,71 @@ def test_a_one_step_violation_shows_as_recovering_on_state(ros_master, rprobes, 
     state = probe.wait_state(lambda s: s["mode"] == "recovering", "a recovering ~state")
     assert any(f"{spec}:{DOOR_CLAUSE_LINE}: door -> door'" in c for c in state["violated"]), state
     assert state["recovery_steps"] >= 1 and state["resyntheses"] == 0, state
+
+
+def test_add_env_liveness_never_traces_back_and_says_not_ready_not_waiting_already_aborted(ros_master, rprobes,
+                                                                                            tmp_path):
+    """Issue 23 item 8: before the controller started: exit 1 "not ready" (was a KeyError in the
+    service, exit 3); a section header or two formulas joined by U+2028: exit 2, one line; while not
+    waiting for the user: exit 1 as the README says; ``--abort`` twice: the second is exit 1."""
+    spec = tmp_path / "probe.structuredslugs"
+    spec.write_text(PROBE_SPEC)
+    node = executor(ros_master, spec, "--characterize", inputs=(PERSON, DOOR))
+    env = dict(ros_master.env)
+    early = tool(["door"], env)  # no input has reported: the controller has not started
+    assert early.returncode == 1 and "not ready" in early.stderr, (early.returncode, early.stderr)
+    for formula, needle in (("[ENV_TRANS]", "section header"), ("door\u2028person", "U+2028")):
+        done = tool([formula], env)
+        errors = [line for line in done.stderr.splitlines() if "error" in line]
+        assert done.returncode == 2 and needle in done.stderr and len(errors) == 1, (done.returncode, done.stderr)
+    probe = rprobes([f"bool:{STOP}", f"state:{STATE}", "diag:/diagnostics"])
+    probe.publish(PERSON, False)
+    probe.publish(DOOR, True)
+    probe.wait_state(lambda s: s["inputs"] == {"person": False, "door": True}, "the initial state")
+    normal = tool(["door"], env)
+    assert normal.returncode == 1 and "not waiting for the user (mode normal)" in normal.stderr, normal.stderr
+    assert tool(["--abort"], env).returncode == 0
+    again = tool(["--abort"], env)
+    assert again.returncode == 1 and "already aborted" in again.stderr, (again.returncode, again.stderr)
+    assert node.running() and "Traceback" not in node.output(), node.output()
+
+
+def test_a_failed_write_of_the_characterized_spec_is_an_error_on_diagnostics(ros_master, rprobes, tmp_path):
+    folder = tmp_path / "gone"
+    folder.mkdir()
+    out = folder / "learned.structuredslugs"
+    spec, node, probe = probe_start(ros_master, rprobes, tmp_path, "--characterized-spec", str(out))
+    folder.rmdir()  # the write after the resynthesis fails; the new strategy runs anyway
+    probe.publish(DOOR, False)
+    probe.wait_state(lambda s: s["resyntheses"] >= 1, "a resynthesis")
+    diag = wait_for(lambda: [d for d in probe.of("diag") if d["name"].endswith(": spec file") and d["level"] == 2],
+                    60, "an ERROR about the spec file")[-1]
+    assert f"cannot write {out}" in diag["message"], diag
+    state = probe.wait_state(lambda s: s["resyntheses"] >= 1 and s["spec_file"] == "", "spec_file empty")
+    assert state["generation"] >= 1, state
+    assert node.running() and "Traceback" not in node.output(), node.output()
+
+
+def test_with_negotiation_configured_a_violation_no_peer_is_involved_in_asks_the_user(ros_master, rprobes, tmp_path):
+    """Issue 23 item 4 (Alg. 3 by cause, §4.4): the mapping declares a peer, but the broken clause
+    (door') names none of its eAP inputs: S.1 — the explanation and ~add_env_liveness — not an abort."""
+    spec = tmp_path / "door.structuredslugs"
+    spec.write_text(DOOR_SPEC.replace("[INPUT]\ndoor\n", "[INPUT]\ndoor\nbeacon\n"))
+    mapping = tmp_path / "door.yaml"
+    mapping.write_text("negotiation:\n  robot: R\n  peers:\n    Z:\n      eap: {beacon: signal}\n")
+    out = tmp_path / "door_learned.structuredslugs"
+    node = ros_master.run(["rosrun", "ltl_stack", "controller_executor", str(spec), str(mapping), "--json",
+                           "--violation-grace", "0", "--characterized-spec", str(out), "--negotiation-timeout", "2"],
+                          name="executor")
+    ros_master.wait_for_subscriber(DOOR_IN, timeout=60)
+    probe = rprobes([f"bool:{AT}", f"state:{STATE}", "diag:/diagnostics"])
+    probe.publish("/door/inputs/beacon", False)
+    probe.publish(DOOR_IN, True)
+    probe.wait_state(lambda s: s["inputs"] == {"door": True, "beacon": False}, "the initial state")
+    probe.publish(DOOR_IN, False)  # closed for good: EC1 and EC2 unrealizable
+    waiting = probe.wait_state(lambda s: s["mode"] in ("waiting_for_user", "aborted"), "S.1 or an abort",
+                               timeout=120)
+    assert waiting["mode"] == "waiting_for_user", (waiting, node.output()[-3000:])
+    good = probe.liveness("door")
+    assert good["success"] is True, good
+    assert node.running() and "Traceback" not in node.output(), node.output()

@@ -57,12 +57,18 @@ def test_example_13_kitchen(ros_master, tmp_path):
     assert "/kitchen/A/controller_executor:   received from C: assumption of C: always, if next ingredientArrived " \
            "then next passIngredient" in log
     assert "Traceback" not in log and "aborted" not in log, log[-6000:]
+    # ownership (issue 23 item 2): A's "D is in exactly one region" and "D never in the kitchen" reach D as
+    # guarantees over its activations, so D's border crossings (one message per region sensor) never
+    # leave it without a safe move
+    log = launch.output()
+    assert "no move keeps the system safety" not in log, [x for x in log.splitlines() if "no move keeps" in x]
     # A's spec after both negotiations, written atomically where ~characterized_spec says, loads and is realizable
     a_spec = out / "A.structuredslugs"
     text = a_spec.read_text()
     assert "(road_c_D' | storage_c_D') -> openDoor'" in text and "ingredientArrived' -> passIngredient'" in text
     assert synthesize(load_spec(a_spec)).realizable
-    assert "(road_c' | storage_c') -> openDoor_A'" in (out / "D.structuredslugs").read_text()
+    d_text = (out / "D.structuredslugs").read_text()
+    assert "(road_c' | storage_c') -> openDoor_A'" in d_text and "!(cookingArea' | prepArea')" in d_text, d_text
 
 
 # P needs Q to do x (assumption x_Q', goal x_Q) and has to do p infinitely often; Q assumes P never does p.

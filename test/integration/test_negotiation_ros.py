@@ -83,3 +83,86 @@ def test_a_peer_that_never_answers_fails_safely(ros_master, tmp_path):
     report = reports(p)[0]
     assert report["case"] == "FAILED" and "no answer within 2 s" in report["reason"], report
     assert '"adopted"' not in p.output()
+
+
+ROGUE = Path(__file__).with_name("negotiation_rogue.py")
+
+
+def rogue(ros_master, *messages: dict, ns: str = "/elsewhere", name: str = "rogue"):
+    proc = ros_master.run([sys.executable, str(ROGUE), "/t/Q/controller_executor/negotiate",
+                           *[json.dumps(m) for m in messages], f"__ns:={ns}", f"__name:={name}"], name=f"rogue{ns.replace('/', '_')}")
+    proc.wait_output('"done"', timeout=90)
+    return [json.loads(line)["reply"] for line in proc.output().splitlines() if line.startswith('{"reply"')]
+
+
+def test_a_rogue_node_cannot_abort_stall_or_use_up_a_negotiation(ros_master, tmp_path):
+    """Issue 23 item 6: a node that is not P's negotiating node, posing as P (a FALSE offer, then two
+    unrealizable statuses), is refused; P's own node name with a 1 MB offer, an offer declaring
+    [INPUT], or garbled text: refused in one line each, nothing started. Then the real P negotiates
+    with Q as if nothing had happened (4.8.1)."""
+    q = start(ros_master, tmp_path, "responder", "Q", q_spec(), Q_MAP)
+    q.wait_output('"ready"', timeout=60)
+    offer = {"kind": "offer", "sender": "P", "session": "P->Q", "text": "[SYS_TRANS]\nFALSE\n"}
+    status = {"kind": "status", "sender": "P", "session": "P->Q", "round": 1, "realizable": False}
+    forged = rogue(ros_master, offer, status, {**status, "round": 2})
+    assert [r["kind"] for r in forged] == ["abort"] * 3, forged
+    assert all("not from /t/P/controller_executor" in r["reason"] for r in forged), forged
+    posing = rogue(ros_master, {**offer, "text": "", "head": "[SYS_TRANS]\n", "repeat": "TRUE | x'\n",
+                                "times": 100000},
+                   {**offer, "text": "[INPUT]\nz\n[SYS_TRANS]\nz'\n"}, {**offer, "text": "[SYS_TRANS]\nx' &&& (\n"},
+                   ns="/t/P", name="controller_executor")
+    assert [r["kind"] for r in posing] == ["abort"] * 3, posing
+    assert "bytes (at most 65536)" in posing[0]["reason"] and "declares [INPUT]" in posing[1]["reason"], posing
+    assert "garbled" in posing[2]["reason"] and all("\n" not in r["reason"] for r in posing), posing
+    assert not reports(q) or all(r["case"] == "FAILED" for r in reports(q)), reports(q)
+    p = start(ros_master, tmp_path, "initiator", "P", p_spec(), P_MAP, "--peer", "Q", "--inputs",
+              '{"x_Q": false}', "--timeout", "20")
+    wait_for(lambda: reports(p) and [r for r in reports(q) if r["case"] != "FAILED"], 90, "the real negotiation")
+    assert reports(p)[0]["case"] == "BOTH_ADOPT", (p.output(), q.output())
+    q.wait_output('"adopted": "Q"')
+    log = q.output()
+    assert "Traceback" not in log and log.count("refused so far") <= 10, log
+
+
+def test_two_robots_that_start_at_once_reach_the_in_turn_outcome(ros_master, tmp_path):
+    """Issue 23 item 3: P and Q both start negotiating with each other at the same moment; P (the name
+    that sorts first) initiates, Q answers it; P->Q ends 4.8.1 on both, Q's own attempt FAILED."""
+    q = start(ros_master, tmp_path, "initiator", "Q", q_spec(assumes=True), Q_MAP, "--peer", "P", "--inputs",
+              '{"p_P": false}', "--start", '{"p_P": true}', "--timeout", "20")
+    p = start(ros_master, tmp_path, "initiator", "P", p_spec(), P_MAP, "--peer", "Q", "--inputs",
+              '{"x_Q": false}', "--start", '{"x_Q": true}', "--timeout", "20")
+    try:
+        wait_for(lambda: [r for r in reports(p) if r["session"] == "P->Q"]
+                 and [r for r in reports(q) if r["session"] == "P->Q"], 120, "the P->Q negotiation on both sides")
+    except AssertionError as err:
+        raise AssertionError(f"{err}\n{p.output()[-3000:]}\n{q.output()[-3000:]}") from None
+    mine = [r for r in reports(p) if r["session"] == "P->Q"][0]
+    theirs = [r for r in reports(q) if r["session"] == "P->Q"][0]
+    assert mine["case"] == theirs["case"] == "BOTH_ADOPT", (p.output(), q.output())
+    q.wait_output('"adopted": "Q"')
+    p.wait_output('"adopted": "P"')
+    own = wait_for(lambda: [r for r in reports(q) if r["session"] == "Q->P"], 120, "Q's own attempt")[0]
+    assert own["case"] == "FAILED", own
+    assert "Traceback" not in p.output() + q.output()
+
+
+@pytest.mark.parametrize("broken", ["P", "Q"])
+def test_an_unwritable_adopted_spec_on_either_side_fails_both(ros_master, tmp_path, broken):
+    """Issue 23 item 5: two-phase adoption over ROS. The adopted-spec file of one robot cannot be
+    written (its folder is gone): both reports say FAILED, neither robot adopts, nothing is written;
+    the responder keeps running its own controller."""
+    paths = {r: tmp_path / f"out_{r}" / f"{r}.adopted.structuredslugs" for r in "PQ"}
+    for r in "PQ":
+        if r != broken:
+            paths[r].parent.mkdir()
+    q = start(ros_master, tmp_path, "responder", "Q", q_spec(), Q_MAP, "--adopted", str(paths["Q"]))
+    q.wait_output('"ready"', timeout=60)
+    p = start(ros_master, tmp_path, "initiator", "P", p_spec(), P_MAP, "--peer", "Q", "--inputs",
+              '{"x_Q": false}', "--timeout", "20", "--adopted", str(paths["P"]))
+    wait_for(lambda: reports(p) and reports(q), 90, "both reports")
+    rp, rq = reports(p)[0], reports(q)[0]
+    assert rp["case"] == rq["case"] == "FAILED", (rp, rq)
+    assert "cannot write its adopted specification" in rp["reason"] + rq["reason"], (rp, rq)
+    assert '"adopted"' not in p.output() + q.output()
+    assert not any(f for r in "PQ" if paths[r].parent.exists() for f in paths[r].parent.iterdir())
+    assert q.running() and "Traceback" not in p.output() + q.output()

@@ -49,7 +49,7 @@ from ltl_stack.ros.master_watch import MasterWatch
 from ltl_stack.ros.negotiation import NegotiationEndpoint, prepare_negotiation
 from ltl_stack.ros.valuation import valuation_to_msg
 from ltl_stack.runtime.characterize import Counters, Event, ExecutionAborted, Mode, Negotiate
-from ltl_stack.runtime.controller import HOLD, VIOLATION_POLICIES, Controller, Update
+from ltl_stack.runtime.controller import VIOLATION_POLICIES, Controller, Update
 from ltl_stack.runtime.executor_setup import (
     NODE_NAME,
     ExecutorError,
@@ -67,12 +67,19 @@ from ltl_stack.runtime.executor_setup import (
     scenario_namespace,
 )
 from ltl_stack.runtime.mapping import resolve_topics
+from ltl_stack.runtime.modes import (
+    current_mode,
+    liveness_refusal,
+    mode_text,
+    shown,
+    strategy_source,
+    violation_report,
+)
 from ltl_stack.runtime.negotiation import negotiation_classes
 from ltl_stack.runtime.node_params import split_param_args
 from ltl_stack.runtime.recovery import RecoveringStrategy
 from ltl_stack.runtime.resilient_executor import BackgroundResilience, Busy, thread_runner
 from ltl_stack.spec import SpecError
-from ltl_stack.spec.english import clause_to_english
 from ltl_stack.spec.valuation import format_valuation
 from ltl_stack.srv import AddEnvLiveness, AddEnvLivenessResponse
 from ltl_stack.synthesis.errors import AssumptionViolation
@@ -212,8 +219,9 @@ class ExecutorNode:
     ``negotiate`` (thesis §4.8, Alg. 3 S.2) is the negotiation hook: a callable
     ``negotiate(strategy, observation) -> Spec | None`` called from the resynthesis worker thread
     (never under the controller's lock) when environment characterization found no realizable
-    specification; a realizable spec it returns runs next, None aborts. Without it the node asks
-    the user (``~add_env_liveness``). See docs/resilience.md, "Negotiation hook".
+    specification; a realizable spec it returns runs next, None goes to S.1 (the user, as without a
+    hook: no peer involved, absent or silent, already negotiated), ``NegotiationAbort`` aborts.
+    Without it the node asks the user (``~add_env_liveness``). See docs/resilience.md, "Negotiation hook".
     """
 
     def __init__(self, controller: Controller, prepared: Prepared, options: Options, json_lines: bool = False,
@@ -357,10 +365,18 @@ class ExecutorNode:
         """Alg. 3 line 6: the user's environment liveness; synthesis runs in this service thread,
         not under the controller's lock."""
         formula = request.formula
-        if self.resilient is None:
-            return AddEnvLivenessResponse(success=False, code=Exit.NEGATIVE, mode=self._mode, message=(
-                "environment characterization is off: start the executor with --characterize or "
-                "--characterized-spec FILE (docs/resilience.md)"))
+        if self.resilient is not None:
+            try:
+                self.resilient.characterizer.check_liveness(formula)
+            except SpecError as err:
+                rospy.logwarn("%s: ~add_env_liveness %r refused: %s", self.name, formula, err)
+                return AddEnvLivenessResponse(success=False, code=Exit.BAD_INPUT, mode=self._current_mode(),
+                                              message=str(err))
+        refusal = liveness_refusal(self.resilient is not None, self.controller.state is not None,
+                                   self._current_mode())
+        if refusal is not None:
+            return AddEnvLivenessResponse(success=False, code=Exit.NEGATIVE, mode=self._current_mode(),
+                                          message=refusal)
         try:
             attempt = self.resilient.add_env_liveness(formula)
         except SpecError as err:
@@ -383,8 +399,8 @@ class ExecutorNode:
     def _on_abort(self, _request: Any) -> TriggerResponse:
         """Abort (Alg. 3 line 11): every output false, the node stays up reporting ERROR."""
         with self.controller.lock:
-            if self.controller.aborted is not None:
-                return TriggerResponse(success=True, message=f"already aborted: {self.controller.aborted}")
+            if self.controller.aborted is not None:  # not done again: the tool's exit 1
+                return TriggerResponse(success=False, message=f"already aborted: {self.controller.aborted}")
             reason = "aborted by the user (~abort)"
             if self.resilient is not None:
                 self.resilient.abort(reason)  # -> _on_resilience_changed aborts the controller
@@ -436,18 +452,9 @@ class ExecutorNode:
         """normal, recovering, holding, characterizing, waiting_for_user or aborted."""
         controller = self.controller
         with controller.lock:
-            if controller.aborted is not None:
-                return "aborted"
-            if self.resilient is not None:
-                mode = self.resilient.mode.value
-                if mode in ("normal", "recovering") and controller.violation is not None:
-                    return "holding"
-                if mode == "normal" and self._recovered_in_update:
-                    return "recovering"
-                return mode
-            if controller.violation is not None:
-                return "holding"
-            return "recovering" if self._recovering else "normal"
+            return current_mode(controller.aborted is not None, controller.violation is not None,
+                                self.resilient.mode.value if self.resilient is not None else None,
+                                self._recovered_in_update if self.resilient is not None else self._recovering)
 
     def _counters(self) -> Counters:
         return self.resilient.counters if self.resilient is not None else self.counters
@@ -463,13 +470,7 @@ class ExecutorNode:
                   ("unrealizable", str(counters.unrealizable))]
         violated = self._violated_clauses()
         values += [("violated_clause", c) for c in violated]
-        text = {"normal": "normal", "recovering": "recovering: recovery moves keep the system safety",
-                "holding": f"holding: no recovery move; outputs by --on-violation {self.options.on_violation.value}",
-                "characterizing": "characterizing: resynthesizing (recovery moves meanwhile)"
-                if self.options.recovery else "characterizing: resynthesizing (holding meanwhile)",
-                "waiting_for_user": "waiting for the user: unrealizable after environment characterization; call "
-                                    "~add_env_liveness with an environment liveness assumption, or ~abort",
-                "aborted": f"aborted ({self.controller.aborted}): every output is false"}[mode]
+        text = mode_text(mode, self.options.on_violation.value, self.options.recovery, self.controller.aborted)
         if violated and mode in ("recovering", "holding", "characterizing"):
             text += "; violated: " + "; ".join(violated)
         if mode == "waiting_for_user" and self.resilient is not None and self.resilient.explanation is not None:
@@ -479,6 +480,11 @@ class ExecutorNode:
             values.append(("explanation", explanation_text(explanation)))
         if self.resilient is not None and self.resilient.write_error:
             values.append(("write_error", self.resilient.write_error))
+        if self.resilient is not None and self.resilient.characterizer.path is not None:
+            error = self.resilient.write_error
+            self._set_status(ERROR if error else OK, "spec file", error or
+                             f"{self.resilient.characterizer.path}: written after each new strategy",
+                             [("path", str(self.resilient.characterizer.path))], publish)
         text += (f"; resyntheses {counters.resyntheses} (EC1 {counters.ec1}, EC2 {counters.ec2}, "
                  f"user {counters.user})" if self.resilient is not None else "")
         changed = mode != self._mode
@@ -495,7 +501,7 @@ class ExecutorNode:
         if self.resilient is not None:
             clauses = self.resilient.violated_now or (self.resilient.last_violated if self._recovered_in_update
                                                       else [])
-            return [_shown(c) for c in clauses]
+            return [shown(c) for c in clauses]
         return list(self._violated_now)
 
     def _on_ready_timeout(self, _event: Any) -> None:
@@ -611,7 +617,7 @@ class ExecutorNode:
         counters = self.counters
         if update.violation is not None:
             counters.violations += 1
-            self._violated_now = [_shown(c) for c in update.violation.clauses]
+            self._violated_now = [shown(c) for c in update.violation.clauses]
             strategy = self.controller.strategy
             last = strategy.last if isinstance(strategy, RecoveringStrategy) else None
             if update.recovered:
@@ -644,6 +650,7 @@ class ExecutorNode:
             counters.resyntheses, counters.ec1, counters.ec2, counters.user)
         msg.unrealizable = counters.unrealizable
         msg.violated_clauses = self._violated_clauses()
+        msg.spec_file, msg.strategy_generation = strategy_source(self.prepared.spec_path, self.resilient)
         self.state_pub.publish(msg)
         self.valuation_pub.publish(valuation_to_msg({**inputs, **update.outputs}, stamp))
 
@@ -672,33 +679,12 @@ class ExecutorNode:
         if key == self._last_violation_key:
             return
         self._last_violation_key = key
-        broken = violation.clauses or (result.violated if result is not None else [])
-        clauses = [f"{c.location}: {c.text}" for c in broken] or ["(no single clause)"]
-        meanings = [_english(c) for c in broken]
-        shown = [f"{c} ({m})" if m else c for c, m in zip(clauses, meanings + [""] * len(clauses), strict=False)]
-        unsafe = [f"{c.location}: {c.text}" for c in result.unsafe] if result is not None else []
-        kind = result.kind.value if result is not None else None
-        policy = "holding the last safe outputs" if self.options.on_violation == HOLD else "all outputs false"
-        if update.recovered:
-            text = (f"environment assumption violated by inputs {format_valuation(readings)}: {'; '.join(shown)}; "
-                    f"recovering ({kind}), now in state {update.state.id}")
-        else:
-            cannot = (f"; no move keeps the system safety, these guarantees cannot all be kept: {'; '.join(unsafe)}"
-                      if unsafe else "")
-            text = (f"environment assumption violated by inputs {format_valuation(readings)} from state "
-                    f"{update.state.id}: {'; '.join(shown)}{cannot}; {policy}, waiting for admissible inputs")
-        (rospy.logwarn if update.recovered else rospy.logerr)("%s: %s", self.name, text)
-        values = [("clause", c) for c in clauses] + [("meaning", m) for m in meanings if m] + [
-            ("unsafe_clause", c) for c in unsafe] + [
-            ("inputs", format_valuation(readings)), ("state", str(update.state.id)),
-            ("policy", f"recovery ({kind})" if update.recovered else self.options.on_violation.value)]
-        self._set_status(WARN if update.recovered else ERROR, "environment assumptions", text, values)
+        report = violation_report(violation, result, update.unkeepable, readings, update.state.id, update.recovered,
+                                  self.options.on_violation.value)
+        (rospy.logwarn if update.recovered else rospy.logerr)("%s: %s", self.name, report.text)
+        self._set_status(WARN if update.recovered else ERROR, "environment assumptions", report.text, report.values)
         if self.json_lines:
-            event = {"event": "violation", "state": update.state.id, "inputs": readings, "clauses": clauses,
-                     "outputs": update.outputs, "recovered": update.recovered, "kind": kind}
-            if unsafe:
-                event["unsafe"] = unsafe
-            print(json.dumps(event), flush=True)
+            print(json.dumps({**report.event, "outputs": update.outputs}), flush=True)
 
     # diagnostics: one status per concern, all republished every DIAGNOSTICS_PERIOD
     def _update_health(self, publish: bool = True) -> None:
@@ -752,21 +738,6 @@ def _key(readings: Mapping[str, bool]) -> tuple:
     return tuple(sorted(readings.items()))
 
 
-def _shown(clause: Any) -> str:
-    """``file:line: text`` and, when it says more, the Structured English in parentheses."""
-    words = _english(clause)
-    text = f"{clause.location}: {clause.text}"
-    return f"{text} ({words})" if words and words.strip() != (clause.text or "").strip() else text
-
-
-def _english(clause: Any) -> str:
-    """The clause in Structured English, or "" when it cannot be rendered."""
-    try:
-        return clause_to_english(clause, "env_safety")
-    except Exception:  # noqa: BLE001 - a rendering problem must not hide the violation itself
-        return ""
-
-
 def _cli_values(args: argparse.Namespace) -> dict[str, Any]:
     return {name: value for name, value in vars(args).items() if name not in ("spec", "mapping", "check", "json")}
 
@@ -812,7 +783,7 @@ def _run(args: argparse.Namespace, negotiate: Negotiate | None = None,
         check_characterized_spec(options, [args.spec, args.mapping, options.strategy or None])
         namespace = scenario_namespace(options.namespace, rospy.get_namespace(), mapping, args.spec)
         in_topics, out_topics = resolve_topics(mapping, spec.inputs, spec.outputs, namespace.strip("/"))
-        prepared = Prepared(spec, mapping, namespace, in_topics, out_topics, warnings_)
+        prepared = Prepared(spec, mapping, namespace, in_topics, out_topics, warnings_, args.spec)
         init = parse_init_props(options.init_props, spec)
         strategy = build_strategy(spec, options, log=lambda text: rospy.loginfo("%s: %s", rospy.get_name(), text))
         controller = make_controller(strategy, options, init)

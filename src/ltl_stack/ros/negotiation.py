@@ -30,12 +30,24 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from std_msgs.msg import String
 
 from ltl_stack.runtime.characterize import ResilientStrategy
-from ltl_stack.runtime.negotiation import Classes, Message, Negotiation, Negotiator, Outcome, Peer
+from ltl_stack.runtime.negotiation import (
+    Classes,
+    Message,
+    Negotiation,
+    Negotiator,
+    Outcome,
+    Peer,
+    caller_refusal,
+)
 from ltl_stack.srv import Negotiate, NegotiateRequest, NegotiateResponse
 
 FIELDS = ("kind", "sender", "session", "round", "text", "english", "realizable", "reason")
 #: Default bound of one exchange (seconds); ~negotiation_timeout.
 DEFAULT_TIMEOUT = 5.0
+#: refused messages logged one by one before the log thins out to one in 1000
+LOGGED_REFUSALS = 10
+#: clauses sent/received logged per negotiation (the full lists are in ~negotiations)
+LOGGED_CLAUSES = 20
 
 
 def to_ros(message: Message, kind: type = NegotiateRequest) -> Any:
@@ -57,6 +69,11 @@ def default_service(peer: str, namespace: str | None = None) -> str:
 def service_of(peer: Peer) -> str:
     """The peer's ``~negotiate`` service: its ``service:`` (resolved), else ``default_service``."""
     return rospy.resolve_name(peer.service) if peer.service else default_service(peer.name)
+
+
+def node_of(service: str) -> str:
+    """The node that serves ``service`` (``~negotiate`` is private: its namespace is the node)."""
+    return rosgraph.names.namespace(service).rstrip("/") or "/"
 
 
 def service_transport(timeout: float = DEFAULT_TIMEOUT) -> Callable[[Peer], Callable[[Message], Message]]:
@@ -109,6 +126,9 @@ class NegotiationEndpoint:
         if negotiator.transport is None:
             negotiator.transport = service_transport(timeout)
         negotiator.on_change = self._changed
+        #: the node that serves each declared peer's negotiation: the only one that may speak for it
+        self.peer_nodes = {name: node_of(service_of(peer)) for name, peer in negotiator.classes.peers.items()}
+        self.refusals = 0
         self.service = rospy.Service(service_name, Negotiate, self._on_request)
         self.expiry = rospy.Timer(rospy.Duration(max(timeout / 2.0, 0.1)), self._expire)
         self._publish()
@@ -118,18 +138,34 @@ class NegotiationEndpoint:
 
     # --- responder -------------------------------------------------------------------------------------------
     def _on_request(self, request: Any) -> NegotiateResponse:
+        """One message (a service thread of its own: the controller keeps stepping). Only the node
+        that serves a declared peer's negotiation may speak for it (``caller_refusal``)."""
+        robot = self.negotiator.classes.robot
         try:
             message = from_ros(request)
         except (KeyError, TypeError, ValueError) as err:
-            reply = Message("abort", self.negotiator.classes.robot, "", reason=f"malformed request: {err}")
-        else:
-            reply = self.negotiator.serve(message, self.strategy, self.controller, start_wait=self.timeout / 2)
+            return to_ros(Message("abort", robot, "", reason=f"malformed request: {err}"[:200]), NegotiateResponse)
+        caller = (getattr(request, "_connection_header", None) or {}).get("callerid", "")
+        refusal = caller_refusal(caller, message.sender[:100], self.peer_nodes)
+        if refusal is not None:
+            self._refused(refusal)
+            return to_ros(Message("abort", robot, message.session[:200], reason=f"refused: {refusal}"),
+                          NegotiateResponse)
+        reply = self.negotiator.serve(message, self.strategy, self.controller, start_wait=self.timeout / 2)
+        if reply.kind == "abort" and reply.reason.startswith("offer refused"):
+            self._refused(f"{message.sender}: {reply.reason}")
         return to_ros(reply, NegotiateResponse)
+
+    def _refused(self, text: str) -> None:
+        """A refused message: WARN, bounded (the first ``LOGGED_REFUSALS``, then one in 1000)."""
+        self.refusals += 1
+        if self.refusals <= LOGGED_REFUSALS or self.refusals % 1000 == 0:
+            rospy.logwarn("%s: ~negotiate: %s (%d refused so far)", self.name, text[:300], self.refusals)
 
     def _expire(self, _event: Any) -> None:
         """A responder's negotiation whose initiator stayed silent for 3 x timeout ends as FAILED."""
         now = time.time()
-        with self.controller.lock:
+        with self.negotiator.lock:
             for peer, n in list(self.negotiator.active.items()):
                 if now - n.started > 3 * self.timeout:
                     self.negotiator.expire(peer, f"{peer} went silent for more than {3 * self.timeout:g} s")
@@ -142,10 +178,13 @@ class NegotiationEndpoint:
             level = rospy.loginfo if n.outcome is not None and n.outcome.adopts else rospy.logwarn
             level("%s: negotiation %s with %s: %s (%s)", self.name, n.session, n.peer.name,
                   n.outcome.value if n.outcome else "?", n.reason)
-            for line in n.sent:
-                rospy.loginfo("%s:   sent to %s: %s", self.name, n.peer.name, line)
-            for line in n.received:
-                rospy.loginfo("%s:   received from %s: %s", self.name, n.peer.name, line)
+            for line in n.sent[:LOGGED_CLAUSES]:
+                rospy.loginfo("%s:   sent to %s: %s", self.name, n.peer.name, line[:500])
+            for line in n.received[:LOGGED_CLAUSES]:
+                rospy.loginfo("%s:   received from %s: %s", self.name, n.peer.name, line[:500])
+            if max(len(n.sent), len(n.received)) > LOGGED_CLAUSES:
+                rospy.loginfo("%s:   (%d sent, %d received in all: ~negotiations)", self.name, len(n.sent),
+                              len(n.received))
         self._publish()
         if self.on_report is not None:
             self.on_report(n)
@@ -189,7 +228,8 @@ def prepare_negotiation(classes: Classes, strategy: Any, timeout: float = DEFAUL
                       ", ".join(classes.peers) or "none")
         return None
     negotiator = Negotiator(classes, transport=service_transport(timeout),
-                            synthesis_options=strategy.characterizer.synthesis_options)
+                            synthesis_options=strategy.characterizer.synthesis_options,
+                            path=strategy.characterizer.path)
     rospy.loginfo("%s: negotiating as %s with %s (~negotiate, timeout %g s)", rospy.get_name(), classes.robot,
                   ", ".join(f"{p} ({service_of(peer)})" for p, peer in classes.peers.items()) or "nobody", timeout)
     return negotiator

@@ -6,7 +6,8 @@
 Calls the executor's ``~add_env_liveness`` (``ltl_stack/AddEnvLiveness``) or ``~abort``
 (``std_srvs/Trigger``) service (docs/resilience.md). The exit code is the executor's verdict from the
 one table (``ltl_stack.errors.Exit``): 0 realizable and running (or aborted), 1 not done
-(characterization off, a resynthesis running, already aborted), 2 a formula the executor refused
+(characterization off, not ready, not waiting for the user, a resynthesis running, already aborted,
+also ``--abort`` on an aborted node), 2 a formula the executor refused
 (its message names the column and proposition; nothing changed) or bad arguments, 3 no master or no
 such executor within ``--timeout``, 10 still unrealizable (the executor aborted: every output false).
 """

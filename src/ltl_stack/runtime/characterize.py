@@ -32,7 +32,9 @@ what an executor publishes.
 """
 from __future__ import annotations
 
+import re
 import time
+from collections import deque
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from enum import Enum
@@ -57,6 +59,11 @@ from ltl_stack.synthesis.recovery import StepKind, StepResult, UnsafeStep
 from ltl_stack.synthesis.strategy import State, SymbolicStrategy
 
 EC1, EC2 = "EC1", "EC2"
+#: attempts and events a resilient strategy keeps (issue 23: bounded memory under a violation flood)
+HISTORY_KEPT = 1
+EVENTS_KEPT = 1000
+#: the characters ``str.splitlines`` breaks a line at
+LINE_BREAKS = "\n\r\x0b\x0c\x1c\x1d\x1e\x85\u2028\u2029"
 HEADERS = {"env_init": "ENV_INIT", "sys_init": "SYS_INIT", "env_safety": "ENV_TRANS",
            "sys_safety": "SYS_TRANS", "env_liveness": "ENV_LIVENESS", "sys_liveness": "SYS_LIVENESS"}
 
@@ -147,7 +154,9 @@ class Characterizer:
         self.user_liveness: list[tuple[str, float]] = []  # (text, when added)
         self.variant: str | None = None  # the EC variant of the running spec (None: original)
         self.observation: Observation | None = None  # the one the running spec's init comes from
-        self.history: list[Attempt] = []
+        #: the latest attempts (each holds a strategy and its BDD manager, megabytes: only the last
+        #: ``HISTORY_KEPT`` are kept, so memory stays flat over hundreds of resyntheses)
+        self.history: deque[Attempt] = deque(maxlen=HISTORY_KEPT)
 
     # --- Alg. 2 -----------------------------------------------------------------------------------
     def record(self, observation: Observation) -> tuple[bool, bool]:
@@ -197,8 +206,13 @@ class Characterizer:
         where = "env liveness"
         if not isinstance(text, str) or not text.strip():
             raise SpecError(where, 1, 1, "empty formula; write one like: doorOpen | doorBroken")
-        if "\n" in text.strip() or "\r" in text:
-            raise SpecError(where, 1, 1, "one formula on one line")
+        breaks = [c for c in text.strip() if c in LINE_BREAKS]
+        if breaks:  # str.splitlines splits there too: two formulas would be taken as one text
+            raise SpecError(where, 1, text.strip().index(breaks[0]) + 1,
+                            f"one formula on one line (it contains the line break U+{ord(breaks[0]):04X})")
+        if re.fullmatch(r"\[[^\]]*\]", text.strip()):
+            raise SpecError(where, 1, 1, f"{text.strip()} is a section header, not a formula; write one like: "
+                            "doorOpen | doorBroken")
         spec = self.original
         bits = {b for var in spec.integers for b in var.bits}
         decl = ["[INPUT]"]
@@ -214,6 +228,8 @@ class Characterizer:
             if err.line == 2:
                 raise SpecError(where, 1, err.column, err.message) from None
             raise SpecError(where, 1, 1, err.message) from None
+        if len(parsed.env_liveness) != 1:
+            raise SpecError(where, 1, 1, "not one formula; write one like: doorOpen | doorBroken")
         formula = parsed.env_liveness[0].formula
         primed = sorted({v.name for v in _variables(formula) if v.primed and v.name in spec.outputs})
         if primed:
@@ -343,7 +359,15 @@ class Event:
     message: str
 
 
+#: The negotiation hook (Alg. 3 line 9): the agreed spec to run; None when negotiation does not apply —
+#: no collaborative robot is involved, the peer is absent or silent, or the pair already negotated —
+#: and the robot goes to S.1 (explanation and the user, §4.4: the peer is then uncontrollable
+#: environment); ``NegotiationAbort`` when the robots negotiated and cannot agree (4.8.3, line 20).
 Negotiate = Callable[["ResilientStrategy", Observation], Spec | None]
+
+
+class NegotiationAbort(Exception):
+    """The negotiation hook's answer when Alg. 4 ended in 4.8.3 or line 20: the robot aborts."""
 
 
 @dataclass
@@ -379,7 +403,7 @@ class ResilientStrategy:
         self.outputs = list(spec.outputs)
         self.mode = Mode.NORMAL
         self.counters = Counters()
-        self.events: list[Event] = []
+        self.events: deque[Event] = deque(maxlen=EVENTS_KEPT)  # the latest (``on_event`` sees every one)
         self.last: StepResult | None = None
         self.explanation: Explanation | None = None
         self.steps = 0
@@ -465,14 +489,14 @@ class ResilientStrategy:
         self._event(f"aborted: {reason}")
 
     def adopt(self, spec: Spec, text: str, strategy: SymbolicStrategy, inputs: Mapping[str, bool],
-              outputs: Mapping[str, bool]) -> State:
+              outputs: Mapping[str, bool], write: bool = True) -> State:
         """Run ``spec`` (with its ``strategy``) from the position (``inputs``, ``outputs``) on: a
         specification adopted by integrative negotiation (§4.8, Alg. 4 lines 12/15). It becomes the
         base of later characterizations, whose disjunction sets start empty (Alg. 4 line 2), and is
         written atomically to ``path`` (slugsin for a ``.slugsin`` path). Returns the new state."""
         path = self.characterizer.path
         self.characterizer = Characterizer(spec, path=path, synthesis_options=self.characterizer.synthesis_options)
-        if path is not None:
+        if path is not None and write:  # (negotiation writes it itself before agreeing: two-phase)
             write_atomic(path, write_slugsin(spec, comments=True) if path.suffix == ".slugsin" else text)
         observation = Observation(self.steps, self.wall_clock(), dict(inputs), dict(outputs), dict(inputs))
         self.counters.resyntheses += 1
@@ -503,7 +527,11 @@ class ResilientStrategy:
             return self._install(attempt, observation)
         self.counters.unrealizable += 1
         if self.negotiate is not None:  # S.2: a collaborative robot caused it (Alg. 3 line 9, §4.8)
-            spec = self.negotiate(self, observation)
+            try:
+                spec = self.negotiate(self, observation)
+            except NegotiationAbort as ended:
+                self.abort(f"unrealizable after environment characterization and negotiation: {ended}")
+                raise ExecutionAborted(self._abort_reason) from None
             result = synthesize(spec, **self.characterizer.synthesis_options) if spec is not None else None
             if result is not None and result.realizable:
                 text = self.characterizer.text(None, observation)
@@ -511,8 +539,11 @@ class ResilientStrategy:
                 self.counters.resyntheses += 1
                 self._event("negotiation gave a realizable specification")
                 return self._install(attempt, observation)
-            self.abort("unrealizable after environment characterization and negotiation")
-            raise ExecutionAborted(self._abort_reason)
+            if spec is not None:
+                self.abort("the negotiated specification is unrealizable")
+                raise ExecutionAborted(self._abort_reason)
+            self._event("no collaborative robot to negotiate with (none involved, absent or silent, or "
+                        "already negotiated): S.1")
         # S.1 (Alg. 3 lines 4-5): explain and wait for the user
         self.explanation = explain(attempt.spec, robotics_semantics=self.characterizer.synthesis_options.get(
             "robotics_semantics", True))

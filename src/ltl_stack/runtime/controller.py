@@ -22,6 +22,13 @@ strategy at once; a repeated reading does nothing.
   continue from instead: the controller takes it like a step (the Update says ``recovered``, the
   outputs are the new state's, no policy applies); None means no recovery, and the policy applies.
 
+* Lemma 1(a) (thesis ch. 4): a ``guard`` (``ltl_stack.runtime.modes.OutputGuard``, installed by
+  ``make_controller``) turns the policy's valuation into one that keeps the system safety rho_s from
+  the last state with the current readings whenever one exists: hold keeps the last state's outputs
+  if they keep rho_s, else the nearest safe valuation; all-false the safe valuation with the fewest
+  outputs true. ``unkeepable`` names the rho_s clauses when none exists (the policy's valuation is
+  then published as it is, and the Update carries them).
+
 * Abort (``abort``; thesis Alg. 3 line 11, the executor's ``~abort``): every output false, nothing
   stepped any more; the node stays up. ``restart_from(state)`` continues from a state of a strategy
   that was put in place meanwhile (environment characterization, ``runtime.resilient_executor``).
@@ -71,6 +78,8 @@ class StrategyLike(Protocol):
 
 
 Recovery = Callable[["Controller", AssumptionViolation], Any]
+#: (last state, readings, the policy's outputs) -> an object with ``outputs`` and ``unkeepable``
+Guard = Callable[[Any, Mapping[str, bool], Mapping[str, bool]], Any]
 
 
 @dataclass(frozen=True)
@@ -91,6 +100,8 @@ class Update:
     recovered: bool = False
     error: str | None = None
     changed_outputs: dict[str, bool] = field(default_factory=dict)
+    #: the rho_s clauses no output valuation keeps while a policy applies (then ``outputs`` break them)
+    unkeepable: list = field(default_factory=list)
 
 
 class Controller:
@@ -98,7 +109,7 @@ class Controller:
 
     def __init__(self, strategy: StrategyLike, *, on_violation: ViolationPolicy | str = HOLD,
                  init_props: Mapping[str, bool] | None = None, running: bool = True,
-                 recovery: Recovery | None = None, settle_steps: int = 16) -> None:
+                 recovery: Recovery | None = None, settle_steps: int = 16, guard: Guard | None = None) -> None:
         if on_violation not in VIOLATION_POLICIES:
             raise ValueError(f"on_violation must be one of {', '.join(VIOLATION_POLICIES)}, got {on_violation!r}")
         on_violation = ViolationPolicy(on_violation)
@@ -112,6 +123,9 @@ class Controller:
                              f"(inputs: {', '.join(self.inputs) or 'none'}; outputs: {', '.join(self.outputs) or 'none'})")
         self.on_violation = on_violation
         self.recovery = recovery
+        self.guard = guard
+        #: the rho_s clauses the last policy valuation could not keep (empty: it kept them)
+        self.unkeepable: list = []
         if not isinstance(settle_steps, int) or isinstance(settle_steps, bool) or settle_steps < 0:
             raise ValueError(f"settle_steps must be an integer >= 0, got {settle_steps!r}")
         self.settle_steps = settle_steps
@@ -148,13 +162,22 @@ class Controller:
         return self.state is not None
 
     def current_outputs(self) -> dict[str, bool]:
-        """The output valuation to publish: all false while paused, before the start, or on a
-        violation with the ``all-false`` policy; otherwise the current state's outputs."""
+        """The output valuation to publish: all false while paused, before the start or once aborted;
+        on a violation the policy's valuation (through ``guard``: the nearest one keeping rho_s);
+        otherwise the current state's outputs."""
         with self.lock:
-            if (not self.running or self.state is None or self.aborted is not None
-                    or (self.violation is not None and self.on_violation == ALL_FALSE)):
+            self.unkeepable = []
+            if not self.running or self.state is None or self.aborted is not None:
                 return dict.fromkeys(self.outputs, False)
-            return {p: bool(self.state.outputs[p]) for p in self.outputs}
+            last = {p: bool(self.state.outputs[p]) for p in self.outputs}
+            if self.violation is None:
+                return last
+            wanted = dict.fromkeys(self.outputs, False) if self.on_violation == ALL_FALSE else last
+            if self.guard is None:
+                return wanted
+            guarded = self.guard(self.state, self.readings, wanted)
+            self.unkeepable = list(guarded.unkeepable)
+            return dict(guarded.outputs)
 
     # --- what the adapter calls -------------------------------------------------------------
     def report(self, prop: str, value: bool) -> Update:
@@ -265,7 +288,8 @@ class Controller:
         before = self._published or {}
         changed = {p: v for p, v in outputs.items() if self._published is None or before.get(p) != v}
         self._published = outputs
-        return Update(outputs=outputs, state=self.state, changed_outputs=changed, **kwargs)
+        return Update(outputs=outputs, state=self.state, changed_outputs=changed, unkeepable=list(self.unkeepable),
+                      **kwargs)
 
 
 def _valuation(values: Mapping[str, bool], names: list[str]) -> dict[str, bool]:

@@ -40,6 +40,7 @@ from ltl_stack.runtime.controller import VIOLATION_POLICIES, Controller, Violati
 from ltl_stack.runtime.explicit import AutomatonStrategy
 from ltl_stack.runtime.mapping import Mapping as PropositionMapping
 from ltl_stack.runtime.mapping import MappingError, check_mapping, load_mapping, misfit, resolve_topics
+from ltl_stack.runtime.modes import OutputGuard
 from ltl_stack.runtime.node_params import Bound, NodeConfigError, Param, coerce_param
 from ltl_stack.runtime.recovery import RecoveringStrategy
 from ltl_stack.runtime.resilient_executor import BackgroundResilience
@@ -204,7 +205,8 @@ def threshold_of(options: Options) -> Threshold:
 
 
 def check_characterized_spec(options: Options, inputs: list[str | None]) -> None:
-    """Refuse a ``~characterized_spec`` that is one of the node's input files (before anything runs)."""
+    """Refuse a ``~characterized_spec`` that is one of the node's input files, a FIFO or a device
+    (before anything runs: the atomic write would replace it)."""
     if options.characterized_spec:
         try:
             cli.check_outputs(inputs, [options.characterized_spec])
@@ -222,6 +224,8 @@ class Prepared:
     input_topics: dict[str, str]
     output_topics: dict[str, list[str]]
     warnings: list[str] = field(default_factory=list)
+    #: the spec file as given ("" when it was not read from a file)
+    spec_path: str = ""
 
 
 def load_inputs(spec_path: str, mapping_path: str | None) -> tuple[Any, PropositionMapping | None, list[str]]:
@@ -272,7 +276,7 @@ def prepare(spec_path: str, mapping_path: str | None, namespace: str = "", node_
     spec, mapping, warnings = load_inputs(spec_path, mapping_path)
     ns = scenario_namespace(namespace, node_namespace, mapping, spec_path)
     in_topics, out_topics = resolve_topics(mapping, spec.inputs, spec.outputs, ns.strip("/"))
-    return Prepared(spec, mapping, ns, in_topics, out_topics, warnings)
+    return Prepared(spec, mapping, ns, in_topics, out_topics, warnings, spec_path)
 
 
 def parse_init_props(text: str, spec: Any) -> dict[str, bool]:
@@ -359,11 +363,13 @@ def _primary(strategy: Any, spec: Any, options: Options, log: Callable[[str], No
 
 
 def make_controller(strategy: Any, options: Options, init: Mapping[str, bool]) -> Controller:
-    """The Controller for ``strategy``; a ``RecoveringStrategy`` also becomes its recovery hook."""
+    """The Controller for ``strategy``; a ``RecoveringStrategy`` also becomes its recovery hook, and the
+    ``OutputGuard`` keeps the policy's outputs safe (Lemma 1(a), ``runtime.modes``)."""
     recovery = strategy.recover if isinstance(strategy, RecoveringStrategy) else None
     try:
         controller = Controller(strategy, on_violation=options.on_violation, init_props=init,
-                                running=True, settle_steps=options.settle_steps, recovery=recovery)
+                                running=True, settle_steps=options.settle_steps, recovery=recovery,
+                                guard=OutputGuard(strategy))
     except ValueError as err:
         raise ExecutorError(str(err)) from None
     if isinstance(strategy, BackgroundResilience):

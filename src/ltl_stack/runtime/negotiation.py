@@ -25,7 +25,11 @@ for both robots (the transport decides who sends first; the initiator sends, the
 
 1. ``offer()`` (line 3): phi^{t(r_env)}_{e,r} and phi^g_{s,r}, renamed into r_env's names, as
    structured spec text (``[SYS_TRANS]`` / ``[ENV_LIVENESS]`` of the receiver) — the received
-   assumptions become system safety and the received goals environment liveness (line 5);
+   assumptions become system safety and the received goals environment liveness (line 5), except
+   that a received assumption no next move of the receiver can keep (no next-state output of its
+   own) is kept through the activations its completion sensors report (``road_c'`` -> ``road'``), or,
+   when no move of the receiver can keep it, becomes an environment assumption of the receiver
+   (``split_by_ownership``: a robot guarantees only what it controls);
 2. ``receive(offer)`` (lines 4-9): parse it against our propositions (garbled text or an unknown
    name is a fault), phi^nego = init from the current state (lines 6-7: incoming inputs, current
    outputs), original env safety phi^t_e (line 2: the EC disjuncts are dropped), phi*^t_s /\\ received
@@ -45,6 +49,7 @@ the peer's realizable second status (``adopted`` is None otherwise).
 from __future__ import annotations
 
 import contextlib
+import threading
 import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
@@ -54,6 +59,7 @@ from typing import Any
 
 from ltl_stack.errors import UserError
 from ltl_stack.fileio import write_atomic
+from ltl_stack.runtime.characterize import NegotiationAbort
 from ltl_stack.runtime.mapping import Mapping as MappingFile
 from ltl_stack.spec import SpecError, clause_to_english, formula_to_infix, parse_structured, write_slugsin
 from ltl_stack.spec.formula import And, Formula, Not, Or, Var, children, evaluate, variables
@@ -64,9 +70,18 @@ from ltl_stack.synthesis.explain import explain
 from ltl_stack.synthesis.explain_render import explanation_text
 from ltl_stack.synthesis.strategy import SymbolicStrategy
 
+#: bounds of a received offer (issue 23): its text and its clauses; larger offers are refused in one line
+MAX_OFFER_BYTES = 64 * 1024
+MAX_OFFER_CLAUSES = 200
+#: the sections an offer may hold (Alg. 4 line 3: assumptions to guarantee, goals to assume)
+OFFER_SECTIONS = ("[SYS_TRANS]", "[ENV_LIVENESS]")
 HEADERS = {"env_init": "ENV_INIT", "sys_init": "SYS_INIT", "env_safety": "ENV_TRANS",
            "sys_safety": "SYS_TRANS", "env_liveness": "ENV_LIVENESS", "sys_liveness": "SYS_LIVENESS"}
 OFFER, STATUS, ABORT = "offer", "status", "abort"
+#: how a status 2 says the adopted spec could not be written (two-phase adoption)
+WRITE_FAILED = "cannot write its adopted specification"
+#: the refusal of an offer that crossed ours (both robots started at once)
+SIMULTANEOUS = "simultaneous negotiation:"
 
 
 class NegotiationError(UserError):
@@ -208,6 +223,100 @@ def assumptions_about(spec: Spec, classes: Classes, peer: str) -> list[Clause]:
     return [c for c in spec.env_safety if any(v.name in eap for v in variables(c.formula))]
 
 
+#: name endings of completion sensors (activation-completion, thesis §4.3): ``R_c`` / ``R_rc`` / ``a_ac``
+#: report that the robot's own output ``R`` / ``a`` took effect
+COMPLETION_SUFFIXES = ("_rc", "_ac", "_c")
+
+
+def action_of(sensor: str, outputs: list[str]) -> str | None:
+    """The receiver's output whose completion ``sensor`` reports (``road_c`` -> ``road``), or None."""
+    for suffix in COMPLETION_SUFFIXES:
+        if sensor.endswith(suffix) and sensor[:-len(suffix)] in outputs:
+            return sensor[:-len(suffix)]
+    return None
+
+
+def offer_refusal(text: str) -> str | None:
+    """Why an offer's text is refused before it is parsed (one line), or None: larger than
+    ``MAX_OFFER_BYTES`` or ``MAX_OFFER_CLAUSES``, or declaring a section other than ``[SYS_TRANS]``
+    and ``[ENV_LIVENESS]`` (an offer may not declare propositions or touch the receiver's init)."""
+    size = len(text.encode("utf-8", "replace"))
+    if size > MAX_OFFER_BYTES:
+        return f"offer refused: {size} bytes (at most {MAX_OFFER_BYTES})"
+    clauses = 0
+    for number, line in enumerate(text.splitlines(), 1):
+        stripped = line.strip()
+        if not stripped or stripped.startswith("#"):
+            continue
+        if stripped.startswith("[") and stripped.endswith("]"):
+            if stripped not in OFFER_SECTIONS:
+                return (f"offer refused: line {number} declares {stripped[:40]}; an offer holds only "
+                        f"{' and '.join(OFFER_SECTIONS)}")
+            continue
+        clauses += 1
+    if clauses > MAX_OFFER_CLAUSES:
+        return f"offer refused: {clauses} clauses (at most {MAX_OFFER_CLAUSES})"
+    return None
+
+
+def caller_refusal(caller: str, sender: str, peers: Mapping[str, str]) -> str | None:
+    """Why a message whose transport says it comes from node ``caller`` and which names ``sender``
+    is refused, or None. ``peers`` maps each declared peer to the node that serves its negotiation
+    (its ``~negotiate`` service's node): only that node may speak for it. ROS 1 does not
+    authenticate the caller id; this keeps honest misconfigurations and stray nodes out, not an
+    attacker (docs/negotiation.md)."""
+    if sender not in peers:
+        return f"{sender!r} is not a declared peer ({', '.join(peers) or 'none'})"
+    if caller != peers[sender]:
+        return f"a message for {sender} from node {caller or '(unknown)'}, not from {peers[sender]}"
+    return None
+
+
+def split_by_ownership(clauses: list[Clause], inputs: list[str],
+                       outputs: list[str]) -> tuple[list[Clause], list[Clause]]:
+    """Received assumptions (Alg. 4 line 5) by who can keep them: ``(guarantees, assumptions)``.
+
+    * a clause that mentions a next-state output of the receiver is its guarantee as it is (it keeps
+      it by its next move, as A's ``openDoor'`` in Example 13);
+    * a clause over the receiver's own completion sensors (``road_c'``: the robot *is* in road) is
+      kept by the receiver through the activations they complete: it becomes the guarantee with each
+      next-state completion sensor replaced by its activation (``road'``), which the receiver
+      controls — D promising "never in the kitchen" promises never to head there;
+    * a clause whose next-state inputs include a sensor the receiver does not complete (a global
+      sensor, another robot's proposition) cannot be kept by any move: it becomes an environment
+      assumption of the receiver, never a guarantee it could be forced to break."""
+    mine = set(outputs)
+    guarantees, assumptions = [], []
+    for clause in clauses:
+        used = variables(clause.formula)
+        if any(v.primed and v.name in mine for v in used):
+            guarantees.append(clause)
+            continue
+        sensed = {v.name for v in used if v.primed and v.name in inputs}
+        actions = {name: action_of(name, outputs) for name in sensed}
+        if sensed and all(actions.values()):
+            formula = rename_next(clause.formula, actions)
+            guarantees.append(Clause(formula, formula_to_infix(formula), clause.file, clause.line))
+        else:
+            assumptions.append(clause)
+    return guarantees, assumptions
+
+
+def rename_next(f: Formula, table: Mapping[str, str]) -> Formula:
+    """``f`` with each next-state variable ``x'`` in ``table`` renamed to ``table[x]'``."""
+    def combine(node: Formula, kids: tuple) -> Formula:
+        if isinstance(node, Var):
+            return Var(table[node.name], True) if node.primed and node.name in table else node
+        if not kids or all(a is b for a, b in zip(kids, children(node), strict=True)):
+            return node
+        if isinstance(node, Not):
+            return Not(kids[0])
+        if isinstance(node, And | Or):
+            return type(node)(kids)
+        return type(node)(kids[0], kids[1])
+    return fold(f, combine)
+
+
 def rename(f: Formula, table: Mapping[str, str]) -> Formula:
     """``f`` with every variable ``x`` renamed to ``table[x]`` (``KeyError`` for a name not in it)."""
     def combine(node: Formula, kids: tuple) -> Formula:
@@ -295,7 +404,7 @@ class Negotiation:
     def __init__(self, star: Spec, classes: Classes, peer: str, *, incoming: Mapping[str, bool],
                  outputs: Mapping[str, bool], original: Spec | None = None, initiator: bool = True,
                  synthesis_options: Mapping[str, Any] | None = None, clock=time.monotonic,
-                 wall_clock=time.time) -> None:
+                 wall_clock=time.time, stage: Callable[[Spec, str], Any] | None = None) -> None:
         if peer not in classes.peers:
             raise ValueError(f"{classes.robot} has no peer {peer!r} (declared: {', '.join(classes.peers) or 'none'})")
         self.star = star
@@ -327,6 +436,11 @@ class Negotiation:
         self._star_candidate: tuple[Spec, str, SymbolicStrategy | None, bool] | None = None
         self._status: dict[int, bool] = {}
         self._peer_status: dict[int, bool] = {}
+        #: two-phase adoption (issue 23): writes phi* aside before our realizable status 2 is sent
+        #: (returns what ``commit`` needs; raises ``OSError``); None: nothing to write
+        self.stage = stage
+        self.staged: Any = None
+        self._stage_error = ""
 
     # --- line 3: what we send -----------------------------------------------------------------------
     def offer(self) -> Message:
@@ -397,21 +511,29 @@ class Negotiation:
             raise ProtocolFault(f"offer received in phase {self.phase.value}")
         decl = ["[INPUT]", *self.star.inputs, "[OUTPUT]", *self.star.outputs]
         where = f"offer from {self.peer.name}"
+        refusal = offer_refusal(message.text)
+        if refusal is not None:
+            raise ProtocolFault(refusal)
         try:
             received = parse_structured(message.text + "\n" + "\n".join(decl) + "\n", where)
         except SpecError as err:
             raise ProtocolFault(f"garbled specification text: {err}") from None
         if received.env_safety or received.sys_init or received.env_init or received.sys_liveness:
             raise ProtocolFault(f"{where}: only [SYS_TRANS] and [ENV_LIVENESS] may be sent")
-        self.received = [f"assumption of {self.peer.name}: {clause_to_english(c, 'sys_safety')}"
-                         for c in received.sys_safety]
+        guarantees, sensed = split_by_ownership(received.sys_safety, self.star.inputs, self.star.outputs)
+        self.received = [f"assumption of {self.peer.name}: {clause_to_english(c, 'sys_safety')}" for c in guarantees]
+        self.received += [f"assumption of {self.peer.name} over what this robot cannot control (kept as an "
+                          f"assumption): {clause_to_english(c, 'env_safety')}" for c in sensed]
         self.received += [f"goal of {self.peer.name}: {clause_to_english(c, 'env_liveness')}"
                           for c in received.env_liveness]
-        self._note(f"received {len(received.sys_safety)} assumption(s) and {len(received.env_liveness)} goal(s) "
-                   f"from {self.peer.name}")
-        # lines 5-9
-        extra = {"sys_safety": received.sys_safety, "env_liveness": received.env_liveness}
-        spec, text = self._spec(self.star, extra, "phi^nego (Alg. 4 line 8)")
+        self._note(f"received {len(received.sys_safety)} assumption(s) ({len(sensed)} kept as assumptions) and "
+                   f"{len(received.env_liveness)} goal(s) from {self.peer.name}")
+        # lines 5-9; a received clause this robot's next outputs cannot satisfy is an assumption (ownership)
+        extra = {"sys_safety": guarantees, "env_safety": sensed, "env_liveness": received.env_liveness}
+        try:
+            spec, text = self._spec(self.star, extra, "phi^nego (Alg. 4 line 8)")
+        except SpecError as err:
+            raise ProtocolFault(f"garbled specification text: {err}") from None
         strategy = self._synthesize(spec)
         self._nego = (spec, text, strategy)
         self._status[1] = strategy is not None
@@ -419,16 +541,20 @@ class Negotiation:
         self.phase = Phase.SYNTHESIZED
 
     def status(self, round_: int) -> Message:
-        """Our synthesis status for exchange ``round_`` (Alg. 4 line 10 or 18)."""
+        """Our synthesis status for exchange ``round_`` (Alg. 4 line 10 or 18); a status 2 whose spec
+        could not be written aside says so (the peer then fails too: nothing adopted on either side)."""
         if round_ not in self._status:
             raise ProtocolFault(f"status {round_} requested in phase {self.phase.value}")
-        return Message(STATUS, self.me, self.session, round_, realizable=self._status[round_])
+        reason = self._stage_error if round_ == 2 else ""
+        return Message(STATUS, self.me, self.session, round_, realizable=self._status[round_], reason=reason)
 
     def _on_status(self, message: Message) -> None:
         expected = 1 if self.phase is Phase.SYNTHESIZED else 2 if self.phase is Phase.DECIDED else None
         if expected is None or message.round != expected:
             raise ProtocolFault(f"status {message.round} received in phase {self.phase.value}")
         self._peer_status[message.round] = bool(message.realizable)
+        if expected == 2 and message.reason.startswith(WRITE_FAILED):
+            raise ProtocolFault(f"{self.peer.name} {message.reason[:300]}")
         if expected == 1:
             self._decide(bool(message.realizable))
         else:
@@ -441,11 +567,14 @@ class Negotiation:
             self._star_candidate = (spec, text, strategy, True)
             self._status[2] = True
             self._note("phi* <- phi^nego (line 12)")
+            self._stage(spec, text)
         elif peer_nego:
             star_spec, star_text = self._spec(self.star, {}, "phi* with the new init (Alg. 4 line 14)")
             star_strategy = self._synthesize(star_spec)
             self._star_candidate = (star_spec, star_text, star_strategy, False)
             self._status[2] = star_strategy is not None
+            if star_strategy is not None:
+                self._stage(star_spec, star_text)
             self._note(f"{self.peer.name} can incorporate our specification; phi* with the new init is "
                        f"{'realizable' if star_strategy is not None else 'unrealizable'} (lines 14-15)")
         else:
@@ -460,6 +589,9 @@ class Negotiation:
             self.phase = Phase.DONE
             return
         spec, text, strategy, incorporated = self._star_candidate
+        if self._stage_error:
+            self.fail(f"this robot {self._stage_error}")
+            return
         if strategy is None or not peer_star:
             who = "ours" if strategy is None else f"{self.peer.name}'s"
             self._end(Outcome.ABORT_LINE_20, f"phi* ({who}) is unrealizable (line 20)",
@@ -480,6 +612,18 @@ class Negotiation:
             return
         self.adopted = None
         self._end(Outcome.FAILED, reason)
+
+    def _stage(self, spec: Spec, text: str) -> None:
+        """Phase one of the adoption: phi* written aside before our realizable status 2 (a failure
+        turns the status into a refusal that names it)."""
+        if self.stage is None:
+            return
+        try:
+            self.staged = self.stage(spec, text)
+        except OSError as err:
+            self._status[2] = False
+            self._stage_error = f"{WRITE_FAILED} {getattr(err, 'filename', '') or ''}: {err.strerror or err}"
+            self._note(self._stage_error)
 
     def abort_message(self) -> Message:
         return Message(ABORT, self.me, self.session, reason=self.reason or "aborted")
@@ -544,7 +688,8 @@ class Negotiation:
                     out.append(f"# {c.location}: {' '.join(c.text.split())}")
                     out.append(formula_to_infix(c.formula))
                 for c in extra.get(section, []):
-                    origin = "assumption" if section == "sys_safety" else "goal"
+                    origin = {"sys_safety": "assumption", "env_safety": "assumption no move of ours keeps, kept as "
+                              "an assumption (ownership, docs/negotiation.md)"}.get(section, "goal")
                     out.append(f"# Alg. 4 line 5: {origin} of {self.peer.name} ({c.text.strip()})")
                     out.append(formula_to_infix(c.formula))
             out.append("")
@@ -559,6 +704,30 @@ def write_adopted(adoption: Adoption, path: str | Path) -> None:
         write_atomic(path, write_slugsin(adoption.spec, comments=True))
     else:
         write_atomic(path, adoption.text)
+
+
+def stage_adopted(spec: Spec, text: str, path: str | Path, session: str) -> Path:
+    """Phase one of a two-phase adoption: the spec written next to ``path`` under a name of its own
+    (``OSError`` when it cannot be: the folder is gone, not writable, ``path`` is a folder). Returns
+    the staged file for ``commit_adopted``."""
+    path = Path(path)
+    if path.is_dir():
+        raise IsADirectoryError(21, "is a folder", str(path))
+    staged = path.with_name(f".{path.name}.{session.replace('>', '').replace('/', '_')}.staged")
+    write_atomic(staged, write_slugsin(spec, comments=True) if path.suffix == ".slugsin" else text)
+    return staged
+
+
+def commit_adopted(staged: Path, path: str | Path) -> None:
+    """Phase two: the staged file replaces ``path`` (one rename in one folder)."""
+    staged.replace(path)
+
+
+def discard_staged(staged: Path | None) -> None:
+    """A negotiation that did not end in adoption leaves no staged file behind."""
+    if staged is not None:
+        with contextlib.suppress(OSError):
+            staged.unlink()
 
 
 def report_lines(report: Mapping[str, Any], robot: str = "") -> list[str]:
@@ -636,13 +805,22 @@ class Negotiator:
     ``peer`` and returns its answer (an in-process responder, or the ROS service)."""
 
     def __init__(self, classes: Classes, *, transport: Transport | None = None,
-                 synthesis_options: Mapping[str, Any] | None = None) -> None:
+                 synthesis_options: Mapping[str, Any] | None = None, path: str | Path | None = None) -> None:
         self.classes = classes
+        #: where an adopted spec is written (the characterized-spec file); staged before status 2
+        self.path = Path(path) if path is not None else None
         self.transport = transport
         self.synthesis_options = dict(synthesis_options or {})
         self.history: list[Negotiation] = []
         self.active: dict[str, Negotiation] = {}   # responder side, by peer
+        self.initiating: dict[str, Negotiation] = {}  # initiator side while its messages are exchanged
+        #: peers whose offer we answered while our own offer to them was in flight (simultaneous start)
+        self.yielded: set[str] = set()
+        #: one message handled at a time, never under the controller's lock (the robot keeps stepping)
+        self.lock = threading.RLock()
         self.partners: set[frozenset[str]] = set()
+        #: how long an initiator that yielded waits for the negotiation it answers (seconds)
+        self.answer_wait = 60.0
         #: called after every message handled and every negotiation started or ended (reports changed)
         self.on_change: Callable[[Negotiation], None] | None = None
 
@@ -658,15 +836,56 @@ class Negotiator:
         """Run Alg. 4 as the robot that detected the conflict."""
         n = Negotiation(star, self.classes, peer, incoming=incoming, outputs=outputs, initiator=True,
                         synthesis_options=self.synthesis_options)
-        self.partners.add(frozenset((self.classes.robot, peer)))
-        self.history.append(n)
-        if self.transport is None:
-            n.fail("no transport to reach the peer")
-        else:
-            self._changed(n)
-            drive(n, self.transport(self.classes.peers[peer]))
+        n.stage = self._stager(n)
+        with self.lock:
+            self.partners.add(frozenset((self.classes.robot, peer)))
+            self.history.append(n)
+            self.initiating[peer] = n
+        try:
+            if self.transport is None:
+                n.fail("no transport to reach the peer")
+            else:
+                self._changed(n)
+                drive(n, self.transport(self.classes.peers[peer]))
+        finally:
+            if n.adopted is None:
+                discard_staged(n.staged)
+            with self.lock:
+                self.initiating.pop(peer, None)
+                if n.outcome is Outcome.FAILED and SIMULTANEOUS in n.reason:
+                    # the peer initiates instead: no negotiation of ours took place, answer theirs
+                    self.partners.discard(frozenset((self.classes.robot, peer)))
+                    self.yielded.add(peer)
         self._changed(n)
         return n
+
+    def wait_answered(self, peer: str, timeout: float) -> Negotiation | None:
+        """After yielding to ``peer`` (simultaneous negotiation, ``respond``): wait up to ``timeout``
+        seconds for the negotiation it started to end; that negotiation, or None."""
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            with self.lock:
+                theirs = [m for m in self.history if not m.initiator and m.peer.name == peer]
+            if theirs and theirs[-1].done:
+                return theirs[-1]
+            time.sleep(0.02)
+        return None
+
+    def _stager(self, n: Negotiation) -> Callable[[Spec, str], Path] | None:
+        if self.path is None:
+            return None
+        path = self.path
+        return lambda spec, text: stage_adopted(spec, text, path, n.session)
+
+    def commit(self, n: Negotiation) -> bool:
+        """Phase two of ``n``'s adoption (both parties sent a realizable status 2): the staged spec
+        replaces the adopted-spec file; a negotiation that did not adopt drops its staged file. True
+        when the file was written."""
+        if n.adopted is None or n.staged is None or self.path is None:
+            discard_staged(n.staged)
+            return False
+        commit_adopted(n.staged, self.path)
+        return True
 
     def _changed(self, n: Negotiation) -> None:
         if self.on_change is not None:
@@ -681,11 +900,24 @@ class Negotiator:
             if peer not in self.classes.peers:
                 return Message(ABORT, self.classes.robot, message.session,
                                reason=f"{self.classes.robot} has no peer {peer!r}"), None
+            refusal = offer_refusal(message.text)
+            if refusal is not None:  # nothing started: the real peer may still negotiate
+                return Message(ABORT, self.classes.robot, message.session, reason=refusal), None
             if frozenset((self.classes.robot, peer)) in self.partners:
-                return Message(ABORT, self.classes.robot, message.session,
-                               reason=f"{self.classes.robot} already negotiated with {peer} (once per pair)"), None
+                mine = self.initiating.get(peer)
+                if mine is None or mine.done:
+                    return Message(ABORT, self.classes.robot, message.session,
+                                   reason=f"{self.classes.robot} already negotiated with {peer} (once per pair)"), None
+                # both started at once: the robot whose name sorts first initiates, the other answers
+                # (deterministic, and the outcome is the one of negotiating in turn)
+                if self.classes.robot < peer:
+                    return Message(ABORT, self.classes.robot, message.session,
+                                   reason=f"{SIMULTANEOUS} {self.classes.robot} initiates "
+                                          f"(robots negotiate in the order of their names)"), None
+                self.yielded.add(peer)
             n = Negotiation(star, self.classes, peer, incoming=incoming, outputs=outputs, initiator=False,
                             synthesis_options=self.synthesis_options)
+            n.stage = self._stager(n)
             self.partners.add(frozenset((self.classes.robot, peer)))
             self.history.append(n)
             self.active[peer] = n
@@ -697,6 +929,11 @@ class Negotiator:
         reply = answer(n, message)
         if n.done:
             self.active.pop(peer, None)
+            if n.adopted is None:
+                discard_staged(n.staged)
+            if n.outcome is Outcome.FAILED and n._nego is None:
+                # the offer itself was refused (garbled, foreign): no negotiation took place
+                self.partners.discard(frozenset((self.classes.robot, peer)))
         self._changed(n)
         return reply, n
 
@@ -717,42 +954,62 @@ class Negotiator:
         docs/resilience.md): Alg. 3 line 9. Negotiates with the peer whose eAP inputs the violated
         clauses mention (once per pair). On adoption the negotiated spec becomes the strategy's base
         spec phi* (later characterizations start from it with empty EC sets, Alg. 4 line 2), is
-        written atomically to the characterized-spec path, and is returned for the strategy to run;
-        otherwise None (the strategy aborts: no peer to ask, or no agreement)."""
+        written atomically to the characterized-spec path, and is returned for the strategy to run.
+        Alg. 3 by cause (§4.4): None — the strategy goes to S.1, explanation and the user — when no
+        peer is involved, the pair already negotiated, or the negotiation failed (a peer absent or
+        silent is uncontrollable environment); ``NegotiationAbort`` when the robots negotiated and
+        cannot agree (4.8.3, line 20)."""
         star = strategy.characterizer.original
         current = {**observation.current_inputs, **observation.current_outputs}
         peer = self.choose(star, current, observation.incoming)
         if peer is None:
             return None
-        adopted = self.initiate(star, peer, observation.incoming, observation.current_outputs).adopted
+        n = self.initiate(star, peer, observation.incoming, observation.current_outputs)
+        if peer in self.yielded:  # we answer the peer's negotiation instead (serve installs its outcome)
+            self.wait_answered(peer, self.answer_wait)
+            with self.lock:
+                self.yielded.discard(peer)
+            return None
+        if n.outcome in (Outcome.BOTH_ABORT, Outcome.ABORT_LINE_20):
+            raise NegotiationAbort(f"negotiation with {peer}: {n.outcome.value}")
+        adopted = n.adopted
         if adopted is None:
             return None
         with getattr(strategy, "lock", None) or contextlib.nullcontext():  # the executor steps meanwhile
             old = strategy.characterizer
             strategy.characterizer = type(old)(adopted.spec, path=old.path, synthesis_options=old.synthesis_options)
-        if old.path is not None:
+        if not self.commit(n) and old.path is not None:
             write_adopted(adopted, old.path)
         return adopted.spec
 
     def serve(self, message: Message, strategy: Any, controller: Any, start_wait: float = 0.0) -> Message:
         """Answer a peer's message for the robot running ``controller`` (a ``runtime.Controller`` over
-        ``strategy``, a ``ResilientStrategy``), under the controller's lock. An adopted spec is installed
-        at once (``strategy.adopt``) from the position the negotiation started at (the adopted spec's
-        init; the robot keeps running between messages, and the controller's next step continues from
-        there with the current readings); 4.8.3 / line 20 abort the strategy (its safe outputs). A
-        controller that has not started yet (inputs still silent) is waited for up to ``start_wait``
-        seconds; then the answer is an abort."""
+        ``strategy``, a ``ResilientStrategy``). The position is read under the controller's lock; the
+        message (parsing, synthesis) is handled under the negotiator's lock only, so the controller
+        keeps stepping meanwhile; an adopted spec is installed under the controller's lock
+        (``strategy.adopt``) from the position the negotiation started at (the adopted spec's init;
+        the controller's next step continues from there with the current readings); 4.8.3 / line 20
+        abort the strategy (its safe outputs). A controller that has not started yet (inputs still
+        silent) is waited for up to ``start_wait`` seconds; then, and once aborted, the answer is an
+        abort."""
         deadline = time.monotonic() + start_wait
         while controller.state is None and time.monotonic() < deadline:
             time.sleep(0.02)  # our controller starts once every input has reported (not under the lock)
         with controller.lock:
             state = controller.state
-            if state is None:
-                return Message(ABORT, self.classes.robot, message.session, reason=f"{self.classes.robot} has not started")
-            reply, n = self.respond(message, strategy.characterizer.original, state.inputs, state.outputs)
-            if n is not None and n.done:
+            aborted = getattr(strategy, "mode", None) is not None and strategy.mode.value == "aborted"
+            if state is None or aborted:
+                why = "has aborted" if aborted else "has not started"
+                return Message(ABORT, self.classes.robot, message.session, reason=f"{self.classes.robot} {why}")
+            star, inputs, outputs = strategy.characterizer.original, dict(state.inputs), dict(state.outputs)
+        with self.lock:
+            reply, n = self.respond(message, star, inputs, outputs)
+        if n is not None and n.done:
+            written = self.commit(n)
+            with controller.lock:
                 if n.adopted is not None:  # from the position the negotiation started at (its init)
-                    state = strategy.adopt(n.adopted.spec, n.adopted.text, n.adopted.strategy, n.incoming, n.outputs)
+                    state = strategy.adopt(n.adopted.spec, n.adopted.text, n.adopted.strategy, n.incoming, n.outputs,
+                                           write=not written)
                     installed = getattr(strategy, "on_installed", None)
                     if installed is not None:  # the executor node: continue with the current readings, publish
                         installed(state)
@@ -760,4 +1017,4 @@ class Negotiator:
                         controller.state = state
                 elif n.outcome in (Outcome.BOTH_ABORT, Outcome.ABORT_LINE_20):
                     strategy.abort(f"negotiation with {n.peer.name}: {n.outcome.value}")
-            return reply
+        return reply

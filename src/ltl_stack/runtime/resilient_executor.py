@@ -31,6 +31,7 @@ waiting for the user, aborted — so the node republishes its state and diagnost
 """
 from __future__ import annotations
 
+import gc
 import threading
 import time
 from collections.abc import Callable, Mapping
@@ -43,6 +44,7 @@ from ltl_stack.runtime.characterize import (
     Attempt,
     ExecutionAborted,
     Mode,
+    NegotiationAbort,
     Observation,
     ResilientStrategy,
     _Pending,
@@ -168,6 +170,14 @@ class BackgroundResilience(ResilientStrategy):
     # --- the job (a worker thread) ---------------------------------------------------------------
     def _job(self, observation: Observation, generation: int) -> None:
         try:
+            self._run_job(observation, generation)
+        finally:
+            # the replaced strategy's BDD manager sits in reference cycles: free it now, in this
+            # thread (not under the lock), so that managers do not pile up between collections
+            gc.collect()
+
+    def _run_job(self, observation: Observation, generation: int) -> None:
+        try:
             attempt = self._synthesize(EC1, observation)
             if not attempt.realizable:
                 attempt = self._synthesize(EC2, observation)
@@ -176,19 +186,33 @@ class BackgroundResilience(ResilientStrategy):
                 return
             if self.negotiate is not None:  # S.2 (Alg. 3 line 9, §4.8): a collaborative robot
                 self._finish(generation, lambda: self._count_unrealizable(observation))
-                spec = self.negotiate(self, observation)
+                try:
+                    spec = self.negotiate(self, observation)
+                except NegotiationAbort as ended:
+                    reason = f"unrealizable after environment characterization and negotiation: {ended}"
+                    self._finish(generation, lambda: self.abort(reason), always=True)
+                    return
                 result = synthesize(spec, **self.characterizer.synthesis_options) if spec is not None else None
                 if result is not None and result.realizable:
                     text = self.characterizer.text(None, observation)
                     agreed = Attempt(True, "negotiation", spec, text, result.strategy, 0.0)
                     self._finish(generation, lambda: self._accept(agreed, observation, write=False))
-                else:
-                    self._finish(generation, lambda: self.abort(
-                        "unrealizable after environment characterization and negotiation"), always=True)
-                return
+                    return
+                if spec is not None:
+                    self._finish(generation, lambda: self.abort("the negotiated specification is unrealizable"),
+                                 always=True)
+                    return
+                # negotiation does not apply (no peer involved, absent or silent, already negotiated):
+                # S.1, the peer is uncontrollable environment (§4.4)
+                with self.lock:
+                    self._event("no collaborative robot to negotiate with (none involved, absent or silent, or "
+                                "already negotiated): S.1")
+                counted = True
+            else:
+                counted = False
             explanation = explain(attempt.spec, robotics_semantics=self.characterizer.synthesis_options.get(
                 "robotics_semantics", True))
-            self._finish(generation, lambda: self._wait_for_user(observation, explanation))
+            self._finish(generation, lambda: self._wait_for_user(observation, explanation, counted))
         except Exception as err:  # noqa: BLE001 - a failed job must not end the thread silently
             failure = err
             self._finish(generation, lambda: self._failed(failure), always=True)
@@ -268,8 +292,9 @@ class BackgroundResilience(ResilientStrategy):
             self.write_error = f"cannot write {ch.path}: {err.strerror or err}"
             self._event(self.write_error)
 
-    def _wait_for_user(self, observation: Observation, explanation: Any) -> None:
-        self.counters.unrealizable += 1
+    def _wait_for_user(self, observation: Observation, explanation: Any, counted: bool = False) -> None:
+        if not counted:
+            self.counters.unrealizable += 1
         self.explanation = explanation
         self._pending = _Pending(observation, explanation)
         self.mode = Mode.WAITING_FOR_USER
@@ -295,6 +320,8 @@ class BackgroundResilience(ResilientStrategy):
                 raise ExecutionAborted(self._abort_reason)
             if self.job is not None:
                 raise Busy("a resynthesis is running; try again when it is done")
+            if self._state is None:
+                raise NotReady("not ready: the controller has not started yet (waiting for every input to report)")
             state = self._state
             readings = {**(state.inputs if state else {}), **self.readings}
             observation = Observation(self.steps, self.wall_clock(), dict(state.inputs) if state else {},
@@ -338,13 +365,18 @@ class BackgroundResilience(ResilientStrategy):
         return attempt
 
     def adopt(self, spec: Any, text: str, strategy: SymbolicStrategy, inputs: Mapping[str, bool],
-              outputs: Mapping[str, bool]) -> State:
+              outputs: Mapping[str, bool], write: bool = True) -> State:
         """``ResilientStrategy.adopt`` (a spec agreed by negotiation, installed by the responder) under
         ``lock``; a running job's result is dropped."""
         with self.lock:
             self._generation += 1
             self.job = None
-            state = super().adopt(spec, text, strategy, inputs, outputs)
+            self.write_error = None
+            try:
+                state = super().adopt(spec, text, strategy, inputs, outputs, write=write)
+            except OSError as err:  # written after the agreement (no two-phase staging): say so, run it
+                self.write_error = f"cannot write {self.characterizer.path}: {err.strerror or err}"
+                state = super().adopt(spec, text, strategy, inputs, outputs, write=False)
             self.readings = dict(state.inputs)
             self.violated_now = []
             if self.on_changed is not None:
@@ -365,4 +397,8 @@ class Busy(SynthesisError):
     """A user request arrived while a resynthesis job runs."""
 
 
-__all__ = ["BackgroundResilience", "Busy", "SpecError", "adopt", "is_winning", "thread_runner"]
+class NotReady(Busy):
+    """A user request arrived before the controller started (no position to resynthesize from)."""
+
+
+__all__ = ["BackgroundResilience", "Busy", "NotReady", "SpecError", "adopt", "is_winning", "thread_runner"]

@@ -14,6 +14,7 @@ from ltl_stack.runtime.characterize import (
     Characterizer,
     ExecutionAborted,
     Mode,
+    NegotiationAbort,
     Observation,
     ResilientStrategy,
     Threshold,
@@ -297,20 +298,27 @@ def test_threshold_by_transitions_and_by_seconds():
     assert Threshold().observe(True), "no threshold: at once"
 
 
-def test_collaborative_robot_goes_to_negotiation_instead_of_the_user():
-    """Alg. 3 S.2: the extension point for integrative negotiation (§4.8) is called; when it gives
-    nothing the execution aborts."""
+@pytest.mark.parametrize("applies", [True, False])
+def test_collaborative_robot_goes_to_negotiation_instead_of_the_user(applies):
+    """Alg. 3 S.2: the extension point for integrative negotiation (§4.8) is called; when the robots
+    cannot agree the execution aborts; when negotiation does not apply (no peer involved, silent,
+    already negotiated: the hook gives None) Alg. 3 S.1 asks the user (issue 23 item 4)."""
     calls = []
 
     def negotiate(strategy, observation):
         calls.append(observation)
+        if applies:
+            raise NegotiationAbort("4.8.3")
         return None
 
     rs = ResilientStrategy(load_spec(ALICE), recovery=True, threshold=Threshold(transitions=2), negotiate=negotiate)
     trace = alice_run(rs, ALICE_SCRIPT, 30, user="doorOpen | doorBroken")
     assert len(calls) == 1 and not calls[0].incoming["doorOpen"] and not calls[0].incoming["doorBroken"]
-    assert rs.mode is Mode.ABORTED and isinstance(trace[-1]["raised"], ExecutionAborted)
-    assert rs.counters.user == 0
+    if applies:
+        assert rs.mode is Mode.ABORTED and isinstance(trace[-1]["raised"], ExecutionAborted)
+        assert rs.counters.user == 0
+    else:
+        assert rs.counters.user == 1 and rs.mode is not Mode.ABORTED  # S.1: the user's liveness was taken
 
 
 # --- Example 10 (block cutting) ---------------------------------------------------------------------

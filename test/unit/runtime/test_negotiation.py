@@ -191,7 +191,7 @@ def test_garbled_spec_text_is_a_fault_on_both_sides(garbled):
         return answer(b, message)
 
     drive(a, call)
-    assert b.outcome is Outcome.FAILED and b.reason.startswith(("garbled", "offer from P"))
+    assert b.outcome is Outcome.FAILED and b.reason.startswith(("garbled", "offer from P", "offer refused"))
     assert a.outcome is Outcome.FAILED and "Q aborted" in a.reason
     assert a.adopted is None and b.adopted is None
 
@@ -293,3 +293,185 @@ def test_nobody_adopts_without_a_realizable_spec_and_the_peers_status(pi, qi, st
     if fault is None:
         assert (a.adopted is None) == (b.adopted is None)
         assert a.outcome.adopts == b.outcome.adopts
+
+
+# --- issue 23: negotiation that can neither deadlock nor be abused ---------------------------------------
+def q_side_answering(q_text: str = q_spec()):
+    q = parse_structured(q_text, "Q")
+    side = Negotiator(Q_CLASSES)
+    return side, lambda message: side.respond(message, q, {"p_P": False}, {"x": False})
+
+
+@pytest.mark.parametrize("text, needle", [
+    ("[INPUT]\nz\n[SYS_TRANS]\nz'\n", "declares [INPUT]"),
+    ("[SYS_TRANS]\n" + "TRUE\n" * 201, "201 clauses (at most 200)"),
+    ("[SYS_TRANS]\n# " + "x" * 70000 + "\nTRUE\n", "bytes (at most 65536)"),
+    ("[SYS_TRANS]\nx' &&& (\n", "garbled"),
+])
+def test_a_refused_offer_is_one_line_and_does_not_use_up_the_pair(text, needle):
+    side, respond = q_side_answering()
+    reply, _ = respond(Message(OFFER, "P", "P->Q", 0, text))
+    assert reply.kind == "abort" and needle in reply.reason and "\n" not in reply.reason, reply
+    # the real P can still negotiate: the refused message used up nothing
+    p = parse_structured(p_spec(), "P")
+    real = Negotiator(P_CLASSES, transport=lambda peer: lambda message: respond(message)[0])
+    assert real.initiate(p, "Q", {"x_Q": False}, {"p": False, "q": False}).outcome is Outcome.BOTH_ADOPT
+
+
+def test_only_the_node_serving_a_declared_peer_may_speak_for_it():
+    from ltl_stack.runtime.negotiation import caller_refusal
+
+    nodes = {"P": "/t/P/controller_executor"}
+    assert caller_refusal("/t/P/controller_executor", "P", nodes) is None
+    assert "not from /t/P/controller_executor" in caller_refusal("/rogue", "P", nodes)
+    assert "not a declared peer" in caller_refusal("/t/Z/controller_executor", "Z", nodes)
+
+
+def test_simultaneous_negotiation_resolves_as_negotiating_in_turn():
+    """Both robots start at the same instant (each offer in flight before either arrives): P, whose
+    name sorts first, initiates; Q answers P's negotiation and its own offer is refused. The outcome
+    of P->Q is the one of negotiating in turn; nobody is left half-way."""
+    import threading
+
+    p = parse_structured(p_spec(), "P")
+    q = parse_structured(q_spec(assumes=True), "Q")
+
+    def in_turn():
+        q_side = Negotiator(Q_CLASSES)
+        p_side = Negotiator(P_CLASSES, transport=lambda peer: lambda m: q_side.respond(m, q, {"p_P": False},
+                                                                                     {"x": False})[0])
+        mine = p_side.initiate(p, "Q", {"x_Q": False}, {"p": False, "q": False})
+        return mine.outcome, q_side.history[-1].outcome
+
+    expected = in_turn()
+    p_side, q_side = Negotiator(P_CLASSES), Negotiator(Q_CLASSES)
+    both = threading.Barrier(2, timeout=60)
+
+    def through(other, spec, inputs, outputs):
+        def transport(peer):
+            def call(message):
+                if message.kind == OFFER:
+                    both.wait()  # both offers are in flight
+                with other.lock:
+                    return other.respond(message, spec, inputs, outputs)[0]
+            return call
+        return transport
+
+    p_side.transport = through(q_side, q, {"p_P": False}, {"x": False})
+    q_side.transport = through(p_side, p, {"x_Q": False}, {"p": False, "q": False})
+    results = {}
+    threads = [threading.Thread(target=lambda: results.setdefault("P", p_side.initiate(p, "Q", {"x_Q": False},
+                                                                                        {"p": False, "q": False}))),
+               threading.Thread(target=lambda: results.setdefault("Q", q_side.initiate(q, "P", {"p_P": False},
+                                                                                        {"x": False})))]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join(120)
+    answered = [n for n in q_side.history if not n.initiator]
+    assert results["P"].outcome is expected[0] and answered and answered[-1].outcome is expected[1]
+    # refused while its own offer was in flight (or, scheduled late, once P's negotiation was done)
+    assert results["Q"].outcome is Outcome.FAILED and ("P initiates" in results["Q"].reason
+                                                       or "already negotiated" in results["Q"].reason)
+    assert not p_side.yielded and frozenset("PQ") in q_side.partners  # Q answered P: the pair negotiated
+    assert answered[-1].adopted is not None and results["P"].adopted is not None  # both adopt, as in turn
+
+
+class Held:
+    """A stand-in for the strategy the hook negotiates for."""
+
+    def __init__(self, spec):
+        from ltl_stack.runtime.characterize import Characterizer
+
+        self.characterizer = Characterizer(spec)
+
+
+def test_hook_by_cause_s1_unless_the_robots_negotiated_and_disagree():
+    """Alg. 3 by cause (issue 23 item 4): no peer involved, a silent peer, an already negotiated pair:
+    None (S.1: explanation and the user); 4.8.3: NegotiationAbort."""
+    from ltl_stack.runtime.characterize import NegotiationAbort, Observation
+
+    p = parse_structured(p_spec(refuses=True), "P")
+    seen = Observation(1, 0.0, {"x_Q": True}, {"p": False, "q": False}, {"x_Q": False})
+    no_peer = Observation(1, 0.0, {"x_Q": True}, {"p": False, "q": False}, {"x_Q": True})
+    assert Negotiator(P_CLASSES).hook(Held(p), no_peer) is None  # the violated clauses name no peer
+
+    def silent(peer):
+        def call(message):
+            raise TimeoutError("no answer within 2 s")
+        return call
+
+    assert Negotiator(P_CLASSES, transport=silent).hook(Held(p), seen) is None
+    _, respond = q_side_answering(q_spec(refuses=True, assumes=True))
+    side = Negotiator(P_CLASSES, transport=lambda peer: lambda message: respond(message)[0])
+    with pytest.raises(NegotiationAbort, match="4.8.3"):
+        side.hook(Held(p), seen)
+    assert side.hook(Held(p), seen) is None  # the pair already negotiated
+
+
+@pytest.mark.parametrize("broken", ["P", "Q"])
+def test_adoption_is_two_phase_a_write_failure_on_either_side_fails_both(tmp_path, broken):
+    """Issue 23 item 5: each party writes its adopted spec aside before its realizable status 2; one
+    that cannot (its folder is gone) says so, and both end FAILED with nothing adopted and nothing
+    written; with both folders there, both files are written and both adopt."""
+    p = parse_structured(p_spec(), "P")
+    q = parse_structured(q_spec(), "Q")
+    paths = {r: tmp_path / r / f"{r}.adopted.structuredslugs" for r in "PQ"}
+    for r in "PQ":
+        if r != broken:
+            paths[r].parent.mkdir()
+    q_side = Negotiator(Q_CLASSES, path=paths["Q"])
+    p_side = Negotiator(P_CLASSES, path=paths["P"], transport=lambda peer: lambda m: q_side.respond(
+        m, q, {"p_P": False}, {"x": False})[0])
+    mine = p_side.initiate(p, "Q", {"x_Q": False}, {"p": False, "q": False})
+    theirs = q_side.history[-1]
+    assert mine.outcome is theirs.outcome is Outcome.FAILED, (mine.reason, theirs.reason)
+    assert "cannot write its adopted specification" in mine.reason + theirs.reason
+    assert mine.adopted is None and theirs.adopted is None
+    assert not p_side.commit(mine) and not q_side.commit(theirs)
+    assert [f for r in "PQ" if paths[r].parent.exists() for f in paths[r].parent.iterdir()] == []
+    # both folders there: both written, both adopt
+    paths[broken].parent.mkdir()
+    q_side = Negotiator(Q_CLASSES, path=paths["Q"])
+    p_side = Negotiator(P_CLASSES, path=paths["P"], transport=lambda peer: lambda m: q_side.respond(
+        m, q, {"p_P": False}, {"x": False})[0])
+    mine = p_side.initiate(p, "Q", {"x_Q": False}, {"p": False, "q": False})
+    theirs = q_side.history[-1]
+    assert mine.outcome is theirs.outcome is Outcome.BOTH_ADOPT
+    assert p_side.commit(mine) and q_side.commit(theirs)
+    assert paths["P"].read_text() == mine.adopted.text and paths["Q"].read_text() == theirs.adopted.text
+    assert sorted(f.name for r in "PQ" for f in paths[r].parent.iterdir()) == sorted(p.name for p in paths.values())
+
+
+def test_serve_handles_a_message_off_the_controllers_lock_and_refuses_once_aborted():
+    """Issue 23 items 3, 6: while the responder parses and synthesizes an offer, another thread can
+    take the controller's lock (the robot keeps stepping); an aborted responder answers with an
+    abort and adopts nothing."""
+    import threading
+
+    from ltl_stack.runtime.characterize import ResilientStrategy
+    from ltl_stack.runtime.controller import Controller
+
+    q = parse_structured(q_spec(), "Q")
+    strategy = ResilientStrategy(q, recovery=False)
+    controller = Controller(strategy, settle_steps=0)
+    controller.report_many({"p_P": False})
+    side = Negotiator(Q_CLASSES)
+    taken: list = []
+    respond = side.respond
+
+    def respond_while_stepping(*args, **kwargs):
+        other = threading.Thread(target=lambda: taken.append(controller.lock.acquire(timeout=30)
+                                                             and controller.lock.release() is None))
+        other.start()
+        other.join()
+        return respond(*args, **kwargs)
+
+    side.respond = respond_while_stepping
+    p = parse_structured(p_spec(), "P")
+    offer = Negotiation(p, P_CLASSES, "Q", incoming={"x_Q": False}, outputs={"p": False, "q": False}).offer()
+    reply = side.serve(offer, strategy, controller)
+    assert taken == [True] and reply.kind == "offer", (taken, reply)
+    strategy.abort("test")
+    again = Negotiator(Q_CLASSES).serve(offer, strategy, controller)
+    assert again.kind == "abort" and "has aborted" in again.reason

@@ -10,6 +10,7 @@ from ltl_stack.runtime.characterize import Mode
 from ltl_stack.runtime.mapping import load_mapping
 from ltl_stack.runtime.negotiation import Outcome, assumptions_about, classes_from_mapping
 from ltl_stack.spec import load_spec
+from ltl_stack.spec.formula import variables
 from ltl_stack.synthesis import synthesize
 
 
@@ -51,7 +52,9 @@ def test_example_13_narrative(tmp_path):
     # D negotiates with A when blocked in road; both adopt (4.8.1)
     assert first["peer"] == "A" and first["session"] == "D->A" and first["case"] == Outcome.BOTH_ADOPT.name
     assert "always, if next road_c_D or next storage_c_D then next openDoor" in " ".join(first["sent"])
-    assert any("not (next cookingArea_c or next prepArea_c)" in r for r in first["received"])
+    # A's assumption "D never in the kitchen" is over D's completion sensors: D keeps it by its activations
+    # (ownership, issue 23 item 2), never as a guarantee over what it senses
+    assert any("not (next cookingArea or next prepArea)" in r for r in first["received"]), first["received"]
     # C negotiates with A to pass the ingredients; both adopt
     assert second["peer"] == "A" and second["session"] == "C->A" and second["case"] == Outcome.BOTH_ADOPT.name
     assert "always, if next ingredientArrived then next passIngredient" in " ".join(second["sent"])
@@ -66,7 +69,11 @@ def test_example_13_narrative(tmp_path):
     a_text = (tmp_path / "kitchen_assistant.negotiated.structuredslugs").read_text()
     assert a_text.count("Alg. 4 line 5: assumption of C") == 2 and "(road_c_D' | storage_c_D') -> openDoor'" in a_text
     assert synthesize(load_spec(tmp_path / "kitchen_assistant.negotiated.structuredslugs")).realizable
-    assert (tmp_path / "delivery_agent.negotiated.structuredslugs").exists()
+    d_spec = load_spec(tmp_path / "delivery_agent.negotiated.structuredslugs")
+    sensed = [c.text for c in d_spec.sys_safety
+              if any(v.primed and v.name in d_spec.inputs for v in variables(c.formula))
+              and not any(v.primed and v.name in d_spec.outputs for v in variables(c.formula))]
+    assert sensed == [], sensed  # no guarantee D's next move cannot keep
     assert not (tmp_path / "chef.negotiated.structuredslugs.tmp").exists()
     # a second conflict between the same pair would not negotiate again
     assert world.negotiators["D"].choose(world.specs["D"], {**world.inputs("D"), **world.outputs("D")},
@@ -86,3 +93,18 @@ def test_comparison_4_10_4():
     assert results["base"]["violation_raised"] == ["D"]
     assert results["recovery"]["violation_raised"] == [] and results["recovery"]["modes"]["D"] == Mode.RECOVERING.value
     assert results["ec"]["modes"]["D"] == Mode.WAITING_FOR_USER.value
+
+
+def test_received_clauses_keep_ownership():
+    """Issue 23 item 2: a received clause with a next-state output of ours is a guarantee as it is; one
+    over our completion sensors is kept through the activations; one over a sensor we do not
+    complete (a global sensor) is an assumption."""
+    from ltl_stack.runtime.negotiation import split_by_ownership
+    from ltl_stack.spec import parse_structured
+
+    spec = parse_structured("[INPUT]\nroad_c\nkitchen_c\narrived\n\n[OUTPUT]\nroad\nkitchen\nopenDoor\n\n"
+                            "[SYS_TRANS]\narrived' -> openDoor'\n!(kitchen_c')\nroad_c' -> !arrived'\n", "got")
+    guarantees, assumptions = split_by_ownership(list(spec.sys_safety), spec.inputs, spec.outputs)
+    assert [c.text.strip() for c in guarantees] == ["arrived' -> openDoor'", "!kitchen'"]
+    assert [c.text.strip() for c in assumptions] == ["road_c' -> !arrived'"]
+    assert [c.location for c in guarantees + assumptions] == ["got:12", "got:13", "got:14"]

@@ -9,7 +9,7 @@ import pytest
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
-from ltl_stack.runtime.characterize import ExecutionAborted, Mode, Observation, Threshold
+from ltl_stack.runtime.characterize import ExecutionAborted, Mode, NegotiationAbort, Observation, Threshold
 from ltl_stack.runtime.controller import Controller
 from ltl_stack.runtime.executor_setup import (
     ExecutorError,
@@ -348,13 +348,17 @@ def closed_door_until(rs, controller, jobs, done) -> None:
             return
 
 
-@pytest.mark.parametrize("agree", [True, False])
+@pytest.mark.parametrize("agree", [True, False, None])
 def test_negotiation_hook_runs_in_the_job_and_its_spec_is_installed_or_the_run_aborts(agree):
+    """agree: an agreed spec runs; False: no agreement (4.8.3 / line 20), abort; None: negotiation does
+    not apply (no peer involved, absent or silent, already negotiated): S.1, the user (issue 23 item 4)."""
     agreed = parse_structured(DOOR.replace("[ENV_TRANS]\ndoor'", "[ENV_LIVENESS]\ndoor"), "agreed")
     calls: list = []
 
     def negotiate(strategy, observation):
         calls.append((strategy.job, observation.incoming))
+        if agree is False:
+            raise NegotiationAbort("4.8.3")
         return agreed if agree else None
 
     rs, controller, jobs, installed = resilient(DOOR, negotiate=negotiate)
@@ -364,8 +368,11 @@ def test_negotiation_hook_runs_in_the_job_and_its_spec_is_installed_or_the_run_a
     if agree:
         assert rs.mode is Mode.NORMAL and installed and rs.counters.resyntheses >= 1
         assert rs.counters.unrealizable >= 1 and [e for e in rs.events if "negotiation" in e.message]
-    else:
+    elif agree is False:
         assert rs.mode is Mode.ABORTED and not installed
+    else:
+        assert rs.mode is Mode.WAITING_FOR_USER and rs.explanation is not None and not installed
+        assert rs.counters.unrealizable == 1 and [e for e in rs.events if "S.1" in e.message]
 
 
 def test_adopt_drops_a_running_job():
