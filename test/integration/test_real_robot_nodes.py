@@ -168,3 +168,22 @@ def test_topic_predicate_sensor_refuses_a_field_the_message_lacks(ros):
     assert node.popen.returncode == 2, out
     assert "ltl_stack/TagDetection has no field distance (fields there: id, size, pose)" in out, out
     assert "Traceback" not in out, out
+
+
+@pytest.mark.parametrize("content, fragment", [
+    (None, "no such bag file"),
+    (b"#ROSBAG V2.0\nnot really a bag", "cannot read the bag"),
+    (b"", "cannot read the bag"),
+])
+def test_check_run_refuses_a_bad_bag_in_one_line(tmp_path, content, fragment):
+    from helpers import run_script
+
+    config = REGIONS.parent
+    bag = tmp_path / "run.bag"
+    if content is not None:
+        bag.write_bytes(content)
+    done = run_script(["rosrun", "ltl_stack", "check_run", str(config / "clean_and_patrol.structuredslugs"),
+                       str(config / "clean_and_patrol.yaml"), str(bag)], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 2, done.stderr
+    assert done.stderr.startswith(f"check_run: error: {bag}: {fragment}"), done.stderr
+    assert len(done.stderr.splitlines()) == 1 and done.stdout == "", done.stderr

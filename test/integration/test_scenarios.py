@@ -27,10 +27,16 @@ REGIONS = [*LANES, "leftGround", "rightGround"]
 
 
 @pytest.fixture(scope="module")
-def clean_and_patrol_run():
+def demo_bag(tmp_path_factory) -> Path:
+    """Where the clean-and-patrol demo records its run (``--bag``)."""
+    return tmp_path_factory.mktemp("demo_bag") / "clean_and_patrol.bag"
+
+
+@pytest.fixture(scope="module")
+def clean_and_patrol_run(demo_bag):
     """States, story and summary of the clean-and-patrol demo (two goal cycles and the whole story)."""
     proc = subprocess.run([sys.executable, "-m", "ltl_stack.sim.demo", "--json", "--cycles", "2",
-                           "--timeout", "240"], capture_output=True, text=True, timeout=360, cwd=REPO_ROOT)
+                           "--timeout", "240", "--bag", str(demo_bag)], capture_output=True, text=True, timeout=360, cwd=REPO_ROOT)
     events = [json.loads(line) for line in proc.stdout.splitlines() if line.startswith("{")]
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
     # nothing but the run's own lines, also as the process exits (its log folder is gone by then)
@@ -233,3 +239,66 @@ def test_live_analysis_of_the_simple_scenario_finds_move_and_stop_on_the_velocit
         assert any(name == out.name and "move and stop are mutually exclusive" in t for name, t in got), got
     finally:
         launch.stop()
+
+
+# --- the recorded run: check_run and controller_trace --bag ------------------------------------------
+
+CP = REPO_ROOT / "config" / "clean_and_patrol"
+SPEC, MAPPING = CP / "clean_and_patrol.structuredslugs", CP / "clean_and_patrol.yaml"
+
+
+def test_check_run_on_the_demo_bag_finds_every_assumption_and_guarantee_held(clean_and_patrol_run, demo_bag):
+    done = run_script(["rosrun", "ltl_stack", "check_run", str(SPEC), str(MAPPING), str(demo_bag), "--json"],
+                      capture_output=True, text=True, timeout=300)
+    assert done.returncode == Exit.OK, done.stdout + done.stderr
+    report = json.loads(done.stdout)
+    assert report["topic"] == "/clean_and_patrol/controller_executor/state"
+    assert report["ok"] and report["violations"] == [], report["violations"]
+    assert report["transitions"] >= len(_states(clean_and_patrol_run)) - 2 >= 10, report
+    assert len(report["goals"]) == 6 and all(g["reached"] >= 2 for g in report["goals"]), report["goals"]
+
+
+def test_check_run_names_the_step_and_clause_of_an_injected_violation(clean_and_patrol_run, demo_bag, tmp_path):
+    import rosbag
+
+    from ltl_stack.ros.check_run import trace_steps
+    from ltl_stack.runtime.run_check import distinct_steps
+
+    broken = tmp_path / "broken.bag"
+    kept = []
+    with rosbag.Bag(str(demo_bag)) as bag, rosbag.Bag(str(broken), "w") as out:
+        for count, (topic, msg, stamp) in enumerate(bag.read_messages(
+                topics=["/clean_and_patrol/controller_executor/state"])):
+            if count <= 5:
+                kept.append(msg)
+            if count == 5:  # the robot in two regions at once, and picking up while dropping
+                inputs = dict(zip(msg.inputs.keys, msg.inputs.values, strict=True))
+                region = next(r for r in REGIONS if inputs[f"{r}_rc"])
+                other = next(r for r in REGIONS if r != region)
+                msg.inputs.values = [v or k == f"{other}_rc" for k, v in zip(msg.inputs.keys, msg.inputs.values,
+                                                                                strict=True)]
+                msg.outputs.values = [v or k in ("pickup", "drop") for k, v in zip(msg.outputs.keys,
+                                                                                  msg.outputs.values, strict=True)]
+            out.write(topic, msg, stamp)
+    done = run_script(["rosrun", "ltl_stack", "check_run", str(SPEC), str(MAPPING), str(broken)],
+                      capture_output=True, text=True, timeout=300)
+    assert done.returncode == Exit.NEGATIVE, done.stdout + done.stderr
+    lines = done.stdout.splitlines()
+    step = len(distinct_steps(trace_steps(kept))) - 1  # the changed state, numbered as check_run does
+    into = f"step {step - 1} -> {step} "
+    assert any(line.startswith(into) and "assumption broken" in line
+               and "clean_and_patrol.structuredslugs:40: (topLane_rc' & !rightLane_rc'" in line for line in lines), lines
+    assert any(line.startswith(into) and "guarantee broken" in line
+               and "clean_and_patrol.structuredslugs:108: !(pickup' & drop')" in line for line in lines), lines
+    assert "environment assumptions: broken" in lines and "system guarantees: broken" in lines, lines
+
+
+def test_controller_trace_replays_the_bag(clean_and_patrol_run, demo_bag):
+    done = run_script(["rosrun", "ltl_stack", "controller_trace", "--bag", str(demo_bag), "--spec", str(SPEC),
+                       "--cycles", "2", "--json"], capture_output=True, text=True, timeout=300)
+    assert done.returncode == Exit.OK, done.stderr
+    replayed = [json.loads(line) for line in done.stdout.splitlines()]
+    live = _states(clean_and_patrol_run)
+    # the demo's trace and the bag hold the same states (the replay stops at the second cycle's end)
+    assert [s["state"] for s in replayed] == [s["state"] for s in live][:len(replayed)], (replayed, live)
+    assert len(replayed) >= 10
