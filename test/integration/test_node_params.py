@@ -21,7 +21,7 @@ LOCK_SPEC = Path(__file__).resolve().parents[1] / "unit" / "runtime" / "lock.slu
 
 NODES = ["controller_executor", "set_velocity", "set_color", "publish_on_edge", "topic_threshold_sensor",
          "region_sensor", "action_proposition", "sim_robot", "sim_navigation_server", "sim_manipulation_server",
-         "region_localization", "move_base_region"]
+         "region_localization", "move_base_region", "topic_predicate_sensor", "map_markers"]
 REGIONS = Path(__file__).resolve().parents[2] / "config" / "clean_and_patrol" / "clean_and_patrol.regions"
 
 BAD = [

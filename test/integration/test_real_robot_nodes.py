@@ -187,3 +187,26 @@ def test_check_run_refuses_a_bad_bag_in_one_line(tmp_path, content, fragment):
     assert done.returncode == 2, done.stderr
     assert done.stderr.startswith(f"check_run: error: {bag}: {fragment}"), done.stderr
     assert len(done.stderr.splitlines()) == 1 and done.stdout == "", done.stderr
+
+
+def test_map_markers_colour_the_robots_region_and_show_the_propositions(ros):
+    from visualization_msgs.msg import MarkerArray
+
+    from ltl_stack.msg import ControllerState
+    from ltl_stack.ros.valuation import valuation_to_msg
+    from ltl_stack.runtime.map_view import CURRENT, HEADING
+
+    markers = ros.record(ros.topic("markers"), MarkerArray)
+    ros.run("map_markers", f"_regions_file:={REGIONS}", f"__ns:={ros.ns}")
+    markers.wait_last(lambda m: "waiting for the controller" in m.markers[-1].text, what="markers before a state")
+    state = ControllerState(state_id=37, goal_index=4, running=True, mode="normal")
+    state.inputs = valuation_to_msg({"object": False, "bottomLane_rc": True, "rightGround_rc": False})
+    state.outputs = valuation_to_msg({"holdingObject": True, "rightGround": True})
+    ros.publish(ros.topic("controller_executor/state"), state)
+    last = markers.wait_last(lambda m: "sensing: bottomLane_rc" in m.markers[-1].text, what="the state shown")
+    fills = {m.id: m for m in last.markers if m.ns == "fill"}
+    labels = {m.id: m.text for m in last.markers if m.ns == "label"}
+    colour = {labels[i + 1]: (m.color.r, m.color.g, m.color.b, m.color.a) for i, m in fills.items()}
+    assert colour["bottomLane"] == pytest.approx(CURRENT) and colour["rightGround"] == pytest.approx(HEADING)
+    assert "doing: holdingObject, rightGround" in last.markers[-1].text
+    assert all(m.header.frame_id == "map" for m in last.markers)
