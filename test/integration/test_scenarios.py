@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -302,3 +303,47 @@ def test_controller_trace_replays_the_bag(clean_and_patrol_run, demo_bag):
     # the demo's trace and the bag hold the same states (the replay stops at the second cycle's end)
     assert [s["state"] for s in replayed] == [s["state"] for s in live][:len(replayed)], (replayed, live)
     assert len(replayed) >= 10
+
+
+# --- the README and docs/chapter3.md tell the demo as it runs today ----------------------------------
+
+NUMBERS = {"one": 1, "two": 2, "three": 3, "four": 4, "five": 5, "six": 6, "seven": 7, "twice": 2}
+
+
+def _masked(text: str) -> str:
+    """A story line with its region names and numbers masked (the route may vary, the beat may not)."""
+    for region in sorted(REGIONS, key=len, reverse=True):
+        text = text.replace(region, "<region>")
+    return re.sub(r"\d+", "<n>", text)
+
+
+def test_readme_and_chapter3_tell_the_demo_as_it_runs(clean_and_patrol_run):
+    from ltl_stack.sim.demo import build_parser
+    from ltl_stack.spec import load_spec
+
+    run_story = [(e["figure"], _masked(e["text"])) for e in clean_and_patrol_run if e["event"] == "story"]
+    summary = clean_and_patrol_run[-1]
+    goals = len(load_spec(SPEC).sys_liveness)
+    # docs/chapter3.md: a whole run as printed today: the same beats, in order, and its own counts
+    chapter3 = (REPO_ROOT / "docs" / "chapter3.md").read_text()
+    transcript = chapter3[chapter3.index("$ ./tools/demo"):]
+    transcript = transcript[:transcript.index("```")]
+    told = [(f, _masked(t)) for f, t in re.findall(r"\*\*\* Fig\. (3\.10[a-d]): (.*)", transcript)]
+    assert told == run_story, (told, run_story)
+    states = re.findall(r"^\[ *[\d.]+s\] state ", transcript, re.M)
+    done = re.search(r"demo: done: (\d+) goal cycle\(s\), (\d+) controller states", transcript)
+    assert done and int(done.group(2)) == len(states) and int(done.group(1)) >= 2, transcript
+    assert f"through {goals} goals" in transcript
+    # README: the demo paragraph's beats and counts
+    readme = (REPO_ROOT / "README.md").read_text()
+    paragraph = readme[readme.index("The first command runs the main demo"):readme.index("The second command runs")]
+    paragraph = " ".join(paragraph.split())
+    cycles, count = re.search(r"cycled (\w+) through its (\w+) goals", paragraph).groups()
+    assert NUMBERS[cycles] == build_parser().get_default("cycles") and summary["cycles"] >= NUMBERS[cycles]
+    assert NUMBERS[count] == goals
+    assert "`*** Fig. 3.10a: …` to `*** Fig. 3.10d: …`" in paragraph
+    assert [f for f, _ in run_story][0] == "3.10a" and [f for f, _ in run_story][-1] == "3.10d"
+    beats = ["starts in `topLane`", "second time it is in `bottomLane`", "picks the object up",
+             "carries it to `rightGround`", "drops it there", "patrol again"]
+    positions = [paragraph.find(b) for b in beats]
+    assert -1 not in positions and positions == sorted(positions), dict(zip(beats, positions, strict=True))
