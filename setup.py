@@ -8,4 +8,6 @@ from setuptools import find_packages, setup
 setup(**generate_distutils_setup(
     packages=find_packages("src"),
     package_dir={"": "src"},
+    # the robot profiles ros_code_transfer reads by default (docs/code_transfer.md)
+    package_data={"ltl_stack.transfer": ["robots/*.yaml", "robots/*/*.yaml"]},
 ))

@@ -22,6 +22,8 @@ APT_PACKAGES=(
   python3-trajectory-msgs python3-nav-msgs python3-diagnostic-msgs python3-std-srvs
   libstd-msgs-dev libactionlib-msgs-dev libgeometry-msgs-dev libsensor-msgs-dev libtrajectory-msgs-dev
   libnav-msgs-dev libdiagnostic-msgs-dev libstd-srvs-dev
+  python3-move-base-msgs ros-move-base-msgs python3-tf2-ros python3-tf2-msgs python3-rosbag
+  python3-visualization-msgs ros-visualization-msgs rviz xvfb
   python3-python-qt-binding python3-pyqt5
   python3-venv python3-dev cmake make g++ graphviz
 )

@@ -131,7 +131,7 @@ def test_simple_reports_move_and_stop_on_the_base_and_nothing_else(tmp_path_fact
 
 def test_clean_and_patrol_completion_and_navigation_feedback_apart(tmp_path_factory):
     cp = "/clean_and_patrol"
-    world = {("sub", f"{cp}/cmd_vel", f"{cp}/sim_robot"), ("sub", f"{cp}/navigate/goal", f"{cp}/navigation"),
+    world = {("sub", f"{cp}/cmd_vel", f"{cp}/sim_robot"), ("sub", f"{cp}/move_base/goal", f"{cp}/navigation"),
              ("sub", f"{cp}/pick/goal", f"{cp}/arm"), ("sub", f"{cp}/drop/goal", f"{cp}/arm"),
              ("pub", f"{cp}/current_region", f"{cp}/sim_robot"),
              ("pub", f"{cp}/inputs/pickup_ac", f"{cp}/pickup"), ("pub", f"{cp}/inputs/drop_ac", f"{cp}/drop")}
@@ -153,8 +153,8 @@ def test_clean_and_patrol_completion_and_navigation_feedback_apart(tmp_path_fact
         (y, f"{r}_rc"): "region completion" if y == r else "declared in the mapping" for y in ["stop", *REGIONS]
         for r in REGIONS}
     assert feedback[("topLane", "topLane_rc")]["chain"] == (
-        f"({cp}/topLane) -> (clean_and_patrol/navigate/action_topics) -> ({cp}/navigation) -> [{cp}/cmd_vel] "
-        f"-> ({cp}/sim_robot) -> [{cp}/current_region] -> ({cp}/topLane_rc)")
+        f"({cp}/topLane) -> (clean_and_patrol/move_base/action_topics) -> ({cp}/navigation) -> [{cp}/cmd_vel] "
+        f"-> ({cp}/sim_robot) -> [{cp}/tf] -> ({cp}/localization)")
     # Fig. 3.7: the regions (through the navigation server) and stop all command the base
     assert report["E2"][0]["topic"] == f"{cp}/cmd_vel"
     assert sorted(report["E2"][0]["outputs"]) == sorted(["stop", *REGIONS])

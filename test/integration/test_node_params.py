@@ -20,7 +20,9 @@ pytestmark = pytest.mark.ros
 LOCK_SPEC = Path(__file__).resolve().parents[1] / "unit" / "runtime" / "lock.slugsin"
 
 NODES = ["controller_executor", "set_velocity", "set_color", "publish_on_edge", "topic_threshold_sensor",
-         "region_sensor", "action_proposition", "sim_robot", "sim_navigation_server", "sim_manipulation_server"]
+         "region_sensor", "action_proposition", "sim_robot", "sim_navigation_server", "sim_manipulation_server",
+         "region_localization", "move_base_region", "topic_predicate_sensor", "map_markers"]
+REGIONS = Path(__file__).resolve().parents[2] / "config" / "clean_and_patrol" / "clean_and_patrol.regions"
 
 BAD = [
     ("controller_executor", [str(LOCK_SPEC), "_settle_steps:=2.5"], "~settle_steps must be an integer"),
@@ -50,6 +52,13 @@ BAD = [
     ("sim_navigation_server", ["_odom_timeout:=inf"], "~odom_timeout must be a number > 0"),
     ("sim_manipulation_server", ["_duration:=-1"], "~duration must be a number >= 0"),
     ("sim_manipulation_server", ["_feedback_rate:=0"], "~feedback_rate must be a number > 0"),
+    ("sim_navigation_server", ["_action_type:=nav2/NavigateToPose"], "~action_type must be one of"),
+    ("region_localization", ["_rate:=5"], "set ~regions_file (or regions_file in the node's namespace)"),
+    ("region_localization", [f"_regions_file:={REGIONS}", "_hysteresis:=-0.1"], "~hysteresis must be a number >= 0"),
+    ("region_localization", [f"_regions_file:={REGIONS}", "_regions:=[kitchen]"], "no region named 'kitchen'"),
+    ("region_localization", [f"_regions_file:={REGIONS}", "_source:=gps"], "~source must be one of tf, topic"),
+    ("move_base_region", [f"_regions_file:={REGIONS}", "_region:=kitchen"], "no region named 'kitchen'"),
+    ("move_base_region", [f"_regions_file:={REGIONS}", "_region:=topLane", "_pose:=[1]"], "[x, y] or [x, y, yaw]"),
 ]
 
 

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -27,10 +28,16 @@ REGIONS = [*LANES, "leftGround", "rightGround"]
 
 
 @pytest.fixture(scope="module")
-def clean_and_patrol_run():
+def demo_bag(tmp_path_factory) -> Path:
+    """Where the clean-and-patrol demo records its run (``--bag``)."""
+    return tmp_path_factory.mktemp("demo_bag") / "clean_and_patrol.bag"
+
+
+@pytest.fixture(scope="module")
+def clean_and_patrol_run(demo_bag):
     """States, story and summary of the clean-and-patrol demo (two goal cycles and the whole story)."""
     proc = subprocess.run([sys.executable, "-m", "ltl_stack.sim.demo", "--json", "--cycles", "2",
-                           "--timeout", "240"], capture_output=True, text=True, timeout=360, cwd=REPO_ROOT)
+                           "--timeout", "240", "--bag", str(demo_bag)], capture_output=True, text=True, timeout=360, cwd=REPO_ROOT)
     events = [json.loads(line) for line in proc.stdout.splitlines() if line.startswith("{")]
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
     # nothing but the run's own lines, also as the process exits (its log folder is gone by then)
@@ -233,3 +240,104 @@ def test_live_analysis_of_the_simple_scenario_finds_move_and_stop_on_the_velocit
         assert any(name == out.name and "move and stop are mutually exclusive" in t for name, t in got), got
     finally:
         launch.stop()
+
+
+# --- the recorded run: check_run and controller_trace --bag ------------------------------------------
+
+CP = REPO_ROOT / "config" / "clean_and_patrol"
+SPEC, MAPPING = CP / "clean_and_patrol.structuredslugs", CP / "clean_and_patrol.yaml"
+
+
+def test_check_run_on_the_demo_bag_finds_every_assumption_and_guarantee_held(clean_and_patrol_run, demo_bag):
+    done = run_script(["rosrun", "ltl_stack", "check_run", str(SPEC), str(MAPPING), str(demo_bag), "--json"],
+                      capture_output=True, text=True, timeout=300)
+    assert done.returncode == Exit.OK, done.stdout + done.stderr
+    report = json.loads(done.stdout)
+    assert report["topic"] == "/clean_and_patrol/controller_executor/state"
+    assert report["ok"] and report["violations"] == [], report["violations"]
+    assert report["transitions"] >= len(_states(clean_and_patrol_run)) - 2 >= 10, report
+    assert len(report["goals"]) == 6 and all(g["reached"] >= 2 for g in report["goals"]), report["goals"]
+
+
+def test_check_run_names_the_step_and_clause_of_an_injected_violation(clean_and_patrol_run, demo_bag, tmp_path):
+    import rosbag
+
+    from ltl_stack.ros.check_run import trace_steps
+    from ltl_stack.runtime.run_check import distinct_steps
+
+    broken = tmp_path / "broken.bag"
+    kept = []
+    with rosbag.Bag(str(demo_bag)) as bag, rosbag.Bag(str(broken), "w") as out:
+        for count, (topic, msg, stamp) in enumerate(bag.read_messages(
+                topics=["/clean_and_patrol/controller_executor/state"])):
+            if count <= 5:
+                kept.append(msg)
+            if count == 5:  # the robot in two regions at once, and picking up while dropping
+                inputs = dict(zip(msg.inputs.keys, msg.inputs.values, strict=True))
+                region = next(r for r in REGIONS if inputs[f"{r}_rc"])
+                other = next(r for r in REGIONS if r != region)
+                msg.inputs.values = [v or k == f"{other}_rc" for k, v in zip(msg.inputs.keys, msg.inputs.values,
+                                                                                strict=True)]
+                msg.outputs.values = [v or k in ("pickup", "drop") for k, v in zip(msg.outputs.keys,
+                                                                                  msg.outputs.values, strict=True)]
+            out.write(topic, msg, stamp)
+    done = run_script(["rosrun", "ltl_stack", "check_run", str(SPEC), str(MAPPING), str(broken)],
+                      capture_output=True, text=True, timeout=300)
+    assert done.returncode == Exit.NEGATIVE, done.stdout + done.stderr
+    lines = done.stdout.splitlines()
+    step = len(distinct_steps(trace_steps(kept))) - 1  # the changed state, numbered as check_run does
+    into = f"step {step - 1} -> {step} "
+    assert any(line.startswith(into) and "assumption broken" in line
+               and "clean_and_patrol.structuredslugs:40: (topLane_rc' & !rightLane_rc'" in line for line in lines), lines
+    assert any(line.startswith(into) and "guarantee broken" in line
+               and "clean_and_patrol.structuredslugs:108: !(pickup' & drop')" in line for line in lines), lines
+    assert "environment assumptions: broken" in lines and "system guarantees: broken" in lines, lines
+
+
+def test_controller_trace_replays_the_bag(clean_and_patrol_run, demo_bag):
+    done = run_script(["rosrun", "ltl_stack", "controller_trace", "--bag", str(demo_bag), "--spec", str(SPEC),
+                       "--cycles", "2", "--json"], capture_output=True, text=True, timeout=300)
+    assert done.returncode == Exit.OK, done.stderr
+    replayed = [json.loads(line) for line in done.stdout.splitlines()]
+    live = _states(clean_and_patrol_run)
+    # the demo's trace and the bag hold the same states (the replay stops at the second cycle's end)
+    assert [s["state"] for s in replayed] == [s["state"] for s in live][:len(replayed)], (replayed, live)
+    assert len(replayed) >= 10
+
+
+# --- the README and docs/chapter3.md tell the demo as it runs today ----------------------------------
+
+NUMBERS = {"one": 1, "two": 2, "three": 3, "four": 4, "five": 5, "six": 6, "seven": 7, "twice": 2}
+
+
+def test_readme_and_chapter3_tell_the_demo_as_it_runs(clean_and_patrol_run):
+    from ltl_stack.sim.demo import build_parser
+    from ltl_stack.spec import load_spec
+
+    run_story = [(e["figure"], e["text"]) for e in clean_and_patrol_run if e["event"] == "story"]
+    summary = clean_and_patrol_run[-1]
+    goals = len(load_spec(SPEC).sys_liveness)
+    # docs/chapter3.md: a whole run as printed today: the same beats with the same words (the strategy and
+    # the scripted world fix the route; only the times vary), in order, and its own counts
+    chapter3 = (REPO_ROOT / "docs" / "chapter3.md").read_text()
+    transcript = chapter3[chapter3.index("$ ./tools/demo"):]
+    transcript = transcript[:transcript.index("```")]
+    told = re.findall(r"\*\*\* Fig\. (3\.10[a-d]): (.*)", transcript)
+    assert told == run_story, (told, run_story)
+    states = re.findall(r"^\[ *[\d.]+s\] state ", transcript, re.M)
+    done = re.search(r"demo: done: (\d+) goal cycle\(s\), (\d+) controller states", transcript)
+    assert done and int(done.group(2)) == len(states) and int(done.group(1)) >= 2, transcript
+    assert f"through {goals} goals" in transcript
+    # README: the demo paragraph's beats and counts
+    readme = (REPO_ROOT / "README.md").read_text()
+    paragraph = readme[readme.index("The first command runs the main demo"):readme.index("The second command runs")]
+    paragraph = " ".join(paragraph.split())
+    cycles, count = re.search(r"cycled (\w+) through its (\w+) goals", paragraph).groups()
+    assert NUMBERS[cycles] == build_parser().get_default("cycles") and summary["cycles"] >= NUMBERS[cycles]
+    assert NUMBERS[count] == goals
+    assert "`*** Fig. 3.10a: …` to `*** Fig. 3.10d: …`" in paragraph
+    assert [f for f, _ in run_story][0] == "3.10a" and [f for f, _ in run_story][-1] == "3.10d"
+    beats = ["starts in `topLane`", "second time it is in `bottomLane`", "picks the object up",
+             "carries it to `rightGround`", "drops it there", "patrol again"]
+    positions = [paragraph.find(b) for b in beats]
+    assert -1 not in positions and positions == sorted(positions), dict(zip(beats, positions, strict=True))

@@ -6,7 +6,8 @@ resilience mode (normal, recovering, holding, characterizing, waiting_for_user, 
 and per resynthesis (EC1/EC2/user counters), with the violated environment-safety clauses; and each
 finished integrative negotiation (the executor's ``~negotiations``: with whom, the clauses sent and
 received in Structured English, the outcome; thesis §4.8, docs/negotiation.md). With ``--cycles N`` it exits after
-the strategy has gone N times through all system goals (the spec tells how many there are).
+the strategy has gone N times through all system goals (the spec tells how many there are). With
+``--bag FILE`` it replays the states recorded in a rosbag instead (no master needed).
 """
 from __future__ import annotations
 
@@ -147,6 +148,9 @@ def build_parser() -> cli.ToolParser:
                         help="with --cycles: give up after S seconds (default 0: never)")
     parser.add_argument("--master-uri", metavar="URI",
                         help="the ROS master (default: __master:= or $ROS_MASTER_URI)")
+    parser.add_argument("--bag", metavar="FILE",
+                        help="replay the states recorded in this rosbag (TOPIC, or the only "
+                             "ltl_stack/ControllerState topic in it) instead of listening to a master")
     parser.add_json("each state, one object per line,")
     return parser
 
@@ -160,6 +164,8 @@ def _trace(args) -> int:
     goals = max(1, len(load_spec(args.spec).sys_liveness)) if args.spec else None
     if args.cycles and goals is None:
         raise UserError("--cycles needs --spec")
+    if args.bag:
+        return replay_bag(args, goals)
     wait_for_master(master_uri(args.master_uri), MASTER_WAIT)
     rospy.init_node("controller_trace", anonymous=True)
     trace = ControllerTrace(args.topic, goals, args.json)
@@ -168,3 +174,28 @@ def _trace(args) -> int:
         return Exit.OK if reached else Exit.NEGATIVE
     rospy.spin()
     return Exit.OK
+
+
+def replay_bag(args, goals: int | None) -> int:
+    """Print the states recorded in ``args.bag`` as a live trace would; with ``--cycles``, exit 1 when
+    the recording holds fewer goal cycles."""
+    from ltl_stack.ros.check_run import read_states, trace_steps
+
+    topic = None if args.topic == "controller_executor/state" else "/" + args.topic.lstrip("/")
+    _, messages = read_states(args.bag, topic)
+    cycles = GoalCycles(goals) if goals else None
+    previous = None
+    for step in trace_steps(messages):
+        if previous is not None and (previous.state_id, previous.running) == (step.state_id, step.running):
+            continue
+        cycle_done = cycles.update(step.goal) if cycles else False
+        if args.json:
+            print(json.dumps({"event": "state", **step.to_dict()}), flush=True)
+        else:
+            print(describe(previous, step, goals), flush=True)
+            if cycle_done:
+                print(f"[{step.time:7.2f}s] --- goal cycle {cycles.completed} complete ---", flush=True)
+        previous = step
+        if args.cycles and cycles is not None and cycles.completed >= args.cycles:
+            return Exit.OK
+    return Exit.NEGATIVE if args.cycles else Exit.OK

@@ -21,9 +21,11 @@ import argparse
 import json
 import os
 import re
+import subprocess
 import sys
 import threading
 import time
+import xmlrpc.client
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -143,6 +145,9 @@ def build_parser() -> cli.ToolParser:
     parser.add_json("the trace, one object per line,")
     parser.add_argument("--master-uri", metavar="URI",
                         help="run against this master instead of a private one (default: start one on a free port)")
+    parser.add_argument("--bag", metavar="FILE",
+                        help="record the run in a rosbag: the executor's ~state, the proposition topics, odom and "
+                             "tf (check it afterwards with check_run SPEC MAPPING FILE)")
     parser.add_argument("--launch-arg", action="append", default=[], metavar="NAME:=VALUE", type=_launch_arg,
                         help="extra roslaunch argument, e.g. speed:=2.0 (repeatable)")
     return parser
@@ -196,7 +201,8 @@ def run(args: argparse.Namespace) -> int:
     spec_files = sorted(config.glob("*.structuredslugs")) + sorted(config.glob("*.slugsin"))
     if not spec_files:
         raise UserError(f"no spec in {config}")
-    goal_count = len(load_spec(spec_files[0]).sys_liveness)
+    spec = load_spec(spec_files[0])
+    goal_count = len(spec.sys_liveness)
     has_goals = goal_count > 0
     goals = goal_count or 1
 
@@ -208,6 +214,8 @@ def run(args: argparse.Namespace) -> int:
         say(f"{'private ' if ros.own_master else ''}rosmaster at {ros.uri}; launching "
             f"{' '.join([scenario.launch, *scenario.launch_args])}")
         log_path = ros.workdir / "roslaunch.log"
+        if args.bag:
+            _record(ros, scenario.namespace, [*spec.inputs, *spec.outputs], args.bag, say)
         out = [f"out:={ros.workdir}"] if scenario.negotiation else []  # the negotiated specs are written there
         launch = ros.start(["roslaunch", "ltl_stack", scenario.launch, *scenario.launch_args, *out, *args.launch_arg],
                            stdout=open(log_path, "wb"))  # noqa: SIM115 - closed with the process
@@ -293,6 +301,31 @@ def run(args: argparse.Namespace) -> int:
             _not_reached(why, log_path)
             return Exit.NEGATIVE
     return Exit.OK
+
+
+def _record(ros: RosSession, namespace: str, propositions: list[str], bag: str, say) -> None:
+    """Start ``rosbag record`` of the scenario's states, propositions, odometry and tf, and wait until it
+    has subscribed to the executor's ~state (before the launch: the recording holds the controller's
+    first state). The session stops it with SIGINT, which closes the bag."""
+    path = Path(bag).resolve()
+    if not path.parent.is_dir():
+        raise UserError(f"--bag {bag}: no folder {path.parent}")
+    if path.suffix != ".bag":
+        raise UserError(f"--bag {bag}: the file name must end in .bag (rosbag record adds it otherwise)")
+    state = f"/{namespace}/controller_executor/state"
+    topics = [state, *(f"/{namespace}/{kind}/{p}" for kind in ("inputs", "outputs") for p in propositions),
+              *(f"/{namespace}/{t}" for t in ("odom", "tf", "tf_static", "localized_region")), "/diagnostics"]
+    recorder = ros.start(["rosbag", "record", "--quiet", "-O", str(path), "__name:=demo_record", *topics],
+                         stdout=subprocess.DEVNULL)
+    master = xmlrpc.client.ServerProxy(ros.uri)
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline and recorder.poll() is None:
+        _, subscribers, _ = master.getSystemState("/demo")[2]
+        if any(topic == state and "/demo_record" in nodes for topic, nodes in subscribers):
+            say(f"recording {path}")
+            return
+        time.sleep(0.1)
+    raise UserError(f"--bag {bag}: rosbag record did not start within 60 s")
 
 
 def _not_reached(why: str, log_path: Path) -> None:

@@ -5,6 +5,9 @@ so that the proposition nodes, the navigation server and the controller run with
 A command older than ``~cmd_timeout`` seconds is dropped (the robot stops), as real bases do.
 With ``~regions_file`` it also publishes the name of the region it is in on ``current_region``
 (latched, on change), like the thesis' ``/robot_current_region``.
+Like a real base it broadcasts tf (``~frame_id`` -> ``~child_frame_id``), and with ``~map_frame`` set it
+stands in for localization too: a static identity ``~map_frame`` -> ``~frame_id`` (amcl's transform on
+a real robot), so ``region_localization`` reads ``map`` -> ``base_link`` as it would there.
 """
 from __future__ import annotations
 
@@ -14,7 +17,7 @@ import time
 from typing import Any
 
 import rospy
-from geometry_msgs.msg import PoseStamped, Twist
+from geometry_msgs.msg import PoseStamped, TransformStamped, Twist
 from nav_msgs.msg import Odometry
 from std_msgs.msg import String
 
@@ -49,6 +52,9 @@ SIM_ROBOT = NodeSpec(
               bound=Bound.NON_NEGATIVE),
         Param("frame_id", "odom", "frame of the published pose", ros_name=True),
         Param("child_frame_id", "base_link", "the robot's frame", ros_name=True),
+        Param("publish_tf", True, "broadcast ~frame_id -> ~child_frame_id on tf"),
+        Param("map_frame", "map", "broadcast a static identity ~map_frame -> ~frame_id (empty: none)",
+              ros_name=True),
         *REGION_PARAMS,
     ],
 )
@@ -78,6 +84,18 @@ class SimRobot:
         self.pose_pub = rospy.Publisher("pose", PoseStamped, queue_size=10)
         self.region_pub = rospy.Publisher("current_region", String, queue_size=1, latch=True)
         rospy.Subscriber("cmd_vel", Twist, self._on_cmd, queue_size=10)
+        self.tf = None
+        if config["publish_tf"]:
+            import tf2_ros
+
+            self.tf = tf2_ros.TransformBroadcaster()
+            if config["map_frame"]:
+                self.static_tf = tf2_ros.StaticTransformBroadcaster()
+                identity = TransformStamped()
+                identity.header.stamp = rospy.Time.now()
+                identity.header.frame_id, identity.child_frame_id = config["map_frame"], config["frame_id"]
+                identity.transform.rotation.w = 1.0
+                self.static_tf.sendTransform(identity)
 
     def _on_cmd(self, msg: Any) -> None:
         c = self.config
@@ -114,6 +132,12 @@ class SimRobot:
         stamped.header = odom.header
         stamped.pose = p
         self.pose_pub.publish(stamped)
+        if self.tf is not None:
+            t = TransformStamped()
+            t.header, t.child_frame_id = odom.header, odom.child_frame_id
+            t.transform.translation.x, t.transform.translation.y = p.position.x, p.position.y
+            t.transform.rotation = p.orientation
+            self.tf.sendTransform(t)
         if self.regions is not None:
             region = self.regions.region_at(pose.x, pose.y) or ""
             if region != self.region:

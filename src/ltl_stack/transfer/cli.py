@@ -24,7 +24,7 @@ from .channels import load_listing
 from .choose import Asker, prompt_text, short_type
 from .codebase import is_python_program, load_codebase, mine_programs
 from .errors import TransferError
-from .profiles import UNKNOWN, RobotProfile, load_profile
+from .profiles import SHIPPED_ROBOTS, UNKNOWN, RobotProfile, load_profile
 from .transfer import TransferOptions, transfer_program
 
 TRANSFER = "ros_code_transfer"
@@ -95,7 +95,9 @@ def build_parser() -> ToolParser:
                         help=f"source robot name; '{UNKNOWN}' when the program was written for no known robot "
                              "(channels are chosen for the target alone, nothing is scaled)")
     parser.add_argument("--to", dest="target_robot", required=True, help="target robot name")
-    parser.add_argument("--robots", required=True, help="robots folder (see docs/code_transfer.md)")
+    parser.add_argument("--robots", default=str(SHIPPED_ROBOTS),
+                        help="robots folder (see docs/code_transfer.md; default: the profiles shipped in the package, "
+                             "limits, drive and channel statistics of the thesis' mobile robots)")
     parser.add_argument("-o", "--output", required=True, help="where to write the target program")
     parser.add_argument("--codebase", help="channel statistics YAML, or a folder of such files and/or "
                                            "<robot>/ program folders (A.1)")

@@ -29,6 +29,9 @@ from .errors import TransferError
 from .limits import VelocityLimits, infer_drive, load_limits
 
 DRIVES = ("differential", "holonomic", "none")
+#: the robot profiles shipped in the package (our own data files: each base's velocity limits and
+#: drive, and the channel statistics of the thesis' Tables 2.1-2.5); the default ``--robots``
+SHIPPED_ROBOTS = Path(__file__).resolve().parent / "robots"
 PROFILE_KEYS = {"name", "drive", "limits", "urdf", "srdf", "channels"}
 #: the source robot name of a program written for no robot in particular (thesis Example 6)
 UNKNOWN = "unknown"

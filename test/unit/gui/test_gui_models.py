@@ -81,9 +81,10 @@ def clean_graph() -> LiveGraph:
     pubs, subs, types = [], [], []
     doc = MappingDocument.load(str(CLEAN_SPEC), str(CLEAN_MAPPING))
     ns = "clean_and_patrol"
+    mapping = load_mapping(CLEAN_MAPPING)
     for prop in doc.inputs:
         topic = f"/{ns}/inputs/{prop}"
-        node = f"/{ns}/{prop[:-3]}" if prop in ("pickup_ac", "drop_ac") else f"/{ns}/{prop}"
+        node = f"/{ns}/{mapping.inputs[prop][0].node}"  # e.g. one region_localization node for every R_rc
         pubs.append((topic, [node]))
         types.append((topic, "std_msgs/Bool"))
     for prop in doc.outputs:

@@ -1,0 +1,68 @@
+"""The README's commands that need no master run as written from a clone that has no ``../shared``
+beside it (issue 27: a new user's clone), and what they write and read stays inside the package.
+
+The clone is a folder of links to the repository's top-level entries, so ``../shared`` (relative to
+where the commands run) does not exist. The commands that need a running master (``roslaunch``,
+``controller_trace``, ``analyze_graph --live``) are the scenario tests' (test_analysis_scenarios,
+test_install_space); ``./tools/demo --bag`` with ``check_run`` is test_scenarios'.
+"""
+from __future__ import annotations
+
+import re
+import shlex
+
+import pytest
+from helpers import REPO_ROOT, run_script
+
+pytestmark = pytest.mark.ros
+
+MASTER_FREE = ("synthesize", "ros_code_transfer")
+
+
+def readme_commands() -> list[list[str]]:
+    """Every ``rosrun ltl_stack TOOL ...`` of the README's "Using it from your own shell" blocks
+    (continuation lines joined, comments dropped)."""
+    text = (REPO_ROOT / "README.md").read_text()
+    section = text[text.index("## Using it from your own shell"):text.index("Resilient execution (thesis ch. 4")]
+    commands = []
+    for block in re.findall(r"```bash\n(.*?)```", section, re.S):
+        joined = re.sub(r"\\\n\s*", " ", block)
+        for line in joined.splitlines():
+            line = line.split(" #", 1)[0].strip()
+            for part in line.split("&&"):
+                words = shlex.split(part)
+                if words[:2] == ["rosrun", "ltl_stack"]:
+                    commands.append(words)
+    return commands
+
+
+def test_the_readme_names_files_that_exist_and_passes_what_the_tools_need():
+    commands = readme_commands()
+    tools = [c[2] for c in commands]
+    assert set(MASTER_FREE) <= set(tools), tools
+    for words in commands:
+        for word in words[3:]:
+            if "/" in word and not word.startswith(("/", "$")) and not word.endswith((".bag", ".py", ".dot")):
+                assert (REPO_ROOT / word).exists(), f"{word} (README: {' '.join(words)})"
+    transfer = next(c for c in commands if c[2] == "ros_code_transfer")
+    assert (REPO_ROOT / transfer[3]).is_file() and "--robots" not in transfer  # the package's profiles
+
+
+@pytest.mark.parametrize("tool", MASTER_FREE)
+def test_readme_command_runs_from_a_clone_without_shared(tmp_path, tool):
+    clone = tmp_path / "clone"
+    clone.mkdir()
+    for entry in REPO_ROOT.iterdir():
+        if entry.name != ".git":
+            (clone / entry.name).symlink_to(entry)
+    assert not (clone.parent / "shared").exists()
+    words = next(c for c in readme_commands() if c[2] == tool)
+    done = run_script(words, cwd=clone, capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert "shared" not in done.stdout + done.stderr, done.stdout + done.stderr
+    for word in words:
+        if word.endswith((".py", ".dot")) and words[words.index(word) - 1] in ("-o", "--dot"):
+            assert (clone / word).is_file() and (clone / word).stat().st_size > 0, word
+    if tool == "ros_code_transfer":
+        out = (clone / words[words.index("-o") + 1]).read_text()
+        assert "cmd_vel_mux/input/navi" in out  # the channel the shipped TurtleBot statistics choose (A.1)

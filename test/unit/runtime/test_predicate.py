@@ -1,0 +1,59 @@
+"""Message predicates of topic_predicate_sensor, on AprilTag-style detections (test doubles)."""
+from __future__ import annotations
+
+from types import SimpleNamespace as Msg
+
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from ltl_stack.runtime.predicate import Condition, MessagePredicate
+
+
+def tag(tag_id: int, x: float, y: float = 0.0, z: float = 0.0) -> Msg:
+    return Msg(id=tag_id, size=0.1, pose=Msg(position=Msg(x=x, y=y, z=z)))
+
+
+def detections(*tags: Msg) -> Msg:
+    return Msg(header=Msg(frame_id="camera"), detections=list(tags))
+
+
+TAG7_NEAR = MessagePredicate(["id == 7", "pose.position within 1.5"], array="detections")
+
+
+def test_tag_7_within_1_5_m():
+    assert TAG7_NEAR.evaluate(detections(tag(3, 0.5), tag(7, 1.0, 1.0)))
+    assert not TAG7_NEAR.evaluate(detections(tag(7, 1.2, 1.2)))  # 1.7 m away
+    assert not TAG7_NEAR.evaluate(detections(tag(3, 0.5)))  # another tag
+    assert not TAG7_NEAR.evaluate(detections())  # nothing seen
+
+
+def test_one_element_must_meet_every_condition():
+    """Tag 7 far and tag 3 near: neither alone meets both conditions."""
+    assert not TAG7_NEAR.evaluate(detections(tag(7, 5.0), tag(3, 0.2)))
+
+
+def test_plain_message_contains_and_strings():
+    assert MessagePredicate(["data > 2"]).evaluate(Msg(data=3))
+    assert MessagePredicate(["ids contains 4"]).evaluate(Msg(ids=[1, 4]))
+    assert MessagePredicate(["label == cup"]).evaluate(Msg(label="cup"))
+    assert not MessagePredicate(["label > 2"]).evaluate(Msg(label="cup"))  # no order between text and numbers
+    assert MessagePredicate(["pose.position beyond 1"], "").evaluate(tag(1, 2.0))
+
+
+@given(st.lists(st.tuples(st.integers(0, 9), st.floats(-3, 3), st.floats(-3, 3)), max_size=8))
+def test_predicate_is_any_element_meeting_all_conditions(tags):
+    msg = detections(*(tag(i, x, y) for i, x, y in tags))
+    expected = any(i == 7 and (x * x + y * y) ** 0.5 <= 1.5 for i, x, y in tags)
+    assert TAG7_NEAR.evaluate(msg) == expected
+
+
+def test_bad_conditions_are_refused_naming_them():
+    with pytest.raises(ValueError, match="'id = 7' is not '<field> <op> <value>'"):
+        Condition.parse("id = 7")
+    with pytest.raises(ValueError, match="within needs a finite distance"):
+        Condition.parse("pose.position within far")
+    with pytest.raises(ValueError, match="at least one condition"):
+        MessagePredicate([])
+    with pytest.raises(LookupError, match="no field 'distance'"):
+        MessagePredicate(["distance < 1"]).evaluate(Msg(data=1))

@@ -1,0 +1,83 @@
+#!/usr/bin/env bash
+# The ROS-free unit suite under the other Pythons people run ROS 1 on (issue 27; docs/python_versions.md):
+# ./tools/test runs it after the main suite. For each version in LTL_STACK_PYTHONS (default "3.12 3.13"):
+# pyenv's newest interpreter of that version (else pythonX.Y on PATH; absent: a clear "skipped" line),
+# a venv of its own in $LTL_STACK_HOME/py<version> with requirements.txt's PyPI packages (made once per
+# requirements; kept under a lock, so concurrent runs wait instead of building twice), then pytest on
+# test/unit without ROS: the Qt panels and the tests that run the ROS node scripts need Debian's
+# Python 3.11 modules and stay in the main run. Exit status: the first failing version's pytest code.
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+ROOT=$PWD
+HOME_DIR=${LTL_STACK_HOME:-$HOME/.cache/ltl_stack}
+VERSIONS=${LTL_STACK_PYTHONS:-3.12 3.13}
+
+say() { echo "[python-matrix] $*" >&2; }
+
+# requirements.txt without the main run's tools (ruff, pytest-qt); PyYAML 6.0 has no wheel for 3.12+
+# and does not build with Cython 3, so these venvs take 6.0.2 (same API)
+requirements() {
+  grep -v -E '^(ruff|pytest-qt)==' "$ROOT/requirements.txt" | sed -E 's/^PyYAML==6\.0$/PyYAML==6.0.2/'
+}
+
+interpreter() {  # interpreter VERSION: the newest pyenv X.Y.Z, else pythonX.Y on PATH
+  local root found=""
+  root=$(pyenv root 2>/dev/null || echo "$HOME/.pyenv")
+  for candidate in "$root"/versions/"$1".*/bin/python; do
+    [ -x "$candidate" ] && found=$candidate
+  done
+  [ -n "$found" ] || found=$(command -v "python$1" || true)
+  echo "$found"
+}
+
+# Tests that run our ROS node scripts (they import rospy, Debian's Python 3.11 package).
+NEEDS_ROS=(
+  --ignore=test/unit/gui
+  --ignore=test/unit/analysis/test_analysis_bad_input_script.py
+  --deselect=test/unit/ros_nodes/test_proposition_node_logic.py::test_node_cli_json_prints_the_parameters_and_exits
+  --deselect=test/unit/ros_nodes/test_proposition_node_logic.py::test_node_cli_without_options_returns_so_the_node_runs
+  --deselect=test/unit/transfer/test_transfer_cli.py::test_bad_input_through_the_real_script
+  --deselect=test/unit/transfer/test_transfer_thesis_examples.py::test_choose_by_distribution_prompts_through_a_pipe
+  --deselect=test/unit/transfer/test_transfer_thesis_examples.py::test_choose_by_distribution_with_a_given_answer_and_without_one
+  --deselect=test/unit/transfer/test_transfer_thesis_examples.py::test_example_4_through_the_real_script_with_the_shared_files
+)
+
+status=0
+for version in $VERSIONS; do
+  python=$(interpreter "$version")
+  if [ -z "$python" ]; then
+    say "Python $version: not installed, skipped (pyenv install $version, or put python$version on PATH)"
+    continue
+  fi
+  venv="$HOME_DIR/py$version"
+  wanted="$("$python" --version 2>&1) $(requirements | sha256sum | cut -c1-16)"
+  mkdir -p "$HOME_DIR"
+  (
+    flock 9
+    if [ "$(cat "$venv/.ltl_stack_stamp" 2>/dev/null)" != "$wanted" ]; then
+      say "Python $version: making $venv (PyPI packages of requirements.txt; once)"
+      rm -rf "$venv"
+      "$python" -m venv "$venv"
+      requirements > "$HOME_DIR/py$version-requirements.txt"
+      if ! "$venv/bin/python" -m pip install -q --disable-pip-version-check \
+             -r "$HOME_DIR/py$version-requirements.txt" > "$HOME_DIR/py$version-pip.log" 2>&1; then
+        tail -n 20 "$HOME_DIR/py$version-pip.log" >&2
+        say "Python $version: pip install failed; the whole log is in $HOME_DIR/py$version-pip.log"
+        exit 3
+      fi
+      echo "$wanted" > "$venv/.ltl_stack_stamp"
+    fi
+  ) 9> "$HOME_DIR/py$version.lock" || { [ "$status" -ne 0 ] || status=3; continue; }
+  say "Python $version ($("$venv/bin/python" --version 2>&1)): ROS-free unit suite"
+  # no ROS environment and no catkin workspace: the package from src/, nothing from Debian's 3.11
+  set +e
+  env -i HOME="$HOME" PATH="$venv/bin:/usr/bin:/bin" PYTHONPATH="$ROOT/src" LANG=C.UTF-8 \
+    "$venv/bin/python" -m pytest -q -p no:cacheprovider -n "${LTL_STACK_MATRIX_WORKERS:-2}" \
+    test/unit "${NEEDS_ROS[@]}"
+  code=$?
+  set -e
+  if [ "$code" -ne 0 ] && [ "$status" -eq 0 ]; then
+    status=$code
+  fi
+done
+exit "$status"
