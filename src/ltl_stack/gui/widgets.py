@@ -38,6 +38,7 @@ from python_qt_binding.QtWidgets import (
     QHBoxLayout,
     QLabel,
     QLineEdit,
+    QMessageBox,
     QPlainTextEdit,
     QProgressBar,
     QSpinBox,
@@ -60,6 +61,41 @@ def error_text(err: BaseException) -> str:
     if isinstance(err, UserError | OSError | GraphvizError):
         return str(err)
     return f"{type(err).__name__}: {err}"
+
+
+class ComboBox(QComboBox):
+    """A drop-down that takes the mouse wheel only when it has the focus (clicked or tabbed to):
+    scrolling a table or a panel over it scrolls that and never changes the value."""
+
+    def __init__(self, parent: QWidget | None = None):
+        super().__init__(parent)
+        self.setFocusPolicy(Qt.StrongFocus)
+
+    def wheelEvent(self, event) -> None:  # noqa: N802 - Qt's name
+        if self.hasFocus():
+            super().wheelEvent(event)
+        else:
+            event.ignore()  # to the parent: the table or panel scrolls
+
+
+class SpinBox(QSpinBox):
+    """A spin box with ``ComboBox``'s wheel rule."""
+
+    def __init__(self, parent: QWidget | None = None):
+        super().__init__(parent)
+        self.setFocusPolicy(Qt.StrongFocus)
+
+    def wheelEvent(self, event) -> None:  # noqa: N802
+        if self.hasFocus():
+            super().wheelEvent(event)
+        else:
+            event.ignore()
+
+
+def ask(parent: QWidget, title: str, text: str) -> bool:
+    """Yes/No question (No is the default); panels hold it in ``confirm`` so tests can answer it."""
+    answer = QMessageBox.question(parent, title, text, QMessageBox.Yes | QMessageBox.No, QMessageBox.No)
+    return answer == QMessageBox.Yes
 
 
 def line_edit(name: str, placeholder: str) -> QLineEdit:

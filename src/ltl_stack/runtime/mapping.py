@@ -368,6 +368,8 @@ def format_mapping(mapping: Mapping) -> str:
         for prop, entries in section.items():
             items = [_entry_dict(e) for e in entries]
             data[key][prop] = None if not items else items[0] if len(items) == 1 else items
+    if mapping.negotiation is not None:  # kept as written: saving a mapping never drops a section
+        data["negotiation"] = mapping.negotiation
     return yaml.safe_dump(data, sort_keys=False, default_flow_style=False, allow_unicode=True)
 
 

@@ -4,17 +4,21 @@ Each test names the defect of the issue it covers; each fails on the panels as t
 from __future__ import annotations
 
 import json
+import os
 
 import pytest
-from gui_data import SIMPLE_MAPPING, SIMPLE_SPEC, simple_snapshot
+from gui_data import CLEAN_MAPPING, CLEAN_SPEC, CONFIG, SIMPLE_MAPPING, SIMPLE_SPEC, simple_snapshot
 
 pytest.importorskip("pytestqt")
 
 from ltl_stack.analysis import cli as analysis_cli  # noqa: E402
 from ltl_stack.analysis.snapshot import Snapshot  # noqa: E402
 from ltl_stack.gui.analysis_panel import AnalysisPanel  # noqa: E402
+from ltl_stack.gui.mapping_model import INPUT, OUTPUT  # noqa: E402
+from ltl_stack.runtime.mapping import load_mapping  # noqa: E402
 
 WAIT = 60_000  # ms: generous, the machine is busy
+KITCHEN = CONFIG / "kitchen"
 
 TYPO_MAPPING = """namespace: 'simple'
 inputs:
@@ -118,3 +122,157 @@ def test_defect4_the_amended_path_follows_the_current_spec_unless_typed(qtbot, t
     panel.spec_line_edit.setText(str(SIMPLE_SPEC))
     analyzed(qtbot, panel)
     assert panel.amended_line_edit.text() == str(tmp_path / "mine.slugsin")
+
+
+# --- mapping panel --------------------------------------------------------------------------------------
+
+@pytest.fixture
+def mapping_panel(qtbot):
+    from test_gui_models import clean_graph
+
+    from ltl_stack.gui.mapping_panel import MappingPanel
+
+    graph = clean_graph()
+    panel = MappingPanel(take_graph=lambda uri: graph)
+    qtbot.addWidget(panel)
+    panel.spec_line_edit.setText(str(CLEAN_SPEC))
+    panel.mapping_line_edit.setText(str(CLEAN_MAPPING))
+    assert panel.load(), panel.status_label.text()
+    panel.refresh()
+    qtbot.waitUntil(lambda: panel.graph is not None, timeout=WAIT)
+    return panel
+
+
+def wheel(widget, steps: int = -1) -> None:
+    from python_qt_binding.QtCore import QPoint, QPointF, Qt
+    from python_qt_binding.QtGui import QWheelEvent
+    from python_qt_binding.QtWidgets import QApplication
+
+    centre = QPointF(widget.rect().center())
+    event = QWheelEvent(centre, QPointF(widget.mapToGlobal(centre.toPoint())), QPoint(0, 0), QPoint(0, 120 * steps),
+                        Qt.NoButton, Qt.NoModifier, Qt.NoScrollPhase, False)
+    QApplication.sendEvent(widget, event)
+
+
+def test_defect3_the_wheel_over_a_drop_down_without_focus_never_edits(mapping_panel, qtbot):
+    panel = mapping_panel
+    panel.show()
+    node = panel.combo(OUTPUT, "stop", 0, "node")
+    assert node.count() > 2 and node.currentText() == "stop"
+    panel.spec_line_edit.setFocus()
+    for _ in range(3):
+        wheel(node, -1)
+        wheel(node, 1)
+        wheel(node, 1)
+    assert node.currentText() == "stop" and panel.doc.rows[(OUTPUT, "stop")][0].node == "stop"
+    assert not panel.dirty
+    node.setFocus()
+    qtbot.waitUntil(node.hasFocus, timeout=WAIT)
+    wheel(node, -1)  # with the focus the wheel is the user's choice
+    assert node.currentText() != "stop"
+
+
+def test_defect5_a_master_typed_in_a_panel_never_changes_the_process_environment(qtbot, monkeypatch):
+    from ltl_stack.gui.mapping_panel import MappingPanel
+
+    monkeypatch.setenv("ROS_MASTER_URI", "http://localhost:11399/")
+    panel = MappingPanel()  # the real master reader
+    qtbot.addWidget(panel)
+    panel.master_line_edit.setText("http://127.0.0.1:1/")  # nothing listens there
+    panel.refresh()
+    qtbot.waitUntil(lambda: "Refresh failed" in panel.status_label.text(), timeout=WAIT)
+    assert "127.0.0.1:1" in panel.status_label.text()
+    assert os.environ["ROS_MASTER_URI"] == "http://localhost:11399/"
+
+
+def test_defect7_saving_a_mapping_keeps_its_negotiation_section(qtbot, tmp_path):
+    from ltl_stack.gui.mapping_panel import MappingPanel
+
+    panel = MappingPanel(take_graph=lambda uri: pytest.fail("no master here"))
+    qtbot.addWidget(panel)
+    panel.spec_line_edit.setText(str(KITCHEN / "chef.structuredslugs"))
+    panel.mapping_line_edit.setText(str(KITCHEN / "chef.yaml"))
+    assert panel.load(), panel.status_label.text()
+    out = tmp_path / "chef.yaml"
+    assert panel.save(str(out)), panel.status_label.text()
+    original = load_mapping(KITCHEN / "chef.yaml")
+    assert original.negotiation and load_mapping(out).negotiation == original.negotiation
+
+
+def test_defect9_a_name_picked_from_the_master_stays_relative_in_a_relative_mapping(mapping_panel):
+    panel = mapping_panel
+    for which, absolute, short in (("node", "/clean_and_patrol/drop", "drop"),
+                                   ("topic", "/clean_and_patrol/inputs/drop_ac", "drop_ac")):
+        combo = panel.combo(INPUT, "pickup_ac", 0, which)
+        if which == "topic":  # the node's topics are listed once the node is chosen
+            combo = panel.combo(INPUT, "pickup_ac", 0, "topic")
+        index = combo.findText(absolute)
+        assert index >= 0, [combo.itemText(i) for i in range(combo.count())]
+        combo.setCurrentIndex(index)
+        combo.activated.emit(index)  # what a pick in the popup emits
+        assert combo.currentText() == short
+    row = panel.doc.rows[(INPUT, "pickup_ac")][0]
+    assert (row.node, row.topic) == ("drop", "drop_ac")
+
+
+def test_defect9_save_asks_and_generate_refuses_while_errors_are_listed(mapping_panel, qtbot, tmp_path):
+    panel = mapping_panel
+    panel.combo(INPUT, "object", 0, "node").setEditText("/nobody")  # a second publisher: an error
+    assert panel.errors()
+    asked = []
+    panel.confirm = lambda title, text: asked.append(text) or False
+    out = tmp_path / "m.yaml"
+    assert not panel.save(str(out)) and not out.exists() and asked and "error" in asked[0]
+    launch = tmp_path / "m.launch"
+    panel.mapping_line_edit.setText(str(out))
+    assert not panel.generate_launch(str(launch)) and not launch.exists() and not out.exists()
+    panel.confirm = lambda title, text: True
+    assert panel.save(str(out)) and out.exists()
+
+
+def test_defect9_an_output_node_that_does_not_subscribe_its_topic_is_flagged(mapping_panel, qtbot):
+    panel = mapping_panel
+    panel.combo(OUTPUT, "stop", 0, "topic").setEditText("/clean_and_patrol/outputs/pickup")
+    qtbot.waitUntil(lambda: any("does not subscribe" in f.message for f in panel.findings), timeout=WAIT)
+    assert any(f.proposition == "stop" and "/clean_and_patrol/stop does not subscribe" in f.message
+               for f in panel.findings)
+
+
+def test_defect9_load_asks_before_discarding_edits_and_undo_restores(mapping_panel):
+    panel = mapping_panel
+    panel.combo(OUTPUT, "stop", 0, "node").setEditText("brake")
+    assert panel.dirty
+    panel.confirm = lambda title, text: False
+    assert not panel.load()
+    assert panel.doc.rows[(OUTPUT, "stop")][0].node == "brake"
+    panel.undo()
+    assert panel.doc.rows[(OUTPUT, "stop")][0].node == "stop"
+    assert panel.combo(OUTPUT, "stop", 0, "node").currentText() == "stop"
+    panel.confirm = lambda title, text: True
+    assert panel.load()
+
+
+def test_defect9_add_and_delete_keep_the_scroll_position(mapping_panel, qtbot):
+    panel = mapping_panel
+    panel.resize(900, 420)
+    panel.show()
+    table = panel.outputs_table_widget
+    bar = table.verticalScrollBar()
+    qtbot.waitUntil(lambda: bar.maximum() > 0, timeout=WAIT)
+    bar.setValue(bar.maximum())
+    before = bar.value()
+    assert before > 0
+    last = panel.doc.outputs[-1]
+    panel.add_row(last)
+    assert bar.value() == before
+    panel.delete_row(OUTPUT, last, len(panel.doc.rows[(OUTPUT, last)]) - 1)
+    assert bar.value() == before
+
+
+def test_defect9_both_tables_show_ten_rows_at_1280x800(mapping_panel, qtbot):
+    panel = mapping_panel
+    panel.resize(1280, 720)  # 1280x800 less rqt's title, menu and dock bars
+    panel.show()
+    for table in (panel.inputs_table_widget, panel.outputs_table_widget):
+        qtbot.waitUntil(lambda t=table: t.viewport().height() > 0, timeout=WAIT)
+        assert table.viewport().height() // table.rowHeight(0) >= 10, table.objectName()
