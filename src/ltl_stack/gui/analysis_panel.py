@@ -18,7 +18,6 @@ from python_qt_binding.QtGui import QColor
 from python_qt_binding.QtWidgets import (
     QAbstractItemView,
     QCheckBox,
-    QComboBox,
     QFileDialog,
     QGridLayout,
     QGroupBox,
@@ -52,6 +51,7 @@ from ltl_stack.gui.analysis_model import (
     run_analysis,
 )
 from ltl_stack.gui.widgets import (
+    ComboBox,
     GraphView,
     RowsModel,
     Task,
@@ -149,7 +149,7 @@ class AnalysisPanel(QWidget):
 
         suggest = QGroupBox("Suggested additions to the specification")
         form_row = QHBoxLayout()
-        self.form_combo_box = QComboBox()
+        self.form_combo_box = ComboBox()
         self.form_combo_box.setObjectName("suggestion_form_combo_box")
         self.form_combo_box.addItems([FORM_TITLES[f] for f in FORMS])
         self.form_combo_box.currentIndexChanged.connect(lambda _i: self._show_suggestions())

@@ -17,6 +17,7 @@ from collections import deque
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 
+from ltl_stack.errors import Exit, UserError
 from ltl_stack.gui.dotgraph import DotGraph
 from ltl_stack.spec import load_spec
 from ltl_stack.synthesis import Automaton, synthesize
@@ -65,7 +66,7 @@ class ControllerModel:
                    progress: Callable[[str], None] | None = None) -> ControllerModel:
         """Synthesize ``spec_path`` as the executor does and extract the explicit automaton.
 
-        Raises ``SpecError`` for a bad spec, ``ValueError`` when it is unrealizable, ``TooManyStates``
+        Raises ``SpecError`` for a bad spec, ``UserError`` (shown, no traceback) when it is unrealizable, ``TooManyStates``
         beyond ``MAX_STATES``.
         """
         options = options or ViewOptions()
@@ -75,7 +76,8 @@ class ControllerModel:
             f"cooperative {options.cooperative})")
         result = synthesize(spec, robotics_semantics=options.robotics_semantics, cooperative=options.cooperative)
         if not result.realizable:
-            raise ValueError(f"{spec_path}: the specification is unrealizable; the executor cannot run it")
+            raise UserError(f"{spec_path}: the specification is unrealizable (robotics semantics "
+                            f"{options.robotics_semantics}); the executor cannot run it", Exit.UNREALIZABLE)
         say("extracting the explicit automaton")
         automaton = result.strategy.explicit(max_states=MAX_STATES)
         say(f"{len(automaton)} states")

@@ -13,6 +13,7 @@ newest, so the view keeps up with any rate by skipping what it has not had time 
 from __future__ import annotations
 
 import os
+import threading
 import time
 from typing import Any
 
@@ -20,7 +21,6 @@ import rospy
 from python_qt_binding.QtCore import Qt, QTimer, Signal
 from python_qt_binding.QtWidgets import (
     QCheckBox,
-    QComboBox,
     QFileDialog,
     QFormLayout,
     QGridLayout,
@@ -30,7 +30,6 @@ from python_qt_binding.QtWidgets import (
     QLineEdit,
     QPlainTextEdit,
     QPushButton,
-    QSpinBox,
     QSplitter,
     QVBoxLayout,
     QWidget,
@@ -50,9 +49,10 @@ from ltl_stack.gui.controller_model import (
     options_from_params,
 )
 from ltl_stack.gui.widgets import (
+    ComboBox,
     GraphView,
+    SpinBox,
     Task,
-    error_text,
     restore_controls,
     save_controls,
     show_status,
@@ -64,14 +64,31 @@ REFRESH_MS = 30
 LAMP_ON, LAMP_OFF = "#34c759", "#d0d0d0"
 
 
+def require_master() -> str:
+    """The master this process's rospy talks to, if it answers within ``PROBE_TIMEOUT`` seconds; else a
+    ``UserError`` (rospy itself would retry for ever). Call it off the GUI thread."""
+    from ltl_stack.errors import Exit, UserError
+    from ltl_stack.ros.master import PROBE_TIMEOUT, master_online, master_uri
+
+    uri = master_uri(None)
+    if not master_online(uri):
+        raise UserError(f"no ROS master answers at {uri} (within {PROBE_TIMEOUT:.0f} s); start roscore or the "
+                        "scenario, or set ROS_MASTER_URI", Exit.NO_ROS)
+    return uri
+
+
 def ensure_node() -> None:
-    """rqt has initialized rospy; a standalone host does it here (anonymous, no signal handlers)."""
+    """rqt has initialized rospy; a standalone host does it here (anonymous, no signal handlers), once a
+    master answers. Off the GUI thread: it talks to the master."""
     if not rospy.core.is_initialized():
+        require_master()
         rospy.init_node("ltl_stack_controller_view", anonymous=True, disable_signals=True)
 
 
 def state_topics() -> list[str]:
-    """Topics of type ``ltl_stack/ControllerState`` on the master this process's rospy talks to."""
+    """Topics of type ``ltl_stack/ControllerState`` on the master this process's rospy talks to
+    (off the GUI thread: a master that went away is found by ``require_master``'s timeout)."""
+    require_master()
     ensure_node()
     return sorted(name for name, type_ in rospy.get_published_topics() if type_ == STATE_TYPE)
 
@@ -91,6 +108,7 @@ class RosLink:
 
         from ltl_stack.msg import ControllerState
 
+        require_master()
         ensure_node()
         self.state_topic = state_topic
         self.executor = executor_of(state_topic)
@@ -132,7 +150,7 @@ class ControllerView(QWidget):
 
     diagnostic = Signal(int, str)
 
-    def __init__(self, parent: QWidget | None = None, link_factory=RosLink):
+    def __init__(self, parent: QWidget | None = None, link_factory=RosLink, list_topics=state_topics):
         super().__init__(parent)
         self.setObjectName("ControllerView")
         self.setWindowTitle("Controller view")
@@ -145,9 +163,11 @@ class ControllerView(QWidget):
         self.record_lag = False
         self.violation = ""
         self.task: Task | None = None
+        self.refresh_task: Task | None = None
         self.layout_task: Task | None = None
         self._drawn: set[int] = set()
         self._link_factory = link_factory
+        self._list_topics = list_topics
         self._lamps: dict[tuple[str, str], QLabel] = {}
         self._build()
         self.diagnostic.connect(self._on_diagnostic)
@@ -164,7 +184,7 @@ class ControllerView(QWidget):
         browse = QPushButton("Browse…")
         browse.setObjectName("spec_browse_push_button")
         browse.clicked.connect(self._browse)
-        self.topic_combo_box = QComboBox()
+        self.topic_combo_box = ComboBox()
         self.topic_combo_box.setObjectName("state_topic_combo_box")
         self.topic_combo_box.setEditable(True)
         self.topic_combo_box.setMinimumWidth(320)
@@ -178,12 +198,12 @@ class ControllerView(QWidget):
         self.cooperative_check_box = QCheckBox("Cooperative")
         self.cooperative_check_box.setObjectName("cooperative_check_box")
         self.cooperative_check_box.setChecked(True)
-        self.full_spin_box = QSpinBox()
+        self.full_spin_box = SpinBox()
         self.full_spin_box.setObjectName("full_limit_spin_box")
         self.full_spin_box.setRange(1, 100_000)
         self.full_spin_box.setValue(DEFAULT_FULL_LIMIT)
         self.full_spin_box.setToolTip("draw the whole automaton up to this many states, else a neighbourhood")
-        self.radius_spin_box = QSpinBox()
+        self.radius_spin_box = SpinBox()
         self.radius_spin_box.setObjectName("radius_spin_box")
         self.radius_spin_box.setRange(1, 20)
         self.radius_spin_box.setValue(DEFAULT_RADIUS)
@@ -276,12 +296,21 @@ class ControllerView(QWidget):
         self._set_lamps()
 
     # --- attaching ------------------------------------------------------------------------------------
-    def refresh_topics(self) -> None:
-        try:
-            topics = state_topics()
-        except Exception as err:  # noqa: BLE001 - no master: say so
-            self._status(f"Cannot list the state topics: {error_text(err)}", error=True)
-            return
+    def refresh_topics(self) -> bool:
+        """List the executors' state topics off the GUI thread; False while a listing is under way."""
+        if self.refresh_task is not None and self.refresh_task.running:
+            return False
+        self.refresh_task = Task(lambda _p: self._list_topics(), self)
+        self.refresh_task.finished.connect(lambda topics: (self.refresh_push_button.setEnabled(True),
+                                                          self._on_topics(topics)))
+        self.refresh_task.failed.connect(lambda text: (self.refresh_push_button.setEnabled(True), self._status(
+            f"Cannot list the state topics: {text}", error=True)))
+        self.refresh_push_button.setEnabled(False)
+        self._status("Asking the master for executor state topics…")
+        self.refresh_task.start()
+        return True
+
+    def _on_topics(self, topics: list[str]) -> None:
         current = self.topic_combo_box.currentText()
         self.topic_combo_box.clear()
         self.topic_combo_box.addItems(topics)
@@ -304,31 +333,36 @@ class ControllerView(QWidget):
             self._status("Name the spec and the executor's state topic.", error=True)
             return False
         self.detach()
-        try:
-            self.link = self._link_factory(topic, self.latest.put, self.diagnostic.emit)
-        except Exception as err:  # noqa: BLE001 - no master, bad topic name
-            self._status(f"Cannot attach to {topic}: {error_text(err)}", error=True)
-            return False
         wanted = self.options()
-        link = self.link
+        factory, latest, diagnostic = self._link_factory, self.latest, self.diagnostic
 
-        def work(progress):
-            options = options_from_params(link.params(), wanted)
-            return ControllerModel.synthesize(spec, options, progress)
+        def work(progress):  # every master call here, off the GUI thread
+            progress(f"connecting to {topic}")
+            link = factory(topic, latest.put, diagnostic.emit)
+            try:
+                options = options_from_params(link.params(), wanted)
+                return link, ControllerModel.synthesize(spec, options, progress)
+            except BaseException:
+                link.close()
+                raise
         self.task = Task(work, self)
         self.task.progress.connect(self._status)
-        self.task.finished.connect(self._on_model)
-        self.task.failed.connect(lambda text: (self._busy(False), self._status(text, error=True)))
+        self.task.finished.connect(self._on_attached)
+        self.task.failed.connect(lambda text: (self._busy(False), self._status(f"Cannot attach: {text}", error=True)))
         self._busy(True)
-        self._status(f"Attached to {topic}; synthesizing {spec}…")
+        self._status(f"Attaching to {topic}; synthesizing {spec}…")
         self.task.start()
         return True
 
     def detach(self) -> None:
-        if self.link is not None:
-            self.link.close()
+        if self.link is not None:  # unregistering talks to the master: not on the GUI thread
+            threading.Thread(target=self.link.close, name="ltl_stack_gui_detach", daemon=True).start()
             self.link = None
         self.model, self.shown, self._drawn = None, None, set()
+
+    def _on_attached(self, done: tuple) -> None:
+        self.link, model = done
+        self._on_model(model)
 
     def _on_model(self, model: ControllerModel) -> None:
         self._busy(False)

@@ -21,6 +21,7 @@ from python_qt_binding.QtCore import (
     QSize,
     Qt,
     Signal,
+    Slot,
 )
 from python_qt_binding.QtGui import QBrush, QColor, QFont, QPainter, QPainterPath, QPen, QPolygonF
 from python_qt_binding.QtWidgets import (
@@ -129,32 +130,42 @@ def show_status(label: QLabel, text: str, error: bool = False) -> None:
 
 
 class Task(QObject):
-    """Run ``work(progress)`` on a Python thread; its signals arrive on the GUI thread (queued).
+    """Run ``work(progress)`` on a Python thread; its signals arrive on the GUI thread.
 
     ``progress(text)`` may be called from the work; ``finished`` carries the result, ``failed`` the
-    error text. Keep a reference to the task until it has finished.
+    error text. Both are emitted on the GUI thread by one queued delivery that first marks the task
+    settled, so a panel's slots run in the same event as ``running`` turning False (nobody sees an idle
+    panel without its result). Keep a reference to the task until it has finished.
     """
 
     progress = Signal(str)
     finished = Signal(object)
     failed = Signal(str)
+    _done = Signal(object)  # from the worker thread, queued to the GUI thread
+    _error = Signal(str)
 
     def __init__(self, work: Callable[[Callable[[str], None]], Any], parent: QObject | None = None):
         super().__init__(parent)
         self._work = work
         self.thread: threading.Thread | None = None
         self._pending = False
-        # connected first, so it runs on the GUI thread before any slot a panel connects
-        self.finished.connect(self._settle)
-        self.failed.connect(self._settle)
+        self._done.connect(self._deliver_done)
+        self._error.connect(self._deliver_error)
 
     def start(self) -> None:
         self._pending = True
         self.thread = threading.Thread(target=self._run, name="ltl_stack_gui_task", daemon=True)
         self.thread.start()
 
-    def _settle(self, _outcome: object) -> None:
+    @Slot(object)
+    def _deliver_done(self, result: object) -> None:
         self._pending = False
+        self.finished.emit(result)
+
+    @Slot(str)
+    def _deliver_error(self, text: str) -> None:
+        self._pending = False
+        self.failed.emit(text)
 
     def _run(self) -> None:
         try:
@@ -162,9 +173,9 @@ class Task(QObject):
         except Exception as err:  # noqa: BLE001 - every failure is shown in the panel, none kills it
             if not isinstance(err, UserError | OSError | GraphvizError):
                 traceback.print_exc()
-            self.failed.emit(error_text(err))
+            self._error.emit(error_text(err))
             return
-        self.finished.emit(result)
+        self._done.emit(result)
 
     @property
     def running(self) -> bool:

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import os
+import threading
 
 import pytest
 from gui_data import CLEAN_MAPPING, CLEAN_SPEC, CONFIG, SIMPLE_MAPPING, SIMPLE_SPEC, simple_snapshot
@@ -276,3 +277,83 @@ def test_defect9_both_tables_show_ten_rows_at_1280x800(mapping_panel, qtbot):
     for table in (panel.inputs_table_widget, panel.outputs_table_widget):
         qtbot.waitUntil(lambda t=table: t.viewport().height() > 0, timeout=WAIT)
         assert table.viewport().height() // table.rowHeight(0) >= 10, table.objectName()
+
+
+# --- controller view ------------------------------------------------------------------------------------
+
+class RecordingLink:
+    """The ROS link's interface; records the thread it was made on (a master call in the real one)."""
+
+    made_on: list[str] = []
+
+    def __init__(self, topic, on_state, on_diagnostic):
+        RecordingLink.made_on.append(threading.current_thread().name)
+        self.put = on_state
+
+    def params(self):
+        RecordingLink.made_on.append(threading.current_thread().name)
+        return {}
+
+    def set_running(self, running):
+        return "ok"
+
+    def close(self):
+        pass
+
+
+def test_defect6_refresh_and_attach_call_the_master_off_the_gui_thread(qtbot):
+    from ltl_stack.gui.controller_view import ControllerView
+
+    listed_on = []
+    RecordingLink.made_on = []
+
+    def list_topics():
+        listed_on.append(threading.current_thread().name)
+        return ["/clean_and_patrol/controller_executor/state"]
+    view = ControllerView(link_factory=RecordingLink, list_topics=list_topics)
+    qtbot.addWidget(view)
+    assert view.refresh_topics()
+    qtbot.waitUntil(lambda: view.topic_combo_box.currentText() != "", timeout=WAIT)
+    view.spec_line_edit.setText(str(SIMPLE_SPEC))
+    assert view.attach()
+    qtbot.waitUntil(lambda: view.model is not None, timeout=WAIT)
+    gui = threading.current_thread().name
+    assert listed_on and gui not in listed_on
+    assert len(RecordingLink.made_on) == 2 and gui not in RecordingLink.made_on
+    view.shutdown()
+
+
+def test_defect6_no_master_is_reported_and_rospy_never_waits_for_one(qtbot, monkeypatch):
+    import rospy
+
+    from ltl_stack.gui.controller_view import ControllerView
+
+    if rospy.core.is_initialized():
+        pytest.skip("rospy was initialized by another test in this process")
+    monkeypatch.setenv("ROS_MASTER_URI", "http://127.0.0.1:1/")  # nothing listens there
+    view = ControllerView()  # the real ROS link and topic listing
+    qtbot.addWidget(view)
+    assert view.refresh_topics()
+    qtbot.waitUntil(lambda: "no ROS master answers at http://127.0.0.1:1/" in view.status_label.text(),
+                    timeout=WAIT)
+    view.spec_line_edit.setText(str(SIMPLE_SPEC))
+    view.topic_combo_box.setEditText("/simple/controller_executor/state")
+    assert view.attach()
+    qtbot.waitUntil(lambda: "Cannot attach: no ROS master" in view.status_label.text(), timeout=WAIT)
+    assert view.attach_push_button.isEnabled() and view.refresh_push_button.isEnabled()
+    assert not rospy.core.is_initialized()
+
+
+def test_item11_an_unrealizable_spec_is_one_line_in_the_view_not_a_traceback(qtbot, tmp_path, capfd):
+    from ltl_stack.gui.controller_view import ControllerView
+
+    spec = tmp_path / "never.structuredslugs"
+    spec.write_text("[INPUT]\nx\n\n[OUTPUT]\ny\n\n[SYS_TRANS]\n!y'\n\n[SYS_LIVENESS]\ny\n")
+    view = ControllerView(link_factory=RecordingLink)
+    qtbot.addWidget(view)
+    view.spec_line_edit.setText(str(spec))
+    view.topic_combo_box.setEditText("/never/controller_executor/state")
+    assert view.attach()
+    qtbot.waitUntil(lambda: "the specification is unrealizable" in view.status_label.text(), timeout=WAIT)
+    view.task.thread.join(WAIT / 1000)
+    assert "Traceback" not in capfd.readouterr().err

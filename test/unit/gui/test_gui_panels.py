@@ -232,8 +232,9 @@ def test_controller_view_follows_states_and_pauses(qtbot):
     view.spec_line_edit.setText(str(CLEAN_SPEC))
     view.topic_combo_box.setEditText("/clean_and_patrol/controller_executor/state")
     assert view.attach()
-    link = FakeLink.last
     qtbot.waitUntil(lambda: view.model is not None and view.graph_view.graph is not None, timeout=WAIT)
+    link = FakeLink.last  # made off the GUI thread, by the attach task
+    assert view.link is link
     a = view.model.automaton
     path = [a.initial[0]]
     for _ in range(4):
