@@ -40,6 +40,15 @@ class StateUpdate:
     outputs: dict[str, bool]
     running: bool
     stamp: float = 0.0  # seconds (the message's header stamp)
+    # resilient execution (thesis ch. 4): the executor's mode, counters and the clauses broken now
+    mode: str = ""
+    violations: int = 0
+    recovery_steps: int = 0
+    unsafe_steps: int = 0
+    resyntheses: int = 0
+    violated_clauses: tuple[str, ...] = ()
+    spec_file: str = ""  # the spec of the running strategy (original, characterized or adopted)
+    generation: int = 0  # 0: the start-up strategy; +1 per strategy put in place
 
 
 @dataclass
@@ -59,6 +68,7 @@ class ControllerModel:
     options: ViewOptions = field(default_factory=ViewOptions)
     current: int | None = None
     last: StateUpdate | None = None
+    generation: int = 0  # the executor's strategy generation this automaton is of
     _pred: dict[int, list[int]] = field(default_factory=dict)
 
     @classmethod
@@ -188,12 +198,39 @@ class ControllerModel:
             [(n, bool(u.outputs.get(n, False))) for n in a.outputs]
 
 
+MODES = {  # the executor's ~state mode -> (what it means, colour)
+    "normal": ("normal: following the strategy", "#2e9e44"),
+    "recovering": ("recovering: recovery moves after an environment-assumption violation (thesis §4.4)", "#e08a00"),
+    "holding": ("holding: a violation without a recovery move; safe outputs until the inputs are admissible",
+                "#d05000"),
+    "characterizing": ("characterizing: resynthesizing with the observed environment (thesis §4.5)", "#3a7bd5"),
+    "waiting_for_user": ("waiting for the user: unrealizable; add an environment liveness or abort", "#c00000"),
+    "aborted": ("aborted: every output false", "#800000"),
+}
+
+
+def mode_color(update: StateUpdate | None) -> str:
+    """The colour of the mode label ("" when the executor reports no resilience mode)."""
+    return MODES.get(update.mode, ("", ""))[1] if update is not None else ""
+
+
+def resilience_text(update: StateUpdate | None) -> str:
+    """The counters of resilient execution, one line."""
+    if update is None:
+        return ""
+    return (f"violations {update.violations}, recovery steps {update.recovery_steps}, unsafe steps "
+            f"{update.unsafe_steps}, new strategies {update.resyntheses}")
+
+
 def mode_text(update: StateUpdate | None, violation: str) -> str:
-    """The controller's mode: waiting, running, paused, or holding after an assumption violation."""
+    """The controller's mode: waiting, running, paused, the executor's resilience mode, or holding
+    after an assumption violation."""
     if update is None:
         return "no state received yet"
     if update.state_id < 0:
         return "waiting for every input to report (ready handshake)"
+    if update.mode in MODES and update.mode != "normal":
+        return MODES[update.mode][0] + ("" if update.running else " (paused)")
     if violation:
         return "environment assumption violated: " + ("running, " if update.running else "paused, ") + \
             "waiting for admissible inputs"

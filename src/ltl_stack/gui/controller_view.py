@@ -28,6 +28,7 @@ from python_qt_binding.QtWidgets import (
     QHBoxLayout,
     QLabel,
     QLineEdit,
+    QListWidget,
     QPlainTextEdit,
     QPushButton,
     QSplitter,
@@ -45,8 +46,10 @@ from ltl_stack.gui.controller_model import (
     StateUpdate,
     ViewOptions,
     executor_of,
+    mode_color,
     mode_text,
     options_from_params,
+    resilience_text,
 )
 from ltl_stack.gui.widgets import (
     ComboBox,
@@ -94,10 +97,18 @@ def state_topics() -> list[str]:
 
 
 def update_of(msg: Any) -> StateUpdate:
+    """A ``ControllerState`` message as the view needs it (fields an older executor lacks get defaults)."""
     return StateUpdate(int(msg.state_id), int(msg.goal_index),
                        dict(zip(msg.inputs.keys, msg.inputs.values, strict=False)),
                        dict(zip(msg.outputs.keys, msg.outputs.values, strict=False)),
-                       bool(msg.running), msg.header.stamp.to_sec())
+                       bool(msg.running), msg.header.stamp.to_sec(),
+                       mode=str(getattr(msg, "mode", "")), violations=int(getattr(msg, "violations", 0)),
+                       recovery_steps=int(getattr(msg, "recovery_steps", 0)),
+                       unsafe_steps=int(getattr(msg, "unsafe_steps", 0)),
+                       resyntheses=int(getattr(msg, "resyntheses", 0)),
+                       violated_clauses=tuple(getattr(msg, "violated_clauses", ())),
+                       spec_file=str(getattr(msg, "spec_file", "")),
+                       generation=int(getattr(msg, "strategy_generation", 0)))
 
 
 class RosLink:
@@ -164,6 +175,7 @@ class ControllerView(QWidget):
         self.violation = ""
         self.task: Task | None = None
         self.refresh_task: Task | None = None
+        self.reload_task: Task | None = None
         self.layout_task: Task | None = None
         self._drawn: set[int] = set()
         self._link_factory = link_factory
@@ -251,14 +263,31 @@ class ControllerView(QWidget):
         self.violation_text.setReadOnly(True)
         self.violation_text.setPlaceholderText("no environment-assumption violation reported")
         self.violation_text.setMaximumHeight(90)
+        self.resilience_label = QLabel("")
+        self.resilience_label.setObjectName("resilience_label")
+        self.resilience_label.setWordWrap(True)
+        self.resilience_label.setToolTip("the executor's counters (thesis ch. 4): violating transitions, recovery "
+                                         "steps, steps without a safe move, strategies put in place since start-up")
+        self.strategy_label = QLabel("")
+        self.strategy_label.setObjectName("strategy_label")
+        self.strategy_label.setWordWrap(True)
+        self.violated_list_widget = QListWidget()
+        self.violated_list_widget.setObjectName("violated_clauses_list_widget")
+        self.violated_list_widget.setToolTip("environment-safety clauses the current inputs violate (file:line: "
+                                             "Structured English), as the executor reports them on ~state")
+        self.violated_list_widget.setMaximumHeight(90)
         side_layout.addWidget(self.state_label)
         side_layout.addWidget(self.mode_label)
+        side_layout.addWidget(self.resilience_label)
+        side_layout.addWidget(self.strategy_label)
         side_layout.addWidget(self.run_pause_push_button)
         lamps = QHBoxLayout()
         lamps.addWidget(self.inputs_box)
         lamps.addWidget(self.outputs_box)
         side_layout.addLayout(lamps)
-        side_layout.addWidget(QLabel("Last violation"))
+        side_layout.addWidget(QLabel("Violated clauses now"))
+        side_layout.addWidget(self.violated_list_widget)
+        side_layout.addWidget(QLabel("Last violation (diagnostics)"))
         side_layout.addWidget(self.violation_text)
         side_layout.addStretch(1)
         middle = QSplitter(Qt.Horizontal)
@@ -401,13 +430,64 @@ class ControllerView(QWidget):
             self.state_label.setText(f"state: {text}")
         else:
             self.state_label.setText(f"state {current} (goal {update.goal})")
-        self.mode_label.setText("mode: " + mode_text(update, self.violation))
+        self._show_mode(update)
+        self.resilience_label.setText(resilience_text(update))
+        clauses = list(update.violated_clauses)
+        if clauses != [self.violated_list_widget.item(i).text() for i in range(self.violated_list_widget.count())]:
+            self.violated_list_widget.clear()
+            self.violated_list_widget.addItems(clauses)
         self.run_pause_push_button.setText("Pause" if update.running else "Run")
         self._set_lamps()
+        if update.generation != model.generation:
+            self._reload(update)
         if model.needs_new_layout(self._drawn, current):
             self._relayout(current)
         else:
             self._mark()
+
+    def _show_mode(self, update: StateUpdate | None) -> None:
+        self.mode_label.setText("mode: " + mode_text(update, self.violation))
+        color = mode_color(update)
+        self.mode_label.setStyleSheet(f"color: white; background: {color}; padding: 2px;" if color else "")
+
+    def _reload(self, update: StateUpdate) -> None:
+        """The executor put a new strategy in place (resynthesis or adoption): load its spec, as the
+        executor reports it, off the GUI thread; meanwhile states are placed in the old automaton."""
+        model = self.model
+        if self.reload_task is not None and self.reload_task.running:
+            return
+        model.generation = update.generation  # asked once per generation, whatever the outcome
+        if not update.spec_file:
+            self.strategy_label.setText(f"strategy {update.generation}: not written to a file (start the executor "
+                                        "with --characterized-spec): the picture is of an older strategy")
+            self.strategy_label.setStyleSheet("color: #a00000;")
+            return
+        spec, options, generation = update.spec_file, model.options, update.generation
+
+        def work(progress):
+            new = ControllerModel.synthesize(spec, options, progress)
+            new.generation = generation
+            return new
+        self.reload_task = Task(work, self)
+        self.reload_task.finished.connect(self._on_reloaded)
+        self.reload_task.failed.connect(lambda text: (self.strategy_label.setText(
+            f"strategy {generation}: cannot load {spec}: {text}"), self.strategy_label.setStyleSheet("color: #a00000;")))
+        self.strategy_label.setText(f"strategy {generation}: loading {spec}…")
+        self.strategy_label.setStyleSheet("")
+        self.reload_task.start()
+
+    def _on_reloaded(self, model: ControllerModel) -> None:
+        if self.model is None:
+            return  # detached meanwhile
+        self.model = model
+        self._drawn = set()
+        self._fill_lamps()
+        self.strategy_label.setText(f"strategy {model.generation}: {model.spec_path} ({len(model.automaton)} states)")
+        self.strategy_label.setStyleSheet("")
+        if self.shown is not None:
+            self.show_update(self.shown)
+        else:
+            self._relayout(None)
 
     def current_node_id(self) -> str | None:
         """The graph's node id of the highlighted state (None when it is not drawn)."""
@@ -475,7 +555,7 @@ class ControllerView(QWidget):
         elif self.violation:
             self.violation = ""
             self.violation_text.setPlainText(self.violation_text.toPlainText() + f"\n(cleared: {message})")
-        self.mode_label.setText("mode: " + mode_text(self.shown, self.violation))
+        self._show_mode(self.shown)
 
     # --- run / pause ------------------------------------------------------------------------------------
     def toggle_running(self) -> None:

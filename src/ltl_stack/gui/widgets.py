@@ -169,13 +169,22 @@ class Task(QObject):
 
     def _run(self) -> None:
         try:
-            result = self._work(self.progress.emit)
+            result = self._work(self._progress)
         except Exception as err:  # noqa: BLE001 - every failure is shown in the panel, none kills it
             if not isinstance(err, UserError | OSError | GraphvizError):
                 traceback.print_exc()
-            self._error.emit(error_text(err))
+            self._emit("_error", error_text(err))
             return
-        self._done.emit(result)
+        self._emit("_done", result)
+
+    def _progress(self, text: str) -> None:
+        self._emit("progress", text)
+
+    def _emit(self, name: str, value: Any) -> None:
+        try:
+            getattr(self, name).emit(value)
+        except RuntimeError:  # the panel was closed (and the task deleted) while the work ran
+            pass
 
     @property
     def running(self) -> bool:

@@ -643,8 +643,18 @@ class ExecutorNode:
             counters.resyntheses, counters.ec1, counters.ec2, counters.user)
         msg.unrealizable = counters.unrealizable
         msg.violated_clauses = self._violated_clauses()
+        msg.strategy_generation = counters.resyntheses  # each characterization or adoption installs one
+        msg.spec_file = self._strategy_spec_file(counters.resyntheses)
         self.state_pub.publish(msg)
         self.valuation_pub.publish(valuation_to_msg({**inputs, **update.outputs}, stamp))
+
+    def _strategy_spec_file(self, generation: int) -> str:
+        """The file the running strategy comes from (the controller view loads it after a resynthesis)."""
+        if generation == 0:
+            return str(getattr(self.prepared.spec, "source", "") or "")
+        resilient = self.resilient
+        path = getattr(getattr(resilient, "characterizer", None), "path", None)
+        return str(path) if path is not None and getattr(resilient, "write_error", None) is None else ""
 
     def _report_step(self, update: Update) -> None:
         state = update.state

@@ -357,3 +357,63 @@ def test_item11_an_unrealizable_spec_is_one_line_in_the_view_not_a_traceback(qtb
     qtbot.waitUntil(lambda: "the specification is unrealizable" in view.status_label.text(), timeout=WAIT)
     view.task.thread.join(WAIT / 1000)
     assert "Traceback" not in capfd.readouterr().err
+
+
+def attached_view(qtbot, spec):
+    from ltl_stack.gui.controller_view import ControllerView
+
+    view = ControllerView(link_factory=RecordingLink)
+    qtbot.addWidget(view)
+    view.spec_line_edit.setText(str(spec))
+    view.topic_combo_box.setEditText("/x/controller_executor/state")
+    assert view.attach()
+    qtbot.waitUntil(lambda: view.model is not None and view.graph_view.graph is not None, timeout=WAIT)
+    return view
+
+
+def test_defect2_the_view_shows_the_resilience_mode_counters_and_violated_clauses(qtbot):
+    from ltl_stack.gui.controller_model import MODES, StateUpdate
+
+    view = attached_view(qtbot, SIMPLE_SPEC)
+    s = view.model.automaton.states[view.model.automaton.initial[0]]
+    clause = "simple.structuredslugs:12: if you are sensing person then do stop"
+    view.latest.put(StateUpdate(s.id, s.goal, s.inputs, s.outputs, True, mode="recovering", violations=181,
+                                recovery_steps=7, resyntheses=0, violated_clauses=(clause,)))
+    qtbot.waitUntil(lambda: "recovering" in view.mode_label.text(), timeout=WAIT)
+    assert MODES["recovering"][1] in view.mode_label.styleSheet()
+    assert "violations 181" in view.resilience_label.text() and "recovery steps 7" in view.resilience_label.text()
+    assert view.violated_list_widget.item(0).text() == clause
+    view.latest.put(StateUpdate(s.id, s.goal, s.inputs, s.outputs, True, mode="normal", violations=181))
+    qtbot.waitUntil(lambda: view.violated_list_widget.count() == 0, timeout=WAIT)
+    assert MODES["normal"][1] in view.mode_label.styleSheet()
+    view.shutdown()
+
+
+def test_defect2_after_a_resynthesis_the_view_loads_the_new_strategy(qtbot, tmp_path):
+    from ltl_stack.gui.controller_model import StateUpdate
+
+    view = attached_view(qtbot, SIMPLE_SPEC)
+    old = view.model
+    characterized = tmp_path / "simple_characterized.structuredslugs"  # as --characterized-spec writes it
+    characterized.write_text(SIMPLE_SPEC.read_text() + "\n[ENV_TRANS]\n!person'\n")
+    s = old.automaton.states[old.automaton.initial[0]]
+    view.latest.put(StateUpdate(s.id, s.goal, s.inputs, s.outputs, True, mode="normal", resyntheses=1,
+                                spec_file=str(characterized), generation=1))
+    qtbot.waitUntil(lambda: view.model is not old and view.model.generation == 1, timeout=WAIT)
+    assert view.model.spec_path == str(characterized)
+    new = view.model.automaton.states[view.model.automaton.initial[0]]
+    view.latest.put(StateUpdate(new.id, new.goal, new.inputs, new.outputs, True, spec_file=str(characterized),
+                                generation=1))
+    qtbot.waitUntil(lambda: view.model.current == new.id and view.current_node_id() is not None, timeout=WAIT)
+    assert "strategy 1" in view.strategy_label.text()
+    view.shutdown()
+
+
+def test_defect2_a_new_strategy_without_a_file_is_said_not_hidden(qtbot):
+    from ltl_stack.gui.controller_model import StateUpdate
+
+    view = attached_view(qtbot, SIMPLE_SPEC)
+    s = view.model.automaton.states[view.model.automaton.initial[0]]
+    view.latest.put(StateUpdate(s.id, s.goal, s.inputs, s.outputs, True, resyntheses=1, generation=1))
+    qtbot.waitUntil(lambda: "not written to a file" in view.strategy_label.text(), timeout=WAIT)
+    view.shutdown()
