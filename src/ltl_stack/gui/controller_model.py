@@ -27,6 +27,9 @@ GOAL_COLOR = "#3a7bd5"
 INITIAL_COLOR = "#2e9e44"
 DEFAULT_FULL_LIMIT = 40
 DEFAULT_RADIUS = 2
+#: the most edges a readable picture has: beyond it Graphviz's labels and splines overlap (looked at on
+#: alice, 30 states and 232 edges: a tangle) and the layout takes seconds; edges past it are counted
+MAX_DRAWN_EDGES = 80
 MAX_STATES = 200_000
 
 
@@ -70,6 +73,7 @@ class ControllerModel:
     last: StateUpdate | None = None
     generation: int = 0  # the executor's strategy generation this automaton is of
     _pred: dict[int, list[int]] = field(default_factory=dict)
+    _edges: int | None = None
 
     @classmethod
     def synthesize(cls, spec_path: str, options: ViewOptions | None = None,
@@ -91,7 +95,10 @@ class ControllerModel:
         say("extracting the explicit automaton")
         automaton = result.strategy.explicit(max_states=MAX_STATES)
         say(f"{len(automaton)} states")
-        return cls(str(spec_path), automaton, options)
+        model = cls(str(spec_path), automaton, options)
+        model.predecessors(0)  # the indexes the view needs, made here on the worker thread, not the GUI's
+        model.edge_count()
+        return model
 
     def predecessors(self, state: int) -> list[int]:
         if not self._pred:
@@ -137,7 +144,14 @@ class ControllerModel:
 
     @property
     def whole(self) -> bool:
-        return len(self.automaton) <= self.options.full_limit
+        """Drawn whole only when readable: few states and few edges (``MAX_DRAWN_EDGES``)."""
+        a = self.automaton
+        return len(a) <= self.options.full_limit and self.edge_count() <= MAX_DRAWN_EDGES
+
+    def edge_count(self) -> int:
+        if self._edges is None:
+            self._edges = sum(len(s.successors) for s in self.automaton.states)
+        return self._edges
 
     def shown_states(self, center: int | None = None) -> list[int]:
         """Every state when the automaton is small, else the states within ``radius`` steps of
@@ -145,7 +159,8 @@ class ControllerModel:
         a = self.automaton
         if self.whole:
             return [s.id for s in a.states]
-        starts = [center] if center is not None else list(a.initial)
+        # no centre yet: one initial state (an automaton may have thousands, one per input valuation)
+        starts = [center] if center is not None else list(a.initial[:1]) or [0]
         seen = dict.fromkeys(starts, 0)
         queue = deque(starts)
         limit = max(self.options.full_limit, 1)
@@ -160,26 +175,33 @@ class ControllerModel:
         return sorted(seen)
 
     def graph(self, center: int | None = None) -> DotGraph:
-        """The states to draw (labels as ``Automaton.to_dot``: id, goal, true outputs; edges: true inputs)."""
+        """The states to draw (labels as ``Automaton.to_dot``: id, goal, true outputs; edges: true inputs),
+        at most ``MAX_DRAWN_EDGES`` edges (the centre's first); each state says how many of its edges
+        are not drawn."""
         a = self.automaton
         shown = self.shown_states(center)
         inside = set(shown)
         initial = set(a.initial)
+        edges = [(sid, t) for sid in sorted(shown, key=lambda x: x != center)
+                 for t in a.states[sid].successors if t in inside][:MAX_DRAWN_EDGES]
+        degree = dict.fromkeys(shown, 0)
+        for sid, t in edges:
+            degree[sid] += 1
+            if t != sid:
+                degree[t] += 1
         g = DotGraph(name="controller", rankdir="LR")
         for sid in shown:
             s = a.states[sid]
             outs = ", ".join(n for n in a.outputs if s.outputs[n]) or "-"
-            cut = sum(t not in inside for t in s.successors) + sum(p not in inside for p in self.predecessors(sid))
-            more = f"\n(+{cut} edges)" if cut else ""
+            total = len(s.successors) + len(self.predecessors(sid)) - s.successors.count(sid)
+            cut = total - degree[sid]
+            more = f"\n(+{cut} edges)" if cut > 0 else ""
             g.add_node(sid, f"{sid} (goal {s.goal})\n{outs}{more}", shape="box",
                        color=INITIAL_COLOR if sid in initial else "black",
                        tooltip=f"state {sid}, goal {s.goal}; inputs: "
                                + (", ".join(n for n in a.inputs if s.inputs[n]) or "-") + f"; outputs: {outs}")
-        for sid in shown:
-            for t in a.states[sid].successors:
-                if t in inside:
-                    ins = ", ".join(n for n in a.inputs if a.states[t].inputs[n]) or "-"
-                    g.add_edge(sid, t, ins)
+        for sid, t in edges:
+            g.add_edge(sid, t, ", ".join(n for n in a.inputs if a.states[t].inputs[n]) or "-")
         return g
 
     def needs_new_layout(self, drawn: set[int], center: int | None) -> bool:

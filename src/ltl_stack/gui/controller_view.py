@@ -15,6 +15,7 @@ from __future__ import annotations
 import os
 import threading
 import time
+from collections import OrderedDict
 from typing import Any
 
 import rospy
@@ -64,6 +65,7 @@ from ltl_stack.gui.widgets import (
 
 STATE_TYPE = "ltl_stack/ControllerState"
 REFRESH_MS = 30
+LAYOUT_CACHE = 64  # laid-out neighbourhoods kept
 LAMP_ON, LAMP_OFF = "#34c759", "#d0d0d0"
 
 
@@ -177,6 +179,9 @@ class ControllerView(QWidget):
         self.refresh_task: Task | None = None
         self.reload_task: Task | None = None
         self.layout_task: Task | None = None
+        self.layout_count = 0  # Graphviz runs (a neighbourhood seen before is drawn from the cache)
+        self._layouts: OrderedDict[tuple, tuple] = OrderedDict()
+        self._failed_layout: tuple | None = None
         self._drawn: set[int] = set()
         self._link_factory = link_factory
         self._list_topics = list_topics
@@ -512,20 +517,36 @@ class ControllerView(QWidget):
             self.graph_view.center_on_node(graph.key[current])
 
     def _relayout(self, center: int | None) -> None:
-        """Lay the graph out off the GUI thread; one layout at a time, the newest centre wins."""
-        if self.layout_task is not None and self.layout_task.running:
-            return
+        """Draw the neighbourhood of ``center`` (the whole graph when small): from the cache of laid-out
+        neighbourhoods, else built and laid out off the GUI thread; one layout at a time, the newest
+        centre wins. A failed layout is tried again only for another centre."""
         model = self.model
+        key = (id(model), None if model.whole else center)
+        cached = self._layouts.get(key)
+        if cached is not None:
+            self._layouts.move_to_end(key)
+            self._on_layout((key, *cached))
+            return
+        if (self.layout_task is not None and self.layout_task.running) or key == self._failed_layout:
+            return
         view = self.graph_view
-        graph = model.graph(center)
-        self.layout_task = Task(lambda _p: (graph, view.layout_for(graph)), self)
+
+        def work(_progress):
+            graph = model.graph(center)
+            return key, graph, view.layout_for(graph)
+        self.layout_count += 1
+        self.layout_task = Task(work, self)
         self.layout_task.finished.connect(self._on_layout)
-        self.layout_task.failed.connect(lambda text: view.show_message(text))
+        self.layout_task.failed.connect(lambda text: (setattr(self, "_failed_layout", key), view.show_message(
+            f"{text}\n(tried again when the state moves on)")))
         self.layout_task.start()
 
     def _on_layout(self, done: tuple) -> None:
-        graph, laid_out = done
-        if self.model is None:
+        key, graph, laid_out = done
+        self._layouts[key] = (graph, laid_out)
+        while len(self._layouts) > LAYOUT_CACHE:
+            self._layouts.popitem(last=False)
+        if self.model is None or key[0] != id(self.model):
             return
         self.graph_view.draw(graph, laid_out)
         self._drawn = set(k for k in graph.key if isinstance(k, int))

@@ -7,6 +7,7 @@ draw the same ``DotGraph`` and can highlight its nodes without a new layout.
 from __future__ import annotations
 
 import math
+import os
 import threading
 import traceback
 from collections.abc import Callable, Sequence
@@ -23,12 +24,13 @@ from python_qt_binding.QtCore import (
     Signal,
     Slot,
 )
-from python_qt_binding.QtGui import QBrush, QColor, QFont, QPainter, QPainterPath, QPen, QPolygonF
+from python_qt_binding.QtGui import QBrush, QColor, QFont, QImage, QPainter, QPainterPath, QPen, QPolygonF
 from python_qt_binding.QtWidgets import (
     QAbstractButton,
     QAbstractItemView,
     QCheckBox,
     QComboBox,
+    QFileDialog,
     QGraphicsEllipseItem,
     QGraphicsPathItem,
     QGraphicsPolygonItem,
@@ -39,6 +41,7 @@ from python_qt_binding.QtWidgets import (
     QHBoxLayout,
     QLabel,
     QLineEdit,
+    QMenu,
     QMessageBox,
     QPlainTextEdit,
     QProgressBar,
@@ -48,14 +51,17 @@ from python_qt_binding.QtWidgets import (
     QWidget,
 )
 
+from ltl_stack.cli import write_output
 from ltl_stack.errors import UserError
-from ltl_stack.gui.dotgraph import DotGraph, GraphvizError, layout_dot, layout_plain
+from ltl_stack.gui.dotgraph import DotGraph, GraphvizError, layout_dot, layout_plain, render
 
 try:  # the renderer rqt_graph uses; absent where rqt is not installed
     from qt_dotgraph.dot_to_qt import DotToQtGenerator
 except ImportError:
     DotToQtGenerator = None
 
+
+HOVER_COLOR = "#7b3fb5"  # a hovered node: not red (a conflict), blue (a proposition node) or green (initial)
 
 def error_text(err: BaseException) -> str:
     """One line for the user: a ``UserError``'s message, else the exception's type and message."""
@@ -242,6 +248,7 @@ class GraphView(QGraphicsView):
 
     def __init__(self, parent: QWidget | None = None):
         super().__init__(parent)
+        self.setToolTip("wheel: zoom; drag: move; right-click: fit, zoom, save as PNG/SVG/DOT")
         self.setScene(QGraphicsScene(self))
         self.setRenderHints(QPainter.Antialiasing | QPainter.TextAntialiasing)
         self.setDragMode(QGraphicsView.ScrollHandDrag)
@@ -270,6 +277,8 @@ class GraphView(QGraphicsView):
         if self.renderer == "qt_dotgraph":
             nodes, _edges = DotToQtGenerator().dotcode_to_qt_items(laid_out, 1, scene=scene)
             self.items = {name.strip('"'): item for name, item in nodes.items()}
+            for item in self.items.values():  # qt_dotgraph hovers in red: the panels' conflict colour
+                item._COLOR_RED = QColor(HOVER_COLOR)
         else:
             self.items = _draw_plain(scene, laid_out)
         scene.setSceneRect(scene.itemsBoundingRect().adjusted(-10, -10, 10, 10))
@@ -308,8 +317,52 @@ class GraphView(QGraphicsView):
             self.ensureVisible(item.sceneBoundingRect(), 40, 40)
 
     def wheelEvent(self, event) -> None:  # noqa: N802 - Qt's name
-        factor = 1.15 if event.angleDelta().y() > 0 else 1 / 1.15
+        self.zoom(1.15 if event.angleDelta().y() > 0 else 1 / 1.15)
+
+    def zoom(self, factor: float) -> None:
         self.scale(factor, factor)
+
+    def contextMenuEvent(self, event) -> None:  # noqa: N802 - Qt's name
+        menu = QMenu(self)
+        menu.addAction("Fit to view", self.fit)
+        menu.addAction("Zoom in", lambda: self.zoom(1.25))
+        menu.addAction("Zoom out", lambda: self.zoom(0.8))
+        menu.addAction("Actual size", self.resetTransform)
+        save = menu.addAction("Save as PNG, SVG or DOT…", self.save_dialog)
+        save.setEnabled(self.graph is not None)
+        menu.exec_(event.globalPos())
+
+    def save_dialog(self) -> None:
+        path, _ = QFileDialog.getSaveFileName(self, "Save the picture", f"{self.graph.name if self.graph else 'graph'}.png",
+                                              "PNG (*.png);;SVG (*.svg);;Graphviz DOT (*.dot)")
+        if path:
+            try:
+                self.save(path)
+            except (OSError, GraphvizError, ValueError) as err:
+                self.show_message(error_text(err))
+
+    def save(self, path: str) -> None:
+        """The picture to ``path`` by its extension: ``.png`` as drawn (with the highlight), ``.svg``
+        by Graphviz from the same graph, ``.dot`` the graph itself (rqt_graph's three formats)."""
+        if self.graph is None:
+            raise ValueError("nothing is drawn")
+        ext = os.path.splitext(path)[1].lower()
+        if ext == ".dot":
+            write_output(path, self.graph.to_dot(), "DOT file")
+        elif ext == ".svg":
+            write_output(path, render(self.graph.to_dot(), "svg"), "SVG file")
+        elif ext == ".png":
+            rect = self.scene().sceneRect()
+            image = QImage(int(rect.width()) + 1, int(rect.height()) + 1, QImage.Format_ARGB32)
+            image.fill(QColor("white"))
+            painter = QPainter(image)
+            painter.setRenderHints(QPainter.Antialiasing | QPainter.TextAntialiasing)
+            self.scene().render(painter, QRectF(image.rect()), rect)
+            painter.end()
+            if not image.save(path, "PNG"):
+                raise OSError(f"cannot write {path}")
+        else:
+            raise ValueError(f"{path}: save as .png, .svg or .dot")
 
 
 _DPI = 72.0

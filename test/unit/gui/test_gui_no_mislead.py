@@ -417,3 +417,62 @@ def test_defect2_a_new_strategy_without_a_file_is_said_not_hidden(qtbot):
     view.latest.put(StateUpdate(s.id, s.goal, s.inputs, s.outputs, True, resyntheses=1, generation=1))
     qtbot.waitUntil(lambda: "not written to a file" in view.strategy_label.text(), timeout=WAIT)
     view.shutdown()
+
+
+# --- pictures that scale (defect 8) ------------------------------------------------------------------------
+
+ALICE_SPEC = CONFIG / "alice" / "alice.structuredslugs"  # 30 states, 8 initial, 232 edges
+
+
+def test_defect8_the_layout_never_gets_more_than_a_bounded_neighbourhood():
+    from ltl_stack.gui.controller_model import MAX_DRAWN_EDGES, ControllerModel, ViewOptions
+
+    model = ControllerModel.synthesize(str(ALICE_SPEC))
+    assert len(model.automaton) <= model.options.full_limit and not model.whole  # few states, too many edges
+    for center in (None, *range(len(model.automaton))):
+        g = model.graph(center)
+        assert len(g.edges) <= MAX_DRAWN_EDGES and len(g.nodes) <= model.options.full_limit
+    small = ControllerModel(model.spec_path, model.automaton, ViewOptions(full_limit=3, radius=1))
+    assert len(model.automaton.initial) > 3 and len(small.graph(None).nodes) <= 3  # not every initial state
+
+
+def test_defect8_a_neighbourhood_seen_before_is_drawn_from_the_cache(qtbot):
+    from ltl_stack.gui.controller_model import StateUpdate
+    from ltl_stack.gui.controller_view import ControllerView
+
+    view = ControllerView(link_factory=RecordingLink)
+    qtbot.addWidget(view)
+    view.spec_line_edit.setText(str(ALICE_SPEC))
+    view.topic_combo_box.setEditText("/alice/controller_executor/state")
+    view.full_spin_box.setValue(4)
+    view.radius_spin_box.setValue(1)
+    assert view.attach()
+    qtbot.waitUntil(lambda: view.model is not None and view.graph_view.graph is not None, timeout=WAIT)
+    a = view.model.automaton
+    first = a.initial[0]
+    far = next(s.id for s in a.states if s.id not in view.model.shown_states(first))
+    for sid in (first, far, first, far, first):
+        s = a.states[sid]
+        view.latest.put(StateUpdate(sid, s.goal, s.inputs, s.outputs, True))
+        qtbot.waitUntil(lambda sid=sid: view.model.current == sid and view.current_node_id() is not None,
+                        timeout=WAIT)
+    assert view.layout_count <= 3  # the start, first's and far's neighbourhoods: each laid out once
+    view.shutdown()
+
+
+def test_defect8_every_graph_saves_as_png_svg_and_dot(qtbot, tmp_path):
+    from python_qt_binding.QtGui import QImage
+
+    from ltl_stack.gui.controller_model import ControllerModel
+    from ltl_stack.gui.widgets import GraphView
+
+    view = GraphView()
+    qtbot.addWidget(view)
+    graph = ControllerModel.synthesize(str(SIMPLE_SPEC)).graph()
+    view.draw(graph)
+    for ext in ("png", "svg", "dot"):
+        view.save(str(tmp_path / f"g.{ext}"))
+    assert not QImage(str(tmp_path / "g.png")).isNull()
+    assert "<svg" in (tmp_path / "g.svg").read_text() and (tmp_path / "g.dot").read_text() == graph.to_dot()
+    with pytest.raises(ValueError):
+        view.save(str(tmp_path / "g.gif"))
