@@ -602,7 +602,11 @@ class ControllerView(QWidget):
         save_controls(self, settings)
 
     def restore_settings(self, settings: Any) -> None:
+        """The saved fields, then Attach again when they name a spec and a topic (a restored perspective
+        shows the executor it showed; attaching is off the GUI thread and says so when there is no master)."""
         restore_controls(self, settings)
+        if self.spec_line_edit.text().strip() and self.topic_combo_box.currentText().strip():
+            self.attach()
 
     def shutdown(self) -> None:
         self.timer.stop()

@@ -137,7 +137,8 @@ class PlainLayout:
 
 
 def layout_plain(dot_text: str, program: str = "dot", timeout: float = LAYOUT_TIMEOUT) -> PlainLayout:
-    return parse_plain(_run(dot_text, "plain", program, timeout))
+    # Graphviz continues a long line (many points, a long label) with a backslash-newline, as in -Tdot
+    return parse_plain(_run(dot_text, "plain", program, timeout).replace("\\\n", ""))
 
 
 def parse_plain(text: str) -> PlainLayout:

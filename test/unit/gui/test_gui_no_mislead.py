@@ -476,3 +476,67 @@ def test_defect8_every_graph_saves_as_png_svg_and_dot(qtbot, tmp_path):
     assert "<svg" in (tmp_path / "g.svg").read_text() and (tmp_path / "g.dot").read_text() == graph.to_dot()
     with pytest.raises(ValueError):
         view.save(str(tmp_path / "g.gif"))
+
+
+# --- smaller items (11) -----------------------------------------------------------------------------------
+
+class DictSettings(dict):
+    def set_value(self, key, value):
+        self[key] = value
+
+    def value(self, key, default=None):
+        return self.get(key, default)
+
+
+def test_item11_a_restored_perspective_attaches_the_controller_view_again(qtbot):
+    from ltl_stack.gui.controller_view import ControllerView
+
+    settings = DictSettings()
+    first = ControllerView(link_factory=RecordingLink)
+    qtbot.addWidget(first)
+    first.spec_line_edit.setText(str(SIMPLE_SPEC))
+    first.topic_combo_box.setEditText("/simple/controller_executor/state")
+    first.save_settings(settings)
+    view = ControllerView(link_factory=RecordingLink)
+    qtbot.addWidget(view)
+    view.restore_settings(settings)
+    qtbot.waitUntil(lambda: view.model is not None and view.link is not None, timeout=WAIT)
+    assert view.model.spec_path == str(SIMPLE_SPEC)
+    view.shutdown()
+
+
+@pytest.mark.parametrize("name", ["mapping_panel", "analysis_panel", "controller_view"])
+def test_item11_standalone_windows_fit_a_1280x800_screen(qtbot, name):
+    from ltl_stack.gui.standalone import make_panel, window_size
+
+    panel = make_panel(name)
+    qtbot.addWidget(panel)
+    width, height = window_size(1280, 800)
+    assert width <= 1280 and height <= 800 - 40  # room for the title bar
+    hint = panel.minimumSizeHint()
+    assert hint.width() <= width and hint.height() <= height, (hint.width(), hint.height())
+    if hasattr(panel, "shutdown"):
+        panel.shutdown()
+
+
+def test_item11_the_check_tabs_say_what_they_check(qtbot):
+    panel = AnalysisPanel(take_snapshot=lambda uri: pytest.fail("no live snapshot here"))
+    qtbot.addWidget(panel)
+    tips = [panel.findings_tab_widget.tabToolTip(i) for i in range(panel.findings_tab_widget.count())]
+    assert all(tips) and "same topic or action" in tips[1] and "thesis 3.5.2" in tips[0]
+
+
+def test_defect8_long_labels_graphviz_continues_on_a_new_line_are_laid_out(qtbot):
+    """spheros' states list ten outputs and "+32795 edges": Graphviz's -Tplain continues such lines
+    with a backslash-newline, which the plain renderer's parser failed on (no picture at all)."""
+    from ltl_stack.gui.dotgraph import DotGraph, layout_plain
+
+    g = DotGraph()
+    outs = ", ".join(f"turn_colour_{k}" for k in range(10))
+    for i in range(3):
+        g.add_node(i, f"{32767 + i} (goal 0)\n{outs}\n(+32795 edges)", shape="box")
+    g.add_edge(0, 1, "a")
+    g.add_edge(1, 2, "b")
+    laid_out = layout_plain(g.to_dot())
+    assert set(laid_out.nodes) == {"n0", "n1", "n2"} and len(laid_out.edges) == 2
+    assert laid_out.nodes["n1"].label.endswith("(+32795 edges)")
