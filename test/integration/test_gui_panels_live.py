@@ -107,7 +107,8 @@ def test_analysis_panel_on_the_live_scenario(scenario, qtbot):
     assert panel.selected_rows("E2") == e2.rows_of(0) or panel.current_key() == "E1"
     text = panel.suggestions_text.toPlainText()
     assert "stop, topLane, rightLane, bottomLane, leftLane, leftGround and rightGround are mutually exclusive" in text
-    assert panel.graph_view.graph is not None and panel.graph_view.items
+    qtbot.waitUntil(lambda: panel.graph_view.graph is not None, timeout=WAIT)  # laid out off the GUI thread
+    assert panel.graph_view.items
 
 
 def test_apply_and_check_shows_example_7_unrealizable_on_the_live_simple_graph(ros_master, qtbot, tmp_path):

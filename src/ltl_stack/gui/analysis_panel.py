@@ -55,7 +55,6 @@ from ltl_stack.gui.widgets import (
     GraphView,
     RowsModel,
     Task,
-    error_text,
     line_edit,
     restore_controls,
     save_controls,
@@ -81,6 +80,10 @@ class AnalysisPanel(QWidget):
         self.tables: dict[str, Table] = {}
         self.applied: dict | None = None
         self.task: Task | None = None
+        self.layout_task: Task | None = None
+        self.layout_count = 0  # Graphviz runs (each finding is laid out once)
+        self._pictures: dict[tuple, tuple] = {}  # (result, check, finding) -> (graph, layout)
+        self._wanted: tuple | None = None
         self.stale = False  # inputs changed since the result on screen was made
         self._auto_amended = ""  # the amended path the panel filled in (follows the spec until edited)
         self._take_snapshot = take_snapshot
@@ -252,6 +255,7 @@ class AnalysisPanel(QWidget):
     def clear_result(self) -> None:
         """Nothing on screen from an earlier run: tables, problems, picture, suggestions, verdict."""
         self.result, self.tables, self.applied, self.stale = None, {}, None, False
+        self._pictures, self._wanted = {}, None
         for i, key in enumerate(TAB_KEYS):
             self.models[key].set_rows([], [])
             self.findings_tab_widget.setTabText(i, TAB_TITLES[key])
@@ -359,14 +363,39 @@ class AnalysisPanel(QWidget):
         self._draw(key, finding)
 
     def _draw(self, key: str, finding: int) -> None:
-        graph = conflict_graph(self.result, key, finding)
-        if not graph.nodes:
-            self.graph_view.show_message(f"{key} {finding + 1}: nothing to draw (see the table).")
+        """Draw the finding's chains: laid out by Graphviz off the GUI thread, each finding once (cached);
+        a row clicked while a layout runs is drawn when it ends (the newest click wins)."""
+        result = self.result
+        cached = self._pictures.get((id(result), key, finding))
+        if cached is not None:
+            self.graph_view.draw(*cached)
             return
-        try:
-            self.graph_view.draw(graph)
-        except Exception as err:  # noqa: BLE001 - Graphviz missing or failing: say so in the view
-            self.graph_view.show_message(error_text(err))
+        self._wanted = (id(result), key, finding)
+        if self.layout_task is not None and self.layout_task.running:
+            return
+        view = self.graph_view
+
+        def work(_progress):
+            graph = conflict_graph(result, key, finding)
+            return (id(result), key, finding), graph, (view.layout_for(graph) if graph.nodes else None)
+        self.layout_count += 1
+        self.layout_task = Task(work, self)
+        self.layout_task.finished.connect(self._on_picture)
+        self.layout_task.failed.connect(lambda text: view.show_message(text))
+        self.layout_task.start()
+
+    def _on_picture(self, done: tuple) -> None:
+        wanted, graph, laid_out = done
+        if laid_out is not None:
+            self._pictures[wanted] = (graph, laid_out)
+        if self._wanted != wanted:  # cleared, or another row chosen meanwhile: draw that one
+            if self._wanted is not None and self.result is not None and self._wanted[0] == id(self.result):
+                self._draw(*self._wanted[1:])
+            return
+        if laid_out is None:
+            self.graph_view.show_message(f"{wanted[1]} {wanted[2] + 1}: nothing to draw (see the table).")
+        else:
+            self.graph_view.draw(graph, laid_out)
 
     # --- suggestions --------------------------------------------------------------------------------
     def form(self) -> str:

@@ -540,3 +540,24 @@ def test_defect8_long_labels_graphviz_continues_on_a_new_line_are_laid_out(qtbot
     laid_out = layout_plain(g.to_dot())
     assert set(laid_out.nodes) == {"n0", "n1", "n2"} and len(laid_out.edges) == 2
     assert laid_out.nodes["n1"].label.endswith("(+32795 edges)")
+
+
+def test_defect8_the_analysis_panel_lays_findings_out_off_the_gui_thread_once_each(qtbot, tmp_path, monkeypatch):
+    from ltl_stack.gui import widgets
+
+    snap = tmp_path / "graph.yaml"
+    simple_snapshot().save(snap)
+    threads = []
+    real = widgets.layout_plain
+
+    def recording(text, *args, **kwargs):
+        threads.append(threading.current_thread().name)
+        return real(text, *args, **kwargs)
+    monkeypatch.setattr(widgets, "layout_plain", recording)
+    monkeypatch.setattr(widgets.GraphView, "layout_for", lambda self, graph: recording(graph.to_dot()))
+    panel = analyzed(qtbot, analysis_panel(qtbot, SIMPLE_SPEC, SIMPLE_MAPPING, snap))
+    qtbot.waitUntil(lambda: panel.graph_view.graph is not None, timeout=WAIT)
+    for _ in range(3):  # clicking the finding again draws it from the cache
+        panel.views["E2"].clearSelection()
+        panel.select_finding("E2", 0)
+    assert len(threads) == 1 and threads[0] != threading.current_thread().name

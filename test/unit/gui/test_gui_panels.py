@@ -160,6 +160,7 @@ def test_analysis_panel_on_a_snapshot_file_then_apply_and_check(qtbot, tmp_path)
     assert [e2.rows[i][1] for i in range(e2.rowCount())] == ["move", "stop"]
     assert panel.findings_tab_widget.tabText(1) == "E2 (1)"
     assert panel.selected_rows("E2") == [0, 1]  # the first finding is selected, with its topic's rows
+    qtbot.waitUntil(lambda: panel.graph_view.graph is not None, timeout=WAIT)  # laid out off the GUI thread
     assert {n.label for n in panel.graph_view.graph.nodes} == {"/simple/move", "/simple/cmd_vel", "/simple/stop"}
     assert len(panel.graph_view.items) == 3
     assert "mutually exclusive" in panel.suggestions_text.toPlainText()
