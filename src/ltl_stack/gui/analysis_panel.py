@@ -205,10 +205,16 @@ class AnalysisPanel(QWidget):
         main.addWidget(bottom_splitter)
         main.setSizes([330, 420])
 
+        self.cancel_push_button = QPushButton("Cancel")
+        self.cancel_push_button.setObjectName("cancel_push_button")
+        self.cancel_push_button.setToolTip("stop waiting for the analysis or the synthesis (its result is dropped)")
+        self.cancel_push_button.clicked.connect(self.cancel)
+        self.cancel_push_button.hide()
         bottom, self.progress_bar, self.status_label = status_row("Name a spec, a mapping and a snapshot (or tick Live graph), then Analyze.")
         layout = QVBoxLayout(self)
         layout.addLayout(grid)
         layout.addWidget(main, 1)
+        bottom.insertWidget(1, self.cancel_push_button)
         layout.addLayout(bottom)
 
     def _browse(self, name: str, edit: QLineEdit) -> QPushButton:
@@ -453,8 +459,18 @@ class AnalysisPanel(QWidget):
         self._status(text)
         self.task.start()
 
+    def cancel(self) -> bool:
+        """Stop waiting for the running analysis or apply-and-check; its outcome is dropped."""
+        if not self.busy:
+            return False
+        self.task.abandon()
+        self._busy(False)
+        self._status("Cancelled: nothing from that run is shown or applied.")
+        return True
+
     def _busy(self, busy: bool) -> None:
         self.progress_bar.setVisible(busy)
+        self.cancel_push_button.setVisible(busy)
         self.analyze_push_button.setEnabled(not busy)
         self.apply_push_button.setEnabled(not busy and self.result is not None and not self.stale)
 

@@ -149,29 +149,39 @@ class Task(QObject):
     failed = Signal(str)
     _done = Signal(object)  # from the worker thread, queued to the GUI thread
     _error = Signal(str)
+    _said = Signal(str)
 
     def __init__(self, work: Callable[[Callable[[str], None]], Any], parent: QObject | None = None):
         super().__init__(parent)
         self._work = work
         self.thread: threading.Thread | None = None
         self._pending = False
+        self._abandoned = False
         self._done.connect(self._deliver_done)
         self._error.connect(self._deliver_error)
+        self._said.connect(self._deliver_progress)
 
     def start(self) -> None:
         self._pending = True
         self.thread = threading.Thread(target=self._run, name="ltl_stack_gui_task", daemon=True)
         self.thread.start()
 
+    def abandon(self) -> None:
+        """Cancel: the work cannot be stopped (a Python thread), but its outcome is never delivered and
+        the task stops counting as running at once."""
+        self._abandoned, self._pending = True, False
+
     @Slot(object)
     def _deliver_done(self, result: object) -> None:
         self._pending = False
-        self.finished.emit(result)
+        if not self._abandoned:
+            self.finished.emit(result)
 
     @Slot(str)
     def _deliver_error(self, text: str) -> None:
         self._pending = False
-        self.failed.emit(text)
+        if not self._abandoned:
+            self.failed.emit(text)
 
     def _run(self) -> None:
         try:
@@ -184,7 +194,12 @@ class Task(QObject):
         self._emit("_done", result)
 
     def _progress(self, text: str) -> None:
-        self._emit("progress", text)
+        self._emit("_said", text)
+
+    @Slot(str)
+    def _deliver_progress(self, text: str) -> None:
+        if not self._abandoned:
+            self.progress.emit(text)
 
     def _emit(self, name: str, value: Any) -> None:
         try:

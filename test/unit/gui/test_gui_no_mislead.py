@@ -561,3 +561,24 @@ def test_defect8_the_analysis_panel_lays_findings_out_off_the_gui_thread_once_ea
         panel.views["E2"].clearSelection()
         panel.select_finding("E2", 0)
     assert len(threads) == 1 and threads[0] != threading.current_thread().name
+
+
+def test_cancel_drops_a_running_analysis(qtbot, tmp_path):
+    release = threading.Event()
+
+    def slow_snapshot(uri):
+        release.wait(60)
+        return simple_snapshot()
+    panel = AnalysisPanel(take_snapshot=slow_snapshot)
+    qtbot.addWidget(panel)
+    panel.spec_line_edit.setText(str(SIMPLE_SPEC))
+    panel.mapping_line_edit.setText(str(SIMPLE_MAPPING))
+    panel.live_check_box.setChecked(True)
+    assert panel.analyze() and panel.busy and not panel.cancel_push_button.isHidden()
+    assert panel.cancel()
+    assert not panel.busy and panel.analyze_push_button.isEnabled() and panel.cancel_push_button.isHidden()
+    task = panel.task
+    release.set()
+    task.thread.join(60)
+    qtbot.wait(200)  # the dropped outcome would arrive now
+    assert panel.result is None and "Cancelled" in panel.status_label.text()
