@@ -12,6 +12,7 @@ newest, so the view keeps up with any rate by skipping what it has not had time 
 """
 from __future__ import annotations
 
+import gc
 import os
 import threading
 import time
@@ -96,6 +97,14 @@ def state_topics() -> list[str]:
     require_master()
     ensure_node()
     return sorted(name for name, type_ in rospy.get_published_topics() if type_ == STATE_TYPE)
+
+
+def keep_out_of_gc() -> None:
+    """Python's full garbage collection walks every object: with spheros' automaton (65,536 states,
+    2.1 M edges) that is ~80 ms of GUI thread at unpredictable moments (bench_gui --pictures). The
+    automaton lives as long as the view shows it, so it is moved out of the collector's reach (reference
+    counting still frees it when it is replaced)."""
+    gc.freeze()
 
 
 def update_of(msg: Any) -> StateUpdate:
@@ -401,6 +410,7 @@ class ControllerView(QWidget):
     def _on_model(self, model: ControllerModel) -> None:
         self._busy(False)
         self.model = model
+        keep_out_of_gc()
         self.robotics_check_box.setChecked(model.options.robotics_semantics)
         self.cooperative_check_box.setChecked(model.options.cooperative)
         self._fill_lamps()
@@ -485,6 +495,7 @@ class ControllerView(QWidget):
         if self.model is None:
             return  # detached meanwhile
         self.model = model
+        keep_out_of_gc()
         self._drawn = set()
         self._fill_lamps()
         self.strategy_label.setText(f"strategy {model.generation}: {model.spec_path} ({len(model.automaton)} states)")
