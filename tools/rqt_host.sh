@@ -79,6 +79,11 @@ case "${1:-}" in
     # shellcheck disable=SC1091
     source "$RQT_WS/devel/setup.bash" --extend
     set -u
+    # The overlay is shared by every clone and chains to the workspace it was first built against
+    # (another clone's, with its own ltl_stack): this clone's workspace goes in front again.
+    export PYTHONPATH="$LTL_STACK_WS/devel/lib/python3/dist-packages:$PYTHONPATH" \
+           ROS_PACKAGE_PATH="$LTL_STACK_WS/src:$ROS_PACKAGE_PATH" \
+           CMAKE_PREFIX_PATH="$LTL_STACK_WS/devel:$CMAKE_PREFIX_PATH"
     export PATH="$LTL_STACK_VENV/bin:$PATH" ROS_PYTHON_VERSION=3
     exec "$@"
     ;;

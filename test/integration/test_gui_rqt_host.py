@@ -85,3 +85,12 @@ def _running_sleep(pid: int) -> bool:
             return f.read().split(b"\0")[0].endswith(b"sleep")
     except OSError:
         return False
+
+
+def test_run_uses_this_clones_ltl_stack(rqt_host, rqt_env):
+    """The overlay is shared by the clones on a machine and chains to the workspace it was built against;
+    ``run`` must still import this clone's code (it imported another clone's: its screenshots too)."""
+    done = subprocess.run([HOST, "run", "python", "-c", "import ltl_stack.gui, os; print(os.path.realpath("
+                           "ltl_stack.gui.__file__))"], env=rqt_env, capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert done.stdout.strip().startswith(str(REPO_ROOT.resolve())), done.stdout

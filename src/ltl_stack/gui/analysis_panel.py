@@ -193,7 +193,7 @@ class AnalysisPanel(QWidget):
         self.problems_list_widget.setObjectName("problems_list_widget")
         self.problems_list_widget.setToolTip("what analyze_graph reports before its findings: mapping warnings, "
                                              "mapped nodes not in the graph, input topics with several publishers")
-        self.problems_list_widget.setMaximumHeight(90)
+        self.problems_list_widget.setMaximumHeight(90)  # set to its lines (up to 4) by _show_problems
         top = QWidget()
         top_layout = QVBoxLayout(top)
         top_layout.setContentsMargins(0, 0, 0, 0)
@@ -203,7 +203,7 @@ class AnalysisPanel(QWidget):
         main.setObjectName("main_splitter")
         main.addWidget(top)
         main.addWidget(bottom_splitter)
-        main.setSizes([330, 420])
+        main.setSizes([420, 330])
 
         self.cancel_push_button = QPushButton("Cancel")
         self.cancel_push_button.setObjectName("cancel_push_button")
@@ -333,6 +333,9 @@ class AnalysisPanel(QWidget):
         if not result.problems:
             self.problems_list_widget.addItem(QListWidgetItem("No problems: the mapping fits the spec and every "
                                                               "mapped node is in the graph."))
+        lines = min(self.problems_list_widget.count(), 4)  # the tables keep the room the problems do not need
+        self.problems_list_widget.setMaximumHeight(lines * self.problems_list_widget.sizeHintForRow(0)
+                                                   + 2 * self.problems_list_widget.frameWidth() + 4)
 
     def problem_texts(self) -> list[str]:
         """The problem lines on screen (for tests)."""

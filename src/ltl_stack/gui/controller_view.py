@@ -33,6 +33,7 @@ from python_qt_binding.QtWidgets import (
     QListWidget,
     QPlainTextEdit,
     QPushButton,
+    QScrollArea,
     QSplitter,
     QVBoxLayout,
     QWidget,
@@ -307,7 +308,11 @@ class ControllerView(QWidget):
         middle = QSplitter(Qt.Horizontal)
         middle.setObjectName("view_splitter")
         middle.addWidget(self.graph_view)
-        middle.addWidget(side)
+        scroll = QScrollArea()  # the lamps of a large spec scroll; they never make the window taller
+        scroll.setWidgetResizable(True)
+        scroll.setFrameShape(QScrollArea.NoFrame)
+        scroll.setWidget(side)
+        middle.addWidget(scroll)
         middle.setStretchFactor(0, 4)
         middle.setStretchFactor(1, 1)
         middle.setSizes([1000, 380])

@@ -303,7 +303,7 @@ class MappingPanel(QWidget):
             header.setSectionResizeMode(column, QHeaderView.Stretch if column == 2
                                         else QHeaderView.ResizeToContents)
         header.setSectionResizeMode(1, QHeaderView.Interactive)
-        table.setColumnWidth(1, 320)
+        table.setColumnWidth(1, 170)  # two tables side by side at 1280 px: the topic column keeps room
 
     def _row_widgets(self, table: QTableWidget, r: int, kind: str, prop: str, i: int) -> None:
         row = self.doc.rows[(kind, prop)][i]
