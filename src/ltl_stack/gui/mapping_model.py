@@ -150,7 +150,8 @@ class MappingDocument:
     def add_row(self, prop: str) -> int:
         """A new node row for output ``prop`` (the ``+`` of Fig. 3.5); returns its index."""
         rows = self.rows[(OUTPUT, prop)]
-        rows.append(Row(topic=default_topic(self.scenario_namespace(), OUTPUT, prop)))
+        topic = default_topic(self.scenario_namespace(), OUTPUT, prop)
+        rows.append(Row(topic=self.relative_name(OUTPUT, "topic", topic)))  # relative in a relative mapping
         return len(rows) - 1
 
     def delete_row(self, kind: str, prop: str, index: int) -> None:

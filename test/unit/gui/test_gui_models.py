@@ -123,7 +123,7 @@ def test_save_round_trips_and_keeps_pkg_filename_parameters(tmp_path):
     assert (obj.node, obj.pkg, obj.filename, obj.parameters) == (
         "/camera_object", "ltl_stack", "topic_threshold_sensor", original.inputs["object"][0].parameters)
     assert [e.node for e in again.outputs["stop"]] == ["stop", "/brake"]
-    assert again.outputs["stop"][1].topic == "/clean_and_patrol/outputs/stop"
+    assert again.outputs["stop"][1].topic == "stop"  # relative, as the mapping is: /clean_and_patrol/outputs/stop
     assert again.outputs["topLane"][0].parameters == original.outputs["topLane"][0].parameters
     reloaded = MappingDocument.load(str(CLEAN_SPEC), str(out))
     assert reloaded.text() == doc.text()

@@ -582,3 +582,9 @@ def test_cancel_drops_a_running_analysis(qtbot, tmp_path):
     task.thread.join(60)
     qtbot.wait(200)  # the dropped outcome would arrive now
     assert panel.result is None and "Cancelled" in panel.status_label.text()
+
+
+def test_defect9_a_new_output_row_names_its_topic_relative_in_a_relative_mapping(mapping_panel):
+    panel = mapping_panel
+    panel.add_row("stop")
+    assert panel.doc.rows[(OUTPUT, "stop")][-1].topic == "stop"  # /clean_and_patrol/outputs/stop
