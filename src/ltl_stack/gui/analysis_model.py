@@ -80,6 +80,7 @@ class AnalysisResult:
         self.tables()
         for form in FORMS:
             self.suggestion_text(form)
+        self.summary()  # counts every edge of the graph: not on the GUI thread
         return self
 
     def suggestion_text(self, form: str) -> str:
@@ -148,6 +149,11 @@ class AnalysisResult:
         return [], set()
 
     def summary(self) -> str:
+        if "summary" not in self._texts:
+            self._texts["summary"] = self._summary()
+        return self._texts["summary"]
+
+    def _summary(self) -> str:
         g = self.analysis.graph
         c = self.counts()
         found = ", ".join(f"{k} {c[k]}" for k in CHECK_KEYS if k in ("E1", "E2", "E3") or self.analysis.robots)

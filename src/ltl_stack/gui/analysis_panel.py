@@ -139,6 +139,7 @@ class AnalysisPanel(QWidget):
             view.setWordWrap(False)
             view.verticalHeader().setVisible(False)
             view.horizontalHeader().setStretchLastSection(True)
+            view.horizontalHeader().setResizeContentsPrecision(50)  # column widths from 50 rows, not all
             model = RowsModel([], view)
             view.setModel(model)
             view.selectionModel().selectionChanged.connect(lambda *_a, k=key: self._on_selection(k))
