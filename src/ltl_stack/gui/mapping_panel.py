@@ -72,6 +72,7 @@ class MappingPanel(QWidget):
         self._combos: dict[tuple[str, str, int, str], QComboBox] = {}
         self._filling = False
         self.dirty = False  # edits not saved
+        self.ask_on_close = False  # the standalone host asks before a window with edits closes
         self._undo: list[dict] = []  # the rows before each edit
         self._last_edit: tuple | None = None
         self.confirm = lambda title, text: ask(self, title, text)  # Yes/No; tests replace it
@@ -434,6 +435,15 @@ class MappingPanel(QWidget):
 
     def _status(self, text: str, error: bool = False) -> None:
         show_status(self.status_label, text, error)
+
+    def closeEvent(self, event) -> None:  # noqa: N802 - Qt's name
+        """Closing a standalone window with unsaved edits asks first (``ask_on_close``, set by the host;
+        rqt closes its plugins without asking)."""
+        if self.ask_on_close and self.dirty and not self.confirm("Discard edits?", "The mapping has edits that are not saved. "
+                                           "Close anyway and discard them?"):
+            event.ignore()
+            return
+        event.accept()
 
     # --- settings (rqt's save_settings / restore_settings) -----------------------------------------
     def save_settings(self, settings: Any) -> None:

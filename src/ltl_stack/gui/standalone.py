@@ -51,7 +51,9 @@ def make_panel(name: str):
     needs rospy and the generated messages, the other two do not."""
     if name == "mapping_panel":
         from ltl_stack.gui.mapping_panel import MappingPanel
-        return MappingPanel()
+        panel = MappingPanel()
+        panel.ask_on_close = True  # its own window: closing it with unsaved edits asks
+        return panel
     if name == "analysis_panel":
         from ltl_stack.gui.analysis_panel import AnalysisPanel
         return AnalysisPanel()

@@ -588,3 +588,14 @@ def test_defect9_a_new_output_row_names_its_topic_relative_in_a_relative_mapping
     panel = mapping_panel
     panel.add_row("stop")
     assert panel.doc.rows[(OUTPUT, "stop")][-1].topic == "stop"  # /clean_and_patrol/outputs/stop
+
+
+def test_closing_the_mapping_panel_with_unsaved_edits_asks(mapping_panel):
+    panel = mapping_panel
+    panel.ask_on_close = True  # as the standalone host sets it
+    panel.show()
+    panel.combo(OUTPUT, "stop", 0, "node").setEditText("brake")
+    panel.confirm = lambda title, text: False
+    assert not panel.close() and panel.isVisible()
+    panel.confirm = lambda title, text: True
+    assert panel.close()
