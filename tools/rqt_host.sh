@@ -4,11 +4,14 @@
 #   tools/rqt_host.sh build              build (once) and print the overlay's devel/setup.bash
 #   tools/rqt_host.sh run CMD [ARGS...]  run CMD with the project's workspace and the overlay sourced,
 #                                        e.g. tools/rqt_host.sh run rosrun rqt_gui rqt_gui --list-plugins
+#   tools/rqt_host.sh --help             this text (exit 0)
 #
 # The unchanged upstream sources live in ../shared/thirdparty/rqt (override with LTL_STACK_RQT_SRC); they are
 # linked, never copied, into an overlay catkin workspace $LTL_STACK_HOME/rqt-ws built with the venv's
 # python. A stamp (sources' listing and sizes, the venv) makes a second run instant; a flock keeps parallel
-# runs (pytest-xdist workers) from building over each other. Exit 3 when the sources are absent.
+# runs (pytest-xdist workers) from building over each other, held only while building: a running rqt never
+# holds it, so a second run starts at once. Exit 0 done, 1 the build failed, 2 bad usage, 3 the sources are
+# absent (otherwise CMD's own exit code).
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/paths.sh"
 
@@ -32,6 +35,11 @@ build() {
   mkdir -p "$LTL_STACK_HOME"
   exec 8>"$LTL_STACK_HOME/.rqt_host.lock"
   flock 8
+  build_locked
+  exec 8>&-  # released here: the command run next (a long-running rqt) must not hold it
+}
+
+build_locked() {
   local want
   want=$( (echo "$RQT_SRC" "$LTL_STACK_VENV"; cd "$RQT_SRC" && find "${PACKAGES[@]}" -type f -printf '%p %s\n' \
           | sort) | sha1sum | cut -c1-40)
@@ -71,11 +79,19 @@ case "${1:-}" in
     # shellcheck disable=SC1091
     source "$RQT_WS/devel/setup.bash" --extend
     set -u
+    # The overlay is shared by every clone and chains to the workspace it was first built against
+    # (another clone's, with its own ltl_stack): this clone's workspace goes in front again.
+    export PYTHONPATH="$LTL_STACK_WS/devel/lib/python3/dist-packages:$PYTHONPATH" \
+           ROS_PACKAGE_PATH="$LTL_STACK_WS/src:$ROS_PACKAGE_PATH" \
+           CMAKE_PREFIX_PATH="$LTL_STACK_WS/devel:$CMAKE_PREFIX_PATH"
     export PATH="$LTL_STACK_VENV/bin:$PATH" ROS_PYTHON_VERSION=3
     exec "$@"
     ;;
+  -h|--help|help)
+    sed -n '2,/^set -euo/p' "${BASH_SOURCE[0]}" | sed '$d' | sed 's/^# \{0,1\}//'
+    ;;
   *)
-    say "usage: tools/rqt_host.sh build | run CMD [ARGS...]"
+    say "usage: tools/rqt_host.sh build | run CMD [ARGS...] | --help"
     exit 2
     ;;
 esac

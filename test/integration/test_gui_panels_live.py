@@ -107,7 +107,8 @@ def test_analysis_panel_on_the_live_scenario(scenario, qtbot):
     assert panel.selected_rows("E2") == e2.rows_of(0) or panel.current_key() == "E1"
     text = panel.suggestions_text.toPlainText()
     assert "stop, topLane, rightLane, bottomLane, leftLane, leftGround and rightGround are mutually exclusive" in text
-    assert panel.graph_view.graph is not None and panel.graph_view.items
+    qtbot.waitUntil(lambda: panel.graph_view.graph is not None, timeout=WAIT)  # laid out off the GUI thread
+    assert panel.graph_view.items
 
 
 def test_apply_and_check_shows_example_7_unrealizable_on_the_live_simple_graph(ros_master, qtbot, tmp_path):
@@ -139,8 +140,8 @@ def test_controller_view_follows_the_executor_and_pauses_it(scenario, qtbot, mon
     view = ControllerView()
     qtbot.addWidget(view)
     view.spec_line_edit.setText(str(SPEC))
-    view.refresh_push_button.click()
-    assert view.topic_combo_box.findText(STATE) >= 0, view.status_label.text()
+    view.refresh_push_button.click()  # the master is asked off the GUI thread
+    qtbot.waitUntil(lambda: view.topic_combo_box.findText(STATE) >= 0, timeout=WAIT)
     view.topic_combo_box.setEditText(STATE)
     assert view.attach()
     qtbot.waitUntil(lambda: view.model is not None and view.model.current is not None, timeout=WAIT)
@@ -179,3 +180,35 @@ def test_controller_view_follows_the_executor_and_pauses_it(scenario, qtbot, mon
     qtbot.waitUntil(lambda: view.shown is not None and view.shown.running, timeout=WAIT)
     assert view.run_pause_push_button.text() == "Pause"
     view.shutdown()
+
+
+def test_controller_view_follows_alices_resynthesis(qtbot, tmp_path, monkeypatch):
+    """Issue 25 defect 2, live: thesis Example 11's alice characterizes the broken door; the view shows
+    the resilience mode and counters and loads the characterized spec the executor reports on ~state."""
+    import subprocess
+    import sys
+
+    master = shared_master()
+    monkeypatch.setenv("ROS_MASTER_URI", master.uri)
+    characterized = tmp_path / "alice_characterized.structuredslugs"
+    demo = subprocess.Popen([sys.executable, "-m", "ltl_stack.sim.demo", "--scenario", "alice_ec", "--json",
+                             "--timeout", "150", "--master-uri", master.uri,
+                             "--launch-arg", f"executor_args:=--characterized-spec {characterized}"],
+                            cwd=REPO_ROOT, env=master.env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        state = "/alice/controller_executor/state"
+        master.wait_for_publisher(state, timeout=120)
+        view = ControllerView()
+        qtbot.addWidget(view)
+        view.spec_line_edit.setText(str(CONFIG / "alice" / "alice.structuredslugs"))
+        view.topic_combo_box.setEditText(state)
+        assert view.attach()
+        qtbot.waitUntil(lambda: view.model is not None and view.shown is not None, timeout=WAIT)
+        qtbot.waitUntil(lambda: view.model.generation >= 1 and view.model.spec_path == str(characterized),
+                        timeout=180_000)
+        assert "new strategies" in view.resilience_label.text() and view.shown.resyntheses >= 1
+        assert view.shown.mode and "strategy" in view.strategy_label.text()
+        view.shutdown()
+    finally:
+        demo.terminate()
+        demo.wait(90)

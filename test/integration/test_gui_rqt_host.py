@@ -56,3 +56,41 @@ def test_rqt_loads_each_panel_offscreen(rqt_host, rqt_env, ros_master, tmp_path,
     assert "PluginHandler.save_settings()" in out, out[-3000:]
     lines = [line for line in out.splitlines() if any(b in line for b in BAD)]
     assert lines == [], out[-4000:]
+
+
+def test_rqt_host_help_exits_0_without_building():
+    done = subprocess.run([HOST, "--help"], capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert "tools/rqt_host.sh run CMD" in done.stdout and "rqt-ws" in done.stdout
+
+
+def test_a_running_rqt_never_blocks_a_second_run(rqt_host, rqt_env):
+    first = subprocess.Popen([HOST, "run", "sleep", "600"], env=rqt_env, stdout=subprocess.DEVNULL,
+                             stderr=subprocess.DEVNULL, start_new_session=True)
+    try:
+        wait_for(lambda: first.poll() is None and _running_sleep(first.pid), 120, "the first run's command")
+        second = subprocess.run([HOST, "run", "python", "-c", "print('second run')"], env=rqt_env,
+                                capture_output=True, text=True, timeout=300)
+        assert second.returncode == 0 and "second run" in second.stdout, second.stdout + second.stderr
+        assert first.poll() is None  # the first is still running: it did not have to end first
+    finally:
+        first.kill()
+        first.wait(60)
+
+
+def _running_sleep(pid: int) -> bool:
+    """True once the first run has exec'd its command (``sleep``), i.e. after its build step."""
+    try:
+        with open(f"/proc/{pid}/cmdline", "rb") as f:
+            return f.read().split(b"\0")[0].endswith(b"sleep")
+    except OSError:
+        return False
+
+
+def test_run_uses_this_clones_ltl_stack(rqt_host, rqt_env):
+    """The overlay is shared by the clones on a machine and chains to the workspace it was built against;
+    ``run`` must still import this clone's code (it imported another clone's: its screenshots too)."""
+    done = subprocess.run([HOST, "run", "python", "-c", "import ltl_stack.gui, os; print(os.path.realpath("
+                           "ltl_stack.gui.__file__))"], env=rqt_env, capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert done.stdout.strip().startswith(str(REPO_ROOT.resolve())), done.stdout

@@ -7,7 +7,8 @@ selecting a topic selects its rows); E1 pairs that are the designed feedback of 
 activation-completion paradigm get their own table (``FEEDBACK_KEY``), not counted as findings. ``suggestion_text`` renders the suggestions as Structured
 English, LTL or ``.slugsin``; ``conflict_graph`` is the subgraph of a finding's witness chains with
 the conflicting channels highlighted; ``apply_and_check`` writes the amended spec, synthesizes it and
-explains an unrealizable result (``analysis.cli.apply_suggestions``).
+explains an unrealizable result. Loading, the checks, the problem list and apply-and-check are
+``analysis.workflow``'s, the functions ``analyze_graph`` calls, so the panel shows what the CLI prints.
 """
 from __future__ import annotations
 
@@ -15,16 +16,21 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 from ltl_stack.analysis import report
-from ltl_stack.analysis.checks import Analysis, Witness, analyze, e2_groups, feedback_reason
-from ltl_stack.analysis.cli import apply_suggestions, apply_text, english_text
-from ltl_stack.analysis.graph import DEFAULT_IGNORED_TOPICS, ComputationGraph
+from ltl_stack.analysis.checks import Analysis, Witness, feedback_reason
 from ltl_stack.analysis.report import IN_SPEC_NOTE
 from ltl_stack.analysis.snapshot import Snapshot
-from ltl_stack.analysis.suggest import MutualExclusion, mark_guaranteed, mutual_exclusions
+from ltl_stack.analysis.suggest import MutualExclusion
+from ltl_stack.analysis.workflow import (
+    Problem,
+    apply_suggestions,
+    apply_text,
+    english_text,
+    load_inputs,
+    problems,
+    run_checks,
+)
 from ltl_stack.cli import check_outputs, write_output
 from ltl_stack.gui.dotgraph import DotGraph
-from ltl_stack.runtime.mapping import MappingError, check_mapping, load_mapping
-from ltl_stack.spec import load_spec
 from ltl_stack.spec.model import Spec
 
 CHECK_KEYS = ("E1", "E2", "E3", "C1", "C2")
@@ -61,7 +67,7 @@ class AnalysisResult:
     spec: Spec
     analysis: Analysis
     suggestions: list[MutualExclusion]
-    warnings: list[str]
+    problems: list[Problem]  # what analyze_graph prints with its report: never hidden
     snapshot: Snapshot
     spec_path: str = ""
     mapping_path: str = ""
@@ -74,6 +80,7 @@ class AnalysisResult:
         self.tables()
         for form in FORMS:
             self.suggestion_text(form)
+        self.summary()  # counts every edge of the graph: not on the GUI thread
         return self
 
     def suggestion_text(self, form: str) -> str:
@@ -142,6 +149,11 @@ class AnalysisResult:
         return [], set()
 
     def summary(self) -> str:
+        if "summary" not in self._texts:
+            self._texts["summary"] = self._summary()
+        return self._texts["summary"]
+
+    def _summary(self) -> str:
         g = self.analysis.graph
         c = self.counts()
         found = ", ".join(f"{k} {c[k]}" for k in CHECK_KEYS if k in ("E1", "E2", "E3") or self.analysis.robots)
@@ -165,30 +177,21 @@ def run_analysis(spec_path: str, mapping_path: str, *, snapshot: Snapshot | None
     """Load spec and mapping, take ``snapshot`` (or load ``snapshot_path``), run every check.
 
     Raises the loaders' ``UserError``s; a mapping that does not fit the spec is one too (the first
-    error of ``check_mapping``), as in ``analyze_graph``.
+    error of ``check_mapping``), as in ``analyze_graph`` (``analysis.workflow.load_inputs``).
     """
     say = progress or (lambda _text: None)
-    spec = load_spec(spec_path)
-    mapping = load_mapping(mapping_path)
-    issues = check_mapping(mapping, spec.inputs, spec.outputs)
-    bad = [i for i in issues if i.severity == "error"]
-    if bad:
-        raise MappingError(bad[0].file, bad[0].line, bad[0].message + (f" (and {len(bad) - 1} more errors)"
-                                                                        if len(bad) > 1 else ""))
+    spec, mapping, issues = load_inputs(spec_path, mapping_path)
     if snapshot is None:
         if not snapshot_path:
             raise ValueError("no snapshot: take one of the live graph or name a snapshot file")
         say(f"loading {snapshot_path}")
         snapshot = Snapshot.load(snapshot_path)
     say("building the graph")
-    graph = ComputationGraph(snapshot, list(DEFAULT_IGNORED_TOPICS))
-    analysis = analyze(graph, mapping, spec.inputs, spec.outputs, robots=list(robots),
-                       robot_topics_to_ignore=list(ignore_topics), progress=say)
-    suggestions = mark_guaranteed(spec, mutual_exclusions(e2_groups(analysis), spec.outputs))
-    say("done")
+    analysis, suggestions = run_checks(spec, mapping, snapshot, robots=robots, ignore_topics=ignore_topics,
+                                       progress=say)
     say("laying out the tables")
-    return AnalysisResult(spec, analysis, suggestions, [str(i) for i in issues], snapshot, str(spec_path),
-                          str(mapping_path), snapshot_path).prepare()
+    return AnalysisResult(spec, analysis, suggestions, problems(analysis, mapping, issues, snapshot), snapshot,
+                          str(spec_path), str(mapping_path), snapshot_path).prepare()
 
 
 def suggestion_text(suggestions: Sequence[MutualExclusion], form: str) -> str:
@@ -230,7 +233,8 @@ def conflict_graph(result: AnalysisResult, key: str, index: int) -> DotGraph:
     return g
 
 
-def apply_and_check(result: AnalysisResult, out: str, chosen: Sequence[int] | None = None) -> dict:
+def apply_and_check(result: AnalysisResult, out: str, chosen: Sequence[int] | None = None,
+                    progress: Callable[[str], None] | None = None) -> dict:
     """Write the spec plus the chosen suggestions (1-based; default all) to ``out``, synthesize it
     (robotics init semantics) and, when unrealizable, explain it and try the input-exclusion hint of
     thesis Example 9. The dict is ``analyze_graph --apply``'s; ``text`` is its report. ``out`` naming
@@ -240,7 +244,7 @@ def apply_and_check(result: AnalysisResult, out: str, chosen: Sequence[int] | No
     picked = None if chosen is None else [str(i) for i in chosen]
     check_outputs([result.spec_path, result.mapping_path, result.snapshot_path], [out])  # never over an input
     english = english_text(result.spec_path, out) if result.spec_path else None
-    applied, text = apply_suggestions(result.spec, result.suggestions, out, picked, english)
+    applied, text = apply_suggestions(result.spec, result.suggestions, out, picked, english, progress)
     write_output(out, text, "amended spec")
     applied["text"] = apply_text(applied)
     return applied

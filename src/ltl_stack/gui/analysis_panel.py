@@ -14,16 +14,18 @@ import os
 from typing import Any
 
 from python_qt_binding.QtCore import QItemSelection, QItemSelectionModel, Qt
+from python_qt_binding.QtGui import QColor
 from python_qt_binding.QtWidgets import (
     QAbstractItemView,
     QCheckBox,
-    QComboBox,
     QFileDialog,
     QGridLayout,
     QGroupBox,
     QHBoxLayout,
     QLabel,
     QLineEdit,
+    QListWidget,
+    QListWidgetItem,
     QPlainTextEdit,
     QPushButton,
     QSplitter,
@@ -33,8 +35,10 @@ from python_qt_binding.QtWidgets import (
     QWidget,
 )
 
+from ltl_stack.analysis.report import CHECKS, FEEDBACK_TITLE
 from ltl_stack.gui.analysis_model import (
     CHECK_KEYS,
+    FEEDBACK_KEY,
     FORM_TITLES,
     FORMS,
     TAB_KEYS,
@@ -47,10 +51,10 @@ from ltl_stack.gui.analysis_model import (
     run_analysis,
 )
 from ltl_stack.gui.widgets import (
+    ComboBox,
     GraphView,
     RowsModel,
     Task,
-    error_text,
     line_edit,
     restore_controls,
     save_controls,
@@ -76,8 +80,19 @@ class AnalysisPanel(QWidget):
         self.tables: dict[str, Table] = {}
         self.applied: dict | None = None
         self.task: Task | None = None
+        self.layout_task: Task | None = None
+        self.layout_count = 0  # Graphviz runs (each finding is laid out once)
+        self._pictures: dict[tuple, tuple] = {}  # (result, check, finding) -> (graph, layout)
+        self._wanted: tuple | None = None
+        self.stale = False  # inputs changed since the result on screen was made
+        self._auto_amended = ""  # the amended path the panel filled in (follows the spec until edited)
         self._take_snapshot = take_snapshot
         self._build()
+        for edit in (self.spec_line_edit, self.mapping_line_edit, self.snapshot_line_edit, self.master_line_edit,
+                     self.robots_line_edit, self.ignore_line_edit):
+            edit.textChanged.connect(self._inputs_changed)
+        self.live_check_box.toggled.connect(self._inputs_changed)
+        self._update_apply()
 
     # --- layout -----------------------------------------------------------------------------------
     def _build(self) -> None:
@@ -124,18 +139,21 @@ class AnalysisPanel(QWidget):
             view.setWordWrap(False)
             view.verticalHeader().setVisible(False)
             view.horizontalHeader().setStretchLastSection(True)
+            view.horizontalHeader().setResizeContentsPrecision(50)  # column widths from 50 rows, not all
             model = RowsModel([], view)
             view.setModel(model)
             view.selectionModel().selectionChanged.connect(lambda *_a, k=key: self._on_selection(k))
             self.models[key], self.views[key] = model, view
             self.findings_tab_widget.addTab(view, TAB_TITLES[key])
+            self.findings_tab_widget.setTabToolTip(self.findings_tab_widget.count() - 1,
+                                                   FEEDBACK_TITLE if key == FEEDBACK_KEY else f"{key}: {CHECKS[key]}")
         self.findings_tab_widget.currentChanged.connect(lambda _i: self._on_selection(self.current_key()))
         self.graph_view = GraphView()
         self.graph_view.setObjectName("conflict_graphics_view")
 
         suggest = QGroupBox("Suggested additions to the specification")
         form_row = QHBoxLayout()
-        self.form_combo_box = QComboBox()
+        self.form_combo_box = ComboBox()
         self.form_combo_box.setObjectName("suggestion_form_combo_box")
         self.form_combo_box.addItems([FORM_TITLES[f] for f in FORMS])
         self.form_combo_box.currentIndexChanged.connect(lambda _i: self._show_suggestions())
@@ -172,16 +190,32 @@ class AnalysisPanel(QWidget):
         bottom_splitter.addWidget(self.graph_view)
         bottom_splitter.addWidget(suggest)
         bottom_splitter.setSizes([700, 700])
+        self.problems_list_widget = QListWidget()
+        self.problems_list_widget.setObjectName("problems_list_widget")
+        self.problems_list_widget.setToolTip("what analyze_graph reports before its findings: mapping warnings, "
+                                             "mapped nodes not in the graph, input topics with several publishers")
+        self.problems_list_widget.setMaximumHeight(90)  # set to its lines (up to 4) by _show_problems
+        top = QWidget()
+        top_layout = QVBoxLayout(top)
+        top_layout.setContentsMargins(0, 0, 0, 0)
+        top_layout.addWidget(self.problems_list_widget)
+        top_layout.addWidget(self.findings_tab_widget, 1)
         main = QSplitter(Qt.Vertical)
         main.setObjectName("main_splitter")
-        main.addWidget(self.findings_tab_widget)
+        main.addWidget(top)
         main.addWidget(bottom_splitter)
-        main.setSizes([330, 420])
+        main.setSizes([420, 330])
 
+        self.cancel_push_button = QPushButton("Cancel")
+        self.cancel_push_button.setObjectName("cancel_push_button")
+        self.cancel_push_button.setToolTip("stop waiting for the analysis or the synthesis (its result is dropped)")
+        self.cancel_push_button.clicked.connect(self.cancel)
+        self.cancel_push_button.hide()
         bottom, self.progress_bar, self.status_label = status_row("Name a spec, a mapping and a snapshot (or tick Live graph), then Analyze.")
         layout = QVBoxLayout(self)
         layout.addLayout(grid)
         layout.addWidget(main, 1)
+        bottom.insertWidget(1, self.cancel_push_button)
         layout.addLayout(bottom)
 
     def _browse(self, name: str, edit: QLineEdit) -> QPushButton:
@@ -221,12 +255,48 @@ class AnalysisPanel(QWidget):
                 snapshot = take(uri)
             return run_analysis(spec, mapping, snapshot=snapshot, snapshot_path=None if live else snapshot_path,
                                 robots=robots, ignore_topics=ignore, progress=progress)
+        self.clear_result()  # a failed run must not leave an older result on screen
         self._start(work, self.show_result, "Analyzing…")
         return True
 
+    def clear_result(self) -> None:
+        """Nothing on screen from an earlier run: tables, problems, picture, suggestions, verdict."""
+        self.result, self.tables, self.applied, self.stale = None, {}, None, False
+        self._pictures, self._wanted = {}, None
+        for i, key in enumerate(TAB_KEYS):
+            self.models[key].set_rows([], [])
+            self.findings_tab_widget.setTabText(i, TAB_TITLES[key])
+        self.problems_list_widget.clear()
+        self.suggestions_text.clear()
+        self.verdict_label.clear()
+        self.apply_text.clear()
+        self.graph_view.show_message("")
+        self.findings_tab_widget.setEnabled(True)
+        self._update_apply()
+
+    def _inputs_changed(self, *_args) -> None:
+        """An input changed: the result on screen is greyed out and cannot be applied until re-analysed."""
+        if self.result is None or self.stale:
+            return
+        self.stale = True
+        self.findings_tab_widget.setEnabled(False)
+        self.problems_list_widget.setEnabled(False)
+        self.suggestions_text.setEnabled(False)
+        self.verdict_label.clear()
+        self.apply_text.clear()
+        self._update_apply()
+        self._status("The inputs changed: the results shown are stale. Analyze again before Apply and check.",
+                     error=True)
+
+    def _update_apply(self) -> None:
+        self.apply_push_button.setEnabled(not self.busy and self.result is not None and not self.stale)
+
     def show_result(self, result: AnalysisResult) -> None:
-        """Fill the tables, the suggestions and the picture of the first finding."""
-        self.result = result
+        """Fill the problems, the tables, the suggestions and the picture of the first finding."""
+        self.result, self.stale = result, False
+        for widget in (self.findings_tab_widget, self.problems_list_widget, self.suggestions_text):
+            widget.setEnabled(True)
+        self._show_problems(result)
         self.tables = result.tables()
         counts = result.counts()
         for i, key in enumerate(TAB_KEYS):
@@ -237,20 +307,43 @@ class AnalysisPanel(QWidget):
             if len(table.rows) <= 500:  # measuring every row of a huge table costs more than it helps
                 view.resizeColumnsToContents()
         self._show_suggestions()
-        if not self.amended_line_edit.text().strip():
-            stem = os.path.splitext(self.spec_line_edit.text().strip())[0]
-            self.amended_line_edit.setText(f"{stem}_with_suggestions.slugsin")
+        if self.amended_line_edit.text().strip() in ("", self._auto_amended):  # not typed by the user
+            stem = os.path.splitext(result.spec_path)[0]
+            self._auto_amended = f"{stem}_with_suggestions.slugsin"
+            self.amended_line_edit.setText(self._auto_amended)
         first = next((i for i, k in enumerate(CHECK_KEYS) if self.tables[k].rows), None)
         if first is not None:
             self.findings_tab_widget.setCurrentIndex(first)
             self.select_finding(CHECK_KEYS[first], 0)
+        elif result.problems:
+            self.graph_view.show_message(f"No findings on what was analysed; {len(result.problems)} problem(s) "
+                                         "listed above make it incomplete.")
         else:
             self.graph_view.show_message("No findings.")
-        warn = f" Mapping warnings: {len(result.warnings)}." if result.warnings else ""
-        self._status(result.summary() + "." + warn)
+        self._update_apply()
+        warn = f" {len(result.problems)} problem(s) listed above the tables." if result.problems else ""
+        self._status(result.summary() + "." + warn, error=bool(result.problems))
+
+    def _show_problems(self, result: AnalysisResult) -> None:
+        self.problems_list_widget.clear()
+        for p in result.problems:
+            item = QListWidgetItem(f"{p.severity}: {p.text}")
+            item.setBackground(QColor("#ffc8c8" if p.severity == "error" else "#fff0b0"))
+            item.setToolTip(p.text)
+            self.problems_list_widget.addItem(item)
+        if not result.problems:
+            self.problems_list_widget.addItem(QListWidgetItem("No problems: the mapping fits the spec and every "
+                                                              "mapped node is in the graph."))
+        lines = min(self.problems_list_widget.count(), 4)  # the tables keep the room the problems do not need
+        self.problems_list_widget.setMaximumHeight(lines * self.problems_list_widget.sizeHintForRow(0)
+                                                   + 2 * self.problems_list_widget.frameWidth() + 4)
+
+    def problem_texts(self) -> list[str]:
+        """The problem lines on screen (for tests)."""
+        return [p.text for p in self.result.problems] if self.result is not None else []
 
     def current_key(self) -> str:
-        return TAB_KEYS[self.findings_tab_widget.currentIndex()]
+        return TAB_KEYS[max(0, self.findings_tab_widget.currentIndex())]
 
     def select_finding(self, key: str, index: int) -> None:
         """Select every row of finding ``index`` of check ``key`` (and so draw it)."""
@@ -280,14 +373,39 @@ class AnalysisPanel(QWidget):
         self._draw(key, finding)
 
     def _draw(self, key: str, finding: int) -> None:
-        graph = conflict_graph(self.result, key, finding)
-        if not graph.nodes:
-            self.graph_view.show_message(f"{key} {finding + 1}: nothing to draw (see the table).")
+        """Draw the finding's chains: laid out by Graphviz off the GUI thread, each finding once (cached);
+        a row clicked while a layout runs is drawn when it ends (the newest click wins)."""
+        result = self.result
+        cached = self._pictures.get((id(result), key, finding))
+        if cached is not None:
+            self.graph_view.draw(*cached)
             return
-        try:
-            self.graph_view.draw(graph)
-        except Exception as err:  # noqa: BLE001 - Graphviz missing or failing: say so in the view
-            self.graph_view.show_message(error_text(err))
+        self._wanted = (id(result), key, finding)
+        if self.layout_task is not None and self.layout_task.running:
+            return
+        view = self.graph_view
+
+        def work(_progress):
+            graph = conflict_graph(result, key, finding)
+            return (id(result), key, finding), graph, (view.layout_for(graph) if graph.nodes else None)
+        self.layout_count += 1
+        self.layout_task = Task(work, self)
+        self.layout_task.finished.connect(self._on_picture)
+        self.layout_task.failed.connect(lambda text: view.show_message(text))
+        self.layout_task.start()
+
+    def _on_picture(self, done: tuple) -> None:
+        wanted, graph, laid_out = done
+        if laid_out is not None:
+            self._pictures[wanted] = (graph, laid_out)
+        if self._wanted != wanted:  # cleared, or another row chosen meanwhile: draw that one
+            if self._wanted is not None and self.result is not None and self._wanted[0] == id(self.result):
+                self._draw(*self._wanted[1:])
+            return
+        if laid_out is None:
+            self.graph_view.show_message(f"{wanted[1]} {wanted[2] + 1}: nothing to draw (see the table).")
+        else:
+            self.graph_view.draw(graph, laid_out)
 
     # --- suggestions --------------------------------------------------------------------------------
     def form(self) -> str:
@@ -299,8 +417,9 @@ class AnalysisPanel(QWidget):
 
     def apply(self) -> bool:
         """Write the amended spec and synthesize it off the GUI thread; False if it cannot start."""
-        if self.busy or self.result is None:
-            self._status("Analyze first." if self.result is None else "Busy.", error=self.result is None)
+        if self.busy or self.result is None or self.stale:
+            self._status("Busy." if self.busy else "Analyze first: no current result (inputs changed or the "
+                         "analysis failed).", error=not self.busy)
             return False
         out = self.amended_line_edit.text().strip()
         if not out:
@@ -313,7 +432,7 @@ class AnalysisPanel(QWidget):
             self._status(f"Suggestions to add: {chosen_text!r} is not a list of numbers.", error=True)
             return False
         result = self.result
-        self._start(lambda progress: apply_and_check(result, out, chosen), self.show_applied,
+        self._start(lambda progress: apply_and_check(result, out, chosen, progress), self.show_applied,
                     f"Writing {out} and synthesizing…")
         return True
 
@@ -344,10 +463,20 @@ class AnalysisPanel(QWidget):
         self._status(text)
         self.task.start()
 
+    def cancel(self) -> bool:
+        """Stop waiting for the running analysis or apply-and-check; its outcome is dropped."""
+        if not self.busy:
+            return False
+        self.task.abandon()
+        self._busy(False)
+        self._status("Cancelled: nothing from that run is shown or applied.")
+        return True
+
     def _busy(self, busy: bool) -> None:
         self.progress_bar.setVisible(busy)
+        self.cancel_push_button.setVisible(busy)
         self.analyze_push_button.setEnabled(not busy)
-        self.apply_push_button.setEnabled(not busy)
+        self.apply_push_button.setEnabled(not busy and self.result is not None and not self.stale)
 
     def _status(self, text: str, error: bool = False) -> None:
         show_status(self.status_label, text, error)

@@ -17,6 +17,7 @@ from collections import deque
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 
+from ltl_stack.errors import Exit, UserError
 from ltl_stack.gui.dotgraph import DotGraph
 from ltl_stack.spec import load_spec
 from ltl_stack.synthesis import Automaton, synthesize
@@ -26,6 +27,9 @@ GOAL_COLOR = "#3a7bd5"
 INITIAL_COLOR = "#2e9e44"
 DEFAULT_FULL_LIMIT = 40
 DEFAULT_RADIUS = 2
+#: the most edges a readable picture has: beyond it Graphviz's labels and splines overlap (looked at on
+#: alice, 30 states and 232 edges: a tangle) and the layout takes seconds; edges past it are counted
+MAX_DRAWN_EDGES = 80
 MAX_STATES = 200_000
 
 
@@ -39,6 +43,15 @@ class StateUpdate:
     outputs: dict[str, bool]
     running: bool
     stamp: float = 0.0  # seconds (the message's header stamp)
+    # resilient execution (thesis ch. 4): the executor's mode, counters and the clauses broken now
+    mode: str = ""
+    violations: int = 0
+    recovery_steps: int = 0
+    unsafe_steps: int = 0
+    resyntheses: int = 0
+    violated_clauses: tuple[str, ...] = ()
+    spec_file: str = ""  # the spec of the running strategy (original, characterized or adopted)
+    generation: int = 0  # 0: the start-up strategy; +1 per strategy put in place
 
 
 @dataclass
@@ -58,14 +71,16 @@ class ControllerModel:
     options: ViewOptions = field(default_factory=ViewOptions)
     current: int | None = None
     last: StateUpdate | None = None
+    generation: int = 0  # the executor's strategy generation this automaton is of
     _pred: dict[int, list[int]] = field(default_factory=dict)
+    _edges: int | None = None
 
     @classmethod
     def synthesize(cls, spec_path: str, options: ViewOptions | None = None,
                    progress: Callable[[str], None] | None = None) -> ControllerModel:
         """Synthesize ``spec_path`` as the executor does and extract the explicit automaton.
 
-        Raises ``SpecError`` for a bad spec, ``ValueError`` when it is unrealizable, ``TooManyStates``
+        Raises ``SpecError`` for a bad spec, ``UserError`` (shown, no traceback) when it is unrealizable, ``TooManyStates``
         beyond ``MAX_STATES``.
         """
         options = options or ViewOptions()
@@ -75,11 +90,15 @@ class ControllerModel:
             f"cooperative {options.cooperative})")
         result = synthesize(spec, robotics_semantics=options.robotics_semantics, cooperative=options.cooperative)
         if not result.realizable:
-            raise ValueError(f"{spec_path}: the specification is unrealizable; the executor cannot run it")
+            raise UserError(f"{spec_path}: the specification is unrealizable (robotics semantics "
+                            f"{options.robotics_semantics}); the executor cannot run it", Exit.UNREALIZABLE)
         say("extracting the explicit automaton")
         automaton = result.strategy.explicit(max_states=MAX_STATES)
         say(f"{len(automaton)} states")
-        return cls(str(spec_path), automaton, options)
+        model = cls(str(spec_path), automaton, options)
+        model.predecessors(0)  # the indexes the view needs, made here on the worker thread, not the GUI's
+        model.edge_count()
+        return model
 
     def predecessors(self, state: int) -> list[int]:
         if not self._pred:
@@ -125,7 +144,14 @@ class ControllerModel:
 
     @property
     def whole(self) -> bool:
-        return len(self.automaton) <= self.options.full_limit
+        """Drawn whole only when readable: few states and few edges (``MAX_DRAWN_EDGES``)."""
+        a = self.automaton
+        return len(a) <= self.options.full_limit and self.edge_count() <= MAX_DRAWN_EDGES
+
+    def edge_count(self) -> int:
+        if self._edges is None:
+            self._edges = sum(len(s.successors) for s in self.automaton.states)
+        return self._edges
 
     def shown_states(self, center: int | None = None) -> list[int]:
         """Every state when the automaton is small, else the states within ``radius`` steps of
@@ -133,7 +159,8 @@ class ControllerModel:
         a = self.automaton
         if self.whole:
             return [s.id for s in a.states]
-        starts = [center] if center is not None else list(a.initial)
+        # no centre yet: one initial state (an automaton may have thousands, one per input valuation)
+        starts = [center] if center is not None else list(a.initial[:1]) or [0]
         seen = dict.fromkeys(starts, 0)
         queue = deque(starts)
         limit = max(self.options.full_limit, 1)
@@ -148,26 +175,33 @@ class ControllerModel:
         return sorted(seen)
 
     def graph(self, center: int | None = None) -> DotGraph:
-        """The states to draw (labels as ``Automaton.to_dot``: id, goal, true outputs; edges: true inputs)."""
+        """The states to draw (labels as ``Automaton.to_dot``: id, goal, true outputs; edges: true inputs),
+        at most ``MAX_DRAWN_EDGES`` edges (the centre's first); each state says how many of its edges
+        are not drawn."""
         a = self.automaton
         shown = self.shown_states(center)
         inside = set(shown)
         initial = set(a.initial)
+        edges = [(sid, t) for sid in sorted(shown, key=lambda x: x != center)
+                 for t in a.states[sid].successors if t in inside][:MAX_DRAWN_EDGES]
+        degree = dict.fromkeys(shown, 0)
+        for sid, t in edges:
+            degree[sid] += 1
+            if t != sid:
+                degree[t] += 1
         g = DotGraph(name="controller", rankdir="LR")
         for sid in shown:
             s = a.states[sid]
             outs = ", ".join(n for n in a.outputs if s.outputs[n]) or "-"
-            cut = sum(t not in inside for t in s.successors) + sum(p not in inside for p in self.predecessors(sid))
-            more = f"\n(+{cut} edges)" if cut else ""
+            total = len(s.successors) + len(self.predecessors(sid)) - s.successors.count(sid)
+            cut = total - degree[sid]
+            more = f"\n(+{cut} edges)" if cut > 0 else ""
             g.add_node(sid, f"{sid} (goal {s.goal})\n{outs}{more}", shape="box",
                        color=INITIAL_COLOR if sid in initial else "black",
                        tooltip=f"state {sid}, goal {s.goal}; inputs: "
                                + (", ".join(n for n in a.inputs if s.inputs[n]) or "-") + f"; outputs: {outs}")
-        for sid in shown:
-            for t in a.states[sid].successors:
-                if t in inside:
-                    ins = ", ".join(n for n in a.inputs if a.states[t].inputs[n]) or "-"
-                    g.add_edge(sid, t, ins)
+        for sid, t in edges:
+            g.add_edge(sid, t, ", ".join(n for n in a.inputs if a.states[t].inputs[n]) or "-")
         return g
 
     def needs_new_layout(self, drawn: set[int], center: int | None) -> bool:
@@ -186,12 +220,39 @@ class ControllerModel:
             [(n, bool(u.outputs.get(n, False))) for n in a.outputs]
 
 
+MODES = {  # the executor's ~state mode -> (what it means, colour)
+    "normal": ("normal: following the strategy", "#2e9e44"),
+    "recovering": ("recovering: recovery moves after an environment-assumption violation (thesis §4.4)", "#e08a00"),
+    "holding": ("holding: a violation without a recovery move; safe outputs until the inputs are admissible",
+                "#d05000"),
+    "characterizing": ("characterizing: resynthesizing with the observed environment (thesis §4.5)", "#3a7bd5"),
+    "waiting_for_user": ("waiting for the user: unrealizable; add an environment liveness or abort", "#c00000"),
+    "aborted": ("aborted: every output false", "#800000"),
+}
+
+
+def mode_color(update: StateUpdate | None) -> str:
+    """The colour of the mode label ("" when the executor reports no resilience mode)."""
+    return MODES.get(update.mode, ("", ""))[1] if update is not None else ""
+
+
+def resilience_text(update: StateUpdate | None) -> str:
+    """The counters of resilient execution, one line."""
+    if update is None:
+        return ""
+    return (f"violations {update.violations}, recovery steps {update.recovery_steps}, unsafe steps "
+            f"{update.unsafe_steps}, new strategies {update.resyntheses}")
+
+
 def mode_text(update: StateUpdate | None, violation: str) -> str:
-    """The controller's mode: waiting, running, paused, or holding after an assumption violation."""
+    """The controller's mode: waiting, running, paused, the executor's resilience mode, or holding
+    after an assumption violation."""
     if update is None:
         return "no state received yet"
     if update.state_id < 0:
         return "waiting for every input to report (ready handshake)"
+    if update.mode in MODES and update.mode != "normal":
+        return MODES[update.mode][0] + ("" if update.running else " (paused)")
     if violation:
         return "environment assumption violated: " + ("running, " if update.running else "paused, ") + \
             "waiting for admissible inputs"

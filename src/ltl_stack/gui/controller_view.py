@@ -12,15 +12,17 @@ newest, so the view keeps up with any rate by skipping what it has not had time 
 """
 from __future__ import annotations
 
+import gc
 import os
+import threading
 import time
+from collections import OrderedDict
 from typing import Any
 
 import rospy
 from python_qt_binding.QtCore import Qt, QTimer, Signal
 from python_qt_binding.QtWidgets import (
     QCheckBox,
-    QComboBox,
     QFileDialog,
     QFormLayout,
     QGridLayout,
@@ -28,9 +30,10 @@ from python_qt_binding.QtWidgets import (
     QHBoxLayout,
     QLabel,
     QLineEdit,
+    QListWidget,
     QPlainTextEdit,
     QPushButton,
-    QSpinBox,
+    QScrollArea,
     QSplitter,
     QVBoxLayout,
     QWidget,
@@ -46,13 +49,16 @@ from ltl_stack.gui.controller_model import (
     StateUpdate,
     ViewOptions,
     executor_of,
+    mode_color,
     mode_text,
     options_from_params,
+    resilience_text,
 )
 from ltl_stack.gui.widgets import (
+    ComboBox,
     GraphView,
+    SpinBox,
     Task,
-    error_text,
     restore_controls,
     save_controls,
     show_status,
@@ -61,26 +67,60 @@ from ltl_stack.gui.widgets import (
 
 STATE_TYPE = "ltl_stack/ControllerState"
 REFRESH_MS = 30
+LAYOUT_CACHE = 64  # laid-out neighbourhoods kept
 LAMP_ON, LAMP_OFF = "#34c759", "#d0d0d0"
 
 
+def require_master() -> str:
+    """The master this process's rospy talks to, if it answers within ``PROBE_TIMEOUT`` seconds; else a
+    ``UserError`` (rospy itself would retry for ever). Call it off the GUI thread."""
+    from ltl_stack.errors import Exit, UserError
+    from ltl_stack.ros.master import PROBE_TIMEOUT, master_online, master_uri
+
+    uri = master_uri(None)
+    if not master_online(uri):
+        raise UserError(f"no ROS master answers at {uri} (within {PROBE_TIMEOUT:.0f} s); start roscore or the "
+                        "scenario, or set ROS_MASTER_URI", Exit.NO_ROS)
+    return uri
+
+
 def ensure_node() -> None:
-    """rqt has initialized rospy; a standalone host does it here (anonymous, no signal handlers)."""
+    """rqt has initialized rospy; a standalone host does it here (anonymous, no signal handlers), once a
+    master answers. Off the GUI thread: it talks to the master."""
     if not rospy.core.is_initialized():
+        require_master()
         rospy.init_node("ltl_stack_controller_view", anonymous=True, disable_signals=True)
 
 
 def state_topics() -> list[str]:
-    """Topics of type ``ltl_stack/ControllerState`` on the master this process's rospy talks to."""
+    """Topics of type ``ltl_stack/ControllerState`` on the master this process's rospy talks to
+    (off the GUI thread: a master that went away is found by ``require_master``'s timeout)."""
+    require_master()
     ensure_node()
     return sorted(name for name, type_ in rospy.get_published_topics() if type_ == STATE_TYPE)
 
 
+def keep_out_of_gc() -> None:
+    """Python's full garbage collection walks every object: with spheros' automaton (65,536 states,
+    2.1 M edges) that is ~80 ms of GUI thread at unpredictable moments (bench_gui --pictures). The
+    automaton lives as long as the view shows it, so it is moved out of the collector's reach (reference
+    counting still frees it when it is replaced)."""
+    gc.freeze()
+
+
 def update_of(msg: Any) -> StateUpdate:
+    """A ``ControllerState`` message as the view needs it (fields an older executor lacks get defaults)."""
     return StateUpdate(int(msg.state_id), int(msg.goal_index),
                        dict(zip(msg.inputs.keys, msg.inputs.values, strict=False)),
                        dict(zip(msg.outputs.keys, msg.outputs.values, strict=False)),
-                       bool(msg.running), msg.header.stamp.to_sec())
+                       bool(msg.running), msg.header.stamp.to_sec(),
+                       mode=str(getattr(msg, "mode", "")), violations=int(getattr(msg, "violations", 0)),
+                       recovery_steps=int(getattr(msg, "recovery_steps", 0)),
+                       unsafe_steps=int(getattr(msg, "unsafe_steps", 0)),
+                       resyntheses=int(getattr(msg, "resyntheses", 0)),
+                       violated_clauses=tuple(getattr(msg, "violated_clauses", ())),
+                       spec_file=str(getattr(msg, "spec_file", "")),
+                       generation=int(getattr(msg, "strategy_generation", 0)))
 
 
 class RosLink:
@@ -91,6 +131,7 @@ class RosLink:
 
         from ltl_stack.msg import ControllerState
 
+        require_master()
         ensure_node()
         self.state_topic = state_topic
         self.executor = executor_of(state_topic)
@@ -132,7 +173,7 @@ class ControllerView(QWidget):
 
     diagnostic = Signal(int, str)
 
-    def __init__(self, parent: QWidget | None = None, link_factory=RosLink):
+    def __init__(self, parent: QWidget | None = None, link_factory=RosLink, list_topics=state_topics):
         super().__init__(parent)
         self.setObjectName("ControllerView")
         self.setWindowTitle("Controller view")
@@ -145,9 +186,15 @@ class ControllerView(QWidget):
         self.record_lag = False
         self.violation = ""
         self.task: Task | None = None
+        self.refresh_task: Task | None = None
+        self.reload_task: Task | None = None
         self.layout_task: Task | None = None
+        self.layout_count = 0  # Graphviz runs (a neighbourhood seen before is drawn from the cache)
+        self._layouts: OrderedDict[tuple, tuple] = OrderedDict()
+        self._failed_layout: tuple | None = None
         self._drawn: set[int] = set()
         self._link_factory = link_factory
+        self._list_topics = list_topics
         self._lamps: dict[tuple[str, str], QLabel] = {}
         self._build()
         self.diagnostic.connect(self._on_diagnostic)
@@ -164,7 +211,7 @@ class ControllerView(QWidget):
         browse = QPushButton("Browse…")
         browse.setObjectName("spec_browse_push_button")
         browse.clicked.connect(self._browse)
-        self.topic_combo_box = QComboBox()
+        self.topic_combo_box = ComboBox()
         self.topic_combo_box.setObjectName("state_topic_combo_box")
         self.topic_combo_box.setEditable(True)
         self.topic_combo_box.setMinimumWidth(320)
@@ -178,12 +225,12 @@ class ControllerView(QWidget):
         self.cooperative_check_box = QCheckBox("Cooperative")
         self.cooperative_check_box.setObjectName("cooperative_check_box")
         self.cooperative_check_box.setChecked(True)
-        self.full_spin_box = QSpinBox()
+        self.full_spin_box = SpinBox()
         self.full_spin_box.setObjectName("full_limit_spin_box")
         self.full_spin_box.setRange(1, 100_000)
         self.full_spin_box.setValue(DEFAULT_FULL_LIMIT)
         self.full_spin_box.setToolTip("draw the whole automaton up to this many states, else a neighbourhood")
-        self.radius_spin_box = QSpinBox()
+        self.radius_spin_box = SpinBox()
         self.radius_spin_box.setObjectName("radius_spin_box")
         self.radius_spin_box.setRange(1, 20)
         self.radius_spin_box.setValue(DEFAULT_RADIUS)
@@ -231,20 +278,41 @@ class ControllerView(QWidget):
         self.violation_text.setReadOnly(True)
         self.violation_text.setPlaceholderText("no environment-assumption violation reported")
         self.violation_text.setMaximumHeight(90)
+        self.resilience_label = QLabel("")
+        self.resilience_label.setObjectName("resilience_label")
+        self.resilience_label.setWordWrap(True)
+        self.resilience_label.setToolTip("the executor's counters (thesis ch. 4): violating transitions, recovery "
+                                         "steps, steps without a safe move, strategies put in place since start-up")
+        self.strategy_label = QLabel("")
+        self.strategy_label.setObjectName("strategy_label")
+        self.strategy_label.setWordWrap(True)
+        self.violated_list_widget = QListWidget()
+        self.violated_list_widget.setObjectName("violated_clauses_list_widget")
+        self.violated_list_widget.setToolTip("environment-safety clauses the current inputs violate (file:line: "
+                                             "Structured English), as the executor reports them on ~state")
+        self.violated_list_widget.setMaximumHeight(90)
         side_layout.addWidget(self.state_label)
         side_layout.addWidget(self.mode_label)
+        side_layout.addWidget(self.resilience_label)
+        side_layout.addWidget(self.strategy_label)
         side_layout.addWidget(self.run_pause_push_button)
         lamps = QHBoxLayout()
         lamps.addWidget(self.inputs_box)
         lamps.addWidget(self.outputs_box)
         side_layout.addLayout(lamps)
-        side_layout.addWidget(QLabel("Last violation"))
+        side_layout.addWidget(QLabel("Violated clauses now"))
+        side_layout.addWidget(self.violated_list_widget)
+        side_layout.addWidget(QLabel("Last violation (diagnostics)"))
         side_layout.addWidget(self.violation_text)
         side_layout.addStretch(1)
         middle = QSplitter(Qt.Horizontal)
         middle.setObjectName("view_splitter")
         middle.addWidget(self.graph_view)
-        middle.addWidget(side)
+        scroll = QScrollArea()  # the lamps of a large spec scroll; they never make the window taller
+        scroll.setWidgetResizable(True)
+        scroll.setFrameShape(QScrollArea.NoFrame)
+        scroll.setWidget(side)
+        middle.addWidget(scroll)
         middle.setStretchFactor(0, 4)
         middle.setStretchFactor(1, 1)
         middle.setSizes([1000, 380])
@@ -276,12 +344,21 @@ class ControllerView(QWidget):
         self._set_lamps()
 
     # --- attaching ------------------------------------------------------------------------------------
-    def refresh_topics(self) -> None:
-        try:
-            topics = state_topics()
-        except Exception as err:  # noqa: BLE001 - no master: say so
-            self._status(f"Cannot list the state topics: {error_text(err)}", error=True)
-            return
+    def refresh_topics(self) -> bool:
+        """List the executors' state topics off the GUI thread; False while a listing is under way."""
+        if self.refresh_task is not None and self.refresh_task.running:
+            return False
+        self.refresh_task = Task(lambda _p: self._list_topics(), self)
+        self.refresh_task.finished.connect(lambda topics: (self.refresh_push_button.setEnabled(True),
+                                                          self._on_topics(topics)))
+        self.refresh_task.failed.connect(lambda text: (self.refresh_push_button.setEnabled(True), self._status(
+            f"Cannot list the state topics: {text}", error=True)))
+        self.refresh_push_button.setEnabled(False)
+        self._status("Asking the master for executor state topics…")
+        self.refresh_task.start()
+        return True
+
+    def _on_topics(self, topics: list[str]) -> None:
         current = self.topic_combo_box.currentText()
         self.topic_combo_box.clear()
         self.topic_combo_box.addItems(topics)
@@ -304,35 +381,41 @@ class ControllerView(QWidget):
             self._status("Name the spec and the executor's state topic.", error=True)
             return False
         self.detach()
-        try:
-            self.link = self._link_factory(topic, self.latest.put, self.diagnostic.emit)
-        except Exception as err:  # noqa: BLE001 - no master, bad topic name
-            self._status(f"Cannot attach to {topic}: {error_text(err)}", error=True)
-            return False
         wanted = self.options()
-        link = self.link
+        factory, latest, diagnostic = self._link_factory, self.latest, self.diagnostic
 
-        def work(progress):
-            options = options_from_params(link.params(), wanted)
-            return ControllerModel.synthesize(spec, options, progress)
+        def work(progress):  # every master call here, off the GUI thread
+            progress(f"connecting to {topic}")
+            link = factory(topic, latest.put, diagnostic.emit)
+            try:
+                options = options_from_params(link.params(), wanted)
+                return link, ControllerModel.synthesize(spec, options, progress)
+            except BaseException:
+                link.close()
+                raise
         self.task = Task(work, self)
         self.task.progress.connect(self._status)
-        self.task.finished.connect(self._on_model)
-        self.task.failed.connect(lambda text: (self._busy(False), self._status(text, error=True)))
+        self.task.finished.connect(self._on_attached)
+        self.task.failed.connect(lambda text: (self._busy(False), self._status(f"Cannot attach: {text}", error=True)))
         self._busy(True)
-        self._status(f"Attached to {topic}; synthesizing {spec}…")
+        self._status(f"Attaching to {topic}; synthesizing {spec}…")
         self.task.start()
         return True
 
     def detach(self) -> None:
-        if self.link is not None:
-            self.link.close()
+        if self.link is not None:  # unregistering talks to the master: not on the GUI thread
+            threading.Thread(target=self.link.close, name="ltl_stack_gui_detach", daemon=True).start()
             self.link = None
         self.model, self.shown, self._drawn = None, None, set()
+
+    def _on_attached(self, done: tuple) -> None:
+        self.link, model = done
+        self._on_model(model)
 
     def _on_model(self, model: ControllerModel) -> None:
         self._busy(False)
         self.model = model
+        keep_out_of_gc()
         self.robotics_check_box.setChecked(model.options.robotics_semantics)
         self.cooperative_check_box.setChecked(model.options.cooperative)
         self._fill_lamps()
@@ -367,13 +450,65 @@ class ControllerView(QWidget):
             self.state_label.setText(f"state: {text}")
         else:
             self.state_label.setText(f"state {current} (goal {update.goal})")
-        self.mode_label.setText("mode: " + mode_text(update, self.violation))
+        self._show_mode(update)
+        self.resilience_label.setText(resilience_text(update))
+        clauses = list(update.violated_clauses)
+        if clauses != [self.violated_list_widget.item(i).text() for i in range(self.violated_list_widget.count())]:
+            self.violated_list_widget.clear()
+            self.violated_list_widget.addItems(clauses)
         self.run_pause_push_button.setText("Pause" if update.running else "Run")
         self._set_lamps()
+        if update.generation != model.generation:
+            self._reload(update)
         if model.needs_new_layout(self._drawn, current):
             self._relayout(current)
         else:
             self._mark()
+
+    def _show_mode(self, update: StateUpdate | None) -> None:
+        self.mode_label.setText("mode: " + mode_text(update, self.violation))
+        color = mode_color(update)
+        self.mode_label.setStyleSheet(f"color: white; background: {color}; padding: 2px;" if color else "")
+
+    def _reload(self, update: StateUpdate) -> None:
+        """The executor put a new strategy in place (resynthesis or adoption): load its spec, as the
+        executor reports it, off the GUI thread; meanwhile states are placed in the old automaton."""
+        model = self.model
+        if self.reload_task is not None and self.reload_task.running:
+            return
+        model.generation = update.generation  # asked once per generation, whatever the outcome
+        if not update.spec_file:
+            self.strategy_label.setText(f"strategy {update.generation}: not written to a file (start the executor "
+                                        "with --characterized-spec): the picture is of an older strategy")
+            self.strategy_label.setStyleSheet("color: #a00000;")
+            return
+        spec, options, generation = update.spec_file, model.options, update.generation
+
+        def work(progress):
+            new = ControllerModel.synthesize(spec, options, progress)
+            new.generation = generation
+            return new
+        self.reload_task = Task(work, self)
+        self.reload_task.finished.connect(self._on_reloaded)
+        self.reload_task.failed.connect(lambda text: (self.strategy_label.setText(
+            f"strategy {generation}: cannot load {spec}: {text}"), self.strategy_label.setStyleSheet("color: #a00000;")))
+        self.strategy_label.setText(f"strategy {generation}: loading {spec}…")
+        self.strategy_label.setStyleSheet("")
+        self.reload_task.start()
+
+    def _on_reloaded(self, model: ControllerModel) -> None:
+        if self.model is None:
+            return  # detached meanwhile
+        self.model = model
+        keep_out_of_gc()
+        self._drawn = set()
+        self._fill_lamps()
+        self.strategy_label.setText(f"strategy {model.generation}: {model.spec_path} ({len(model.automaton)} states)")
+        self.strategy_label.setStyleSheet("")
+        if self.shown is not None:
+            self.show_update(self.shown)
+        else:
+            self._relayout(None)
 
     def current_node_id(self) -> str | None:
         """The graph's node id of the highlighted state (None when it is not drawn)."""
@@ -398,20 +533,36 @@ class ControllerView(QWidget):
             self.graph_view.center_on_node(graph.key[current])
 
     def _relayout(self, center: int | None) -> None:
-        """Lay the graph out off the GUI thread; one layout at a time, the newest centre wins."""
-        if self.layout_task is not None and self.layout_task.running:
-            return
+        """Draw the neighbourhood of ``center`` (the whole graph when small): from the cache of laid-out
+        neighbourhoods, else built and laid out off the GUI thread; one layout at a time, the newest
+        centre wins. A failed layout is tried again only for another centre."""
         model = self.model
+        key = (id(model), None if model.whole else center)
+        cached = self._layouts.get(key)
+        if cached is not None:
+            self._layouts.move_to_end(key)
+            self._on_layout((key, *cached))
+            return
+        if (self.layout_task is not None and self.layout_task.running) or key == self._failed_layout:
+            return
         view = self.graph_view
-        graph = model.graph(center)
-        self.layout_task = Task(lambda _p: (graph, view.layout_for(graph)), self)
+
+        def work(_progress):
+            graph = model.graph(center)
+            return key, graph, view.layout_for(graph)
+        self.layout_count += 1
+        self.layout_task = Task(work, self)
         self.layout_task.finished.connect(self._on_layout)
-        self.layout_task.failed.connect(lambda text: view.show_message(text))
+        self.layout_task.failed.connect(lambda text: (setattr(self, "_failed_layout", key), view.show_message(
+            f"{text}\n(tried again when the state moves on)")))
         self.layout_task.start()
 
     def _on_layout(self, done: tuple) -> None:
-        graph, laid_out = done
-        if self.model is None:
+        key, graph, laid_out = done
+        self._layouts[key] = (graph, laid_out)
+        while len(self._layouts) > LAYOUT_CACHE:
+            self._layouts.popitem(last=False)
+        if self.model is None or key[0] != id(self.model):
             return
         self.graph_view.draw(graph, laid_out)
         self._drawn = set(k for k in graph.key if isinstance(k, int))
@@ -441,7 +592,7 @@ class ControllerView(QWidget):
         elif self.violation:
             self.violation = ""
             self.violation_text.setPlainText(self.violation_text.toPlainText() + f"\n(cleared: {message})")
-        self.mode_label.setText("mode: " + mode_text(self.shown, self.violation))
+        self._show_mode(self.shown)
 
     # --- run / pause ------------------------------------------------------------------------------------
     def toggle_running(self) -> None:
@@ -467,7 +618,11 @@ class ControllerView(QWidget):
         save_controls(self, settings)
 
     def restore_settings(self, settings: Any) -> None:
+        """The saved fields, then Attach again when they name a spec and a topic (a restored perspective
+        shows the executor it showed; attaching is off the GUI thread and says so when there is no master)."""
         restore_controls(self, settings)
+        if self.spec_line_edit.text().strip() and self.topic_combo_box.currentText().strip():
+            self.attach()
 
     def shutdown(self) -> None:
         self.timer.stop()

@@ -93,6 +93,11 @@ def _run(dot_text: str, fmt: str, program: str, timeout: float) -> str:
     return done.stdout
 
 
+def render(dot_text: str, fmt: str, program: str = "dot", timeout: float = LAYOUT_TIMEOUT) -> str:
+    """Graphviz's output in a text format (``svg``, ``dot``, ``plain``) for ``dot_text``."""
+    return _run(dot_text, fmt, program, timeout)
+
+
 def layout_dot(dot_text: str, program: str = "dot", timeout: float = LAYOUT_TIMEOUT) -> str:
     """DOT with positions (``pos``, ``bb``, ``lp``): what ``qt_dotgraph.DotToQtGenerator`` draws."""
     # pydot splits long lines with a backslash-newline that qt_dotgraph cannot read; Graphviz too
@@ -132,7 +137,8 @@ class PlainLayout:
 
 
 def layout_plain(dot_text: str, program: str = "dot", timeout: float = LAYOUT_TIMEOUT) -> PlainLayout:
-    return parse_plain(_run(dot_text, "plain", program, timeout))
+    # Graphviz continues a long line (many points, a long label) with a backslash-newline, as in -Tdot
+    return parse_plain(_run(dot_text, "plain", program, timeout).replace("\\\n", ""))
 
 
 def parse_plain(text: str) -> PlainLayout:

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass, field, replace
+from typing import Any
 
 from ltl_stack.analysis.snapshot import Snapshot
 from ltl_stack.cli import check_outputs, write_output
@@ -101,6 +102,7 @@ class MappingDocument:
     namespace: str | None = None
     rows: dict[tuple[str, str], list[Row]] = field(default_factory=dict)
     extra: dict[tuple[str, str], list[NodeEntry]] = field(default_factory=dict)  # not in the spec: kept
+    negotiation: Any = None  # the mapping's negotiation: section, not edited here: written back as loaded
 
     @classmethod
     def load(cls, spec_path: str, mapping_path: str | None = None) -> MappingDocument:
@@ -122,6 +124,7 @@ class MappingDocument:
     def merge(self, mapping: Mapping) -> None:
         """Take the mapping's entries: rows for the spec's propositions, ``extra`` for the others."""
         self.namespace = mapping.namespace
+        self.negotiation = mapping.negotiation
         for kind, section in ((INPUT, mapping.inputs), (OUTPUT, mapping.outputs)):
             for prop, entries in section.items():
                 if (kind, prop) not in self.rows:
@@ -147,7 +150,8 @@ class MappingDocument:
     def add_row(self, prop: str) -> int:
         """A new node row for output ``prop`` (the ``+`` of Fig. 3.5); returns its index."""
         rows = self.rows[(OUTPUT, prop)]
-        rows.append(Row(topic=default_topic(self.scenario_namespace(), OUTPUT, prop)))
+        topic = default_topic(self.scenario_namespace(), OUTPUT, prop)
+        rows.append(Row(topic=self.relative_name(OUTPUT, "topic", topic)))  # relative in a relative mapping
         return len(rows) - 1
 
     def delete_row(self, kind: str, prop: str, index: int) -> None:
@@ -163,7 +167,8 @@ class MappingDocument:
 
     def to_mapping(self, file: str | None = None) -> Mapping:
         """The mapping as edited, in spec order, entries not in the spec after them (as loaded)."""
-        mapping = Mapping(file=file or self.mapping_path or "<mapping panel>", namespace=self.namespace)
+        mapping = Mapping(file=file or self.mapping_path or "<mapping panel>", namespace=self.namespace,
+                          negotiation=self.negotiation)
         for kind in (INPUT, OUTPUT):
             target = mapping.inputs if kind == INPUT else mapping.outputs
             for prop in self.propositions(kind):
@@ -199,6 +204,29 @@ class MappingDocument:
         (thesis §4.3) and its output name the same node (``pickup_ac`` and ``pickup``: ``/<ns>/pickup``)."""
         return resolve_node_name(node, self.scenario_namespace())
 
+    @property
+    def relative(self) -> bool:
+        """True when the mapping names things relative to its scenario namespace (a ``namespace:`` key or
+        a relative name in a row): names picked from the master's absolute lists are then written relative."""
+        if self.namespace:
+            return True
+        names = [n for rows in self.rows.values() for r in rows for n in (r.node, r.topic) if n]
+        return any(not n.startswith("/") for n in names)
+
+    def relative_name(self, kind: str, which: str, name: str) -> str:
+        """``name`` (a node, or a topic when ``which == "topic"``) as this mapping writes it: relative to
+        the scenario namespace when the mapping is relative and the name lies in it (so it resolves back
+        to ``name`` exactly), else unchanged."""
+        if not self.relative or not name.startswith("/"):
+            return name
+        ns = self.scenario_namespace()
+        group = "/" + ns.strip("/") if which == "node" else default_topic(ns, kind, "").rstrip("/")
+        if not name.startswith(group + "/"):
+            return name
+        short = name[len(group) + 1:]
+        back = resolve_node_name(short, ns) if which == "node" else resolve_name(short, ns, kind)
+        return short if back == name else name
+
     def resolved_topic(self, kind: str, prop: str, row: Row) -> str:
         ns = self.scenario_namespace()
         return resolve_name(row.topic, ns, kind) if row.topic else default_topic(ns, kind, prop)
@@ -233,6 +261,9 @@ class MappingDocument:
             if others:
                 found.append(Finding(ERROR, kind, prop, f"input {prop!r}: topic {topic} has other publishers "
                                      f"({', '.join(others)}); an input topic takes exactly one (thesis §3.5.1)", i))
+        elif node in graph.snapshot.nodes and topic not in graph.subscribed_by(node):
+            found.append(Finding(WARNING, kind, prop, f"output {prop!r}: node {node} does not subscribe to {topic} "
+                                 "on the master: it will not hear the executor", i))
         type_ = graph.type_of(topic)
         if type_ and type_ != PROPOSITION_TYPE:
             found.append(Finding(ERROR, kind, prop, f"{kind} {prop!r}: topic {topic} has type {type_}, "

@@ -10,6 +10,7 @@ All logic is in ``mapping_model``; this is the view.
 """
 from __future__ import annotations
 
+import copy
 import os
 from typing import Any
 
@@ -35,7 +36,16 @@ from python_qt_binding.QtWidgets import (
 )
 
 from ltl_stack.gui.mapping_model import ERROR, INPUT, OUTPUT, LiveGraph, MappingDocument, launch_file
-from ltl_stack.gui.widgets import Task, error_text, line_edit, restore_controls, save_controls, show_status
+from ltl_stack.gui.widgets import (
+    ComboBox,
+    Task,
+    ask,
+    error_text,
+    line_edit,
+    restore_controls,
+    save_controls,
+    show_status,
+)
 
 SEVERITY_COLOR = {ERROR: QColor("#ffc8c8"), "warning": QColor("#fff0b0")}
 
@@ -61,6 +71,11 @@ class MappingPanel(QWidget):
         self._take_graph = take_graph
         self._combos: dict[tuple[str, str, int, str], QComboBox] = {}
         self._filling = False
+        self.dirty = False  # edits not saved
+        self.ask_on_close = False  # the standalone host asks before a window with edits closes
+        self._undo: list[dict] = []  # the rows before each edit
+        self._last_edit: tuple | None = None
+        self.confirm = lambda title, text: ask(self, title, text)  # Yes/No; tests replace it
         self._build()
 
     # --- layout -------------------------------------------------------------------------------
@@ -86,7 +101,12 @@ class MappingPanel(QWidget):
         self.refresh_push_button = self._button("refresh_graph_push_button", "Refresh nodes and topics")
         self.save_push_button = self._button("save_push_button", "Save")
         self.generate_push_button = self._button("generate_launch_push_button", "Generate launch file")
-        for b in (self.load_push_button, self.refresh_push_button, self.save_push_button, self.generate_push_button):
+        self.undo_push_button = self._button("undo_push_button", "Undo")
+        self.undo_push_button.setToolTip("undo the last edit (a node or topic typed or picked, a + or a Delete)")
+        self.undo_push_button.setEnabled(False)
+        self.undo_push_button.clicked.connect(self.undo)
+        for b in (self.load_push_button, self.refresh_push_button, self.save_push_button, self.generate_push_button,
+                  self.undo_push_button):
             buttons.addWidget(b)
         buttons.addStretch(1)
         self.load_push_button.clicked.connect(self.load)
@@ -100,7 +120,7 @@ class MappingPanel(QWidget):
         inputs_box, outputs_box = QGroupBox("Inputs"), QGroupBox("Outputs")
         QVBoxLayout(inputs_box).addWidget(self.inputs_table_widget)
         QVBoxLayout(outputs_box).addWidget(self.outputs_table_widget)
-        tables = QSplitter(Qt.Vertical)
+        tables = QSplitter(Qt.Horizontal)  # side by side: each table keeps the panel's height (>= 10 rows)
         tables.setObjectName("tables_splitter")
         self.tables_splitter = tables
         tables.addWidget(inputs_box)
@@ -115,9 +135,9 @@ class MappingPanel(QWidget):
         self.main_splitter = main
         main.addWidget(tables)
         main.addWidget(findings_box)
-        main.setStretchFactor(0, 4)
+        main.setStretchFactor(0, 5)
         main.setStretchFactor(1, 1)
-        main.setSizes([700, 120])
+        main.setSizes([700, 90])
 
         self.status_label = QLabel("Load a spec to start.")
         self.status_label.setObjectName("status_label")
@@ -138,7 +158,7 @@ class MappingPanel(QWidget):
         table.setObjectName(name)
         table.setHorizontalHeaderLabels(header)
         table.verticalHeader().setVisible(False)
-        table.verticalHeader().setDefaultSectionSize(28)
+        table.verticalHeader().setDefaultSectionSize(26)
         table.horizontalHeader().setStretchLastSection(False)
         return table
 
@@ -159,12 +179,18 @@ class MappingPanel(QWidget):
         if not spec:
             self._status("Name a spec file first.", error=True)
             return False
+        if self.dirty and not self.confirm("Discard edits?", "The mapping has edits that are not saved. "
+                                           "Load anyway and discard them?"):
+            self._status("Load cancelled: the edits are kept.")
+            return False
         try:
             doc = MappingDocument.load(spec, mapping or None)
         except Exception as err:  # noqa: BLE001 - shown to the user
             self._status(error_text(err), error=True)
             return False
         self.doc = doc
+        self.dirty, self._undo = False, []
+        self.undo_push_button.setEnabled(False)
         self.rebuild()
         self._status(f"Loaded {len(doc.inputs)} inputs and {len(doc.outputs)} outputs from {spec}"
                      + (f" and the mapping {mapping}." if mapping else "; no mapping (new)."))
@@ -193,6 +219,11 @@ class MappingPanel(QWidget):
         if self.doc is None:
             self._status("Nothing to save: load a spec first.", error=True)
             return False
+        errors = self.errors()
+        if errors and not self.confirm("Save with errors?", f"{len(errors)} error(s) are listed, the first: "
+                                       f"{errors[0].message}\nSave anyway?"):
+            self._status(f"Not saved: {len(errors)} error(s) listed.", error=True)
+            return False
         path = path or self.mapping_line_edit.text().strip()
         if not path:
             path, _ = QFileDialog.getSaveFileName(self, "Save mapping", os.getcwd(), "YAML (*.yaml *.yml)")
@@ -203,6 +234,7 @@ class MappingPanel(QWidget):
         except Exception as err:  # noqa: BLE001 - the spec named as output, a folder that cannot be written
             self._status(error_text(err), error=True)
             return False
+        self.dirty = False
         self.mapping_line_edit.setText(path)
         self._status(f"Saved {path}.")
         return True
@@ -214,6 +246,11 @@ class MappingPanel(QWidget):
         out = out or self.launch_line_edit.text().strip()
         if not out:
             self._status("Name the launch file to write.", error=True)
+            return False
+        errors = self.errors()
+        if errors:  # a launch file from a wrong mapping starts wrong nodes (a second camera, ...)
+            self._status(f"No launch file: fix the {len(errors)} error(s) listed first ({errors[0].message}).",
+                         error=True)
             return False
         if not self.save():
             return False
@@ -229,6 +266,8 @@ class MappingPanel(QWidget):
     # --- the tables -------------------------------------------------------------------------------
     def rebuild(self) -> None:
         """Lay the rows out again (after a load, a refresh, a + or a Delete)."""
+        tables = (self.inputs_table_widget, self.outputs_table_widget)
+        scroll = [(t.verticalScrollBar().value(), t.horizontalScrollBar().value()) for t in tables]
         self._filling = True
         self._combos = {}
         try:
@@ -236,6 +275,9 @@ class MappingPanel(QWidget):
             self._fill(self.outputs_table_widget, OUTPUT)
         finally:
             self._filling = False
+        for table, (v, h) in zip(tables, scroll, strict=True):  # + and Delete keep the user's place
+            table.verticalScrollBar().setValue(v)
+            table.horizontalScrollBar().setValue(h)
         self.validate()
 
     def _fill(self, table: QTableWidget, kind: str) -> None:
@@ -262,7 +304,7 @@ class MappingPanel(QWidget):
             header.setSectionResizeMode(column, QHeaderView.Stretch if column == 2
                                         else QHeaderView.ResizeToContents)
         header.setSectionResizeMode(1, QHeaderView.Interactive)
-        table.setColumnWidth(1, 320)
+        table.setColumnWidth(1, 170)  # two tables side by side at 1280 px: the topic column keeps room
 
     def _row_widgets(self, table: QTableWidget, r: int, kind: str, prop: str, i: int) -> None:
         row = self.doc.rows[(kind, prop)][i]
@@ -272,6 +314,8 @@ class MappingPanel(QWidget):
         topic = self._combo(f"{kind}_{prop}_{i}_topic_combo_box", topics, row.topic)
         node.currentTextChanged.connect(lambda text, k=kind, p=prop, n=i: self._on_node(k, p, n, text))
         topic.currentTextChanged.connect(lambda text, k=kind, p=prop, n=i: self._on_topic(k, p, n, text))
+        node.activated.connect(lambda _i, k=kind, p=prop, n=i: self._on_pick(k, p, n, "node"))
+        topic.activated.connect(lambda _i, k=kind, p=prop, n=i: self._on_pick(k, p, n, "topic"))
         self._combos[(kind, prop, i, "node")] = node
         self._combos[(kind, prop, i, "topic")] = topic
         table.setCellWidget(r, 1, node)
@@ -281,7 +325,7 @@ class MappingPanel(QWidget):
         table.setCellWidget(r, 3, delete)
 
     def _combo(self, name: str, items: list[str], text: str) -> QComboBox:
-        combo = QComboBox()
+        combo = ComboBox()
         combo.setObjectName(name)
         combo.setEditable(True)
         combo.setInsertPolicy(QComboBox.NoInsert)
@@ -293,9 +337,40 @@ class MappingPanel(QWidget):
         """The node or topic drop-down of a row (``which`` is ``node`` or ``topic``)."""
         return self._combos[(kind, prop, index, which)]
 
+    def _on_pick(self, kind: str, prop: str, i: int, which: str) -> None:
+        """A name picked from the master's list: written relative when the mapping is relative."""
+        combo = self._combos[(kind, prop, i, which)]
+        short = self.doc.relative_name(kind, which, combo.currentText().strip()) if self.doc else ""
+        if short and short != combo.currentText().strip():
+            combo.setEditText(short)
+
+    def _remember(self, key: tuple | None = None) -> None:
+        """Keep the rows as they are before an edit, for Undo (typing into one field is one edit)."""
+        if key is None or key != self._last_edit:
+            self._undo.append(copy.deepcopy(self.doc.rows))
+            del self._undo[:-100]
+        self._last_edit = key
+        self.dirty = True
+        self.undo_push_button.setEnabled(True)
+
+    def undo(self) -> None:
+        """Put the rows back as they were before the last edit."""
+        if self.doc is None or not self._undo:
+            return
+        self.doc.rows = self._undo.pop()
+        self._last_edit = None
+        self.undo_push_button.setEnabled(bool(self._undo))
+        self.rebuild()
+        self._status("Undone.")
+
+    def errors(self) -> list:
+        """The errors listed now (validation runs first, so the list is current)."""
+        return [f for f in self.validate() if f.severity == ERROR]
+
     def _on_node(self, kind: str, prop: str, i: int, text: str) -> None:
         if self._filling or self.doc is None:
             return
+        self._remember((kind, prop, i, "node"))
         self.doc.set_node(kind, prop, i, text)
         topic = self._combos[(kind, prop, i, "topic")]
         if self.graph is not None:
@@ -312,6 +387,7 @@ class MappingPanel(QWidget):
     def _on_topic(self, kind: str, prop: str, i: int, text: str) -> None:
         if self._filling or self.doc is None:
             return
+        self._remember((kind, prop, i, "topic"))
         self.doc.set_topic(kind, prop, i, text)
         self._schedule_validation()
 
@@ -320,11 +396,13 @@ class MappingPanel(QWidget):
 
     def add_row(self, prop: str) -> None:
         if self.doc is not None:
+            self._remember()
             self.doc.add_row(prop)
             self.rebuild()
 
     def delete_row(self, kind: str, prop: str, index: int) -> None:
         if self.doc is not None:
+            self._remember()
             self.doc.delete_row(kind, prop, index)
             self.rebuild()
 
@@ -357,6 +435,15 @@ class MappingPanel(QWidget):
 
     def _status(self, text: str, error: bool = False) -> None:
         show_status(self.status_label, text, error)
+
+    def closeEvent(self, event) -> None:  # noqa: N802 - Qt's name
+        """Closing a standalone window with unsaved edits asks first (``ask_on_close``, set by the host;
+        rqt closes its plugins without asking)."""
+        if self.ask_on_close and self.dirty and not self.confirm("Discard edits?", "The mapping has edits that are not saved. "
+                                           "Close anyway and discard them?"):
+            event.ignore()
+            return
+        event.accept()
 
     # --- settings (rqt's save_settings / restore_settings) -----------------------------------------
     def save_settings(self, settings: Any) -> None:

@@ -6,12 +6,16 @@
 Starts a private master, ``roslaunch``es ``clean_and_patrol.launch`` (simulated robot, proposition
 nodes, executor), opens each panel offscreen at a fixed size, drives it as a user would (load and
 refresh; analyze the live graph; attach to the executor and wait for it to move) and saves
-``mapping_panel.png``, ``analysis_panel.png`` and ``controller_view.png``. Exit codes: 0 written,
-3 the scenario did not come up, 4 a PNG could not be written.
+``mapping_panel.png``, ``analysis_panel.png`` and ``controller_view.png`` at 1280×800 (a laptop
+screen, no row made visible that the user would not see), with ``screenshots.json``: what the
+pictures show (tab labels, problems, validation lines, states) and the live graph the analysis saw
+(``analysis_panel_graph.yaml``), so a test can check that today's code still shows the same. Exit
+codes: 0 written, 3 the scenario did not come up, 4 a PNG could not be written.
 """
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import sys
 import time
@@ -31,7 +35,9 @@ from ltl_stack.sim.session import RosSession
 
 ROOT = Path(__file__).resolve().parents[3]
 CONFIG = Path("config") / "clean_and_patrol"  # relative to ROOT: short paths in the pictures
-SIZE = (1440, 900)
+SIZE = (1280, 800)
+SOURCE = "screenshots.json"  # what the pictures show, checked against a fresh run by test_gui_screenshots
+GRAPH = "analysis_panel_graph.yaml"  # the live graph the analysis panel's picture was made from
 STATE = "/clean_and_patrol/controller_executor/state"
 
 
@@ -80,8 +86,10 @@ def main(argv: list[str] | None = None) -> int:
             print(f"screenshots: error: {err}\n{(ros.workdir / 'roslaunch.log').read_text()[-3000:]}", file=sys.stderr)
             return Exit.NO_ROS
         try:
+            shown: dict = {"size": list(SIZE), "spec": str(CONFIG / "clean_and_patrol.structuredslugs"),
+                           "mapping": str(CONFIG / "clean_and_patrol.yaml")}
             mapping = MappingPanel()
-            mapping.resize(SIZE[0], 1120)
+            mapping.resize(*SIZE)
             mapping.spec_line_edit.setText(str(CONFIG / "clean_and_patrol.structuredslugs"))
             mapping.mapping_line_edit.setText(str(CONFIG / "clean_and_patrol.yaml"))
             mapping.launch_line_edit.setText("launch/clean_and_patrol_propositions.launch")
@@ -91,13 +99,13 @@ def main(argv: list[str] | None = None) -> int:
             wait(app, lambda: mapping.graph is not None, 60, "the mapping panel's refresh")
             mapping.add_row("stop")  # a second node for stop, not launched yet: a warning on its row
             mapping.combo("output", "stop", 1, "node").setEditText("/brake_controller")
-            mapping.main_splitter.setSizes([800, 90])  # every row visible: 9 inputs, 12 output rows
-            mapping.tables_splitter.setSizes([330, 440])
             settle(app, 0.5)
             save(mapping, out / "mapping_panel.png")
+            shown["mapping_panel"] = {"validation": [mapping.findings_list_widget.item(i).text()
+                                                     for i in range(mapping.findings_list_widget.count())]}
 
             analysis = AnalysisPanel()
-            analysis.resize(SIZE[0], 1000)
+            analysis.resize(*SIZE)
             analysis.spec_line_edit.setText(str(CONFIG / "clean_and_patrol.structuredslugs"))
             analysis.mapping_line_edit.setText(str(CONFIG / "clean_and_patrol.yaml"))
             analysis.live_check_box.setChecked(True)
@@ -112,6 +120,11 @@ def main(argv: list[str] | None = None) -> int:
             wait(app, lambda: analysis.applied is not None, 120, "apply and check")
             settle(app, 0.5)
             save(analysis, out / "analysis_panel.png")
+            analysis.result.snapshot.save(out / GRAPH)
+            tabs = analysis.findings_tab_widget
+            shown["analysis_panel"] = {"tabs": [tabs.tabText(i) for i in range(tabs.count())],
+                                       "problems": analysis.problem_texts(),
+                                       "verdict": analysis.verdict_label.text()}
 
             view = ControllerView()
             view.resize(*SIZE)
@@ -126,7 +139,9 @@ def main(argv: list[str] | None = None) -> int:
                  "the layout around the current state")
             settle(app, 0.5)
             save(view, out / "controller_view.png")
+            shown["controller_view"] = {"states": len(view.model.automaton), "whole": view.model.whole}
             view.shutdown()
+            (out / SOURCE).write_text(json.dumps(shown, indent=1) + "\n")
         except OSError as err:
             print(f"screenshots: error: {err}", file=sys.stderr)
             return Exit.WRITE_FAILED

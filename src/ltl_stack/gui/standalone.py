@@ -51,7 +51,9 @@ def make_panel(name: str):
     needs rospy and the generated messages, the other two do not."""
     if name == "mapping_panel":
         from ltl_stack.gui.mapping_panel import MappingPanel
-        return MappingPanel()
+        panel = MappingPanel()
+        panel.ask_on_close = True  # its own window: closing it with unsaved edits asks
+        return panel
     if name == "analysis_panel":
         from ltl_stack.gui.analysis_panel import AnalysisPanel
         return AnalysisPanel()
@@ -87,6 +89,11 @@ def apply_args(name: str, panel, args: argparse.Namespace) -> None:
          "controller_view": lambda: panel.attach()}[name]()
 
 
+def window_size(screen_width: int, screen_height: int) -> tuple[int, int]:
+    """1200×800, or less on a smaller screen: the window, frame and title included, fits it."""
+    return min(1200, screen_width - 20), min(800, screen_height - 60)
+
+
 def main(name: str, argv: Sequence[str] | None = None) -> int:
     """Run the standalone host ``name`` (one of ``PANELS``) until its window is closed."""
     args = build_parser(name).parse_args(argv)
@@ -97,7 +104,9 @@ def main(name: str, argv: Sequence[str] | None = None) -> int:
     if settings is not None:
         panel.restore_settings(settings)
     apply_args(name, panel, args)
-    panel.resize(1200, 800)
+    screen = app.primaryScreen()
+    size = window_size(screen.availableGeometry().width(), screen.availableGeometry().height()) if screen else (1200, 800)
+    panel.resize(*size)
     panel.show()
     code = app.exec_()
     if settings is not None:

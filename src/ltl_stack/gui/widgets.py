@@ -7,6 +7,7 @@ draw the same ``DotGraph`` and can highlight its nodes without a new layout.
 from __future__ import annotations
 
 import math
+import os
 import threading
 import traceback
 from collections.abc import Callable, Sequence
@@ -21,13 +22,15 @@ from python_qt_binding.QtCore import (
     QSize,
     Qt,
     Signal,
+    Slot,
 )
-from python_qt_binding.QtGui import QBrush, QColor, QFont, QPainter, QPainterPath, QPen, QPolygonF
+from python_qt_binding.QtGui import QBrush, QColor, QFont, QImage, QPainter, QPainterPath, QPen, QPolygonF
 from python_qt_binding.QtWidgets import (
     QAbstractButton,
     QAbstractItemView,
     QCheckBox,
     QComboBox,
+    QFileDialog,
     QGraphicsEllipseItem,
     QGraphicsPathItem,
     QGraphicsPolygonItem,
@@ -38,6 +41,8 @@ from python_qt_binding.QtWidgets import (
     QHBoxLayout,
     QLabel,
     QLineEdit,
+    QMenu,
+    QMessageBox,
     QPlainTextEdit,
     QProgressBar,
     QSpinBox,
@@ -46,8 +51,9 @@ from python_qt_binding.QtWidgets import (
     QWidget,
 )
 
+from ltl_stack.cli import write_output
 from ltl_stack.errors import UserError
-from ltl_stack.gui.dotgraph import DotGraph, GraphvizError, layout_dot, layout_plain
+from ltl_stack.gui.dotgraph import DotGraph, GraphvizError, layout_dot, layout_plain, render
 
 try:  # the renderer rqt_graph uses; absent where rqt is not installed
     from qt_dotgraph.dot_to_qt import DotToQtGenerator
@@ -55,11 +61,48 @@ except ImportError:
     DotToQtGenerator = None
 
 
+HOVER_COLOR = "#7b3fb5"  # a hovered node: not red (a conflict), blue (a proposition node) or green (initial)
+
 def error_text(err: BaseException) -> str:
     """One line for the user: a ``UserError``'s message, else the exception's type and message."""
     if isinstance(err, UserError | OSError | GraphvizError):
         return str(err)
     return f"{type(err).__name__}: {err}"
+
+
+class ComboBox(QComboBox):
+    """A drop-down that takes the mouse wheel only when it has the focus (clicked or tabbed to):
+    scrolling a table or a panel over it scrolls that and never changes the value."""
+
+    def __init__(self, parent: QWidget | None = None):
+        super().__init__(parent)
+        self.setFocusPolicy(Qt.StrongFocus)
+
+    def wheelEvent(self, event) -> None:  # noqa: N802 - Qt's name
+        if self.hasFocus():
+            super().wheelEvent(event)
+        else:
+            event.ignore()  # to the parent: the table or panel scrolls
+
+
+class SpinBox(QSpinBox):
+    """A spin box with ``ComboBox``'s wheel rule."""
+
+    def __init__(self, parent: QWidget | None = None):
+        super().__init__(parent)
+        self.setFocusPolicy(Qt.StrongFocus)
+
+    def wheelEvent(self, event) -> None:  # noqa: N802
+        if self.hasFocus():
+            super().wheelEvent(event)
+        else:
+            event.ignore()
+
+
+def ask(parent: QWidget, title: str, text: str) -> bool:
+    """Yes/No question (No is the default); panels hold it in ``confirm`` so tests can answer it."""
+    answer = QMessageBox.question(parent, title, text, QMessageBox.Yes | QMessageBox.No, QMessageBox.No)
+    return answer == QMessageBox.Yes
 
 
 def line_edit(name: str, placeholder: str) -> QLineEdit:
@@ -93,42 +136,76 @@ def show_status(label: QLabel, text: str, error: bool = False) -> None:
 
 
 class Task(QObject):
-    """Run ``work(progress)`` on a Python thread; its signals arrive on the GUI thread (queued).
+    """Run ``work(progress)`` on a Python thread; its signals arrive on the GUI thread.
 
     ``progress(text)`` may be called from the work; ``finished`` carries the result, ``failed`` the
-    error text. Keep a reference to the task until it has finished.
+    error text. Both are emitted on the GUI thread by one queued delivery that first marks the task
+    settled, so a panel's slots run in the same event as ``running`` turning False (nobody sees an idle
+    panel without its result). Keep a reference to the task until it has finished.
     """
 
     progress = Signal(str)
     finished = Signal(object)
     failed = Signal(str)
+    _done = Signal(object)  # from the worker thread, queued to the GUI thread
+    _error = Signal(str)
+    _said = Signal(str)
 
     def __init__(self, work: Callable[[Callable[[str], None]], Any], parent: QObject | None = None):
         super().__init__(parent)
         self._work = work
         self.thread: threading.Thread | None = None
         self._pending = False
-        # connected first, so it runs on the GUI thread before any slot a panel connects
-        self.finished.connect(self._settle)
-        self.failed.connect(self._settle)
+        self._abandoned = False
+        self._done.connect(self._deliver_done)
+        self._error.connect(self._deliver_error)
+        self._said.connect(self._deliver_progress)
 
     def start(self) -> None:
         self._pending = True
         self.thread = threading.Thread(target=self._run, name="ltl_stack_gui_task", daemon=True)
         self.thread.start()
 
-    def _settle(self, _outcome: object) -> None:
+    def abandon(self) -> None:
+        """Cancel: the work cannot be stopped (a Python thread), but its outcome is never delivered and
+        the task stops counting as running at once."""
+        self._abandoned, self._pending = True, False
+
+    @Slot(object)
+    def _deliver_done(self, result: object) -> None:
         self._pending = False
+        if not self._abandoned:
+            self.finished.emit(result)
+
+    @Slot(str)
+    def _deliver_error(self, text: str) -> None:
+        self._pending = False
+        if not self._abandoned:
+            self.failed.emit(text)
 
     def _run(self) -> None:
         try:
-            result = self._work(self.progress.emit)
+            result = self._work(self._progress)
         except Exception as err:  # noqa: BLE001 - every failure is shown in the panel, none kills it
             if not isinstance(err, UserError | OSError | GraphvizError):
                 traceback.print_exc()
-            self.failed.emit(error_text(err))
+            self._emit("_error", error_text(err))
             return
-        self.finished.emit(result)
+        self._emit("_done", result)
+
+    def _progress(self, text: str) -> None:
+        self._emit("_said", text)
+
+    @Slot(str)
+    def _deliver_progress(self, text: str) -> None:
+        if not self._abandoned:
+            self.progress.emit(text)
+
+    def _emit(self, name: str, value: Any) -> None:
+        try:
+            getattr(self, name).emit(value)
+        except RuntimeError:  # the panel was closed (and the task deleted) while the work ran
+            pass
 
     @property
     def running(self) -> bool:
@@ -186,6 +263,7 @@ class GraphView(QGraphicsView):
 
     def __init__(self, parent: QWidget | None = None):
         super().__init__(parent)
+        self.setToolTip("wheel: zoom; drag: move; right-click: fit, zoom, save as PNG/SVG/DOT")
         self.setScene(QGraphicsScene(self))
         self.setRenderHints(QPainter.Antialiasing | QPainter.TextAntialiasing)
         self.setDragMode(QGraphicsView.ScrollHandDrag)
@@ -214,6 +292,8 @@ class GraphView(QGraphicsView):
         if self.renderer == "qt_dotgraph":
             nodes, _edges = DotToQtGenerator().dotcode_to_qt_items(laid_out, 1, scene=scene)
             self.items = {name.strip('"'): item for name, item in nodes.items()}
+            for item in self.items.values():  # qt_dotgraph hovers in red: the panels' conflict colour
+                item._COLOR_RED = QColor(HOVER_COLOR)
         else:
             self.items = _draw_plain(scene, laid_out)
         scene.setSceneRect(scene.itemsBoundingRect().adjusted(-10, -10, 10, 10))
@@ -252,8 +332,52 @@ class GraphView(QGraphicsView):
             self.ensureVisible(item.sceneBoundingRect(), 40, 40)
 
     def wheelEvent(self, event) -> None:  # noqa: N802 - Qt's name
-        factor = 1.15 if event.angleDelta().y() > 0 else 1 / 1.15
+        self.zoom(1.15 if event.angleDelta().y() > 0 else 1 / 1.15)
+
+    def zoom(self, factor: float) -> None:
         self.scale(factor, factor)
+
+    def contextMenuEvent(self, event) -> None:  # noqa: N802 - Qt's name
+        menu = QMenu(self)
+        menu.addAction("Fit to view", self.fit)
+        menu.addAction("Zoom in", lambda: self.zoom(1.25))
+        menu.addAction("Zoom out", lambda: self.zoom(0.8))
+        menu.addAction("Actual size", self.resetTransform)
+        save = menu.addAction("Save as PNG, SVG or DOT…", self.save_dialog)
+        save.setEnabled(self.graph is not None)
+        menu.exec_(event.globalPos())
+
+    def save_dialog(self) -> None:
+        path, _ = QFileDialog.getSaveFileName(self, "Save the picture", f"{self.graph.name if self.graph else 'graph'}.png",
+                                              "PNG (*.png);;SVG (*.svg);;Graphviz DOT (*.dot)")
+        if path:
+            try:
+                self.save(path)
+            except (OSError, GraphvizError, ValueError) as err:
+                self.show_message(error_text(err))
+
+    def save(self, path: str) -> None:
+        """The picture to ``path`` by its extension: ``.png`` as drawn (with the highlight), ``.svg``
+        by Graphviz from the same graph, ``.dot`` the graph itself (rqt_graph's three formats)."""
+        if self.graph is None:
+            raise ValueError("nothing is drawn")
+        ext = os.path.splitext(path)[1].lower()
+        if ext == ".dot":
+            write_output(path, self.graph.to_dot(), "DOT file")
+        elif ext == ".svg":
+            write_output(path, render(self.graph.to_dot(), "svg"), "SVG file")
+        elif ext == ".png":
+            rect = self.scene().sceneRect()
+            image = QImage(int(rect.width()) + 1, int(rect.height()) + 1, QImage.Format_ARGB32)
+            image.fill(QColor("white"))
+            painter = QPainter(image)
+            painter.setRenderHints(QPainter.Antialiasing | QPainter.TextAntialiasing)
+            self.scene().render(painter, QRectF(image.rect()), rect)
+            painter.end()
+            if not image.save(path, "PNG"):
+                raise OSError(f"cannot write {path}")
+        else:
+            raise ValueError(f"{path}: save as .png, .svg or .dot")
 
 
 _DPI = 72.0

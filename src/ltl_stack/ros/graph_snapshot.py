@@ -12,6 +12,7 @@ import rosgraph.masterapi
 
 from ltl_stack.analysis.snapshot import Snapshot, SnapshotError
 from ltl_stack.errors import Exit
+from ltl_stack.ros.master import check_master_uri
 from ltl_stack.ros.master import master_uri as resolve_master_uri
 
 CALLER_ID = "/ltl_stack_analyze_graph"
@@ -24,7 +25,9 @@ def take_snapshot(master_uri: str | None = None, timeout: float = 5.0) -> Snapsh
     ``UserError`` (exit 2); a master that does not answer within ``timeout`` seconds is a
     ``SnapshotError`` with ``Exit.NO_ROS``.
     """
-    uri = resolve_master_uri(master_uri)
+    # a URI given here is for this snapshot only: never put in the process's environment (a panel's
+    # Master field must not move the whole rqt process to another master)
+    uri = check_master_uri(master_uri) if master_uri is not None else resolve_master_uri(None)
     master = rosgraph.masterapi.Master(CALLER_ID, master_uri=uri)
     previous = socket.getdefaulttimeout()
     socket.setdefaulttimeout(timeout)

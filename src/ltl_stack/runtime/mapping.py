@@ -402,6 +402,8 @@ def format_mapping(mapping: Mapping) -> str:
         for output, input_, _ in mapping.expected_feedback:
             declared.setdefault(output, []).append(input_)
         data["expected_feedback"] = declared
+    if mapping.negotiation is not None:  # kept as written: saving a mapping never drops a section
+        data["negotiation"] = mapping.negotiation
     return yaml.safe_dump(data, sort_keys=False, default_flow_style=False, allow_unicode=True)
 
 

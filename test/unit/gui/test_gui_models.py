@@ -23,6 +23,7 @@ from ltl_stack.gui.analysis_model import (
     suggestion_text,
 )
 from ltl_stack.gui.controller_model import (
+    MAX_DRAWN_EDGES,
     ControllerModel,
     Latest,
     StateUpdate,
@@ -123,7 +124,7 @@ def test_save_round_trips_and_keeps_pkg_filename_parameters(tmp_path):
     assert (obj.node, obj.pkg, obj.filename, obj.parameters) == (
         "/camera_object", "ltl_stack", "topic_threshold_sensor", original.inputs["object"][0].parameters)
     assert [e.node for e in again.outputs["stop"]] == ["stop", "/brake"]
-    assert again.outputs["stop"][1].topic == "/clean_and_patrol/outputs/stop"
+    assert again.outputs["stop"][1].topic == "stop"  # relative, as the mapping is: /clean_and_patrol/outputs/stop
     assert again.outputs["topLane"][0].parameters == original.outputs["topLane"][0].parameters
     reloaded = MappingDocument.load(str(CLEAN_SPEC), str(out))
     assert reloaded.text() == doc.text()
@@ -314,9 +315,10 @@ def test_neighbourhood_of_a_large_automaton(clean_model):
     assert center in shown and set(shown) <= near and len(shown) <= 10
     g = model.graph(center)
     assert center in g.key and all(isinstance(k, int) for k in g.key)
-    whole = ControllerModel(clean_model.spec_path, clean_model.automaton, ViewOptions(full_limit=1000))
-    assert len(whole.graph().nodes) == len(clean_model.automaton)
-    assert whole.needs_new_layout(set(), None) and not whole.needs_new_layout({1}, 5)
+    crowded = ControllerModel(clean_model.spec_path, clean_model.automaton, ViewOptions(full_limit=1000))
+    assert not crowded.whole  # 64 states but 224 edges: more than a readable picture (issue 25)
+    assert len(crowded.graph(center).edges) <= MAX_DRAWN_EDGES
+    assert crowded.needs_new_layout(set(), None) and crowded.needs_new_layout({1}, 5)
     assert model.needs_new_layout(set(shown), 10**6) and not model.needs_new_layout(set(shown), center)
 
 

@@ -160,6 +160,7 @@ def test_analysis_panel_on_a_snapshot_file_then_apply_and_check(qtbot, tmp_path)
     assert [e2.rows[i][1] for i in range(e2.rowCount())] == ["move", "stop"]
     assert panel.findings_tab_widget.tabText(1) == "E2 (1)"
     assert panel.selected_rows("E2") == [0, 1]  # the first finding is selected, with its topic's rows
+    qtbot.waitUntil(lambda: panel.graph_view.graph is not None, timeout=WAIT)  # laid out off the GUI thread
     assert {n.label for n in panel.graph_view.graph.nodes} == {"/simple/move", "/simple/cmd_vel", "/simple/stop"}
     assert len(panel.graph_view.items) == 3
     assert "mutually exclusive" in panel.suggestions_text.toPlainText()
@@ -232,8 +233,9 @@ def test_controller_view_follows_states_and_pauses(qtbot):
     view.spec_line_edit.setText(str(CLEAN_SPEC))
     view.topic_combo_box.setEditText("/clean_and_patrol/controller_executor/state")
     assert view.attach()
-    link = FakeLink.last
     qtbot.waitUntil(lambda: view.model is not None and view.graph_view.graph is not None, timeout=WAIT)
+    link = FakeLink.last  # made off the GUI thread, by the attach task
+    assert view.link is link
     a = view.model.automaton
     path = [a.initial[0]]
     for _ in range(4):
