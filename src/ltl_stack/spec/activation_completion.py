@@ -33,20 +33,42 @@ ACTION_COMPLETION = "_ac"
 REGION_COMPLETION = "_rc"
 
 
+#: from this many regions on, the generated clauses use the linear encodings below (smaller maps
+#: keep the thesis' expanded forms, which read as the thesis prints them)
+LINEAR_FROM = 16
+
+
 def exactly_one(names: Sequence[str], primed: bool) -> Formula:
     """One of ``names`` is true and the others false."""
     lits = [Var(n, primed) for n in names]
     if len(lits) == 1:
         return lits[0]
+    if len(lits) >= LINEAR_FROM:
+        seen, at_most = _ladder(lits)
+        return And((seen, at_most))
     return Or(tuple(And(tuple(v if j == i else Not(v) for j, v in enumerate(lits))) for i in range(len(lits))))
 
 
 def at_most_one(names: Sequence[str], primed: bool) -> Formula:
     """The thesis' expanded form (Fig. 3.7): "only y_i" for each i, or none of them."""
     lits = [Var(n, primed) for n in names]
+    if len(lits) >= LINEAR_FROM:
+        return _ladder(lits)[1]
     terms = [And(tuple(v if j == i else Not(v) for j, v in enumerate(lits))) for i in range(len(lits))]
     terms.append(And(tuple(Not(v) for v in lits)))
     return Or(tuple(terms))
+
+
+def _ladder(lits: list[Var]) -> tuple[Formula, Formula]:
+    """(some literal is true, at most one is) in size linear in ``lits``: ``seen_i`` = "one of the
+    first i is true" is a shared node built on ``seen_(i-1)``, and at most one holds when no literal
+    is true after one before it was (the sequential encoding, without auxiliary variables)."""
+    seen: Formula = lits[0]
+    clashes = []
+    for v in lits[1:]:
+        clashes.append(Not(And((seen, v))))
+        seen = Or((seen, v))
+    return seen, And(tuple(clashes))
 
 
 def none_of(names: Sequence[str], primed: bool) -> Formula:
@@ -87,11 +109,38 @@ def region_clauses(topology: RegionTopology, file: str, line: int, origin: str) 
     if len(regions) > 1:
         add("sys_init", at_most_one(regions, False), "the robot heads for at most one region")
         add("sys_safety", at_most_one(regions, True), "the robot heads for at most one region")
+    linear = len(regions) >= LINEAR_FROM
+    nowhere = none_of(regions, True)  # one shared node
     for r in regions:
         far = [s for s in regions if s != r and s not in topology.neighbours(r)]
-        if far:
+        if far and linear:  # with "at most one region" above, the same as "none of the far ones"
+            near = [Var(r, True), *(Var(s, True) for s in regions if s in topology.neighbours(r)), nowhere]
+            add("sys_safety", Implies(Var(rc[r], True), Or(tuple(near))),
+                f"from {r} the robot heads only for {r} or a neighbour of it")
+        elif far:
             add("sys_safety", Implies(Var(rc[r], True), none_of(far, True)),
                 f"from {r} the robot heads only for {r} or a neighbour of it")
+    return out
+
+
+def place_clauses(topology: RegionTopology, file: str, line: int, origin: str) -> dict[str, list[Clause]]:
+    """LTLMoP's region model (``createTopologyFragment``, ``createInitialRegionFragment``): a region
+    is a robot proposition saying where the robot is; it is in exactly one region, initially and
+    always, and moves in one step only to a neighbour (or stays)."""
+    regions = topology.regions
+    out: dict[str, list[Clause]] = {"sys_init": [], "sys_safety": []}
+    if not regions:
+        return out
+
+    def add(section: str, formula: Formula, why: str) -> None:
+        out[section].append(Clause(formula, f"({origin}) {why}", file, line))
+
+    add("sys_init", exactly_one(regions, False), "the robot starts in exactly one region")
+    add("sys_safety", exactly_one(regions, True), "the robot is in exactly one region")
+    for r in regions:
+        moves = [Var(r, True), *(Var(s, True) for s in regions if s in topology.neighbours(r))]
+        add("sys_safety", Implies(Var(r), moves[0] if len(moves) == 1 else Or(tuple(moves))),
+            f"from {r} the robot moves only to a neighbour of it (or stays)")
     return out
 
 

@@ -8,13 +8,24 @@ coordinates, point location, routes).
 
 A ``.regions`` file is a list of sections, each introduced by a line ``Name: # comment`` at column 0:
 
-    Regions:      a JSON list of {"name", "type" (poly|rect), "position", "points", "size", ...}
+    Regions:      a JSON list of {"name", "type" (poly|rect), "position", "points", "size", ...}, or
+                  (LTLMoP's older format) one region per line, tab-separated:
+                  name, poly|rect, x, y, width, height, red, green, blue, then x y of each vertex
+                  (relative to x, y; a rect has none)
     Obstacles:    region names, one per line (not places the robot can be)
     Transitions:  "a<TAB>b<TAB>face coordinates..." — a and b touch
 
 Adjacency comes from ``Transitions:`` when the file has any; otherwise two regions touch when their
 outlines share a stretch of border of positive length (what LTLMoP's editor writes into
-``Transitions:``). The region called ``boundary`` is the workspace outline, not a region.
+``Transitions:``). The region called ``boundary`` (any case, as LTLMoP compares it) is the workspace
+outline, not a region.
+
+``decompose=True`` is LTLMoP's ``decompose`` compile option (``regions.py``/``parseLP.py``): the free
+space inside the boundary that no region (and no obstacle) covers becomes regions too (``others``,
+or ``others_1``, ``others_2``, … for each separate piece), and adjacency is recomputed from shared
+borders of all of them (the file's ``Transitions:`` are ignored, as LTLMoP recomputes them). The
+geometry is shapely's. LTLMoP also cuts regions into convex pieces; a region here stays one
+proposition, which changes nothing a specification can say about it.
 """
 from __future__ import annotations
 
@@ -22,14 +33,20 @@ import math
 import re
 from dataclasses import dataclass, field
 
+import shapely
+from shapely.geometry import Polygon
+from shapely.ops import unary_union
+
 from ltl_stack.errors import InputError
 from ltl_stack.inputs import parse_json
 from ltl_stack.spec.errors import SpecError
 
 BOUNDARY = "boundary"
-#: a map with more vertices than this is refused (the border test compares edges pairwise)
-MAX_VERTICES = 2000
-MAX_REGIONS = 200
+#: a map with more vertices or regions than this is refused (bounded input)
+MAX_VERTICES = 100_000
+MAX_REGIONS = 10_000
+#: the name of the free space inside the boundary (``decompose``), as LTLMoP's RegionMapping calls it
+FREE_SPACE = "others"
 
 _HEADER = re.compile(r"^([A-Za-z][A-Za-z0-9_]*):\s*(#.*)?$")
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
@@ -44,6 +61,8 @@ class RegionTopology:
     regions: list[str]
     adjacent: dict[str, set[str]] = field(default_factory=dict)
     source: str = "<regions>"
+    #: things a user should hear about the map (an isolated region), one line each
+    warnings: list[str] = field(default_factory=list)
 
     def neighbours(self, name: str) -> set[str]:
         return self.adjacent.get(name, set())
@@ -82,6 +101,12 @@ def read_region_file(text: str, file: str) -> RegionFile:
     if "Regions" not in sections:
         raise SpecError(file, 0, 0, "no 'Regions:' section (is this an LTLMoP .regions file?)")
     start, lines = sections["Regions"]
+    obstacles = [line.strip() for line in sections.get("Obstacles", (0, []))[1] if line.strip()]
+    first = next((line for line in lines if line.strip()), "")
+    if first and not first.lstrip().startswith(("[", "{")):  # LTLMoP's older, tab-separated format
+        regions = [_old_region(line, number, file) for number, line in enumerate(lines, start=start + 1)
+                   if line.strip()]
+        return RegionFile(regions, obstacles, sections, start)
     try:
         items = parse_json("\n".join(lines), file)
     except InputError as error:
@@ -89,9 +114,35 @@ def read_region_file(text: str, file: str) -> RegionFile:
                         f"Regions section: {error.message}") from None
     if not isinstance(items, list):
         raise SpecError(file, start + 1, 0, "the Regions section must be a JSON list of regions")
-    obstacles = [line.strip() for line in sections.get("Obstacles", (0, []))[1] if line.strip()]
     regions = [_region(item, index, file, start) for index, item in enumerate(items)]
     return RegionFile(regions, obstacles, sections, start)
+
+
+def _old_region(line: str, number: int, file: str) -> RegionOutline:
+    """One line of the older format: name, type, x, y, width, height, r, g, b, vertices (relative)."""
+    fields = line.strip().split("\t") if "\t" in line else line.split()
+    if len(fields) < 6:
+        raise SpecError(file, number, 1, "a region line of the older format has at least name, type, x, y, "
+                                         "width and height, separated by tabs")
+    name = fields[0]
+    try:
+        numbers = [float(v) for v in fields[2:]]
+    except ValueError:
+        raise SpecError(file, number, 1, f"region {name!r}: expected numbers after its type") from None
+    if not all(math.isfinite(v) for v in numbers):
+        raise SpecError(file, number, 1, f"region {name!r}: a coordinate is not a finite number")
+    ox, oy, w, h = numbers[:4]
+    if fields[1].lower() == "rect":
+        raw = [(0.0, 0.0), (w, 0.0), (w, h), (0.0, h)]
+    else:
+        points = numbers[7:]
+        if len(points) % 2:
+            raise SpecError(file, number, 1, f"region {name!r}: its vertices need an x and a y each")
+        raw = [(points[i], points[i + 1]) for i in range(0, len(points), 2)]
+    outline = [(ox + x, oy + y) for x, y in raw]
+    if len(outline) < 3:
+        raise SpecError(file, number, 1, f"region {name!r} has fewer than 3 vertices")
+    return RegionOutline(name, outline)
 
 
 def _region(item: object, index: int, file: str, line: int) -> RegionOutline:
@@ -120,17 +171,32 @@ def _region(item: object, index: int, file: str, line: int) -> RegionOutline:
     return RegionOutline(name, outline, holes)
 
 
-def parse_region_map(text: str, file: str) -> RegionTopology:
-    """The regions and adjacency of an LTLMoP ``.regions`` text; ``SpecError`` names file and line."""
+def is_boundary(name: str) -> bool:
+    """LTLMoP compares the workspace outline's name without regard to case."""
+    return name.lower() == BOUNDARY
+
+
+def parse_region_map(text: str, file: str, decompose: bool = False) -> RegionTopology:
+    """The regions and adjacency of an LTLMoP ``.regions`` text; ``SpecError`` names file and line.
+
+    ``decompose``: the free space inside the boundary becomes regions and adjacency comes from shared
+    borders (LTLMoP's ``decompose`` option). A region that touches no other gets a warning.
+    """
     content = read_region_file(text, file)
     sections, start = content.sections, content.regions_line
     obstacles = set(content.obstacles)
     names: list[str] = []
     outlines: dict[str, list[Point]] = {}
     vertices = 0
+    boundary: RegionOutline | None = None
+    blocked: list[RegionOutline] = []
     for region in content.regions:
         name = region.name
-        if name == BOUNDARY or name in obstacles:
+        if is_boundary(name):
+            boundary = region
+            continue
+        if name in obstacles:
+            blocked.append(region)
             continue
         if not _NAME.match(name):
             raise SpecError(file, start, 1, f"region name {name!r} is not a proposition name "
@@ -143,17 +209,25 @@ def parse_region_map(text: str, file: str) -> RegionTopology:
                                             f"{MAX_REGIONS} regions or {MAX_VERTICES} vertices)")
         names.append(name)
         outlines[name] = region.outline
-    adjacent: dict[str, set[str]] = {n: set() for n in names}
     transitions = sections.get("Transitions")
     listed = [(n, line) for n, line in enumerate(transitions[1], start=transitions[0] + 1)
               if line.strip() and not line.lstrip().startswith("#")] if transitions else []
-    if listed:
+    if decompose and boundary is not None:
+        pieces = _free_space(boundary, [r for r in content.regions if r is not boundary])
+        for k, piece in enumerate(pieces, start=1):
+            name = FREE_SPACE if len(pieces) == 1 else f"{FREE_SPACE}_{k}"
+            while name in outlines:
+                name += "_"
+            names.append(name)
+            outlines[name] = piece
+    adjacent: dict[str, set[str]] = {n: set() for n in names}
+    if listed and not decompose:
         for number, line in listed:
             parts = re.split(r"\t+|\s+", line.strip())
             if len(parts) < 2:
                 raise SpecError(file, number, 1, "a transition names two regions: 'a<TAB>b ...'")
             a, b = parts[0], parts[1]
-            if {a, b} & ({BOUNDARY} | obstacles):
+            if is_boundary(a) or is_boundary(b) or {a, b} & obstacles:
                 continue
             for region in (a, b):
                 if region not in adjacent:
@@ -162,12 +236,51 @@ def parse_region_map(text: str, file: str) -> RegionTopology:
                 adjacent[a].add(b)
                 adjacent[b].add(a)
     else:
-        for i, a in enumerate(names):
-            for b in names[i + 1:]:
-                if _touch(outlines[a], outlines[b]):
-                    adjacent[a].add(b)
-                    adjacent[b].add(a)
-    return RegionTopology(names, adjacent, file)
+        for a, b in _touching(names, outlines):
+            adjacent[a].add(b)
+            adjacent[b].add(a)
+    warnings = [f"{file}: region {n} touches no other region (the robot can never leave or reach it)"
+                for n in names if not adjacent[n] and len(names) > 1]
+    return RegionTopology(names, adjacent, file, warnings)
+
+
+def _polygon(points: list[Point], holes: list[list[Point]] | None = None) -> Polygon:
+    polygon = Polygon(points, holes or [])
+    return polygon if polygon.is_valid else polygon.buffer(0)  # self-touching outlines: the area they enclose
+
+
+def _free_space(boundary: RegionOutline, others: list[RegionOutline]) -> list[list[Point]]:
+    """The outlines of the pieces of the boundary that no other region covers (LTLMoP's ``others``)."""
+    covered = unary_union([_polygon(r.outline, r.holes) for r in others]) if others else None
+    space = _polygon(boundary.outline)
+    if covered is not None:
+        space = space.difference(covered)
+    scale = max(space.bounds[2] - space.bounds[0], space.bounds[3] - space.bounds[1], 1e-9) if not space.is_empty \
+        else 1.0
+    pieces = [g for g in getattr(space, "geoms", [space]) if isinstance(g, Polygon) and g.area > 1e-9 * scale * scale]
+    return [[(float(x), float(y)) for x, y in list(p.exterior.coords)[:-1]] for p in pieces]
+
+
+def _touching(names: list[str], outlines: dict[str, list[Point]]) -> list[tuple[str, str]]:
+    """Pairs of regions whose outlines share a stretch of border of positive length (shapely; an
+    R-tree finds the candidates, so a map of n regions costs about n log n, not n squared)."""
+    if len(names) < 2:
+        return []
+    xs = [p[0] for n in names for p in outlines[n]]
+    ys = [p[1] for n in names for p in outlines[n]]
+    tolerance = 1e-6 * max(max(xs) - min(xs), max(ys) - min(ys), 1e-9)
+    shapes = [_polygon(outlines[n]) for n in names]
+    tree = shapely.STRtree(shapes)
+    pairs = []
+    for i, shape in enumerate(shapes):
+        for j in tree.query(shape.buffer(tolerance)):
+            j = int(j)
+            if j <= i:
+                continue
+            shared = shape.boundary.intersection(shapes[j].boundary)
+            if shared.length > tolerance or shape.intersection(shapes[j]).area > tolerance * tolerance:
+                pairs.append((names[i], names[j]))
+    return pairs
 
 
 def _sections(text: str) -> dict[str, tuple[int, list[str]]]:
@@ -181,18 +294,6 @@ def _sections(text: str) -> dict[str, tuple[int, list[str]]]:
         elif current is not None:
             current.append(line)
     return sections
-
-
-def _touch(a: list[Point], b: list[Point]) -> bool:
-    """Do outlines ``a`` and ``b`` share a stretch of border of positive length?"""
-    xs = [p[0] for p in a + b]
-    ys = [p[1] for p in a + b]
-    tolerance = 1e-6 * max(max(xs) - min(xs), max(ys) - min(ys), 1e-9)
-    ax0, ax1, ay0, ay1 = _box(a)
-    bx0, bx1, by0, by1 = _box(b)
-    if ax0 > bx1 + tolerance or bx0 > ax1 + tolerance or ay0 > by1 + tolerance or by0 > ay1 + tolerance:
-        return False
-    return shared_border(a, b, tolerance) is not None
 
 
 def shared_border(a: list[Point], b: list[Point], tolerance: float = 1e-6) -> tuple[Point, Point] | None:
@@ -216,11 +317,6 @@ def shared_border(a: list[Point], b: list[Point], tolerance: float = 1e-6) -> tu
                 best_length = hi - lo
                 best = ((p1[0] + ux * lo, p1[1] + uy * lo), (p1[0] + ux * hi, p1[1] + uy * hi))
     return best
-
-
-def _box(points: list[Point]) -> tuple[float, float, float, float]:
-    return (min(p[0] for p in points), max(p[0] for p in points),
-            min(p[1] for p in points), max(p[1] for p in points))
 
 
 def _edges(points: list[Point]) -> list[tuple[Point, Point]]:
