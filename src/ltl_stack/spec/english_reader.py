@@ -424,9 +424,18 @@ class _Sentence:
         members' conjunction and ``any`` their disjunction; elsewhere ``any`` is the disjunction
         and ``all``/``each`` repeat the sentence once per member (``visit all rooms``)."""
         toks = self.tokens
+        self._refuse_unsupported(toks)
         at = next((i for i, t in enumerate(toks[:-1]) if t.low in ("all", "any", "each")
                    and toks[i + 1].text in self.decl.groups and t.text not in self.decl.kind_of), None)
         if at is None:
+            loose = next((t for i, t in enumerate(toks[:-1]) if t.low in ("all", "any", "each")
+                          and toks[i + 1].kind == "word" and toks[i + 1].text not in self.decl.kind_of
+                          and toks[i + 1].low not in KEYWORDS and t.text not in self.decl.kind_of), None)
+            if loose is not None:
+                name = toks[toks.index(loose) + 1]
+                groups = ", ".join(self.decl.groups) or "none defined"
+                raise self.error(name.column, f"unknown group '{name.text}' after '{loose.text}' (define it first: "
+                                              f"'group {name.text} is <region>, <region>'; groups: {groups})")
             return self._compile()
         members = self.decl.groups[toks[at + 1].text]
         column = toks[at].column
@@ -888,7 +897,7 @@ class _Sentence:
         if mode in ("goal", "init"):
             raise self.error(toks[i].column, f"'{toks[i].text} of' compares two steps, which "
                                              f"{'a goal' if mode == 'goal' else 'an initial condition'} does not have")
-        atom = self._atom(name_token, phrase, "goal", None, False)  # checks the name, the current step
+        atom = self._atom(name_token, phrase, "event", None, False)  # checks the name
         if not isinstance(atom, Var):
             raise self.error(name_token.column, f"'{toks[i].text} of' needs a proposition")
         now, nxt = Var(atom.name), Var(atom.name, True)
