@@ -94,11 +94,33 @@ def region_clauses(topology: RegionTopology, file: str, line: int, origin: str) 
     for r in regions:
         add("env_safety", Implies(And((Var(rc[r]), Var(r))), Var(rc[r], True)),
             f"heading for {r} while in {r}, the robot stays in {r}")
-    for r in regions:
-        for s in regions:
-            if s in topology.neighbours(r):
-                add("env_safety", Implies(And((Var(rc[r]), Var(s))), Or((Var(rc[r], True), Var(rc[s], True)))),
-                    f"heading from {r} for its neighbour {s}, the robot is next in {r} or {s}")
+    linear = len(regions) >= LINEAR_FROM
+    if linear:
+        # one clause per region, O(min(neighbours, others)) each: with at most one region activated
+        # (the robot's guarantee below) "heading for a neighbour s, next in r or s" for every s is
+        # "heading for some neighbour, next in r or where it heads"
+        index = {s: i for i, s in enumerate(regions)}
+        any_active = Or(tuple(Var(s) for s in regions))
+        arrived = Or(tuple(And((Var(s), Var(rc[s], True))) for s in regions))
+        for r in regions:
+            if topology.degree(r) == 0:
+                continue
+            if 2 * topology.degree(r) <= len(regions):
+                near = _near(topology, r, index)
+                heading = Or(tuple(Var(s) for s in near))
+                target = Or(tuple(And((Var(s), Var(rc[s], True))) for s in near))
+            else:
+                others = _others(topology, r)
+                heading = And((any_active, Not(Var(r)), *(Not(Var(s)) for s in others)))
+                target = arrived
+            add("env_safety", Implies(And((Var(rc[r]), heading)), Or((Var(rc[r], True), target))),
+                f"heading from {r} for a neighbour of it, the robot is next in {r} or there")
+    else:
+        for r in regions:
+            for s in regions:
+                if s in topology.neighbours(r):
+                    add("env_safety", Implies(And((Var(rc[r]), Var(s))), Or((Var(rc[r], True), Var(rc[s], True)))),
+                        f"heading from {r} for its neighbour {s}, the robot is next in {r} or {s}")
     add("env_safety", Implies(none_of(regions, False), And(tuple(Iff(Var(rc[r]), Var(rc[r], True)) for r in regions))
                               if len(regions) > 1 else Iff(Var(rc[regions[0]]), Var(rc[regions[0]], True))),
         "heading for no region, the robot stays where it is")
@@ -109,18 +131,33 @@ def region_clauses(topology: RegionTopology, file: str, line: int, origin: str) 
     if len(regions) > 1:
         add("sys_init", at_most_one(regions, False), "the robot heads for at most one region")
         add("sys_safety", at_most_one(regions, True), "the robot heads for at most one region")
-    linear = len(regions) >= LINEAR_FROM
     nowhere = none_of(regions, True)  # one shared node
+    index = {s: i for i, s in enumerate(regions)}
     for r in regions:
-        far = [s for s in regions if s != r and s not in topology.neighbours(r)]
-        if far and linear:  # with "at most one region" above, the same as "none of the far ones"
-            near = [Var(r, True), *(Var(s, True) for s in regions if s in topology.neighbours(r)), nowhere]
+        if topology.degree(r) == len(regions) - 1:
+            continue  # every region is a neighbour
+        if linear and 2 * topology.degree(r) <= len(regions):
+            # with "at most one region" above, the same as "none of the others"
+            near = [Var(r, True), *(Var(s, True) for s in _near(topology, r, index)), nowhere]
             add("sys_safety", Implies(Var(rc[r], True), Or(tuple(near))),
                 f"from {r} the robot heads only for {r} or a neighbour of it")
-        elif far:
-            add("sys_safety", Implies(Var(rc[r], True), none_of(far, True)),
+        else:
+            add("sys_safety", Implies(Var(rc[r], True), none_of(_others(topology, r), True)),
                 f"from {r} the robot heads only for {r} or a neighbour of it")
     return out
+
+
+def _near(topology: RegionTopology, r: str, index: dict[str, int]) -> list[str]:
+    """The regions ``r`` touches, in map order (clauses come out the same on every run)."""
+    return sorted(topology.neighbours(r), key=index.__getitem__)
+
+
+def _others(topology: RegionTopology, r: str) -> list[str]:
+    """The regions ``r`` does not touch (itself excluded), in map order."""
+    if topology.degree(r) == len(topology.regions) - 1:
+        return []
+    near = topology.neighbours(r)
+    return [s for s in topology.regions if s != r and s not in near]
 
 
 def place_clauses(topology: RegionTopology, file: str, line: int, origin: str) -> dict[str, list[Clause]]:
@@ -137,8 +174,11 @@ def place_clauses(topology: RegionTopology, file: str, line: int, origin: str) -
 
     add("sys_init", exactly_one(regions, False), "the robot starts in exactly one region")
     add("sys_safety", exactly_one(regions, True), "the robot is in exactly one region")
+    index = {s: i for i, s in enumerate(regions)}
     for r in regions:
-        moves = [Var(r, True), *(Var(s, True) for s in regions if s in topology.neighbours(r))]
+        if topology.degree(r) == len(regions) - 1:
+            continue  # it may go anywhere
+        moves = [Var(r, True), *(Var(s, True) for s in _near(topology, r, index))]
         add("sys_safety", Implies(Var(r), moves[0] if len(moves) == 1 else Or(tuple(moves))),
             f"from {r} the robot moves only to a neighbour of it (or stays)")
     return out

@@ -63,14 +63,22 @@ class RegionTopology:
     source: str = "<regions>"
     #: things a user should hear about the map (an isolated region), one line each
     warnings: list[str] = field(default_factory=list)
+    #: every region touches every other (``adjacent`` is then not filled: n squared entries)
+    complete: bool = False
 
     def neighbours(self, name: str) -> set[str]:
+        if self.complete:
+            return set(self.regions) - {name}
         return self.adjacent.get(name, set())
+
+    def degree(self, name: str) -> int:
+        """How many regions ``name`` touches (without building the set for a complete topology)."""
+        return len(self.regions) - 1 if self.complete else len(self.adjacent.get(name, ()))
 
 
 def complete_topology(regions: list[str], source: str = "<declaration>") -> RegionTopology:
     """Every region touches every other (regions declared without a map)."""
-    return RegionTopology(list(regions), {r: set(regions) - {r} for r in regions}, source)
+    return RegionTopology(list(regions), {}, source, complete=True)
 
 
 @dataclass
