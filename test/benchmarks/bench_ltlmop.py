@@ -2,8 +2,8 @@
 
 Runs LTLMoP's own compiler (``specCompiler.SpecCompiler(...).compile()``: its structured-English
 parser, its decomposition, JTLV's GR(1) synthesis) and ``synthesize`` on every example project of an
-LTLMoP checkout, each on a fresh copy of the example's folder (LTLMoP writes its .ltl/.smv/.aut next to
-the project), and prints both verdicts.
+LTLMoP checkout, each on a fresh copy of the examples (LTLMoP writes its .ltl/.smv/.aut next to the
+project), and prints both verdicts.
 
 Set-up (outside the repository; see docs/benchmarks/ltlmop.md):
 
@@ -82,11 +82,11 @@ def main() -> None:
     agree = total = 0
     for spec in examples:
         name = spec.relative_to(args.ltlmop / "src" / "examples")
-        with tempfile.TemporaryDirectory() as folder:
-            copy = Path(folder) / spec.parent.name
-            shutil.copytree(spec.parent, copy)
-            ours, note = our_verdict(copy / spec.name, args.timeout)
-            theirs = ltlmop_verdict(copy / spec.name, args.ltlmop, args.python2, args.py2lib, args.timeout)
+        with tempfile.TemporaryDirectory() as folder:  # the whole tree: some projects use ../firefighting's map
+            copy = Path(folder) / "examples"
+            shutil.copytree(args.ltlmop / "src" / "examples", copy)
+            ours, note = our_verdict(copy / name, args.timeout)
+            theirs = ltlmop_verdict(copy / name, args.ltlmop, args.python2, args.py2lib, args.timeout)
         same = theirs == ours
         both = theirs in ("realizable", "unrealizable")
         total += both

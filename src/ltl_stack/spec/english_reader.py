@@ -95,6 +95,12 @@ class Declarations:
     groups: dict[str, list[str]] = field(default_factory=dict)
     #: propositions a project lists but disables (``name, 0``), with their kind
     disabled: dict[str, str] = field(default_factory=dict)
+    #: a region name that stands for several pieces of the map (LTLMoP's decomposition when regions
+    #: overlap, ``between``/``near`` areas): the pieces, which are the ``regions``
+    areas: dict[str, list[str]] = field(default_factory=dict)
+
+    def is_region(self, name: str) -> bool:
+        return name in self.areas or name in self.regions
 
     @property
     def inputs(self) -> list[str]:
@@ -646,10 +652,11 @@ class _Sentence:
                                                                     "separator")
         arrivals = []
         for t in names:
-            if t.text not in self.decl.regions:
+            if not self.decl.is_region(t.text):
                 raise self.error(t.column, self._unknown(t.text, "region", self.decl.regions))
-            arrivals.append(Var(t.text) if self.decl.regions_are_places
-                            else And((Var(t.text), Var(t.text + REGION_COMPLETION))))
+            pieces = [Var(p) if self.decl.regions_are_places else And((Var(p), Var(p + REGION_COMPLETION)))
+                      for p in self.decl.areas.get(t.text, [t.text])]
+            arrivals.append(pieces[0] if len(pieces) == 1 else Or(tuple(pieces)) if pieces else FALSE)
         if connective == "or":
             return [Or(tuple(arrivals))]
         return arrivals
@@ -860,7 +867,8 @@ class _Sentence:
                 # A phrase covers the names after it joined by and/or; anything else after a
                 # connective (a phrase, 'not', '(', true, false) ends it.
                 following = toks[i + 1] if i + 1 < len(toks) else None
-                if following is None or following.kind != "word" or following.low in KEYWORDS:
+                if following is None or following.kind != "word" or following.low in KEYWORDS \
+                        or self._edge_starts(toks, i + 1):
                     close_phrase()
                 precedence = _BINARY[t.low]
                 while ops and (ops[-1][0] == "not" or (ops[-1][0] in _BINARY and _BINARY[ops[-1][0]] >= precedence)):
@@ -887,11 +895,15 @@ class _Sentence:
             apply(ops.pop())
         return settle(values[0])
 
+    @staticmethod
+    def _edge_starts(toks: list[_Token], i: int) -> bool:
+        return (toks[i].low in ("start", "beginning", "end") and i + 2 < len(toks) and toks[i + 1].low == "of"
+                and toks[i + 2].kind == "word")
+
     def _edge(self, toks: list[_Token], i: int, phrase: _Phrase | None, mode: str) -> Formula | None:
         """``start of x`` / ``beginning of x`` (x rises: ``!x & x'``) and ``end of x`` (x falls:
         ``x & !x'``), LTLMoP's edge conditions; None when ``toks[i]`` does not start one."""
-        if toks[i].low not in ("start", "beginning", "end") or i + 2 >= len(toks) or toks[i + 1].low != "of" \
-                or toks[i + 2].kind != "word":
+        if not self._edge_starts(toks, i):
             return None
         name_token = toks[i + 2]
         if mode in ("goal", "init"):
@@ -1014,8 +1026,12 @@ class _Sentence:
         if name not in self.decl.kind_of:
             pool = self.decl.regions if only == "regions" else list(self.decl.kind_of)
             raise self.error(t.column, self._unknown(name, "region" if only == "regions" else "proposition", pool))
-        if only == "regions" and name not in self.decl.regions:
+        if only == "regions" and not self.decl.is_region(name):
             raise self.error(t.column, self._unknown(name, "region", self.decl.regions))
+        if name in self.decl.areas:  # a region made of pieces: in any of them
+            pieces = [_Token("word", piece, t.column) for piece in self.decl.areas[name]]
+            parts = tuple(self._atom(piece, phrase, mode, only, completion) for piece in pieces)
+            return parts[0] if len(parts) == 1 else Or(parts) if parts else FALSE
         past = phrase is not None and phrase.past
         if past and mode in ("goal", "init") and not (mode == "goal" and self.decl.regions_are_places):
             what = "a goal" if mode == "goal" else "an initial condition"

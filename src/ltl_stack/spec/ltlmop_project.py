@@ -78,10 +78,13 @@ def read_project(text: str, file: str, base_dir: Path) -> EnglishSpec:
                 _add(decl, kind, name, number, 1, file)
     for number, entry in settings.get("Customs", []):
         _add(decl, "memory", entry.strip(), number, 1, file)
+    spec_lines = parts.get("SPECIFICATION", {}).get("Spec", [])
+    derived: dict[str, tuple] = {}
+    if options["decompose"] and parser == "structured":
+        spec_lines = [(n, _derived_areas(s, derived)) for n, s in spec_lines]
     region_file = [(n, e) for n, e in settings.get("RegionFile", []) if e.strip() and e.strip() != "None"]
     if region_file:
-        _read_map(decl, region_file[0], base_dir, file, options["decompose"])
-    spec_lines = parts.get("SPECIFICATION", {}).get("Spec", [])
+        _read_map(decl, region_file[0], base_dir, file, options["decompose"], derived)
     sentences = [(n, s) for n, s in spec_lines if s.strip() and not s.lstrip().startswith("#")]
     if parser == "ltl":
         return compile_sentences(decl, [], file, _raw_ltl(decl, spec_lines, file))
@@ -129,7 +132,40 @@ def _options(lines: list[tuple[int, str]], file: str) -> tuple[dict, dict[str, i
     return options, where
 
 
-def _read_map(decl: Declarations, entry: tuple[int, str], base_dir: Path, file: str, decompose: bool) -> None:
+#: LTLMoP's default distance of 'near R' (``specCompiler``: near$R$50)
+NEAR_DISTANCE = 50
+_BETWEEN = re.compile(r"\bbetween (\w+) and (\w+)", re.IGNORECASE)
+_WITHIN = re.compile(r"\bwithin (\d+) (?:from|of) (\w+)", re.IGNORECASE)
+_NEAR = re.compile(r"\bnear (\w+)", re.IGNORECASE)
+
+
+def _derived_areas(sentence: str, derived: dict[str, tuple]) -> str:
+    """Name the areas LTLMoP computes from the map (``between A and B``, ``within N of R``, ``near R``)
+    as one word each, ``between_A_and_B`` …, and note their geometry in ``derived`` (as LTLMoP's
+    ``parseLP`` collects them before it decomposes the map)."""
+    if sentence.lstrip().startswith("#"):
+        return sentence
+
+    def between(m: re.Match) -> str:
+        name = f"between_{m[1]}_and_{m[2]}"
+        derived[name] = ("between", m[1], m[2])
+        return name
+
+    def within(m: re.Match) -> str:
+        name = f"within_{m[1]}_of_{m[2]}"
+        derived[name] = ("near", m[2], int(m[1]))
+        return name
+
+    def near(m: re.Match) -> str:
+        name = f"near_{m[1]}"
+        derived[name] = ("near", m[1], NEAR_DISTANCE)
+        return name
+
+    return _NEAR.sub(near, _WITHIN.sub(within, _BETWEEN.sub(between, sentence)))
+
+
+def _read_map(decl: Declarations, entry: tuple[int, str], base_dir: Path, file: str, decompose: bool,
+              derived: dict[str, tuple]) -> None:
     number, name = entry
     path = base_dir / name.strip()
     try:
@@ -137,11 +173,15 @@ def _read_map(decl: Declarations, entry: tuple[int, str], base_dir: Path, file: 
     except InputError as e:
         raise SpecError(file, number, 1, f"cannot read the RegionFile: {e}") from None
     try:
-        topology = parse_region_map(text, str(path), decompose=decompose)
+        topology = parse_region_map(text, str(path), decompose=decompose, derived=derived)
     except SpecError as e:
         raise SpecError(file, number, 1, f"in the RegionFile: {e}") from None
     for region in topology.regions:
         _add(decl, "regions", region, number, 1, file)
+    for area, pieces in topology.areas.items():
+        if area not in decl.kind_of:
+            decl.kind_of[area] = "regions"
+        decl.areas[area] = pieces
     decl.topology = topology
     decl.line_of["map"] = number
 

@@ -65,6 +65,9 @@ class RegionTopology:
     warnings: list[str] = field(default_factory=list)
     #: every region touches every other (``adjacent`` is then not filled: n squared entries)
     complete: bool = False
+    #: after an overlay (overlapping regions, ``between``/``near`` areas): each named area and the
+    #: pieces (``regions``) it is made of, as LTLMoP's RegionMapping
+    areas: dict[str, list[str]] = field(default_factory=dict)
 
     def neighbours(self, name: str) -> set[str]:
         if self.complete:
@@ -184,11 +187,18 @@ def is_boundary(name: str) -> bool:
     return name.lower() == BOUNDARY
 
 
-def parse_region_map(text: str, file: str, decompose: bool = False) -> RegionTopology:
+def parse_region_map(text: str, file: str, decompose: bool = False,
+                     derived: dict[str, tuple] | None = None) -> RegionTopology:
     """The regions and adjacency of an LTLMoP ``.regions`` text; ``SpecError`` names file and line.
 
     ``decompose``: the free space inside the boundary becomes regions and adjacency comes from shared
     borders (LTLMoP's ``decompose`` option). A region that touches no other gets a warning.
+    ``derived`` (with ``decompose``): areas LTLMoP computes from the geometry, by name:
+    ``("between", a, b)`` is the convex hull of a and b without them (``findRegionBetween``),
+    ``("near", r, distance)`` r grown by the distance (``findRegionNear``). When regions overlap or
+    such areas are asked for, the map is cut into pieces no two areas share (LTLMoP's
+    ``checkOverLapping``): ``regions`` are then the pieces and ``areas`` says which pieces make up
+    each region, derived area and ``others``.
     """
     content = read_region_file(text, file)
     sections, start = content.sections, content.regions_line
@@ -220,6 +230,8 @@ def parse_region_map(text: str, file: str, decompose: bool = False) -> RegionTop
     transitions = sections.get("Transitions")
     listed = [(n, line) for n, line in enumerate(transitions[1], start=transitions[0] + 1)
               if line.strip() and not line.lstrip().startswith("#")] if transitions else []
+    if decompose and boundary is not None and (derived or _overlapping(names, outlines)):
+        return _overlay(file, boundary, names, outlines, derived or {}, start, blocked)
     if decompose and boundary is not None:
         pieces = _free_space(boundary, [r for r in content.regions if r is not boundary])
         for k, piece in enumerate(pieces, start=1):
@@ -252,6 +264,75 @@ def parse_region_map(text: str, file: str, decompose: bool = False) -> RegionTop
     return RegionTopology(names, adjacent, file, warnings)
 
 
+def _overlapping(names: list[str], outlines: dict[str, list[Point]]) -> bool:
+    shapes = [_polygon(outlines[n]) for n in names]
+    tree = shapely.STRtree(shapes)
+    for i, shape in enumerate(shapes):
+        scale = max(shape.bounds[2] - shape.bounds[0], shape.bounds[3] - shape.bounds[1], 1e-9)
+        for j in tree.query(shape):
+            if int(j) > i and shape.intersection(shapes[int(j)]).area > 1e-6 * scale * scale:
+                return True
+    return False
+
+
+def _overlay(file: str, boundary: RegionOutline, names: list[str], outlines: dict[str, list[Point]],
+             derived: dict[str, tuple], line: int, blocked: list[RegionOutline]) -> RegionTopology:
+    """Cut the boundary into pieces no two named areas share; each area is the union of its pieces.
+    Obstacles are no place to be, but ``between``/``near`` may name them (LTLMoP's examples do)."""
+    polygons = {n: _polygon(outlines[n]) for n in names}
+    areas: list[tuple[str, object]] = list(polygons.items())
+    solid = {r.name: _polygon(r.outline, r.holes) for r in blocked}
+    shape_of = {**solid, **polygons}
+    for name, (kind, first, second) in derived.items():
+        for region in (first,) if kind == "near" else (first, second):
+            if region not in shape_of:
+                raise SpecError(file, line, 1, f"'{name}' refers to {region!r}, which is not a region of the map")
+        if kind == "between":
+            a, b = shape_of[first], shape_of[second]
+            shape = unary_union([a, b]).convex_hull.difference(a).difference(b)
+        else:
+            shape = shape_of[first].buffer(float(second), join_style="mitre").convex_hull
+        areas.append((name, shape))
+    space = _polygon(boundary.outline)
+    if solid:
+        space = space.difference(unary_union(list(solid.values())))
+    scale = max(space.bounds[2] - space.bounds[0], space.bounds[3] - space.bounds[1], 1e-9)
+    tiny = 1e-6 * scale * scale
+    cells: list[tuple[object, frozenset[str]]] = [(g, frozenset()) for g in _parts(space) if g.area > tiny]
+    for name, shape in areas:
+        cut = []
+        for cell, labels in cells:
+            inside, outside = cell.intersection(shape), cell.difference(shape)
+            cut += [(g, labels | {name}) for g in _parts(inside) if g.area > tiny]
+            cut += [(g, labels) for g in _parts(outside) if g.area > tiny]
+        cells = cut
+    taken = set(names) | set(derived)
+    pieces: list[str] = []
+    shapes: dict[str, object] = {}
+    members: dict[str, list[str]] = {n: [] for n in [*names, *derived, FREE_SPACE]}
+    for k, (cell, labels) in enumerate(cells, start=1):
+        piece = f"p{k}"
+        while piece in taken:
+            piece += "_"
+        pieces.append(piece)
+        shapes[piece] = cell
+        for label in labels or {FREE_SPACE}:
+            members[label].append(piece)
+    if not members[FREE_SPACE]:
+        del members[FREE_SPACE]
+    adjacent: dict[str, set[str]] = {p: set() for p in pieces}
+    for a, b in _touching_shapes(pieces, shapes):
+        adjacent[a].add(b)
+        adjacent[b].add(a)
+    warnings = [f"{file}: region {n} touches no other region (the robot can never leave or reach it)"
+                for n in names if len(pieces) > 1 and all(not adjacent[p] - set(members[n]) for p in members[n])]
+    return RegionTopology(pieces, adjacent, file, warnings, areas=members)
+
+
+def _parts(shape) -> list[Polygon]:
+    return [g for g in getattr(shape, "geoms", [shape]) if isinstance(g, Polygon)]
+
+
 def _polygon(points: list[Point], holes: list[list[Point]] | None = None) -> Polygon:
     polygon = Polygon(points, holes or [])
     return polygon if polygon.is_valid else polygon.buffer(0)  # self-touching outlines: the area they enclose
@@ -272,12 +353,15 @@ def _free_space(boundary: RegionOutline, others: list[RegionOutline]) -> list[li
 def _touching(names: list[str], outlines: dict[str, list[Point]]) -> list[tuple[str, str]]:
     """Pairs of regions whose outlines share a stretch of border of positive length (shapely; an
     R-tree finds the candidates, so a map of n regions costs about n log n, not n squared)."""
+    return _touching_shapes(names, {n: _polygon(outlines[n]) for n in names})
+
+
+def _touching_shapes(names: list[str], polygons: dict[str, object]) -> list[tuple[str, str]]:
     if len(names) < 2:
         return []
-    xs = [p[0] for n in names for p in outlines[n]]
-    ys = [p[1] for n in names for p in outlines[n]]
-    tolerance = 1e-6 * max(max(xs) - min(xs), max(ys) - min(ys), 1e-9)
-    shapes = [_polygon(outlines[n]) for n in names]
+    shapes = [polygons[n] for n in names]
+    bounds = shapely.total_bounds(shapes)
+    tolerance = 1e-6 * max(bounds[2] - bounds[0], bounds[3] - bounds[1], 1e-9)
     tree = shapely.STRtree(shapes)
     pairs = []
     for i, shape in enumerate(shapes):

@@ -65,6 +65,8 @@ FORMS = [
     ("do stop if and only if end of seen and you are not activating flag", "sys_safety",
      ["stop' <-> ((seen & !seen') & !flag')"]),
     ("if you were activating start of seen then stay there", "sys_safety", [f"(!seen & seen') -> ({STAY})"]),
+    ("do stop if and only if you were not activating seen and end of flag", "sys_safety",  # an edge ends a phrase
+     ["stop' <-> (!seen & (flag & !flag'))"]),
     # stay there
     ("if you are activating stop then stay there", "sys_safety", [f"stop' -> ({STAY})"]),
     ("go to r2 and stay there", "sys_liveness", ["r2 & r2_rc"]),

@@ -126,3 +126,42 @@ def test_raw_ltl_without_the_dashes_is_an_error(tmp_path):
         (tmp_path / regions.name).write_text(regions.read_text())
     with pytest.raises(SpecError, match="a line of dashes"):
         load_spec(path)
+
+
+def test_between_is_the_area_ltlmop_computes(tmp_path):
+    """'between office and lab' is the convex hull of both without them (LTLMoP's findRegionBetween):
+    here the stretch of hall between the two rooms, cut out of the free space."""
+    path = _variant(tmp_path, ("if you are sensing parcel then visit dock",
+                               "if you are sensing parcel then visit between office and lab"))
+    english = read_english(path.read_text(), str(path))
+    areas = english.declarations.areas
+    topology = english.declarations.topology
+    assert set(areas) == {"office", "lab", "dock", "between_office_and_lab", "others"}
+    (middle,) = areas["between_office_and_lab"]
+    touching = {area for area, pieces in areas.items() for p in pieces if p in topology.neighbours(middle)}
+    assert {"office", "lab", "others"} <= touching and "dock" not in touching
+    goal = [c for c in english.spec.sys_liveness if c.line == 57]
+    assert len(goal) == 1 and middle in {v.name for v in _vars(goal[0].formula)}
+    assert is_realizable(english.spec)
+
+
+def test_overlapping_regions_are_cut_into_pieces(tmp_path):
+    (tmp_path / "o.regions").write_text(
+        "Regions:\n[{\"name\": \"boundary\", \"type\": \"rect\", \"position\": [0, 0], \"size\": [30, 10]},\n"
+        " {\"name\": \"a\", \"type\": \"rect\", \"position\": [0, 0], \"size\": [20, 10]},\n"
+        " {\"name\": \"b\", \"type\": \"rect\", \"position\": [10, 0], \"size\": [20, 10]}]\n")
+    text = HALL.read_text().replace("hall.regions\n", "o.regions\n")
+    text = text[:text.index("Spec:")] + "Spec:\nvisit a\nvisit b\nalways not (a and b)\n"
+    path = tmp_path / "o.spec"
+    path.write_text(text)
+    english = read_english(text, str(path))
+    areas = english.declarations.areas
+    assert len(english.spec.outputs) == 3 + 3  # load, unload, loaded and the pieces a-only, both, b-only
+    assert len(set(areas["a"]) & set(areas["b"])) == 1
+    assert not is_realizable(english.spec)  # a only and b only do not touch: the robot must cross both
+
+
+def _vars(formula):
+    from ltl_stack.spec.formula import Var, walk
+
+    return [v for v in walk(formula) if isinstance(v, Var)]
