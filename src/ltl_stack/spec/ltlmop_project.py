@@ -46,8 +46,8 @@ _HEADER = re.compile(r"^(?P<key>\w+):\s*(?:#.*)?$")
 _TRUE = ("true", "t", "1")
 #: LTLMoP's defaults (``project.py``) for the options that change the meaning
 DEFAULT_OPTIONS = {"parser": "structured", "decompose": True, "fastslow": False}
-#: macros LTLMoP's handlers expand in raw LTL; they have no meaning without those handlers
-_MACROS = ("FOLLOW_SENSOR_CONSTRAINTS", "TARGET_IS_STATIONARY", "STAY_THERE")
+#: macros of LTLMoP's raw LTL that need its bit encoding of regions and its follow handler
+_MACROS = ("FOLLOW_SENSOR_CONSTRAINTS", "TARGET_IS_STATIONARY")
 
 
 def read_project(text: str, file: str, base_dir: Path) -> EnglishSpec:
@@ -212,7 +212,7 @@ def _raw_ltl(decl: Declarations, lines: list[tuple[int, str]], file: str) -> dic
             if macro in text:
                 raise SpecError(file, number, text.index(macro) + 1, f"LTLMoP's macro {macro} is expanded by its "
                                                                      "own handlers and has no meaning here")
-        kind, infix = _ltl_to_infix(text, number, file)
+        kind, infix = _ltl_to_infix(text, number, file, _stay_there(decl))
         section = f"{side}_{kind}"
         line = Line(number, infix)
         formula = parse_clause(line, builder.names(section, line))
@@ -223,7 +223,16 @@ def _raw_ltl(decl: Declarations, lines: list[tuple[int, str]], file: str) -> dic
     return sections
 
 
-def _ltl_to_infix(text: str, number: int, file: str) -> tuple[str, str]:
+def _stay_there(decl: Declarations) -> str:
+    """LTLMoP's STAY_THERE macro (``createStayFormula``) in infix: the robot's region does not change."""
+    if not decl.regions:
+        return "TRUE"
+    if decl.regions_are_places:
+        return "(" + " & ".join(f"({r} <-> {r}')" for r in decl.regions) + ")"
+    return "(" + " & ".join(f"({r}_rc | !{r}')" for r in decl.regions) + ")"
+
+
+def _ltl_to_infix(text: str, number: int, file: str, stay: str) -> tuple[str, str]:
     """One LTLMoP conjunct as (init|safety|liveness, the structured format's infix text)."""
     tokens = _LTL_TOKEN.findall(text)
     kind = "init"
@@ -254,7 +263,9 @@ def _ltl_to_infix(text: str, number: int, file: str) -> tuple[str, str]:
             depth -= 1
             if next_depth and next_depth[-1] == depth:
                 next_depth.pop()
-        if re.match(r"[A-Za-z_]", t) and t.upper() not in ("TRUE", "FALSE"):
+        if t == "STAY_THERE":
+            out.append(stay)
+        elif re.match(r"[A-Za-z_]", t) and t.upper() not in ("TRUE", "FALSE"):
             name = re.sub(r"^[se]\.", "", t)
             out.append(name + ("'" if next_depth else ""))
         else:

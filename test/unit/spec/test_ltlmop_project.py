@@ -103,7 +103,8 @@ def test_raw_ltl_project(tmp_path):
         "[](next(s.loaded) <-> (load | (loaded & !unload)))\n"
         "[](next(unload) <-> (office & loaded))\n"
         "[]<>(dock)\n"
-        "[]<>(lab)\n")
+        "[]<>(lab)\n"
+        "[](next(load) -> STAY_THERE)\n")
     spec_part = spec_part.replace("parser: structured", "parser: ltl")
     path = tmp_path / "raw.spec"
     path.write_text(spec_part)
@@ -114,6 +115,8 @@ def test_raw_ltl_project(tmp_path):
     assert len(spec.sys_liveness) == 2
     text_of = {c.text for c in spec.sys_safety}
     assert "[](next(s.loaded) <-> (load | (loaded & !unload)))" in text_of
+    stay = [c.formula for c in spec.sys_safety if c.text == "[](next(load) -> STAY_THERE)"]
+    assert len(stay) == 1 and "dock" in str(stay[0]) and "others" in str(stay[0])  # every region keeps its value
     assert is_realizable(spec)
 
 
