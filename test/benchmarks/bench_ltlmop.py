@@ -75,8 +75,11 @@ def main() -> None:
     parser.add_argument("--python2", required=True, help="a Python 2.7 interpreter")
     parser.add_argument("--py2lib", required=True, help="folder with numpy 1.16.6 and Polygon2 for Python 2.7")
     parser.add_argument("--timeout", type=float, default=300)
+    parser.add_argument("--only", nargs="*", help="only the projects whose path contains one of these")
     args = parser.parse_args()
     examples = sorted((args.ltlmop / "src" / "examples").rglob("*.spec"))
+    if args.only:
+        examples = [e for e in examples if any(word in str(e) for word in args.only)]
     print("| project | LTLMoP | ltl_stack | agree | note |")
     print("|---|---|---|---|---|")
     agree = total = 0
