@@ -260,6 +260,12 @@ def _add(decl: Declarations, kind: str, name: str, number: int, column: int, fil
         decl.kind_of[new] = "completions"
 
 
+def add_declaration(decl: Declarations, kind: str, name: str, line: int, column: int, file: str) -> None:
+    """Declare ``name`` as a ``kind`` (sensors, actions, completion_actions, memory, regions), with the
+    checks of a declaration line (for readers of other containers, such as LTLMoP project files)."""
+    _add(decl, kind, name, line, column, file)
+
+
 def _declare_map(decl: Declarations, path_text: str, number: int, column: int, file: str, base_dir: Path) -> None:
     if not path_text:
         raise SpecError(file, number, column, "expected the path of an LTLMoP .regions file after 'Map:'")

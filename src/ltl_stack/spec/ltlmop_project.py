@@ -34,7 +34,7 @@ from pathlib import Path
 
 from ltl_stack.errors import InputError
 from ltl_stack.inputs import read_text
-from ltl_stack.spec.english_reader import Declarations, EnglishSpec, _add, compile_sentences
+from ltl_stack.spec.english_reader import Declarations, EnglishSpec, add_declaration, compile_sentences
 from ltl_stack.spec.errors import SpecError
 from ltl_stack.spec.model import SECTIONS, Clause
 from ltl_stack.spec.region_map import parse_region_map
@@ -75,9 +75,9 @@ def read_project(text: str, file: str, base_dir: Path) -> EnglishSpec:
             if flag == "0":
                 decl.disabled[name] = word
             else:
-                _add(decl, kind, name, number, 1, file)
+                add_declaration(decl, kind, name, number, 1, file)
     for number, entry in settings.get("Customs", []):
-        _add(decl, "memory", entry.strip(), number, 1, file)
+        add_declaration(decl, "memory", entry.strip(), number, 1, file)
     spec_lines = parts.get("SPECIFICATION", {}).get("Spec", [])
     derived: dict[str, tuple] = {}
     if options["decompose"] and parser == "structured":
@@ -177,7 +177,7 @@ def _read_map(decl: Declarations, entry: tuple[int, str], base_dir: Path, file: 
     except SpecError as e:
         raise SpecError(file, number, 1, f"in the RegionFile: {e}") from None
     for region in topology.regions:
-        _add(decl, "regions", region, number, 1, file)
+        add_declaration(decl, "regions", region, number, 1, file)
     for area, pieces in topology.areas.items():
         if area not in decl.kind_of:
             decl.kind_of[area] = "regions"

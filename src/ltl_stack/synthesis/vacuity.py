@@ -28,7 +28,7 @@ class Vacuity:
     warnings: tuple[str, ...]
 
 
-def fair_states(game: Game, trans) -> object:
+def fair_states(game: Game, trans: object) -> object:
     """States from which a path along ``trans`` (over current and next variables) meets every
     environment goal infinitely often (goals may mention the next step: met on a transition)."""
     bdd = game.bdd
