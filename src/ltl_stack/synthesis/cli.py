@@ -139,9 +139,11 @@ def _synthesize(args: argparse.Namespace) -> int:
             "warnings": list(spec.warnings),
         }
         if result.realizable:
+            from ltl_stack.synthesis.game import memory_guard
             from ltl_stack.synthesis.vacuity import check  # only a realizable spec can be vacuous
 
-            vacuity = check(result.game)
+            with memory_guard(result.game.max_memory):
+                vacuity = check(result.game, result.solution.winning)
             summary["vacuity"] = list(vacuity.warnings)
             summary["assumptions_satisfiable"] = vacuity.assumptions_satisfiable
             if not args.quiet:

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ltl_stack.synthesis.game import Game
+from ltl_stack.synthesis.game import BACKEND, Game, _backend
 
 
 @dataclass(frozen=True)
@@ -28,22 +28,31 @@ class Vacuity:
     warnings: tuple[str, ...]
 
 
-def fair_states(game: Game, trans: object) -> object:
-    """States from which a path along ``trans`` (over current and next variables) meets every
-    environment goal infinitely often (goals may mention the next step: met on a transition)."""
+def fair_states(game: Game, trans: object, more: object = None, within: object = None) -> object:
+    """States from which a path along ``trans & more`` (over current and next variables) meets every
+    environment goal infinitely often (goals may mention the next step: met on a transition).
+    ``more`` is kept apart so that the two relations are never conjoined whole (CUDD's and-exists);
+    ``within`` bounds the states (the greatest fixpoint starts there)."""
     bdd = game.bdd
     nxt = game.variables_next
-    z = bdd.true
+    extra = bdd.true if more is None else more
+
+    def pre(target: object) -> object:
+        if BACKEND == "cudd":
+            return _backend.and_exists(trans, extra & target, nxt)
+        return bdd.exist(nxt, trans & extra & target)
+
+    z = bdd.true if within is None else within
     while True:
         game.deadline.check()
         z_next = game.prime(z)
         new = z
         for goal in game.env_goals:
-            reach_goal = bdd.exist(nxt, trans & goal & z_next)
+            reach_goal = pre(goal & z_next)
             y = bdd.false
             while True:
                 game.deadline.check()
-                y_new = z & (reach_goal | bdd.exist(nxt, trans & game.prime(y)))
+                y_new = z & (reach_goal | pre(game.prime(y)))
                 if y_new == y:
                     break
                 y = y_new
@@ -53,14 +62,21 @@ def fair_states(game: Game, trans: object) -> object:
         z = new
 
 
-def check(game: Game) -> Vacuity:
-    """Whether the spec of ``game`` has guarantees and whether its assumptions can be met."""
+def check(game: Game, winning: object = None) -> Vacuity:
+    """Whether the spec of ``game`` has guarantees and whether its assumptions can be met.
+
+    With the robot's ``winning`` positions (a realizable spec's solution), the plays considered stay
+    in them, as every play of a winning strategy does: the question is then whether the strategy can
+    ever meet an environment that keeps its assumptions, and the fixpoint works on a smaller set."""
     spec = game.spec
     has_guarantees = bool(spec.sys_init or spec.sys_safety or spec.sys_liveness)
     bdd = game.bdd
     alone = (game.env_init & fair_states(game, game.env_trans)) != bdd.false
-    together = alone and (game.env_init & game.sys_init
-                          & fair_states(game, game.env_trans & game.sys_trans)) != bdd.false
+    if winning is None:
+        fair = fair_states(game, game.env_trans, game.sys_trans)
+    else:
+        fair = fair_states(game, game.env_trans, game.sys_trans & game.prime(winning), winning)
+    together = alone and (game.env_init & game.sys_init & fair) != bdd.false
     warnings = []
     if not has_guarantees:
         warnings.append("the spec has no guarantees (no [SYS_INIT], [SYS_TRANS] or [SYS_LIVENESS] clause): any "
