@@ -18,10 +18,14 @@ Sentences compile with the activation–completion encoding of [75] (``activatio
 each clause keeps the sentence's text, file and line. The full grammar and what each sentence
 compiles to are in ``docs/spec_formats.md`` (section "Structured English").
 
-Time: in a safety sentence (``always``, ``if … then do …``, memory) the present tense is the
-*next* state — the robot reacts to what it is sensing now — and the past tense (``you were in``,
-``you sensed``) the current one. In goals and initial conditions the present tense is the current
-state and the past tense is refused.
+Time is LTLMoP's (``parseEnglishToLTL``; ``_Sentence._primed``, docs/spec_formats.md "Timing"): in
+a safety sentence the present tense is the *next* state — the robot reacts to what it is sensing
+now — and the past tense (``you were in``, ``you sensed``) the current one; a name without a phrase
+in a condition is the current state; a memory's events read sensors next and the robot's own
+propositions now. In goals and initial conditions everything is the current state.
+
+LTLMoP project files (``======== SETTINGS ========`` …) are read by ``ltlmop_project`` into the same
+``Declarations`` and sentences.
 
 The reader is iterative (an operator-precedence loop), so nesting depth costs no stack, and each
 line is read once: time and memory are linear in the size of the file.
