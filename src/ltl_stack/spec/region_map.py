@@ -45,6 +45,10 @@ BOUNDARY = "boundary"
 #: a map with more vertices or regions than this is refused (bounded input)
 MAX_VERTICES = 100_000
 MAX_REGIONS = 10_000
+#: at most this many regions and derived areas are cut into pieces when regions overlap
+MAX_OVERLAY = 300
+#: and the pieces they are cut into (each area is tested against every piece so far)
+MAX_PIECES = 2000
 #: the name of the free space inside the boundary (``decompose``), as LTLMoP's RegionMapping calls it
 FREE_SPACE = "others"
 
@@ -278,7 +282,11 @@ def _overlapping(names: list[str], outlines: dict[str, list[Point]]) -> bool:
 def _overlay(file: str, boundary: RegionOutline, names: list[str], outlines: dict[str, list[Point]],
              derived: dict[str, tuple], line: int, blocked: list[RegionOutline]) -> RegionTopology:
     """Cut the boundary into pieces no two named areas share; each area is the union of its pieces.
-    Obstacles are no place to be, but ``between``/``near`` may name them (LTLMoP's examples do)."""
+    Obstacles are no place to be, but ``between``/``near`` may name them (LTLMoP's examples do).
+    Each area may cut every piece so far, so the work is bounded by refusing large overlays."""
+    if len(names) + len(derived) > MAX_OVERLAY:
+        raise SpecError(file, line, 1, f"the map's regions overlap (or the spec names areas between or near "
+                                       f"them): cutting more than {MAX_OVERLAY} areas into pieces is refused")
     polygons = {n: _polygon(outlines[n]) for n in names}
     areas: list[tuple[str, object]] = list(polygons.items())
     solid = {r.name: _polygon(r.outline, r.holes) for r in blocked}
@@ -306,6 +314,9 @@ def _overlay(file: str, boundary: RegionOutline, names: list[str], outlines: dic
             cut += [(g, labels | {name}) for g in _parts(inside) if g.area > tiny]
             cut += [(g, labels) for g in _parts(outside) if g.area > tiny]
         cells = cut
+        if len(cells) > MAX_PIECES:
+            raise SpecError(file, line, 1, f"the map's overlapping regions make more than {MAX_PIECES} pieces; "
+                                           "refused (draw them without overlaps)")
     taken = set(names) | set(derived)
     pieces: list[str] = []
     shapes: dict[str, object] = {}

@@ -168,3 +168,15 @@ def _vars(formula):
     from ltl_stack.spec.formula import Var, walk
 
     return [v for v in walk(formula) if isinstance(v, Var)]
+
+
+def test_an_overlay_that_would_make_too_many_pieces_is_refused(monkeypatch):
+    import json
+
+    from ltl_stack.spec import region_map
+
+    monkeypatch.setattr(region_map, "MAX_PIECES", 30)
+    cells = [{"name": "boundary", "type": "rect", "position": [0, 0], "size": [100, 100]}]
+    cells += [{"name": f"r{i}", "type": "rect", "position": [3 * i, 3 * i], "size": [40, 40]} for i in range(20)]
+    with pytest.raises(SpecError, match="more than 30 pieces; refused"):
+        parse_region_map("Regions:\n" + json.dumps(cells) + "\n", "x.regions", decompose=True)
