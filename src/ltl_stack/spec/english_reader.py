@@ -686,7 +686,13 @@ class _Sentence:
 
     @property
     def _outputs(self) -> set[str]:
-        return {n for n, k in self.decl.kind_of.items() if k in ("actions", "completion_actions", "memory", "regions")}
+        """The robot's propositions (computed once per set of declarations: every name read asks)."""
+        cached = self.decl.__dict__.get("_robot_names")
+        if cached is None or cached[0] != len(self.decl.kind_of):
+            names = {n for n, k in self.decl.kind_of.items()
+                     if k in ("actions", "completion_actions", "memory", "regions")}
+            cached = self.decl.__dict__["_robot_names"] = (len(self.decl.kind_of), names)
+        return cached[1]
 
     def _mentions_input(self, formula: Formula) -> bool:
         outputs = self._outputs
