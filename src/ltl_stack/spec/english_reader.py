@@ -18,10 +18,14 @@ Sentences compile with the activation–completion encoding of [75] (``activatio
 each clause keeps the sentence's text, file and line. The full grammar and what each sentence
 compiles to are in ``docs/spec_formats.md`` (section "Structured English").
 
-Time: in a safety sentence (``always``, ``if … then do …``, memory) the present tense is the
-*next* state — the robot reacts to what it is sensing now — and the past tense (``you were in``,
-``you sensed``) the current one. In goals and initial conditions the present tense is the current
-state and the past tense is refused.
+Time is LTLMoP's (``parseEnglishToLTL``; ``_Sentence._primed``, docs/spec_formats.md "Timing"): in
+a safety sentence the present tense is the *next* state — the robot reacts to what it is sensing
+now — and the past tense (``you were in``, ``you sensed``) the current one; a name without a phrase
+in a condition is the current state; a memory's events read sensors next and the robot's own
+propositions now. In goals and initial conditions everything is the current state.
+
+LTLMoP project files (``======== SETTINGS ========`` …) are read by ``ltlmop_project`` into the same
+``Declarations`` and sentences.
 
 The reader is iterative (an operator-precedence loop), so nesting depth costs no stack, and each
 line is read once: time and memory are linear in the size of the file.
@@ -40,6 +44,7 @@ from ltl_stack.spec.activation_completion import (
     REGION_COMPLETION,
     action_clauses,
     at_most_one,
+    place_clauses,
     region_clauses,
 )
 from ltl_stack.spec.errors import SpecError
@@ -59,7 +64,7 @@ set reset on start starts with environment env true false mutually exclusive tog
 
 _COMMENT = re.compile(r"(^|\s)#")
 _DECLARATION = re.compile(r"^\s*(?P<key>[A-Za-z][A-Za-z' ]*?)\s*:(?P<rest>.*)$")
-_TOKEN = re.compile(r"(?P<space>\s+)|(?P<word>[A-Za-z_][A-Za-z0-9_]*)|(?P<punct>[(),.])")
+_TOKEN = re.compile(r"(?P<space>\s+)|(?P<word>[A-Za-z_][A-Za-z0-9_]*)|(?P<number>\d+(?:\.\d+)?)|(?P<punct>[(),.])")
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 
 DECLARATION_KINDS = {
@@ -87,20 +92,34 @@ class Declarations:
     topology: RegionTopology | None = None
     kind_of: dict[str, str] = field(default_factory=dict)  # name -> sensor/action/completion/memory/region
     line_of: dict[str, int] = field(default_factory=dict)  # declaration kind -> its (first) line
+    #: LTLMoP's region model (a project file without ``fastslow``): a region is a robot proposition
+    #: saying where the robot is, moved between neighbours in one step; no ``R_rc``
+    regions_are_places: bool = False
+    #: ``group X is a, b`` (and its singular, as LTLMoP allows): the members, by group name
+    groups: dict[str, list[str]] = field(default_factory=dict)
+    #: propositions a project lists but disables (``name, 0``), with their kind
+    disabled: dict[str, str] = field(default_factory=dict)
+    #: a region name that stands for several pieces of the map (LTLMoP's decomposition when regions
+    #: overlap, ``between``/``near`` areas): the pieces, which are the ``regions``
+    areas: dict[str, list[str]] = field(default_factory=dict)
+
+    def is_region(self, name: str) -> bool:
+        return name in self.areas or name in self.regions
 
     @property
     def inputs(self) -> list[str]:
-        return [*self.sensors, *(a + ACTION_COMPLETION for a in self.completion_actions),
-                *(r + REGION_COMPLETION for r in self.regions)]
+        places = [] if self.regions_are_places else [r + REGION_COMPLETION for r in self.regions]
+        return [*self.sensors, *(a + ACTION_COMPLETION for a in self.completion_actions), *places]
 
     @property
     def outputs(self) -> list[str]:
         return [*self.actions, *self.completion_actions, *self.memory, *self.regions]
 
     def completion(self, name: str) -> str | None:
-        """``a_ac`` for a durative action, ``R_rc`` for a region, else None."""
+        """``a_ac`` for a durative action, ``R_rc`` for a region (``R`` itself in LTLMoP's region
+        model), else None."""
         if name in self.regions:
-            return name + REGION_COMPLETION
+            return name if self.regions_are_places else name + REGION_COMPLETION
         if name in self.completion_actions:
             return name + ACTION_COMPLETION
         return None
@@ -134,9 +153,16 @@ def parse_english(text: str, file: str = "<string>", base_dir: str | Path | None
 
 
 def read_english(text: str, file: str = "<string>", base_dir: str | Path | None = None) -> EnglishSpec:
-    """Like ``parse_english`` but also returns the declarations and sentences (for rendering back)."""
+    """Like ``parse_english`` but also returns the declarations and sentences (for rendering back).
+
+    An LTLMoP project file (``======== SETTINGS ========`` …) is read as shipped by
+    ``ltlmop_project.read_project``, with LTLMoP's meaning."""
     if base_dir is None:
         base_dir = Path(file).parent if file and not file.startswith("<") else Path(".")
+    if is_ltlmop_project(text):
+        from ltl_stack.spec.ltlmop_project import read_project  # the project format builds on this module
+
+        return read_project(text, file, Path(base_dir))
     lines = []
     for number, raw in enumerate(text.splitlines(), start=1):
         m = _COMMENT.search(raw)
@@ -146,22 +172,32 @@ def read_english(text: str, file: str = "<string>", base_dir: str | Path | None 
     decl = Declarations()
     sentences: list[tuple[int, str]] = []
     for number, body in lines:
-        if body.startswith("========"):
-            raise SpecError(file, number, 1, "this looks like an LTLMoP project file; an ltl_stack English spec has "
-                                             "declarations (Sensors:, Actions:, Map: …) and the sentences of its "
-                                             "'Spec:' section (see docs/spec_formats.md)")
         m = _DECLARATION.match(body)
         if m:
             _declare(decl, m, number, body, file, Path(base_dir))
         else:
             sentences.append((number, body))
-    sections: dict[str, list[Clause]] = {name: [] for name in SECTIONS}
+    return compile_sentences(decl, sentences, file)
+
+
+def is_ltlmop_project(text: str) -> bool:
+    """Is ``text`` an LTLMoP project file (its ``======== SETTINGS ========`` container)?"""
+    return re.search(r"^=+ *(SETTINGS|SPECIFICATION) *=+\s*$", text, re.MULTILINE) is not None
+
+
+def compile_sentences(decl: Declarations, sentences: list[tuple[int, str]], file: str,
+                      clauses: dict[str, list[Clause]] | None = None) -> EnglishSpec:
+    """The spec of ``sentences`` (line, text) over ``decl`` (after ``clauses`` already read, by
+    section), with the generated conventions."""
+    sections: dict[str, list[Clause]] = {name: list((clauses or {}).get(name, [])) for name in SECTIONS}
     for number, body in sentences:
         reader = _Sentence(body, number, file, decl)
         for section, formula in reader.compile():
             sections[section].append(Clause(formula, body.strip(), file, number))
     _add_conventions(decl, sections, file)
     spec = Spec(inputs=decl.inputs, outputs=decl.outputs, source=file, **sections)
+    if decl.topology is not None:
+        spec.warnings.extend(decl.topology.warnings)
     return EnglishSpec(spec, decl, dict(sentences))
 
 
@@ -228,6 +264,12 @@ def _add(decl: Declarations, kind: str, name: str, number: int, column: int, fil
         decl.kind_of[new] = "completions"
 
 
+def add_declaration(decl: Declarations, kind: str, name: str, line: int, column: int, file: str) -> None:
+    """Declare ``name`` as a ``kind`` (sensors, actions, completion_actions, memory, regions), with the
+    checks of a declaration line (for readers of other containers, such as LTLMoP project files)."""
+    _add(decl, kind, name, line, column, file)
+
+
 def _declare_map(decl: Declarations, path_text: str, number: int, column: int, file: str, base_dir: Path) -> None:
     if not path_text:
         raise SpecError(file, number, column, "expected the path of an LTLMoP .regions file after 'Map:'")
@@ -256,7 +298,8 @@ def _add_conventions(decl: Declarations, sections: dict[str, list[Clause]], file
             decl.topology = complete_topology(decl.regions)
         origin = "Map" if "map" in decl.line_of else "Regions"
         line = decl.line_of.get("map", decl.line_of.get("regions", 0))
-        for section, clauses in region_clauses(decl.topology, file, line, origin).items():
+        generate = place_clauses if decl.regions_are_places else region_clauses
+        for section, clauses in generate(decl.topology, file, line, origin).items():
             sections[section].extend(clauses)
     if decl.completion_actions:
         line = decl.line_of["completion_actions"]
@@ -329,6 +372,17 @@ TEMPLATES = [
     "start in <region>", "robot starts with <action>", "environment starts with <sensor>",
     "assume always <p>", "<p> and <p> are mutually exclusive",
 ]
+#: LTLMoP's forms that need its geometry or its internal memories, named when refused
+UNSUPPORTED = (
+    (("between",), "'between R1 and R2' (a region LTLMoP computes from the map's geometry)"),
+    (("within",), "'within N of R' (a region LTLMoP computes from the map's geometry)"),
+    (("near",), "'near R' (a region LTLMoP computes from the map's geometry)"),
+    (("at", "least", "once"), "'at least once' (LTLMoP's generated memory propositions)"),
+    (("after", "each", "time"), "'after each time' (LTLMoP's generated memory propositions)"),
+)
+#: words a hint may put in place of a misspelt one
+VOCABULARY = sorted(KEYWORDS | {"stay", "there", "group", "toggled", "when", "of", "end", "beginning", "all", "any",
+                                "each", "sense", "than"} - {"than"})
 _PLACEHOLDER = {"sensors": "<sensor>", "actions": "<action>", "completion_actions": "<action>",
                 "memory": "<memory>", "regions": "<region>", "completions": "<p>"}
 
@@ -359,7 +413,8 @@ class _Sentence:
                 raise self.error(position + 1, f"unexpected character {text[position]!r} (a sentence has words, "
                                                "parentheses, commas and a final period)")
             if m.lastgroup != "space":
-                out.append(_Token(m.lastgroup if m.lastgroup == "word" else m.group(), m.group(), position + 1))
+                kind = m.lastgroup if m.lastgroup in ("word", "number") else m.group()
+                out.append(_Token(kind, m.group(), position + 1))
             position = m.end()
         while out and out[-1].kind == ".":
             out.pop()
@@ -370,14 +425,72 @@ class _Sentence:
 
     # -- sentence forms ---------------------------------------------------------------------
 
-    def compile(self) -> list[tuple[str, Formula]]:
+    def compile(self, hints: bool = True) -> list[tuple[str, Formula]]:
         try:
-            return self._compile()
+            return self._quantified()
         except SpecError as e:
-            hint = self._closest_form() if getattr(e, "form", False) else None
+            hint = self._closest_form(e) if hints and getattr(e, "form", False) else None
             if hint and "did you mean" not in e.message:
                 raise SpecError(e.file, e.line, e.column, f"{e.message}; did you mean '{hint}'?") from None
             raise
+
+    def _quantified(self) -> list[tuple[str, Formula]]:
+        """``all X`` / ``each X`` / ``any X`` over a group (one per sentence, as in LTLMoP's
+        ``parseEnglishToLTL``): in a condition, a memory or toggle event or a start, ``all`` is the
+        members' conjunction and ``any`` their disjunction; elsewhere ``any`` is the disjunction
+        and ``all``/``each`` repeat the sentence once per member (``visit all rooms``)."""
+        toks = self.tokens
+        self._refuse_unsupported(toks)
+        at = next((i for i, t in enumerate(toks[:-1]) if t.low in ("all", "any", "each")
+                   and toks[i + 1].text in self.decl.groups and t.text not in self.decl.kind_of), None)
+        if at is None:
+            loose = next((t for i, t in enumerate(toks[:-1]) if t.low in ("all", "any", "each")
+                          and toks[i + 1].kind == "word" and toks[i + 1].text not in self.decl.kind_of
+                          and toks[i + 1].low not in KEYWORDS and t.text not in self.decl.kind_of), None)
+            if loose is not None:
+                name = toks[toks.index(loose) + 1]
+                groups = ", ".join(self.decl.groups) or "none defined"
+                raise self.error(name.column, f"unknown group '{name.text}' after '{loose.text}' (define it first: "
+                                              f"'group {name.text} is <region>, <region>'; groups: {groups})")
+            return self._compile()
+        members = self.decl.groups[toks[at + 1].text]
+        column = toks[at].column
+        if toks[at].low == "any" or self._in_condition(at):
+            joiner = "or" if toks[at].low == "any" else "and"
+            group: list[_Token] = [_Token("(", "(", column)]
+            for k, member in enumerate(members):
+                if k:
+                    group.append(_Token("word", joiner, column))
+                group.append(_Token("word", member, column))
+            group = group + [_Token(")", ")", column)] if members else [_Token("word", "false", column)]
+            self.tokens = toks[:at] + group + toks[at + 2:]
+            try:
+                return self._compile()
+            finally:
+                self.tokens = toks
+        out: list[tuple[str, Formula]] = []
+        try:
+            for member in members:
+                self.tokens = toks[:at] + [_Token("word", member, column)] + toks[at + 2:]
+                out.extend(self._compile())
+        finally:
+            self.tokens = toks
+        return out
+
+    def _in_condition(self, at: int) -> bool:
+        """Is token ``at`` part of a condition (or an event, a start) rather than a requirement?"""
+        words = [t.low for t in self.tokens]
+        start = 1 if words[:1] in (["always"], ["assume"]) else 0
+        if words[start:start + 1] == ["if"]:
+            then = self._find(self.tokens, ("then",))
+            return then is not None and at < then
+        iff = self._find(self.tokens, ("if", "and", "only", "if"))
+        if iff is not None:
+            return at > iff
+        unless = self._find(self.tokens, ("unless",))
+        if unless is not None:
+            return at > unless
+        return "set" in words or "toggled" in words or "start" in words or "starts" in words
 
     def _compile(self) -> list[tuple[str, Formula]]:
         toks = self.tokens
@@ -394,6 +507,14 @@ class _Sentence:
         w = words[start:]
         if not rest:
             raise self.error(1, "expected a sentence")
+        self._refuse_unsupported(rest)
+        if w[0] == "group" and len(w) > 2 and w[2] in ("is", "are"):
+            return self._group(rest)
+        if len(w) >= 4 and w[1:3] == ["is", "toggled"] and w[3] in ("on", "when"):
+            return self._toggle(rest, forced)
+        if not forced and w[0] in ("visit", "go") and w[-3:] == ["and", "stay", "there"]:
+            goals = self._visit(rest[:-3])
+            return [*self._goals(goals, forced), *(("sys_safety", Implies(g, self._stay(rest[-2]))) for g in goals)]
         # initial conditions
         if w[:2] in (["environment", "starts"], ["env", "starts"], ["the", "environment"]):
             return self._environment_start(rest)
@@ -439,6 +560,8 @@ class _Sentence:
             return self._conditional(toks[unless + 1:], toks[:unless], "unless", forced, always, at=toks[unless])
         if not always and words[0] in ("visit", "go"):
             return self._goals(self._visit(toks), forced)
+        if words in (["stay", "there"], ["stay"]):
+            return [self._safety(self._stay(toks[0]), forced)]
         if not always and words[:2] == ["infinitely", "often"]:
             body = toks[2:]
             if not body:
@@ -456,7 +579,23 @@ class _Sentence:
             raise self.error(at.column if at else 1, f"expected a condition after '{word}'")
         if not requirement:
             raise self.error(at.column if at else 1, f"expected what to do before '{word}'")
+        if requirement[0].low == "always" and len(requirement) > 1:  # "if C then always P" (LTLMoP)
+            requirement = requirement[2:] if requirement[1].kind == "," else requirement[1:]
         first = [t.low for t in requirement[:2]]
+        req_words = [t.low for t in requirement]
+        if req_words in (["stay", "there"], ["stay"]):
+            if how == "iff":
+                raise self.error(requirement[0].column, "'stay there' cannot follow 'if and only if' (LTLMoP)")
+            cond = self._expr(condition, "condition")
+            return [self._safety(self._combine(how, cond, self._stay(requirement[0])), forced)]
+        if first[:1] in (["visit"], ["go"]) and req_words[-3:] == ["and", "stay", "there"]:
+            # LTLMoP: "if C then go to R and stay there" is G(C -> (R -> stay)), C and R now; no goal
+            if how == "iff":
+                raise self.error(requirement[0].column, "'stay there' cannot follow 'if and only if' (LTLMoP)")
+            cond = self._expr(condition, "goal")
+            stay = self._stay(requirement[-2])
+            return [self._safety(self._combine(how, cond, Implies(g, stay)), forced)
+                    for g in self._visit(requirement[:-3])]
         if not always and (first[:1] in (["visit"], ["go"]) or first == ["infinitely", "often"]):
             if first == ["infinitely", "often"]:
                 if len(requirement) == 2:
@@ -466,8 +605,11 @@ class _Sentence:
                 goals = self._visit(requirement)
             cond = self._expr(condition, "goal")
             return self._goals([self._combine(how, cond, g) for g in goals], forced)
-        cond = self._expr(condition, "safety")
         req = self._expr(requirement, "safety")
+        robot_next = any(isinstance(v, Var) and v.primed and v.name in self._outputs for v in walk(req))
+        # LTLMoP's parseCond: a name without a phrase is read now; in an assumption (a requirement
+        # about sensors) 'you are in R' / 'you are activating a' read the robot's current values
+        cond = self._expr(condition, "condition" if robot_next else "env_condition")
         return [self._safety(self._combine(how, cond, req), forced)]
 
     @staticmethod
@@ -496,7 +638,7 @@ class _Sentence:
         skip = 2 if toks[0].low == "go" else 1
         if toks[0].low == "go" and (len(toks) < 2 or toks[1].low != "to"):
             raise self.error(toks[0].column + 3, "expected 'to' after 'go' (go to <region>)", form=True)
-        items = toks[skip:]
+        items = [t for t in toks[skip:] if t.kind not in ("(", ")")]
         if not items:
             raise self.error(toks[skip - 1].column + len(toks[skip - 1].text), "expected a region to visit")
         names, connective = [], None
@@ -520,9 +662,11 @@ class _Sentence:
                                                                     "separator")
         arrivals = []
         for t in names:
-            if t.text not in self.decl.regions:
+            if not self.decl.is_region(t.text):
                 raise self.error(t.column, self._unknown(t.text, "region", self.decl.regions))
-            arrivals.append(And((Var(t.text), Var(t.text + REGION_COMPLETION))))
+            pieces = [Var(p) if self.decl.regions_are_places else And((Var(p), Var(p + REGION_COMPLETION)))
+                      for p in self.decl.areas.get(t.text, [t.text])]
+            arrivals.append(pieces[0] if len(pieces) == 1 else Or(tuple(pieces)) if pieces else FALSE)
         if connective == "or":
             return [Or(tuple(arrivals))]
         return arrivals
@@ -542,7 +686,13 @@ class _Sentence:
 
     @property
     def _outputs(self) -> set[str]:
-        return {n for n, k in self.decl.kind_of.items() if k in ("actions", "completion_actions", "memory", "regions")}
+        """The robot's propositions (computed once per set of declarations: every name read asks)."""
+        cached = self.decl.__dict__.get("_robot_names")
+        if cached is None or cached[0] != len(self.decl.kind_of):
+            names = {n for n, k in self.decl.kind_of.items()
+                     if k in ("actions", "completion_actions", "memory", "regions")}
+            cached = self.decl.__dict__["_robot_names"] = (len(self.decl.kind_of), names)
+        return cached[1]
 
     def _mentions_input(self, formula: Formula) -> bool:
         outputs = self._outputs
@@ -562,7 +712,8 @@ class _Sentence:
             if not region_toks:
                 raise self.error(toks[i].column + 2, "expected a region after 'in'")
             out.append(("sys_init", self._expr(region_toks, "init", only="regions")))
-            out.append(("env_init", self._expr(region_toks, "init", only="regions", completion=True)))
+            if not self.decl.regions_are_places:
+                out.append(("env_init", self._expr(region_toks, "init", only="regions", completion=True)))
             if with_at is None:
                 return out
             i = i + 1 + with_at
@@ -590,7 +741,9 @@ class _Sentence:
         return [("env_init", self._expr(body, "init"))]
 
     def _memory(self, toks: list[_Token], forced: str | None) -> list[tuple[str, Formula]]:
-        """``P is set on E and reset on F``: P' <-> (!F' & (E' | P)), as LTLMoP's four clauses."""
+        """``P is set on E and reset on F``: LTLMoP's four clauses (``parseEvent``), with E and F read
+        as LTLMoP reads them: what the environment reports (sensors, completions) at the next step,
+        the robot's own propositions at the current one; ``reset on false`` never resets."""
         name = toks[0]
         if name.text not in self._outputs or name.text in self.decl.regions:
             if name.text in self.decl.kind_of:
@@ -608,8 +761,8 @@ class _Sentence:
             raise self.error(toks[-1].column + len(toks[-1].text), "expected the event that resets it after 'reset on'")
         if forced == "env":
             raise self.error(1, "a memory proposition belongs to the robot; 'Assume' cannot define it")
-        e = self._expr(set_toks, "safety")
-        f = self._expr(reset_toks, "safety")
+        e = self._expr(set_toks, "event")
+        f = self._expr(reset_toks, "event")
         p, p_next = Var(name.text), Var(name.text, True)
         return [("sys_safety", Implies(And((e, Not(f))), p_next)),
                 ("sys_safety", Implies(f, Not(p_next))),
@@ -701,6 +854,13 @@ class _Sentence:
                     previous = toks[i + phrase.length - 1]
                     i += phrase.length
                     continue
+                edge = self._edge(toks, i, phrases[-1] if phrases else None, mode)
+                if edge is not None:
+                    values.append(edge)
+                    expect = False
+                    previous = toks[i + 2]
+                    i += 3
+                    continue
                 if t.low == "not":
                     ops.append(("not", t))
                 elif t.kind == "(":
@@ -723,7 +883,8 @@ class _Sentence:
                 # A phrase covers the names after it joined by and/or; anything else after a
                 # connective (a phrase, 'not', '(', true, false) ends it.
                 following = toks[i + 1] if i + 1 < len(toks) else None
-                if following is None or following.kind != "word" or following.low in KEYWORDS:
+                if following is None or following.kind != "word" or following.low in KEYWORDS \
+                        or self._edge_starts(toks, i + 1):
                     close_phrase()
                 precedence = _BINARY[t.low]
                 while ops and (ops[-1][0] == "not" or (ops[-1][0] in _BINARY and _BINARY[ops[-1][0]] >= precedence)):
@@ -749,6 +910,91 @@ class _Sentence:
                 raise self.error(ops[-1][1].column, "this '(' is never closed")
             apply(ops.pop())
         return settle(values[0])
+
+    @staticmethod
+    def _edge_starts(toks: list[_Token], i: int) -> bool:
+        return (toks[i].low in ("start", "beginning", "end") and i + 2 < len(toks) and toks[i + 1].low == "of"
+                and toks[i + 2].kind == "word")
+
+    def _edge(self, toks: list[_Token], i: int, phrase: _Phrase | None, mode: str) -> Formula | None:
+        """``start of x`` / ``beginning of x`` (x rises: ``!x & x'``) and ``end of x`` (x falls:
+        ``x & !x'``), LTLMoP's edge conditions; None when ``toks[i]`` does not start one."""
+        if not self._edge_starts(toks, i):
+            return None
+        name_token = toks[i + 2]
+        if mode in ("goal", "init"):
+            raise self.error(toks[i].column, f"'{toks[i].text} of' compares two steps, which "
+                                             f"{'a goal' if mode == 'goal' else 'an initial condition'} does not have")
+        atom = self._atom(name_token, phrase, "event", None, False)  # checks the name
+        if not isinstance(atom, Var):
+            raise self.error(name_token.column, f"'{toks[i].text} of' needs a proposition")
+        now, nxt = Var(atom.name), Var(atom.name, True)
+        return And((Not(now), nxt)) if toks[i].low != "end" else And((now, Not(nxt)))
+
+    def _refuse_unsupported(self, toks: list[_Token]) -> None:
+        """Name LTLMoP's sentence forms this reader does not implement (rather than 'unknown word')."""
+        words = [t.low for t in toks]
+        for k, t in enumerate(toks):
+            if t.text in self.decl.kind_of:
+                continue
+            for form, what in UNSUPPORTED:
+                if tuple(words[k:k + len(form)]) == form:
+                    raise self.error(t.column, f"{what} is not supported by ltl_stack's reader "
+                                               "(see docs/spec_formats.md)")
+
+    def _group(self, toks: list[_Token]) -> list[tuple[str, Formula]]:
+        """``group X is a, b, c``: a named set of regions for ``all X``/``any X``/``each X``."""
+        name = toks[1]
+        if name.kind != "word" or name.low in KEYWORDS:
+            raise self.error(name.column, "expected a group name after 'group'")
+        if name.text in self.decl.kind_of:
+            raise self.error(name.column, f"'{name.text}' is already a {_KIND_WORD.get(self.decl.kind_of[name.text], 'proposition')}")
+        members: list[str] = []
+        for t in toks[3:]:
+            if t.kind == "," or t.low == "and":
+                continue
+            if t.kind != "word":
+                raise self.error(t.column, f"expected a region name, got '{t.text}'")
+            if t.low == "empty":  # LTLMoP: 'empty' adds nothing
+                continue
+            if t.text not in self.decl.kind_of:
+                raise self.error(t.column, self._unknown(t.text, "region", self.decl.regions))
+            members.append(t.text)
+        self.decl.groups[name.text] = members
+        if name.text.endswith("s") and name.text[:-1] and name.text[:-1] not in self.decl.kind_of:
+            self.decl.groups.setdefault(name.text[:-1], members)  # 'any Corner' for group Corners (LTLMoP)
+        return []
+
+    def _toggle(self, toks: list[_Token], forced: str | None) -> list[tuple[str, Formula]]:
+        """``M is toggled on E``: M flips whenever E holds and keeps its value otherwise (LTLMoP's
+        ``parseToggle``; E is read as a condition)."""
+        name = toks[0]
+        if name.text not in self._outputs or name.text in self.decl.regions:
+            if name.text in self.decl.kind_of:
+                raise self.error(name.column, f"'{name.text}' is not a robot proposition; declare it under 'Memory:'")
+            raise self.error(name.column, self._unknown(name.text, "memory proposition", self.decl.memory))
+        if forced == "env":
+            raise self.error(1, "a memory proposition belongs to the robot; 'Assume' cannot define it")
+        if len(toks) < 5:
+            raise self.error(toks[-1].column + len(toks[-1].text), f"expected the event after '{toks[3].text}'")
+        e = self._expr(toks[4:], "condition")
+        m, m_next = Var(name.text), Var(name.text, True)
+        return [("sys_safety", Implies(And((m, e)), Not(m_next))), ("sys_safety", Implies(And((Not(m), e)), m_next)),
+                ("sys_safety", Implies(And((m, Not(e))), m_next)),
+                ("sys_safety", Implies(And((Not(m), Not(e))), Not(m_next)))]
+
+    def _stay(self, at: _Token) -> Formula:
+        """``stay there``: the robot's region does not change. In LTLMoP's region model every region
+        proposition keeps its value; with activation–completion the robot heads for no region but
+        the one it is in (so the environment keeps it there)."""
+        regions = self.decl.regions
+        if not regions:
+            raise self.error(at.column, "'stay there' needs regions (declare 'Regions:' or 'Map:')")
+        if self.decl.regions_are_places:
+            parts = tuple(Iff(Var(r), Var(r, True)) for r in regions)
+        else:
+            parts = tuple(Implies(Var(r, True), Var(r + REGION_COMPLETION)) for r in regions)
+        return parts[0] if len(parts) == 1 else And(parts)
 
     def _lists(self, toks: list[_Token]) -> list[_Token]:
         """``a, b or c`` -> ``a or b or c``: each comma takes the connective that ends its list."""
@@ -796,10 +1042,14 @@ class _Sentence:
         if name not in self.decl.kind_of:
             pool = self.decl.regions if only == "regions" else list(self.decl.kind_of)
             raise self.error(t.column, self._unknown(name, "region" if only == "regions" else "proposition", pool))
-        if only == "regions" and name not in self.decl.regions:
+        if only == "regions" and not self.decl.is_region(name):
             raise self.error(t.column, self._unknown(name, "region", self.decl.regions))
+        if name in self.decl.areas:  # a region made of pieces: in any of them
+            pieces = [_Token("word", piece, t.column) for piece in self.decl.areas[name]]
+            parts = tuple(self._atom(piece, phrase, mode, only, completion) for piece in pieces)
+            return parts[0] if len(parts) == 1 else Or(parts) if parts else FALSE
         past = phrase is not None and phrase.past
-        if past and mode != "safety":
+        if past and mode in ("goal", "init") and not (mode == "goal" and self.decl.regions_are_places):
             what = "a goal" if mode == "goal" else "an initial condition"
             raise self.error(t.column, f"'{phrase.text}' speaks of the previous state, which {what} does not have; "
                                        "use the present tense")
@@ -809,9 +1059,37 @@ class _Sentence:
                 raise self.error(t.column, f"'{name}' has no completion: '{phrase.text if phrase else 'in'}' needs a "
                                            "region or an action declared under 'Actions with completion:'")
             name = done
-        return Var(name, mode == "safety" and not past)
+        return Var(name, self._primed(name, phrase, mode))
+
+    def _primed(self, name: str, phrase: _Phrase | None, mode: str) -> bool:
+        """When a name is read (LTLMoP's ``parseEnglishToLTL``, see docs/spec_formats.md):
+
+        - ``safety`` (what must always hold, ``parseSafety``): the next step;
+        - ``condition`` (``if C then …``, ``… if and only if C``, ``parseCond``): with a present-tense
+          phrase the next step, with a past one or none (``if stopEverything then …``) the current;
+        - ``env_condition``: as ``condition``, but the robot's propositions at the current step (an
+          assumption cannot depend on what the robot does next);
+        - ``event`` (set/reset/toggle, ``parseEvent``): sensors and completions the next step, the
+          robot's propositions the current one; a past phrase the current one;
+        - ``goal`` and ``init``: the current (only) step.
+        """
+        past = phrase is not None and phrase.past
+        if past or mode in ("goal", "init"):
+            return False
+        if mode == "safety":
+            return True
+        robot = name in self._outputs
+        if mode == "event":
+            return not robot
+        if phrase is None:
+            return False
+        return not (mode == "env_condition" and robot)
 
     def _unknown(self, name: str, what: str, pool: list[str]) -> str:
+        if name in self.decl.disabled:
+            word = self.decl.disabled[name]
+            return (f"'{name}' is a {word} the project disables ('{name}, 0' under "
+                    f"{'Sensors' if word == 'sensor' else 'Actions'}:); enable it with '{name}, 1'")
         kind = self.decl.kind_of.get(name)
         if kind is not None:
             listed = ", ".join(pool[:8]) + (", …" if len(pool) > 8 else "") if pool else "none declared"
@@ -826,41 +1104,30 @@ class _Sentence:
         listed = ", ".join(pool[:8]) + (", …" if len(pool) > 8 else "")
         return f"unknown {what} '{name}' (declared: {listed})"
 
-    def _closest_form(self) -> str | None:
-        """The sentence form nearest to this line, with its names filled in (or None)."""
-        words, names = [], []
-        for t in self.tokens:
-            if t.kind != "word":
+    def _closest_form(self, error: SpecError) -> str | None:
+        """The user's sentence with one word changed (a misspelt keyword or name) or one sentence word
+        inserted next to where the error is, if that reads; None otherwise. A hint never rewrites the
+        sentence into another form, so it cannot change what the user said (issue 24)."""
+        toks = self.tokens
+        if not toks or len(toks) > 60:
+            return None
+        known = [*VOCABULARY, *self.decl.kind_of, *self.decl.groups]
+        body = self.body
+        tries: list[str] = []
+        for t in toks:
+            if t.kind == "word" and t.low not in VOCABULARY and t.text not in self.decl.kind_of \
+                    and t.text not in self.decl.groups:
+                for word in difflib.get_close_matches(t.low if t.low in known else t.text, known, n=3, cutoff=0.75):
+                    tries.append(body[:t.column - 1] + word + body[t.column - 1 + len(t.text):])
+        at = max((k for k, t in enumerate(toks) if t.column <= error.column), default=0)
+        for k in sorted(range(len(toks) + 1), key=lambda k: abs(k - at)):
+            column = toks[k].column if k < len(toks) else len(body.rstrip()) + 2
+            for word in ("are", "then", "to", "is", "on", "of"):  # words that only complete a form
+                tries.append((body[:column - 1] + word + " " + body[column - 1:]).rstrip())
+        for text in tries:
+            try:
+                _Sentence(text, self.line, self.file, self.decl).compile(hints=False)
+            except SpecError:
                 continue
-            kind = self.decl.kind_of.get(t.text)
-            if kind is not None:
-                words.append("<x>")
-                names.append((t.text, _PLACEHOLDER.get(kind, "<p>")))
-            else:
-                words.append(t.low)
-        if not words or len(words) > 60:
-            return None
-        best, score = None, 0.0
-        for template in TEMPLATES:
-            shape = ["<x>" if w.startswith("<") else w for w in template.split()]
-            ratio = difflib.SequenceMatcher(a=words, b=shape, autojunk=False).ratio()
-            if ratio > score:
-                best, score = template, ratio
-        if best is None or score < 0.6:
-            return None
-        filled, pool = [], list(names)
-        for w in best.split():
-            if w.startswith("<"):
-                match = next((n for n in pool if n[1] == w or w == "<p>"), None)
-                if match is None and pool:
-                    match = pool[0]
-                if match is not None:
-                    pool.remove(match)
-                    filled.append(match[0])
-                else:
-                    filled.append(w)
-            else:
-                filled.append(w)
-        suggestion = " ".join(filled)
-        original = " ".join(t.text for t in self.tokens if t.kind == "word").lower()
-        return None if suggestion.lower() == original else suggestion
+            return text.strip()
+        return None

@@ -20,7 +20,8 @@ def load_spec(path: str | Path) -> Spec:
 
     Any other name is tried as slugsin, then as structured; when both fail, the error of the reader
     that got further into the file is raised. Every problem is a ``SpecError`` naming the path (a
-    file that is not text, e.g. binary or not UTF-8, too, with the line of the first bad byte).
+    file that is not text, e.g. binary or not UTF-8, too, with the line of the first bad byte; an
+    empty file, which would be trivially realizable).
     """
     path = Path(path)
     file = str(path)
@@ -28,6 +29,8 @@ def load_spec(path: str | Path) -> Spec:
         text = read_text(path, "spec file")  # a byte-order mark is tolerated
     except InputError as e:  # missing, a folder, binary (NUL byte), not UTF-8: one line naming file[:line]
         raise SpecError(file, e.line, 0, e.message) from None
+    if not text.strip():  # an empty spec would be "realizable" and mean nothing
+        raise SpecError(file, 0, 0, "the spec file is empty")
     suffix = path.suffix.lower()
     if suffix == ".slugsin":
         return parse_slugsin(text, file)

@@ -70,6 +70,8 @@ class Spec:
     sys_liveness: list[Clause] = field(default_factory=list)
     integers: list[IntegerVariable] = field(default_factory=list)
     source: str = "<memory>"
+    #: what the reader wants a user to hear (an isolated region of a map), one line each
+    warnings: list[str] = field(default_factory=list)
 
     def section(self, name: str) -> list[Clause]:
         """The clauses of section ``name`` (one of ``SECTIONS``)."""

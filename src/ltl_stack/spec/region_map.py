@@ -8,13 +8,24 @@ coordinates, point location, routes).
 
 A ``.regions`` file is a list of sections, each introduced by a line ``Name: # comment`` at column 0:
 
-    Regions:      a JSON list of {"name", "type" (poly|rect), "position", "points", "size", ...}
+    Regions:      a JSON list of {"name", "type" (poly|rect), "position", "points", "size", ...}, or
+                  (LTLMoP's older format) one region per line, tab-separated:
+                  name, poly|rect, x, y, width, height, red, green, blue, then x y of each vertex
+                  (relative to x, y; a rect has none)
     Obstacles:    region names, one per line (not places the robot can be)
     Transitions:  "a<TAB>b<TAB>face coordinates..." — a and b touch
 
 Adjacency comes from ``Transitions:`` when the file has any; otherwise two regions touch when their
 outlines share a stretch of border of positive length (what LTLMoP's editor writes into
-``Transitions:``). The region called ``boundary`` is the workspace outline, not a region.
+``Transitions:``). The region called ``boundary`` (any case, as LTLMoP compares it) is the workspace
+outline, not a region.
+
+``decompose=True`` is LTLMoP's ``decompose`` compile option (``regions.py``/``parseLP.py``): the free
+space inside the boundary that no region (and no obstacle) covers becomes regions too (``others``,
+or ``others_1``, ``others_2``, … for each separate piece), and adjacency is recomputed from shared
+borders of all of them (the file's ``Transitions:`` are ignored, as LTLMoP recomputes them). The
+geometry is shapely's. LTLMoP also cuts regions into convex pieces; a region here stays one
+proposition, which changes nothing a specification can say about it.
 """
 from __future__ import annotations
 
@@ -22,14 +33,24 @@ import math
 import re
 from dataclasses import dataclass, field
 
+import shapely
+from shapely.geometry import Polygon
+from shapely.ops import unary_union
+
 from ltl_stack.errors import InputError
 from ltl_stack.inputs import parse_json
 from ltl_stack.spec.errors import SpecError
 
 BOUNDARY = "boundary"
-#: a map with more vertices than this is refused (the border test compares edges pairwise)
-MAX_VERTICES = 2000
-MAX_REGIONS = 200
+#: a map with more vertices or regions than this is refused (bounded input)
+MAX_VERTICES = 100_000
+MAX_REGIONS = 10_000
+#: at most this many regions and derived areas are cut into pieces when regions overlap
+MAX_OVERLAY = 300
+#: and the pieces they are cut into (each area is tested against every piece so far)
+MAX_PIECES = 2000
+#: the name of the free space inside the boundary (``decompose``), as LTLMoP's RegionMapping calls it
+FREE_SPACE = "others"
 
 _HEADER = re.compile(r"^([A-Za-z][A-Za-z0-9_]*):\s*(#.*)?$")
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
@@ -44,14 +65,27 @@ class RegionTopology:
     regions: list[str]
     adjacent: dict[str, set[str]] = field(default_factory=dict)
     source: str = "<regions>"
+    #: things a user should hear about the map (an isolated region), one line each
+    warnings: list[str] = field(default_factory=list)
+    #: every region touches every other (``adjacent`` is then not filled: n squared entries)
+    complete: bool = False
+    #: after an overlay (overlapping regions, ``between``/``near`` areas): each named area and the
+    #: pieces (``regions``) it is made of, as LTLMoP's RegionMapping
+    areas: dict[str, list[str]] = field(default_factory=dict)
 
     def neighbours(self, name: str) -> set[str]:
+        if self.complete:
+            return set(self.regions) - {name}
         return self.adjacent.get(name, set())
+
+    def degree(self, name: str) -> int:
+        """How many regions ``name`` touches (without building the set for a complete topology)."""
+        return len(self.regions) - 1 if self.complete else len(self.adjacent.get(name, ()))
 
 
 def complete_topology(regions: list[str], source: str = "<declaration>") -> RegionTopology:
     """Every region touches every other (regions declared without a map)."""
-    return RegionTopology(list(regions), {r: set(regions) - {r} for r in regions}, source)
+    return RegionTopology(list(regions), {}, source, complete=True)
 
 
 @dataclass
@@ -82,6 +116,12 @@ def read_region_file(text: str, file: str) -> RegionFile:
     if "Regions" not in sections:
         raise SpecError(file, 0, 0, "no 'Regions:' section (is this an LTLMoP .regions file?)")
     start, lines = sections["Regions"]
+    obstacles = [line.strip() for line in sections.get("Obstacles", (0, []))[1] if line.strip()]
+    first = next((line for line in lines if line.strip()), "")
+    if first and not first.lstrip().startswith(("[", "{")):  # LTLMoP's older, tab-separated format
+        regions = [_old_region(line, number, file) for number, line in enumerate(lines, start=start + 1)
+                   if line.strip()]
+        return RegionFile(regions, obstacles, sections, start)
     try:
         items = parse_json("\n".join(lines), file)
     except InputError as error:
@@ -89,9 +129,35 @@ def read_region_file(text: str, file: str) -> RegionFile:
                         f"Regions section: {error.message}") from None
     if not isinstance(items, list):
         raise SpecError(file, start + 1, 0, "the Regions section must be a JSON list of regions")
-    obstacles = [line.strip() for line in sections.get("Obstacles", (0, []))[1] if line.strip()]
     regions = [_region(item, index, file, start) for index, item in enumerate(items)]
     return RegionFile(regions, obstacles, sections, start)
+
+
+def _old_region(line: str, number: int, file: str) -> RegionOutline:
+    """One line of the older format: name, type, x, y, width, height, r, g, b, vertices (relative)."""
+    fields = line.strip().split("\t") if "\t" in line else line.split()
+    if len(fields) < 6:
+        raise SpecError(file, number, 1, "a region line of the older format has at least name, type, x, y, "
+                                         "width and height, separated by tabs")
+    name = fields[0]
+    try:
+        numbers = [float(v) for v in fields[2:]]
+    except ValueError:
+        raise SpecError(file, number, 1, f"region {name!r}: expected numbers after its type") from None
+    if not all(math.isfinite(v) for v in numbers):
+        raise SpecError(file, number, 1, f"region {name!r}: a coordinate is not a finite number")
+    ox, oy, w, h = numbers[:4]
+    if fields[1].lower() == "rect":
+        raw = [(0.0, 0.0), (w, 0.0), (w, h), (0.0, h)]
+    else:
+        points = numbers[7:]
+        if len(points) % 2:
+            raise SpecError(file, number, 1, f"region {name!r}: its vertices need an x and a y each")
+        raw = [(points[i], points[i + 1]) for i in range(0, len(points), 2)]
+    outline = [(ox + x, oy + y) for x, y in raw]
+    if len(outline) < 3:
+        raise SpecError(file, number, 1, f"region {name!r} has fewer than 3 vertices")
+    return RegionOutline(name, outline)
 
 
 def _region(item: object, index: int, file: str, line: int) -> RegionOutline:
@@ -120,17 +186,39 @@ def _region(item: object, index: int, file: str, line: int) -> RegionOutline:
     return RegionOutline(name, outline, holes)
 
 
-def parse_region_map(text: str, file: str) -> RegionTopology:
-    """The regions and adjacency of an LTLMoP ``.regions`` text; ``SpecError`` names file and line."""
+def is_boundary(name: str) -> bool:
+    """LTLMoP compares the workspace outline's name without regard to case."""
+    return name.lower() == BOUNDARY
+
+
+def parse_region_map(text: str, file: str, decompose: bool = False,
+                     derived: dict[str, tuple] | None = None) -> RegionTopology:
+    """The regions and adjacency of an LTLMoP ``.regions`` text; ``SpecError`` names file and line.
+
+    ``decompose``: the free space inside the boundary becomes regions and adjacency comes from shared
+    borders (LTLMoP's ``decompose`` option). A region that touches no other gets a warning.
+    ``derived`` (with ``decompose``): areas LTLMoP computes from the geometry, by name:
+    ``("between", a, b)`` is the convex hull of a and b without them (``findRegionBetween``),
+    ``("near", r, distance)`` r grown by the distance (``findRegionNear``). When regions overlap or
+    such areas are asked for, the map is cut into pieces no two areas share (LTLMoP's
+    ``checkOverLapping``): ``regions`` are then the pieces and ``areas`` says which pieces make up
+    each region, derived area and ``others``.
+    """
     content = read_region_file(text, file)
     sections, start = content.sections, content.regions_line
     obstacles = set(content.obstacles)
     names: list[str] = []
     outlines: dict[str, list[Point]] = {}
     vertices = 0
+    boundary: RegionOutline | None = None
+    blocked: list[RegionOutline] = []
     for region in content.regions:
         name = region.name
-        if name == BOUNDARY or name in obstacles:
+        if is_boundary(name):
+            boundary = region
+            continue
+        if name in obstacles:
+            blocked.append(region)
             continue
         if not _NAME.match(name):
             raise SpecError(file, start, 1, f"region name {name!r} is not a proposition name "
@@ -143,17 +231,27 @@ def parse_region_map(text: str, file: str) -> RegionTopology:
                                             f"{MAX_REGIONS} regions or {MAX_VERTICES} vertices)")
         names.append(name)
         outlines[name] = region.outline
-    adjacent: dict[str, set[str]] = {n: set() for n in names}
     transitions = sections.get("Transitions")
     listed = [(n, line) for n, line in enumerate(transitions[1], start=transitions[0] + 1)
               if line.strip() and not line.lstrip().startswith("#")] if transitions else []
-    if listed:
+    if decompose and boundary is not None and (derived or _overlapping(names, outlines)):
+        return _overlay(file, boundary, names, outlines, derived or {}, start, blocked)
+    if decompose and boundary is not None:
+        pieces = _free_space(boundary, [r for r in content.regions if r is not boundary])
+        for k, piece in enumerate(pieces, start=1):
+            name = FREE_SPACE if len(pieces) == 1 else f"{FREE_SPACE}_{k}"
+            while name in outlines:
+                name += "_"
+            names.append(name)
+            outlines[name] = piece
+    adjacent: dict[str, set[str]] = {n: set() for n in names}
+    if listed and not decompose:
         for number, line in listed:
             parts = re.split(r"\t+|\s+", line.strip())
             if len(parts) < 2:
                 raise SpecError(file, number, 1, "a transition names two regions: 'a<TAB>b ...'")
             a, b = parts[0], parts[1]
-            if {a, b} & ({BOUNDARY} | obstacles):
+            if is_boundary(a) or is_boundary(b) or {a, b} & obstacles:
                 continue
             for region in (a, b):
                 if region not in adjacent:
@@ -162,12 +260,130 @@ def parse_region_map(text: str, file: str) -> RegionTopology:
                 adjacent[a].add(b)
                 adjacent[b].add(a)
     else:
-        for i, a in enumerate(names):
-            for b in names[i + 1:]:
-                if _touch(outlines[a], outlines[b]):
-                    adjacent[a].add(b)
-                    adjacent[b].add(a)
-    return RegionTopology(names, adjacent, file)
+        for a, b in _touching(names, outlines):
+            adjacent[a].add(b)
+            adjacent[b].add(a)
+    warnings = [f"{file}: region {n} touches no other region (the robot can never leave or reach it)"
+                for n in names if not adjacent[n] and len(names) > 1]
+    return RegionTopology(names, adjacent, file, warnings)
+
+
+def _overlapping(names: list[str], outlines: dict[str, list[Point]]) -> bool:
+    shapes = [_polygon(outlines[n]) for n in names]
+    tree = shapely.STRtree(shapes)
+    for i, shape in enumerate(shapes):
+        scale = max(shape.bounds[2] - shape.bounds[0], shape.bounds[3] - shape.bounds[1], 1e-9)
+        for j in tree.query(shape):
+            if int(j) > i and shape.intersection(shapes[int(j)]).area > 1e-6 * scale * scale:
+                return True
+    return False
+
+
+def _overlay(file: str, boundary: RegionOutline, names: list[str], outlines: dict[str, list[Point]],
+             derived: dict[str, tuple], line: int, blocked: list[RegionOutline]) -> RegionTopology:
+    """Cut the boundary into pieces no two named areas share; each area is the union of its pieces.
+    Obstacles are no place to be, but ``between``/``near`` may name them (LTLMoP's examples do).
+    Each area may cut every piece so far, so the work is bounded by refusing large overlays."""
+    if len(names) + len(derived) > MAX_OVERLAY:
+        raise SpecError(file, line, 1, f"the map's regions overlap (or the spec names areas between or near "
+                                       f"them): cutting more than {MAX_OVERLAY} areas into pieces is refused")
+    polygons = {n: _polygon(outlines[n]) for n in names}
+    areas: list[tuple[str, object]] = list(polygons.items())
+    solid = {r.name: _polygon(r.outline, r.holes) for r in blocked}
+    shape_of = {**solid, **polygons}
+    for name, (kind, first, second) in derived.items():
+        for region in (first,) if kind == "near" else (first, second):
+            if region not in shape_of:
+                raise SpecError(file, line, 1, f"'{name}' refers to {region!r}, which is not a region of the map")
+        if kind == "between":
+            a, b = shape_of[first], shape_of[second]
+            shape = unary_union([a, b]).convex_hull.difference(a).difference(b)
+        else:
+            shape = shape_of[first].buffer(float(second), join_style="mitre").convex_hull
+        areas.append((name, shape))
+    space = _polygon(boundary.outline)
+    if solid:
+        space = space.difference(unary_union(list(solid.values())))
+    scale = max(space.bounds[2] - space.bounds[0], space.bounds[3] - space.bounds[1], 1e-9)
+    tiny = 1e-6 * scale * scale
+    cells: list[tuple[object, frozenset[str]]] = [(g, frozenset()) for g in _parts(space) if g.area > tiny]
+    for name, shape in areas:
+        cut = []
+        for cell, labels in cells:
+            inside, outside = cell.intersection(shape), cell.difference(shape)
+            cut += [(g, labels | {name}) for g in _parts(inside) if g.area > tiny]
+            cut += [(g, labels) for g in _parts(outside) if g.area > tiny]
+        cells = cut
+        if len(cells) > MAX_PIECES:
+            raise SpecError(file, line, 1, f"the map's overlapping regions make more than {MAX_PIECES} pieces; "
+                                           "refused (draw them without overlaps)")
+    taken = set(names) | set(derived)
+    pieces: list[str] = []
+    shapes: dict[str, object] = {}
+    members: dict[str, list[str]] = {n: [] for n in [*names, *derived, FREE_SPACE]}
+    for k, (cell, labels) in enumerate(cells, start=1):
+        piece = f"p{k}"
+        while piece in taken:
+            piece += "_"
+        pieces.append(piece)
+        shapes[piece] = cell
+        for label in labels or {FREE_SPACE}:
+            members[label].append(piece)
+    if not members[FREE_SPACE]:
+        del members[FREE_SPACE]
+    adjacent: dict[str, set[str]] = {p: set() for p in pieces}
+    for a, b in _touching_shapes(pieces, shapes):
+        adjacent[a].add(b)
+        adjacent[b].add(a)
+    warnings = [f"{file}: region {n} touches no other region (the robot can never leave or reach it)"
+                for n in names if len(pieces) > 1 and all(not adjacent[p] - set(members[n]) for p in members[n])]
+    return RegionTopology(pieces, adjacent, file, warnings, areas=members)
+
+
+def _parts(shape) -> list[Polygon]:
+    return [g for g in getattr(shape, "geoms", [shape]) if isinstance(g, Polygon)]
+
+
+def _polygon(points: list[Point], holes: list[list[Point]] | None = None) -> Polygon:
+    polygon = Polygon(points, holes or [])
+    return polygon if polygon.is_valid else polygon.buffer(0)  # self-touching outlines: the area they enclose
+
+
+def _free_space(boundary: RegionOutline, others: list[RegionOutline]) -> list[list[Point]]:
+    """The outlines of the pieces of the boundary that no other region covers (LTLMoP's ``others``)."""
+    covered = unary_union([_polygon(r.outline, r.holes) for r in others]) if others else None
+    space = _polygon(boundary.outline)
+    if covered is not None:
+        space = space.difference(covered)
+    scale = max(space.bounds[2] - space.bounds[0], space.bounds[3] - space.bounds[1], 1e-9) if not space.is_empty \
+        else 1.0
+    pieces = [g for g in getattr(space, "geoms", [space]) if isinstance(g, Polygon) and g.area > 1e-9 * scale * scale]
+    return [[(float(x), float(y)) for x, y in list(p.exterior.coords)[:-1]] for p in pieces]
+
+
+def _touching(names: list[str], outlines: dict[str, list[Point]]) -> list[tuple[str, str]]:
+    """Pairs of regions whose outlines share a stretch of border of positive length (shapely; an
+    R-tree finds the candidates, so a map of n regions costs about n log n, not n squared)."""
+    return _touching_shapes(names, {n: _polygon(outlines[n]) for n in names})
+
+
+def _touching_shapes(names: list[str], polygons: dict[str, object]) -> list[tuple[str, str]]:
+    if len(names) < 2:
+        return []
+    shapes = [polygons[n] for n in names]
+    bounds = shapely.total_bounds(shapes)
+    tolerance = 1e-6 * max(bounds[2] - bounds[0], bounds[3] - bounds[1], 1e-9)
+    tree = shapely.STRtree(shapes)
+    pairs = []
+    for i, shape in enumerate(shapes):
+        for j in tree.query(shape.buffer(tolerance)):
+            j = int(j)
+            if j <= i:
+                continue
+            shared = shape.boundary.intersection(shapes[j].boundary)
+            if shared.length > tolerance or shape.intersection(shapes[j]).area > tolerance * tolerance:
+                pairs.append((names[i], names[j]))
+    return pairs
 
 
 def _sections(text: str) -> dict[str, tuple[int, list[str]]]:
@@ -181,18 +397,6 @@ def _sections(text: str) -> dict[str, tuple[int, list[str]]]:
         elif current is not None:
             current.append(line)
     return sections
-
-
-def _touch(a: list[Point], b: list[Point]) -> bool:
-    """Do outlines ``a`` and ``b`` share a stretch of border of positive length?"""
-    xs = [p[0] for p in a + b]
-    ys = [p[1] for p in a + b]
-    tolerance = 1e-6 * max(max(xs) - min(xs), max(ys) - min(ys), 1e-9)
-    ax0, ax1, ay0, ay1 = _box(a)
-    bx0, bx1, by0, by1 = _box(b)
-    if ax0 > bx1 + tolerance or bx0 > ax1 + tolerance or ay0 > by1 + tolerance or by0 > ay1 + tolerance:
-        return False
-    return shared_border(a, b, tolerance) is not None
 
 
 def shared_border(a: list[Point], b: list[Point], tolerance: float = 1e-6) -> tuple[Point, Point] | None:
@@ -216,11 +420,6 @@ def shared_border(a: list[Point], b: list[Point], tolerance: float = 1e-6) -> tu
                 best_length = hi - lo
                 best = ((p1[0] + ux * lo, p1[1] + uy * lo), (p1[0] + ux * hi, p1[1] + uy * hi))
     return best
-
-
-def _box(points: list[Point]) -> tuple[float, float, float, float]:
-    return (min(p[0] for p in points), max(p[0] for p in points),
-            min(p[1] for p in points), max(p[1] for p in points))
 
 
 def _edges(points: list[Point]) -> list[tuple[Point, Point]]:

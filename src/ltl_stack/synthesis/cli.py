@@ -11,6 +11,12 @@ Z iterations that took).
 ``--recovery`` exports the strategy with recovery transitions (thesis §4.6, Alg. 1 lines 19-25;
 ``SymbolicStrategy.explicit(recovery=True)``) and reports the state counts with and without them.
 
+A realizable spec whose environment assumptions no play can meet (with the robot keeping its
+safety requirements), or that has no guarantees, is vacuous: a warning line says so and ``--json``
+has ``"vacuity"`` (the warnings, empty when the spec means something) and
+``"assumptions_satisfiable"`` (``synthesis.vacuity``); the exit code stays 0. Warnings of the spec's
+reader (a map's isolated region) are printed too and listed in ``"warnings"``.
+
 Exit codes (``ltl_stack.errors.Exit``): 0 realizable, 10 unrealizable, 2 bad input, 4 an export
 could not be written, 5 a limit was reached (``--timeout``, ``--max-memory``, ``--max-states``).
 """
@@ -112,6 +118,9 @@ def _synthesize(args: argparse.Namespace) -> int:
     try:
         spec = load_spec(args.spec)
         parsed = time.perf_counter()
+        if not args.quiet:
+            for warning in spec.warnings:
+                cli.warn(PROG, warning)
         options = options_from(args.robotics_semantics, args.cooperative)
         exports = args.recovery or any([args.strategy_json, args.slugs_json, args.dot, args.png])
         # without an export only the verdict is printed: no strategy, and an early exit when unrealizable
@@ -127,7 +136,19 @@ def _synthesize(args: argparse.Namespace) -> int:
             "parse_seconds": round(parsed - start, 6),
             "synthesis_seconds": round(result.seconds, 6),
             "z_iterations": result.solution.z_iterations,
+            "warnings": list(spec.warnings),
         }
+        if result.realizable:
+            from ltl_stack.synthesis.game import memory_guard
+            from ltl_stack.synthesis.vacuity import check  # only a realizable spec can be vacuous
+
+            with memory_guard(result.game.max_memory):
+                vacuity = check(result.game, result.solution.winning)
+            summary["vacuity"] = list(vacuity.warnings)
+            summary["assumptions_satisfiable"] = vacuity.assumptions_satisfiable
+            if not args.quiet:
+                for warning in vacuity.warnings:
+                    cli.warn(PROG, f"vacuous: {warning}")
         files: list[tuple[str, str | bytes, str]] = []
         if result.realizable and exports:
             t = time.perf_counter()

@@ -110,7 +110,7 @@ FORMS = [
      "((person' & r1_rc) | pick_ac') -> stop'"),
     ("if you are not sensing (person and door) then do move", "sys_safety", "!(person' & door') -> move'"),
     ("if you were sensing person or door and not person then do move", "sys_safety",
-     "((person | door) & !person') -> move'"),
+     "((person | door) & !person) -> move'"),  # LTLMoP's parseCond: a name with no phrase is read now
     ("Always, if you are sensing person then do stop", "sys_safety", "person' -> stop'"),
     ("do stop", "sys_safety", "stop'"),
     ("Always you are not sensing person or you are not sensing door", "env_safety", "!person' | !door'"),
@@ -268,20 +268,20 @@ def test_map_path_is_relative_to_the_spec_file(tmp_path):
 ERRORS = [
     ("If you sensing person then do stop",
      "t.spec:4:4: 'you sensing person' is not a phrase; expected one such as 'you are sensing', 'you are "
-     "activating', 'you are in' or 'you have finished'; did you mean 'if you are sensing person then do stop'?"),
+     "activating', 'you are in' or 'you have finished'; did you mean 'If you are sensing person then do stop'?"),
     ("If you are sensing person than do stop",
-     "t.spec:4:39: expected 'then' after the condition of 'if'; did you mean 'if you are sensing person then do "
+     "t.spec:4:39: expected 'then' after the condition of 'if'; did you mean 'If you are sensing person then do "
      "stop'?"),
     ("Always you are sensing person than move",
-     "t.spec:4:31: expected 'and', 'or' or the end of the condition before 'than'; did you mean 'if you are "
-     "sensing person then do move'?"),
+     # no hint: 'if … then …' would be another sentence than 'Always …' (a hint changes one word only)
+     "t.spec:4:31: expected 'and', 'or' or the end of the condition before 'than'"),
     ("Always if then", "t.spec:4:11: expected a condition between 'if' and 'then'"),
     ("If you are sensing persn then do stop",
      "t.spec:4:20: unknown proposition 'persn'; did you mean 'person'?"),
     ("visit kitchn", "t.spec:4:7: unknown region 'kitchn'; did you mean 'kitchen'?"),
     ("visit person", "t.spec:4:7: 'person' is a sensor, not a region (regions: kitchen)"),
     ("If you are sensing person do stop", "t.spec:4:34: expected 'then' after the condition of 'if'; did you mean "
-                                          "'if you are sensing person then do stop'?"),
+                                          "'If you are sensing person then do stop'?"),
     ("Always (move and stop", "t.spec:4:8: this '(' is never closed"),
     ("Always move and", "t.spec:4:16: expected a proposition after 'and'"),
     ("If you are in stop then do move", "t.spec:4:15: 'stop' has no completion: 'you are in' needs a region or "
@@ -322,9 +322,8 @@ DECLARATION_ERRORS = [
                                  "(multi-robot negotiation), which are not defined yet"),
     ("Map: nowhere.regions\n", "t.spec:1:6: cannot read the map: nowhere.regions: no such file"),
     ("Regions: a\nMap: x.regions\n", "t.spec:2:1: declare regions either with 'Regions:' or with 'Map:', not both"),
-    ("======== SETTINGS ========\n", "t.spec:1:1: this looks like an LTLMoP project file; an ltl_stack English spec "
-                                     "has declarations (Sensors:, Actions:, Map: …) and the sentences of its 'Spec:' "
-                                     "section (see docs/spec_formats.md)"),
+    ("======== SETTINGS ========\nSensors:\nx, 2\n", "t.spec:3:1: expected 'name, 1' (enabled) or 'name, 0' "
+                                                      "(disabled) under Sensors:, got 'x, 2'"),
 ]
 
 

@@ -1,0 +1,274 @@
+"""Read an LTLMoP project file (``.spec``) as LTLMoP ships it, with LTLMoP's meaning.
+
+The file is LTLMoP's container (``fileMethods.readFromFile``): ``======== SETTINGS ========`` and
+``======== SPECIFICATION ========`` parts, each a list of ``Header: # comment`` lines followed by their
+data lines. What a specification needs:
+
+SETTINGS
+    ``Sensors:`` / ``Actions:``   one ``name, 1`` (enabled) or ``name, 0`` (disabled) per line;
+                                  disabled propositions are not part of the spec (as in LTLMoP)
+    ``Customs:``                  one name per line: robot propositions kept by the sentences
+                                  (``is set on … and reset on …``, ``is toggled on …``)
+    ``RegionFile:``               the ``.regions`` map, relative to the project file
+    ``CompileOptions:``           ``key: value`` lines; those that change the meaning are read:
+                                  ``parser`` (``structured``; ``ltl``: raw LTL; ``slurp`` is refused),
+                                  ``decompose`` (the free space inside the boundary becomes regions,
+                                  adjacency from shared borders), ``fastslow`` (regions follow the
+                                  activation–completion encoding, ``R``/``R_rc``; without it a region
+                                  is a robot proposition saying where the robot is, as LTLMoP's
+                                  default compilation has it). ``use_region_bit_encoding`` and
+                                  ``convexify`` only change how LTLMoP encodes the same spec.
+SPECIFICATION
+    ``Spec:``                     the sentences (``parser: structured``, read by
+                                  ``english_reader`` with LTLMoP's timing) or the raw LTL
+                                  (``parser: ltl``: assumptions, a line of dashes, guarantees; one
+                                  conjunct per line in LTLMoP's syntax ``[]``, ``[]<>``, ``next()``,
+                                  ``s.``/``e.`` prefixes)
+
+Other headers (``CurrentConfigName``, ``RegionMapping``, …) belong to LTLMoP's tools and are ignored.
+"""
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from ltl_stack.errors import InputError
+from ltl_stack.inputs import read_text
+from ltl_stack.spec.english_reader import Declarations, EnglishSpec, add_declaration, compile_sentences
+from ltl_stack.spec.errors import SpecError
+from ltl_stack.spec.model import SECTIONS, Clause
+from ltl_stack.spec.region_map import parse_region_map
+from ltl_stack.spec.sections import Line, SpecBuilder
+from ltl_stack.spec.structured import NAME_RULE, parse_clause, valid_name
+
+_CONTAINER = re.compile(r"^=+\s*(?P<title>[^=]+?)\s*=+")
+_HEADER = re.compile(r"^(?P<key>\w+):\s*(?:#.*)?$")
+_TRUE = ("true", "t", "1")
+#: LTLMoP's defaults (``project.py``) for the options that change the meaning
+DEFAULT_OPTIONS = {"parser": "structured", "decompose": True, "fastslow": False}
+#: macros of LTLMoP's raw LTL that need its bit encoding of regions and its follow handler
+_MACROS = ("FOLLOW_SENSOR_CONSTRAINTS", "TARGET_IS_STATIONARY")
+
+
+def read_project(text: str, file: str, base_dir: Path) -> EnglishSpec:
+    """The spec of an LTLMoP project ``text``; one ``SpecError`` naming file and line on bad input."""
+    parts = _containers(text, file)
+    settings = parts.get("SETTINGS", {})
+    options, option_line = _options(settings.get("CompileOptions", []), file)
+    parser = options["parser"]
+    if parser == "slurp":
+        raise SpecError(file, option_line.get("parser", 0), 1,
+                        "this project is written for LTLMoP's free-English parser SLURP ('parser: slurp' under "
+                        "CompileOptions:), which ltl_stack does not read; write it in Structured English "
+                        "('parser: structured')")
+    if parser not in ("structured", "ltl"):
+        raise SpecError(file, option_line.get("parser", 0), 1,
+                        f"unknown parser '{parser}' under CompileOptions:; expected structured or ltl")
+    decl = Declarations(regions_are_places=not options["fastslow"])
+    for header, kind, word in (("Sensors", "sensors", "sensor"), ("Actions", "actions", "action")):
+        for number, entry in settings.get(header, []):
+            name, _, flag = entry.partition(",")
+            name, flag = name.strip(), flag.strip()
+            if flag not in ("", "0", "1"):
+                raise SpecError(file, number, 1, f"expected 'name, 1' (enabled) or 'name, 0' (disabled) under "
+                                                 f"{header}:, got '{entry}'")
+            if flag == "0":
+                decl.disabled[name] = word
+            else:
+                add_declaration(decl, kind, name, number, 1, file)
+    for number, entry in settings.get("Customs", []):
+        add_declaration(decl, "memory", entry.strip(), number, 1, file)
+    spec_lines = parts.get("SPECIFICATION", {}).get("Spec", [])
+    derived: dict[str, tuple] = {}
+    if options["decompose"] and parser == "structured":
+        spec_lines = [(n, _derived_areas(s, derived)) for n, s in spec_lines]
+    region_file = [(n, e) for n, e in settings.get("RegionFile", []) if e.strip() and e.strip() != "None"]
+    if region_file:
+        _read_map(decl, region_file[0], base_dir, file, options["decompose"], derived)
+    sentences = [(n, s) for n, s in spec_lines if s.strip() and not s.lstrip().startswith("#")]
+    if parser == "ltl":
+        return compile_sentences(decl, [], file, _raw_ltl(decl, spec_lines, file))
+    return compile_sentences(decl, [(n, _strip_comment(s)) for n, s in sentences if _strip_comment(s).strip()],
+                             file)
+
+
+def _strip_comment(line: str) -> str:
+    m = re.search(r"(^|\s)#", line)
+    return line[:m.start()] if m else line
+
+
+def _containers(text: str, file: str) -> dict[str, dict[str, list[tuple[int, str]]]]:
+    """``{part: {header: [(line, data), …]}}`` as LTLMoP's ``readFromFile`` splits it."""
+    parts: dict[str, dict[str, list[tuple[int, str]]]] = {"": {}}
+    title, key = "", None
+    for number, raw in enumerate(text.splitlines(), start=1):
+        if key != "Spec" and (raw.startswith("#") or not raw.strip()):
+            continue
+        container = _CONTAINER.match(raw)
+        header = _HEADER.match(raw)
+        if container:
+            title, key = container["title"].strip(), None
+            parts[title] = {}
+        elif header:
+            key = header["key"]
+            parts[title][key] = []
+        elif key is None:
+            raise SpecError(file, number, 1, "data before the first 'Header:' line of an LTLMoP project file")
+        else:
+            parts[title][key].append((number, raw.strip()))
+    return parts
+
+
+def _options(lines: list[tuple[int, str]], file: str) -> tuple[dict, dict[str, int]]:
+    options: dict = dict(DEFAULT_OPTIONS)
+    where: dict[str, int] = {}
+    for number, entry in lines:
+        key, sep, value = entry.partition(":")
+        if not sep:
+            raise SpecError(file, number, 1, f"expected 'option: value' under CompileOptions:, got '{entry}'")
+        key, value = key.strip().lower(), value.strip().lower()
+        where[key] = number
+        options[key] = value if key == "parser" else value in _TRUE
+    return options, where
+
+
+#: LTLMoP's default distance of 'near R' (``specCompiler``: near$R$50)
+NEAR_DISTANCE = 50
+_BETWEEN = re.compile(r"\bbetween (\w+) and (\w+)", re.IGNORECASE)
+_WITHIN = re.compile(r"\bwithin (\d+) (?:from|of) (\w+)", re.IGNORECASE)
+_NEAR = re.compile(r"\bnear (\w+)", re.IGNORECASE)
+
+
+def _derived_areas(sentence: str, derived: dict[str, tuple]) -> str:
+    """Name the areas LTLMoP computes from the map (``between A and B``, ``within N of R``, ``near R``)
+    as one word each, ``between_A_and_B`` …, and note their geometry in ``derived`` (as LTLMoP's
+    ``parseLP`` collects them before it decomposes the map)."""
+    if sentence.lstrip().startswith("#"):
+        return sentence
+
+    def between(m: re.Match) -> str:
+        name = f"between_{m[1]}_and_{m[2]}"
+        derived[name] = ("between", m[1], m[2])
+        return name
+
+    def within(m: re.Match) -> str:
+        name = f"within_{m[1]}_of_{m[2]}"
+        derived[name] = ("near", m[2], int(m[1]))
+        return name
+
+    def near(m: re.Match) -> str:
+        name = f"near_{m[1]}"
+        derived[name] = ("near", m[1], NEAR_DISTANCE)
+        return name
+
+    return _NEAR.sub(near, _WITHIN.sub(within, _BETWEEN.sub(between, sentence)))
+
+
+def _read_map(decl: Declarations, entry: tuple[int, str], base_dir: Path, file: str, decompose: bool,
+              derived: dict[str, tuple]) -> None:
+    number, name = entry
+    path = base_dir / name.strip()
+    try:
+        text = read_text(path, "region map", max_bytes=16 * 1024 * 1024)
+    except InputError as e:
+        raise SpecError(file, number, 1, f"cannot read the RegionFile: {e}") from None
+    try:
+        topology = parse_region_map(text, str(path), decompose=decompose, derived=derived)
+    except SpecError as e:
+        raise SpecError(file, number, 1, f"in the RegionFile: {e}") from None
+    for region in topology.regions:
+        add_declaration(decl, "regions", region, number, 1, file)
+    for area, pieces in topology.areas.items():
+        if area not in decl.kind_of:
+            decl.kind_of[area] = "regions"
+        decl.areas[area] = pieces
+    decl.topology = topology
+    decl.line_of["map"] = number
+
+
+_LTL_TOKEN = re.compile(r"\s*(\[\]<>|\[\]|<>|<->|->|next\b|[()!&|]|[A-Za-z_][\w.]*|\S)")
+
+
+def _raw_ltl(decl: Declarations, lines: list[tuple[int, str]], file: str) -> dict[str, list[Clause]]:
+    """LTLMoP's ``parser: ltl``: assumptions, a line of dashes, guarantees; each line one conjunct,
+    ``[]<>f`` a goal, ``[]f`` a safety formula, anything else an initial condition."""
+    builder = SpecBuilder(file, valid_name, NAME_RULE)
+    builder.read_layout("[INPUT]\n" + "".join(n + "\n" for n in decl.inputs)
+                        + "[OUTPUT]\n" + "".join(n + "\n" for n in decl.outputs))
+    sections: dict[str, list[Clause]] = {name: [] for name in SECTIONS}
+    side = "env"
+    dashes = False
+    for number, raw in lines:
+        text = _strip_comment(raw).strip().rstrip("&").strip()
+        if not text:
+            continue
+        if re.fullmatch(r"-+", text):
+            if dashes:
+                raise SpecError(file, number, 1, "a raw LTL spec has one line of dashes (assumptions above it, "
+                                                 "guarantees below)")
+            side, dashes = "sys", True
+            continue
+        for macro in _MACROS:
+            if macro in text:
+                raise SpecError(file, number, text.index(macro) + 1, f"LTLMoP's macro {macro} is expanded by its "
+                                                                     "own handlers and has no meaning here")
+        kind, infix = _ltl_to_infix(text, number, file, _stay_there(decl))
+        section = f"{side}_{kind}"
+        line = Line(number, infix)
+        formula = parse_clause(line, builder.names(section, line))
+        sections[section].append(Clause(formula, raw.strip(), file, number))
+    if not dashes:
+        raise SpecError(file, lines[0][0] if lines else 0, 1, "a raw LTL spec ('parser: ltl') has the assumptions, "
+                                                              "a line of dashes, then the guarantees")
+    return sections
+
+
+def _stay_there(decl: Declarations) -> str:
+    """LTLMoP's STAY_THERE macro (``createStayFormula``) in infix: the robot's region does not change."""
+    if not decl.regions:
+        return "TRUE"
+    if decl.regions_are_places:
+        return "(" + " & ".join(f"({r} <-> {r}')" for r in decl.regions) + ")"
+    return "(" + " & ".join(f"({r}_rc | !{r}')" for r in decl.regions) + ")"
+
+
+def _ltl_to_infix(text: str, number: int, file: str, stay: str) -> tuple[str, str]:
+    """One LTLMoP conjunct as (init|safety|liveness, the structured format's infix text)."""
+    tokens = _LTL_TOKEN.findall(text)
+    kind = "init"
+    if tokens and tokens[0] == "[]<>":
+        kind, tokens = "liveness", tokens[1:]
+    elif tokens and tokens[0] == "[]":
+        kind, tokens = "safety", tokens[1:]
+    out: list[str] = []
+    next_depth: list[int] = []  # paren depths at which a next( opened
+    depth = 0
+    k = 0
+    while k < len(tokens):
+        t = tokens[k]
+        if t in ("[]", "[]<>", "<>"):
+            raise SpecError(file, number, text.find(t) + 1, f"'{t}' inside a formula is not GR(1); write one "
+                                                            "conjunct per line, [] or []<> in front")
+        if t == "next":
+            if k + 1 >= len(tokens) or tokens[k + 1] != "(":
+                raise SpecError(file, number, 1, "expected '(' after next")
+            next_depth.append(depth)
+            depth += 1
+            out.append("(")
+            k += 2
+            continue
+        if t == "(":
+            depth += 1
+        elif t == ")":
+            depth -= 1
+            if next_depth and next_depth[-1] == depth:
+                next_depth.pop()
+        if t == "STAY_THERE":
+            out.append(stay)
+        elif re.match(r"[A-Za-z_]", t) and t.upper() not in ("TRUE", "FALSE"):
+            name = re.sub(r"^[se]\.", "", t)
+            out.append(name + ("'" if next_depth else ""))
+        else:
+            out.append(t)
+        k += 1
+    return kind, " ".join(out)
