@@ -34,7 +34,7 @@ NAVIGATION_SERVER = NodeSpec(
     params=[
         Param("action", "navigate", "action name", required=True, ros_name=True),
         Param("mode", "diff", f"drive of the robot: {' or '.join(MODES)}", choices=tuple(MODES)),
-        Param("rate", 20.0, "control rate (Hz)", bound=Bound.POSITIVE),
+        Param("rate", 20.0, "control rate (Hz)", bound=Bound.RATE),
         Param("max_linear", 0.5, "speed limit (m/s)", bound=Bound.POSITIVE),
         Param("max_angular", 1.5, "turn-rate limit (rad/s)", bound=Bound.POSITIVE),
         Param("goal_tolerance", 0.05, "success radius around the target (m)", bound=Bound.POSITIVE),
