@@ -276,6 +276,10 @@ def write_outputs(outputs: Iterable[tuple[str | os.PathLike, str | bytes, str]])
 MAX_OPTION_DIGITS = 18
 
 
+#: the highest rate (Hz) any rate or frequency of ltl_stack takes, as an option or a node's ``~param``:
+#: a faster loop only spins a core (``_rate:=1e17``), and nothing here needs more than a kHz
+MAX_RATE = 1000.0
+
 #: the smallest positive time or rate an option takes (ROS' clock counts nanoseconds; the inverse
 #: of a smaller rate overflows it)
 SMALLEST_OPTION = 1e-9
@@ -319,6 +323,15 @@ def positive_float(text: str) -> float:
 def non_negative_float(text: str) -> float:
     """Option type: a finite number >= 0 (a timeout or duration where 0 means "none")."""
     return float(_number(text, float, 0.0, False))
+
+
+def rate_or_zero(text: str) -> float:
+    """Option type: a rate in Hz, 0 (off) or finite and at most ``MAX_RATE``."""
+    value = float(_number(text, float, 0.0, False))
+    if value > MAX_RATE:
+        raise argparse.ArgumentTypeError(f"{_shown(text)} is above {MAX_RATE:g} Hz (the highest rate ltl_stack "
+                                         "takes: a faster loop only spins a core)")
+    return value
 
 
 def non_negative_int(text: str) -> int:

@@ -124,8 +124,8 @@ def build_parser() -> cli.ToolParser:
     parser.add_argument("--strategy", metavar="FILE", help="load a saved strategy JSON instead of synthesizing")
     parser.add_argument("--init-props", metavar="a=1,b=0", help="initial values of inputs (used until their "
                         "topic reports) and outputs (constrain the initial state); true and false values")
-    parser.add_argument("--rate", type=float, metavar="HZ", help="also step at this rate (default 0: only on "
-                                                                 "input changes)")
+    parser.add_argument("--rate", type=float, metavar="HZ", help="also step at this rate (at most 1000; "
+                                                                 "default 0: only on input changes)")
     parser.add_argument("--ready-timeout", type=float, metavar="S", help="report inputs that have not "
                         "published after S seconds, and again every S seconds (default 10; 0 = never)")
     parser.add_argument("--on-violation", choices=VIOLATION_POLICIES, help="outputs after an environment-"

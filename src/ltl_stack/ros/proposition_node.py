@@ -203,7 +203,7 @@ INPUT_PARAMS = [
     Param("proposition_topic", "", "topic of the input proposition (default: relative name 'proposition')",
           ros_name=True),
     Param("rate", 10.0, "republish the Boolean this often (Hz; 0: only on change); it is also published at "
-          "once on change", bound=Bound.NON_NEGATIVE),
+          "once on change", bound=Bound.RATE_OR_ZERO),
     Param("init_value", False, "value published before the first sensing arrives"),
     Param("stale_after", 0.0, "seconds without sensing after which ~stale_value is published "
           "until sensing resumes (0: never)", bound=Bound.NON_NEGATIVE),
@@ -214,7 +214,7 @@ INPUT_PARAMS = [
 OUTPUT_PARAMS = [
     Param("proposition_topic", "", "topic of the output proposition (default: relative name 'proposition')",
           ros_name=True),
-    Param("rate", 10.0, "how often (Hz) the behaviour acts while the proposition is true", bound=Bound.POSITIVE),
+    Param("rate", 10.0, "how often (Hz) the behaviour acts while the proposition is true", bound=Bound.RATE),
 ]
 
 

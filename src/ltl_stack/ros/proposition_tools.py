@@ -39,8 +39,8 @@ def set_propositions_parser() -> cli.ToolParser:
         exit_codes=(Exit.OK, Exit.BAD_INPUT, Exit.NO_ROS))
     parser.add_argument("topic", type=ros_name, help="topic to publish on, e.g. /simple/valuation")
     parser.add_argument("valuation", help="e.g. 'person=1,move=0' or 'person !move'")
-    parser.add_argument("--rate", type=cli.non_negative_float, default=0.0, metavar="HZ",
-                        help="keep publishing at this rate (Hz) until interrupted; default 0: once")
+    parser.add_argument("--rate", type=cli.rate_or_zero, default=0.0, metavar="HZ",
+                        help="keep publishing at this rate (Hz, at most 1000) until interrupted; default 0: once")
     parser.add_argument("--wait-subscribers", type=cli.non_negative_int, default=0, metavar="N",
                         help="wait until N subscribers are connected before publishing")
     add_master_options(parser, what="the master and the subscribers")

@@ -34,7 +34,7 @@ TIMED_PROPOSITION_SERVER = NodeSpec(
         Param("action", "proposition", "the action name (relative names resolve in the node's namespace)",
               kind=str, required=True, ros_name=True),
         Param("duration", 1.0, "seconds from activation to completion", bound=Bound.NON_NEGATIVE),
-        Param("feedback_rate", 10.0, "feedback messages per second while a goal runs", bound=Bound.POSITIVE),
+        Param("feedback_rate", 10.0, "feedback messages per second while a goal runs", bound=Bound.RATE),
     ],
 )
 

@@ -68,7 +68,7 @@ EXECUTOR_PARAMS = [
     Param("cooperative", None, "cooperative strategy (default: the library's)", kind=bool),
     Param("strategy", "", "run this saved strategy JSON instead of synthesizing"),
     Param("init_props", "", "initial values a=1,b=0 (string) or {a: true, b: false} (dict)", kind=(str, dict)),
-    Param("rate", 0.0, "also step at this rate (Hz; 0: only on input changes)", bound=Bound.NON_NEGATIVE),
+    Param("rate", 0.0, "also step at this rate (Hz; 0: only on input changes)", bound=Bound.RATE_OR_ZERO),
     Param("ready_timeout", 10.0, "report silent inputs every S seconds (0: never)", bound=Bound.NON_NEGATIVE),
     Param("on_violation", ViolationPolicy.HOLD.value, "outputs after an assumption violation",
           choices=VIOLATION_POLICIES),

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 from enum import Enum
 from typing import Any
 
+from ltl_stack.cli import MAX_RATE
 from ltl_stack.errors import Exit, UserError
 from ltl_stack.runtime.ros_names import is_legal_name
 
@@ -33,6 +34,9 @@ class Bound(Enum):
     ANY = "any finite number"
     NON_NEGATIVE = ">= 0"
     POSITIVE = "> 0"
+    #: a rate or frequency (Hz): ``POSITIVE`` (``RATE_OR_ZERO``: ``NON_NEGATIVE``) and at most ``MAX_RATE``
+    RATE = f"> 0 and <= {MAX_RATE:g} (Hz)"
+    RATE_OR_ZERO = f">= 0 and <= {MAX_RATE:g} (Hz; 0: off)"
 
 
 @dataclass(frozen=True)
@@ -176,17 +180,24 @@ def _convert(param: Param, want: type | None, value: Any, node: str) -> Any:
     raise _fail(param, node, f"must be a {want.__name__}, got {value!r}")
 
 
+_LOWER = {Bound.RATE: Bound.POSITIVE, Bound.RATE_OR_ZERO: Bound.NON_NEGATIVE}
+
+
 def _check_value(param: Param, value: Any, node: str) -> None:
     if isinstance(value, int | float) and not isinstance(value, bool):
-        if param.bound is not Bound.ANY and 0 < value < SMALLEST:
+        lower = _LOWER.get(param.bound, param.bound)
+        if lower is not Bound.ANY and 0 < value < SMALLEST:
             raise _fail(param, node, f"must be 0 or at least {SMALLEST:g} (a rate or time that small is 0 for "
                                      f"ROS' clock, its inverse infinite), got {shown(value)}")
-        if param.bound is Bound.NON_NEGATIVE and not 0 <= value < math.inf:
+        if lower is Bound.NON_NEGATIVE and not 0 <= value < math.inf:
             raise _fail(param, node, f"must be a number >= 0, got {value!r}")
-        if param.bound is Bound.POSITIVE and not 0 < value < math.inf:
+        if lower is Bound.POSITIVE and not 0 < value < math.inf:
             raise _fail(param, node, f"must be a number > 0, got {value!r}")
         if not math.isfinite(value):
             raise _fail(param, node, f"must be a finite number, got {value!r}")
+        if lower is not param.bound and value > MAX_RATE:
+            raise _fail(param, node, f"must be at most {MAX_RATE:g} (Hz; a faster loop only spins a core), "
+                                     f"got {shown(value)}")
     if param.choices and value not in param.choices:
         raise _fail(param, node, f"must be one of {', '.join(param.choices)}, got {value!r}")
     if param.ros_name:
@@ -229,5 +240,5 @@ def params_help(params: Sequence[Param]) -> str:
     return "\n".join(lines)
 
 
-__all__ = ["MAX_DIGITS", "Bound", "NodeConfigError", "Param", "coerce_param", "describe_params", "params_help",
+__all__ = ["MAX_DIGITS", "MAX_RATE", "Bound", "NodeConfigError", "Param", "coerce_param", "describe_params", "params_help",
            "shown", "split_param_args"]

@@ -33,7 +33,7 @@ SCRIPTED_ENVIRONMENT = NodeSpec(
         Param("time_scale", 1.0, "simulated seconds per wall-clock second", bound=Bound.POSITIVE),
         Param("wait_for_subscribers", 0.0, "wait up to this long (s) for every topic to have a "
               "subscriber before the clock starts (0: start at once)", bound=Bound.NON_NEGATIVE),
-        Param("rate", 50.0, "how often (Hz) to check for due events", bound=Bound.POSITIVE),
+        Param("rate", 50.0, "how often (Hz) to check for due events", bound=Bound.RATE),
         Param("start_on", "", "start the clock at the first message on this topic (e.g. the controller's "
               "state topic, so a late controller misses no event; relative to the node's namespace); "
               "empty: do not wait", kind=str),

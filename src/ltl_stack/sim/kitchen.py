@@ -43,7 +43,7 @@ KITCHEN_WORLD = NodeSpec(
         Param("action_time", 0.5, "seconds an activated action takes to complete", bound=Bound.POSITIVE),
         Param("order_after", 2.0, "seconds after D's controller runs until the order comes",
               bound=Bound.NON_NEGATIVE),
-        Param("rate", 20.0, "how often (Hz) the world advances", bound=Bound.POSITIVE),
+        Param("rate", 20.0, "how often (Hz) the world advances", bound=Bound.RATE),
         Param("start_on", "D/controller_executor/state", "start the clock at the first message on this topic "
               "(relative to the node's namespace)", kind=str),
     ],

@@ -30,7 +30,7 @@ MANIPULATION_SERVER = NodeSpec(
         Param("duration", 1.0, "simulated seconds each action takes", bound=Bound.NON_NEGATIVE),
         Param("time_scale", 1.0, "simulated seconds per wall-clock second", bound=Bound.POSITIVE),
         Param("fail", [], "action names that abort instead of completing", kind=list, ros_name=True),
-        Param("feedback_rate", 10.0, "progress feedback rate (Hz)", bound=Bound.POSITIVE),
+        Param("feedback_rate", 10.0, "progress feedback rate (Hz)", bound=Bound.RATE),
     ],
 )
 

@@ -43,7 +43,7 @@ NAVIGATION_SERVER = NodeSpec(
         Param("action", "navigate", "action name", required=True, ros_name=True),
         Param("action_type", NAVIGATE, "the interface served", choices=(NAVIGATE, MOVE_BASE)),
         Param("mode", "diff", f"drive of the robot: {' or '.join(MODES)}", choices=tuple(MODES)),
-        Param("rate", 20.0, "control rate (Hz)", bound=Bound.POSITIVE),
+        Param("rate", 20.0, "control rate (Hz)", bound=Bound.RATE),
         Param("max_linear", 0.5, "speed limit (m/s)", bound=Bound.POSITIVE),
         Param("max_angular", 1.5, "turn-rate limit (rad/s)", bound=Bound.POSITIVE),
         Param("goal_tolerance", 0.05, "success radius around the target (m)", bound=Bound.POSITIVE),

@@ -41,7 +41,7 @@ SIM_ROBOT = NodeSpec(
                 "(nav_msgs/Odometry) and pose (geometry_msgs/PoseStamped).",
     params=[
         Param("mode", "diff", f"drive: {' or '.join(MODES)}", choices=tuple(MODES)),
-        Param("rate", 50.0, "integration and publishing rate (Hz)", bound=Bound.POSITIVE),
+        Param("rate", 50.0, "integration and publishing rate (Hz)", bound=Bound.RATE),
         Param("time_scale", 1.0, "simulated seconds per wall-clock second", bound=Bound.POSITIVE),
         Param("x", 0.0, "initial x (m)"),
         Param("y", 0.0, "initial y (m)"),

@@ -10,6 +10,7 @@ from hypothesis import strategies as st
 
 from ltl_stack import cli
 from ltl_stack.errors import Exit, OutputError
+from ltl_stack.runtime.node_params import Bound, NodeConfigError, Param, coerce_param
 
 
 @settings(max_examples=200, deadline=None)
@@ -68,3 +69,21 @@ def test_write_outputs_refuses_a_folder_and_leaves_no_temporary_file(tmp_path):
         cli.write_outputs([(a, "one", "first"), (tmp_path, "x", "second")])
     assert err.value.code == Exit.WRITE_FAILED
     assert list(tmp_path.iterdir()) == []
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.one_of(st.floats(allow_nan=True, allow_infinity=True), st.floats(min_value=900, max_value=1100),
+                 st.sampled_from([1000.0, 1000.0000001, 0.0, 1e17])))
+def test_rates_take_exactly_0_and_1e_9_to_1000_hz_as_option_and_param(x):
+    """A rate (``cli.rate_or_zero``, a node's ``Bound.RATE``/``RATE_OR_ZERO`` ``~param``) is finite, at
+    most ``MAX_RATE`` (a faster loop only spins a core: ``_rate:=1e17``, issue 28) and not below ROS'
+    nanoseconds; 0 means "off" where the bound allows it."""
+    in_range = math.isfinite(x) and 1e-9 <= x <= cli.MAX_RATE
+    for ok_zero, parse in ((True, cli.rate_or_zero),
+                           (True, lambda t: coerce_param(Param("rate", 1.0, bound=Bound.RATE_OR_ZERO), t, "n")),
+                           (False, lambda t: coerce_param(Param("rate", 1.0, bound=Bound.RATE), t, "n"))):
+        if in_range or (x == 0 and ok_zero):
+            assert parse(repr(x)) == x
+        else:
+            with pytest.raises((argparse.ArgumentTypeError, NodeConfigError)):
+                parse(repr(x))

@@ -113,7 +113,7 @@ def test_the_readme_says_what_the_input_nodes_allow_for_a_zero_rate():
     from ltl_stack.runtime.node_params import Bound, coerce_param
 
     rate = next(p for p in INPUT_PARAMS if p.name == "rate")
-    assert rate.bound is Bound.NON_NEGATIVE and "0: only on change" in rate.doc and coerce_param(rate, 0) == 0
+    assert rate.bound is Bound.RATE_OR_ZERO and "0: only on change" in rate.doc and coerce_param(rate, 0) == 0
     readme = " ".join((REPO_ROOT / "README.md").read_text().split())
     assert "an input node's `_rate:=0` is allowed: it publishes only on change" in readme
 
