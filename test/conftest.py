@@ -67,6 +67,12 @@ def pytest_collection_modifyitems(session: pytest.Session, config: pytest.Config
         w = 2 if item.get_closest_marker("slow") else 1 if item.get_closest_marker("ros") else 0
         weight[module] = max(weight.get(module, 0), w)
     items.sort(key=lambda item: -weight[item.nodeid.split("::")[0]])
+    if not helpers.ROS_PYTHON:
+        skip = pytest.mark.skip(reason="needs Debian's ROS Python modules (rospy, rosgraph), which this Python "
+                                       "cannot import; the main run (Python 3.11) runs it")
+        for item in items:
+            if item.get_closest_marker("ros_python"):
+                item.add_marker(skip)
 
 
 @pytest.fixture(scope="session", autouse=True)

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import http.client
+import importlib.util
 import os
 import random
 import signal
@@ -37,6 +38,16 @@ def closed_port() -> int:
     return held.getsockname()[1]
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
+
+#: whether Debian's ROS Python modules can be imported here (not under the Python matrix's 3.12/3.13)
+ROS_PYTHON = importlib.util.find_spec("rosgraph") is not None and importlib.util.find_spec("rospy") is not None
+#: the scripts that run without Debian's ROS Python modules; every other one imports rospy, rosgraph or genpy
+ROS_FREE_SCRIPTS = frozenset({"synthesize", "generate_launch", "mine_channels"})
+
+
+def script_marks(tool: str) -> list[pytest.MarkDecorator]:
+    """``ros_python`` for a case that runs a script needing Debian's ROS Python modules."""
+    return [] if tool in ROS_FREE_SCRIPTS else [pytest.mark.ros_python]
 
 
 def bootstrap_paths() -> dict[str, Path]:

@@ -13,7 +13,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from helpers import REPO_ROOT, shared_dir
+from helpers import REPO_ROOT, script_marks, shared_dir
 
 from ltl_stack.errors import Exit
 from ltl_stack.fileio import output_refusal
@@ -100,7 +100,7 @@ def test_the_english_spec_uses_its_map_on_line_12():
     assert ENGLISH.splitlines()[11] == "Map: clean_and_patrol.regions"
 
 
-@pytest.mark.parametrize("case", list(CASES))
+@pytest.mark.parametrize("case", [pytest.param(c, marks=script_marks(CASES[c][0])) for c in CASES])
 def test_special_files_are_refused_with_one_error_line(folder, case):
     tool, arguments, code, message = CASES[case]
     robots = shared_dir()

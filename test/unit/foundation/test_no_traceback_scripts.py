@@ -10,7 +10,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from helpers import REPO_ROOT
+from helpers import REPO_ROOT, script_marks
 
 from ltl_stack.errors import Exit
 
@@ -39,7 +39,7 @@ def one_error(done: subprocess.CompletedProcess, tool: str) -> str:
     return errors[0]
 
 
-@pytest.mark.parametrize("tool", ROS_FREE)
+@pytest.mark.parametrize("tool", [pytest.param(t, marks=script_marks(t)) for t in ROS_FREE])
 def test_help_with_stdout_closed_is_one_error_line_and_exit_4(tool, tmp_path):
     done = run([tool, "--help"], tmp_path, close_stdout=True)
     assert done.returncode == Exit.WRITE_FAILED, (done.returncode, done.stderr[-2000:])
@@ -106,6 +106,7 @@ def test_over_long_option_numbers_are_one_error_line(option, value, tmp_path):
     assert f"argument {option}: " in one_error(done, "synthesize")
 
 
+@pytest.mark.ros_python
 def test_the_readme_says_what_the_input_nodes_allow_for_a_zero_rate():
     """README and ``topic_threshold_sensor --help`` once disagreed on ``_rate:=0``: it is allowed
     (only on change), and the README says so."""
@@ -147,7 +148,7 @@ ONE_LINE = {
 }
 
 
-@pytest.mark.parametrize("case", list(ONE_LINE))
+@pytest.mark.parametrize("case", [pytest.param(c, marks=script_marks(ONE_LINE[c][0][0])) for c in ONE_LINE])
 def test_every_error_is_exactly_one_line_on_stderr(case, tmp_path):
     args, files, line = ONE_LINE[case]
     for name, text in files.items():
