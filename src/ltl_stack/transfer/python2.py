@@ -11,9 +11,13 @@ from __future__ import annotations
 
 import ast
 import io
+import re
 import tokenize
 
 from ltl_stack.errors import InputError
+
+#: a Python 2 octal literal (0755), one token from Python 3.12 on
+OLD_OCTAL = re.compile(r"0[0-9]*[1-9][0-9]*[lL]?")
 
 
 class Python2Unsupported(InputError):
@@ -65,8 +69,11 @@ def python2_parse_text(text: str, filename: str) -> tuple[str, list[int]]:
             raise Python2Unsupported(filename, "backquotes (repr)", tok.start[0])
         following = tokens[i + 1] if i + 1 < len(tokens) else None
         adjacent = following is not None and following.start == tok.end
-        if adjacent and tok.string == "<" and following.string == ">":  # tokenize splits '<>'
+        # up to Python 3.11 tokenize splits '<>' into '<' '>' and 0755 into 0 755; 3.12 keeps each one token
+        if tok.string == "<>" or (adjacent and tok.string == "<" and following.string == ">"):
             raise Python2Unsupported(filename, "the <> operator", tok.start[0])
+        if tok.type == tokenize.NUMBER and OLD_OCTAL.fullmatch(tok.string):
+            raise Python2Unsupported(filename, f"the number {tok.string}", tok.start[0])
         if adjacent and tok.type == tokenize.NUMBER and (following.string in ("l", "L") or (
                 tok.string == "0" and following.type == tokenize.NUMBER and following.string.isdigit())):
             raise Python2Unsupported(filename, f"the number {tok.string + following.string}", tok.start[0])
