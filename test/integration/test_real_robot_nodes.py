@@ -210,3 +210,57 @@ def test_map_markers_colour_the_robots_region_and_show_the_propositions(ros):
     assert colour["bottomLane"] == pytest.approx(CURRENT) and colour["rightGround"] == pytest.approx(HEADING)
     assert "doing: holdingObject, rightGround" in last.markers[-1].text
     assert all(m.header.frame_id == "map" for m in last.markers)
+
+
+def test_robots_with_prefixed_frames_have_their_own_tf_frames_on_one_tree(ros):
+    """Two simulated robots with ~prefix_frames (multi-robot scenarios, issue 27): odometry and tf
+    under each robot's namespace, both below the one map frame; without the prefix both would be
+    odom -> base_link."""
+    from nav_msgs.msg import Odometry
+    from tf2_msgs.msg import TFMessage
+
+    tf = [f"/tf:={ros.topic('tf')}", f"/tf_static:={ros.topic('tf_static')}"]
+    moving = ros.record(ros.topic("tf"), TFMessage)
+    static = ros.record(ros.topic("tf_static"), TFMessage)
+    odom = {r: ros.record(ros.topic(f"{r}/odom"), Odometry) for r in ("bot_a", "bot_b")}
+    for r in odom:
+        ros.run("sim_robot", "_mode:=holonomic", "_prefix_frames:=true", f"__ns:={ros.ns}/{r}", *tf,
+                name=f"sim_robot_{r}")
+    prefix = ros.ns.strip("/")
+    for r, records in odom.items():
+        last = records.wait_last(lambda m: True, what=f"{r}'s odometry")
+        assert (last.header.frame_id, last.child_frame_id) == (f"{prefix}/{r}/odom", f"{prefix}/{r}/base_link")
+
+    def edges(records):
+        return {(t.header.frame_id, t.child_frame_id) for m in records.snapshot() for t in m.transforms}
+
+    want = {(f"{prefix}/{r}/odom", f"{prefix}/{r}/base_link") for r in odom}
+    wait_for(lambda: want <= edges(moving), 60, "each robot's odom -> base_link on tf")
+    wait_for(lambda: {("map", f"{prefix}/{r}/odom") for r in odom} <= edges(static), 60, "map -> each odom")
+    assert not {f for e in edges(moving) | edges(static) for f in e} & {"odom", "base_link"}
+
+
+def test_map_markers_of_a_second_robot_show_only_its_labelled_text_on_its_own_row(ros):
+    from visualization_msgs.msg import MarkerArray
+
+    from ltl_stack.msg import ControllerState
+    from ltl_stack.ros.valuation import valuation_to_msg
+    from ltl_stack.runtime.map_view import CURRENT
+
+    first = ros.record(ros.topic("D/markers"), MarkerArray)
+    second = ros.record(ros.topic("A/markers"), MarkerArray)
+    ros.run("map_markers", f"_regions_file:={REGIONS}", "_label:=D", "_region_suffix:=_c", f"__ns:={ros.ns}/D",
+            name="map_markers_D")
+    ros.run("map_markers", f"_regions_file:={REGIONS}", "_label:=A", "_draw_regions:=false", "_text_row:=1",
+            f"__ns:={ros.ns}/A", name="map_markers_A")
+    state = ControllerState(state_id=3, goal_index=0, running=True, mode="normal")
+    state.inputs = valuation_to_msg({"bottomLane_c": True})
+    ros.publish(ros.topic("D/controller_executor/state"), state)
+    d = first.wait_last(lambda m: m.markers[-1].text.startswith("D: state 3"), what="D's labelled text")
+    a = second.wait_last(lambda m: m.markers[-1].text.startswith("A: waiting"), what="A's labelled text")
+    assert len(a.markers) == 1 and a.markers[0].ns == "controller"  # no regions drawn twice
+    assert a.markers[0].pose.position.y == pytest.approx(d.markers[-1].pose.position.y + 1.0)
+    fills = {m.id: m for m in d.markers if m.ns == "fill"}
+    labels = {m.id: m.text for m in d.markers if m.ns == "label"}
+    colour = {labels[i + 1]: (m.color.r, m.color.g, m.color.b, m.color.a) for i, m in fills.items()}
+    assert colour["bottomLane"] == pytest.approx(CURRENT)  # the region from its <region>_c input

@@ -1,6 +1,6 @@
 """RViz starts headless (Xvfb, software GL) on each scenario's config and subscribes to what the
-config names: the markers of map_markers and the odometry (the config was read and its displays
-loaded)."""
+config names: the markers of map_markers and each robot's odometry (the config was read and its
+displays loaded)."""
 from __future__ import annotations
 
 import os
@@ -9,6 +9,7 @@ import subprocess
 from pathlib import Path
 
 import pytest
+import yaml
 from helpers import wait_for
 
 pytestmark = [pytest.mark.ros, pytest.mark.timeout(300)]
@@ -38,8 +39,12 @@ def display(tmp_path):
 def test_rviz_loads_the_config_headless(ros_master, display, config):
     ros_master.env.update(DISPLAY=display, LIBGL_ALWAYS_SOFTWARE="1")
     rviz = ros_master.run(["rviz", "-d", str(config)], name="rviz")
-    wait_for(lambda: ros_master.subscribers("/markers") and ros_master.subscribers("/odom"), 120,
-             "RViz subscribed to the config's markers and odom")
+    displays = yaml.safe_load(config.read_text())["Visualization Manager"]["Displays"]
+    topics = ["/" + (d.get("Marker Topic") or d["Topic"]) for d in displays
+              if d["Class"] in ("rviz/MarkerArray", "rviz/Odometry")]
+    assert topics, config
+    wait_for(lambda: all(ros_master.subscribers(t) for t in topics), 120,
+             f"RViz subscribed to the config's topics {topics}")
     assert rviz.running(), rviz.output()
     # Debian's rviz asks rospack for the (absent) media_export package: not about the config
     errors = [line for line in rviz.output().splitlines()

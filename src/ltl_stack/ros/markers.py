@@ -35,9 +35,20 @@ MAP_MARKERS = NodeSpec(
         Param("state_topic", "controller_executor/state", "the executor's ~state", ros_name=True),
         Param("region_topic", "localized_region", "the robot's region (std_msgs/String, e.g. from "
               "region_localization); empty: from the controller's R_rc inputs", ros_name=True),
+        Param("region_suffix", "_rc", "without a ~region_topic message: the region R whose input R<suffix> is "
+              "true (the controller's region sensing)"),
         Param("rate", 2.0, "republish this often (Hz)", bound=Bound.POSITIVE),
+        Param("draw_regions", True, "draw the regions (false: only the controller's text, for the other "
+              "robots of a scenario whose map one map_markers draws)"),
+        Param("label", "", "first line of the controller's text (a robot's name when several run)"),
+        Param("text_row", 0, "stack the text this many rows above the map (one row per robot)",
+              bound=Bound.NON_NEGATIVE),
     ],
 )
+
+
+#: height (m) of one robot's text block, for ~text_row
+TEXT_ROW = 1.0
 
 
 def _color(rgba: tuple[float, float, float, float]) -> ColorRGBA:
@@ -78,11 +89,12 @@ class MapMarkers:
             state, localized = self.state, self.localized
         inputs = msg_to_valuation(state.inputs) if state is not None else {}
         outputs = msg_to_valuation(state.outputs) if state is not None else {}
-        current = localized or region_from_inputs(self.regions, inputs)
+        current = localized or region_from_inputs(self.regions, inputs, self.config["region_suffix"])
         heading = {name for name in self.regions.names() if outputs.get(name)}
         array = self.MarkerArray()
         stamp = rospy.Time.now()
-        for index, shape in enumerate(region_shapes(self.regions, current, heading)):
+        shapes = region_shapes(self.regions, current, heading) if self.config["draw_regions"] else []
+        for index, shape in enumerate(shapes):
             marker = self._marker(shape.kind, index, stamp)
             marker.color = _color(shape.color)
             if shape.kind == "label":
@@ -103,9 +115,12 @@ class MapMarkers:
         text.scale.z = 0.2
         points = [p for region in self.regions.regions.values() for p in region.polygon] or [(0.0, 0.0)]
         xs, ys = [p[0] for p in points], [p[1] for p in points]
-        text.pose.position.x, text.pose.position.y = (min(xs) + max(xs)) / 2, max(ys) + 0.45
+        text.pose.position.x = (min(xs) + max(xs)) / 2
+        text.pose.position.y = max(ys) + 0.45 + TEXT_ROW * self.config["text_row"]
         text.text = (valuation_text(inputs, outputs, state.state_id, state.goal_index, None, state.mode)
                      if state is not None else "waiting for the controller's state")
+        if self.config["label"]:
+            text.text = f"{self.config['label']}: {text.text}"
         array.markers.append(text)
         return array
 

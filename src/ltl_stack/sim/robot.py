@@ -7,7 +7,9 @@ With ``~regions_file`` it also publishes the name of the region it is in on ``cu
 (latched, on change), like the thesis' ``/robot_current_region``.
 Like a real base it broadcasts tf (``~frame_id`` -> ``~child_frame_id``), and with ``~map_frame`` set it
 stands in for localization too: a static identity ``~map_frame`` -> ``~frame_id`` (amcl's transform on
-a real robot), so ``region_localization`` reads ``map`` -> ``base_link`` as it would there.
+a real robot), so ``region_localization`` reads ``map`` -> ``base_link`` as it would there. With
+``~prefix_frames`` each robot of a multi-robot scenario has its own frames under its namespace
+(``map`` -> ``spheros/sphero_wpw/odom`` -> ``spheros/sphero_wpw/base_link``), on one tf tree.
 """
 from __future__ import annotations
 
@@ -55,6 +57,8 @@ SIM_ROBOT = NodeSpec(
         Param("publish_tf", True, "broadcast ~frame_id -> ~child_frame_id on tf"),
         Param("map_frame", "map", "broadcast a static identity ~map_frame -> ~frame_id (empty: none)",
               ros_name=True),
+        Param("prefix_frames", False, "prefix ~frame_id and ~child_frame_id with the node's namespace "
+              "(youbots/youbot_1/odom), as tf_prefix did, so several robots share one tf; ~map_frame stays"),
         *REGION_PARAMS,
     ],
 )
@@ -71,8 +75,17 @@ def load_regions(config: dict[str, Any]) -> RegionMap | None:
         raise NodeConfigError(str(error)) from None
 
 
+def prefixed_frame(namespace: str, frame: str) -> str:
+    """``frame`` under the robot's namespace (``/youbots/youbot_1/``, ``odom`` -> ``youbots/youbot_1/odom``):
+    tf frame ids carry no leading slash (tf2)."""
+    return "/".join(part for part in (namespace.strip("/"), frame.strip("/")) if part)
+
+
 class SimRobot:
     def __init__(self, config: dict[str, Any]) -> None:
+        if config["prefix_frames"]:
+            config = dict(config, **{key: prefixed_frame(rospy.get_namespace(), config[key])
+                                     for key in ("frame_id", "child_frame_id")})
         self.config = config
         self.regions = load_regions(config)
         self.pose = Pose2D(config["x"], config["y"], config["theta"])

@@ -3,7 +3,8 @@
 A robots folder ``DIR`` is read with two conventions, so that the shared folder works as it is:
 
 * an optional profile ``DIR/<robot>.yaml`` with keys ``name``, ``drive`` (differential | holonomic |
-  none), ``limits``, ``urdf``, ``srdf``, ``channels`` (paths relative to ``DIR``);
+  none), ``limits``, ``urdf``, ``srdf``, ``channels`` (paths relative to ``DIR``; ``urdf`` and ``srdf``
+  may name our YAML data of ``robot_data`` instead of the XML files);
 * otherwise, or for any key the profile leaves out, ``DIR/limits/<robot>.yaml``,
   ``DIR/urdf/<robot>.urdf`` (or the one URDF whose file name starts with ``<robot>_`` or whose
   ``<robot name=...>`` is the robot's name), ``DIR/srdf/<robot>.srdf`` and ``DIR/channels/<robot>.yaml``.
@@ -30,7 +31,8 @@ from .limits import VelocityLimits, infer_drive, load_limits
 
 DRIVES = ("differential", "holonomic", "none")
 #: the robot profiles shipped in the package (our own data files: each base's velocity limits and
-#: drive, and the channel statistics of the thesis' Tables 2.1-2.5); the default ``--robots``
+#: drive, the channel statistics of the thesis' Tables 2.1-2.5, the arms' joints and MoveIt groups);
+#: the default ``--robots``
 SHIPPED_ROBOTS = Path(__file__).resolve().parent / "robots"
 PROFILE_KEYS = {"name", "drive", "limits", "urdf", "srdf", "channels"}
 #: the source robot name of a program written for no robot in particular (thesis Example 6)

@@ -13,6 +13,7 @@ from pathlib import Path
 from ltl_stack.inputs import read_text
 
 from .errors import TransferError
+from .robot_data import is_robot_data, load_groups
 from .urdf_tree import parse_xml
 
 
@@ -114,10 +115,7 @@ def parse_srdf(text: str, file: str = "<srdf>") -> Srdf:
                     raise TransferError("a chain needs base_link and tip_link", file, where)
                 group.chains.append((base, tip))
         groups[name] = group
-    for group in groups.values():
-        for sub in group.subgroups:
-            if sub not in groups:
-                raise TransferError(f"unknown subgroup {sub!r}", file, f"group {group.name!r}")
+    _check_subgroups(groups, file)
     eefs = []
     for elem in root.findall("end_effector"):
         name, parent_link, group = elem.get("name"), elem.get("parent_link"), elem.get("group")
@@ -131,6 +129,26 @@ def parse_srdf(text: str, file: str = "<srdf>") -> Srdf:
     return Srdf(root.get("name", ""), groups, eefs, file, virtual)
 
 
+def _check_subgroups(groups: dict[str, PlanningGroup], file: str) -> None:
+    for group in groups.values():
+        for sub in group.subgroups:
+            if sub not in groups:
+                raise TransferError(f"unknown subgroup {sub!r}", file, f"group {group.name!r}")
+
+
+def srdf_from_data(data: dict, file: str) -> Srdf:
+    """The ``Srdf`` of our groups file (``robot_data.load_groups``), checked as an SRDF is."""
+    groups = {name: PlanningGroup(name, g["joints"], g["links"], g["chains"], g["subgroups"])
+              for name, g in data["groups"].items()}
+    _check_subgroups(groups, file)
+    eefs = []
+    for e in data["end_effectors"]:
+        if e["group"] not in groups:
+            raise TransferError(f"unknown group {e['group']!r}", file, f"end_effector {e['name']!r}")
+        eefs.append(EndEffector(e["name"], e["parent_link"], e["group"], e["parent_group"]))
+    return Srdf(data["robot"], groups, eefs, file, list(data["virtual_joints"]))
+
+
 def _line(text: str, elem) -> str:
     needle = f'name="{elem.get("name")}"'
     index = text.find(needle)
@@ -138,7 +156,9 @@ def _line(text: str, elem) -> str:
 
 
 def load_srdf(path: str | Path) -> Srdf:
-    """Read an SRDF file (UTF-8 text, well-formed XML, consistent groups)."""
+    """Read an SRDF file (UTF-8 text, well-formed XML, consistent groups) or our groups file (``.yaml``)."""
+    if is_robot_data(path):
+        return srdf_from_data(load_groups(path), str(path))
     return parse_srdf(read_text(path, "SRDF file"), str(path))
 
 

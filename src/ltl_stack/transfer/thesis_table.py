@@ -1,9 +1,9 @@
 """Thesis Table 2.5, reproduced: the seven example transfers of chapter 2, ours next to the thesis' figures.
 
-    python -m ltl_stack.transfer.thesis_table [--robots ../shared/robots] [--codebase FILE] [--json]
+    python -m ltl_stack.transfer.thesis_table [--robots DIR] [--codebase FILE] [--json]
 
 Every row runs ``ros_code_transfer`` (its ``main``, in this process) on an example program of
-``test/data/transfer`` with the A.1 statistics, the A.2 listing saved from the target's master
+``test/data/transfer`` with the robot profiles shipped in the package (or ``--robots``), the A.1 statistics, the A.2 listing saved from the target's master
 (``--topics``) and the user's answers of the thesis given as ``--choose``, and reads the report's
 Table 2.5 row. The figures of the thesis are those printed in its Table 2.5.
 """
@@ -22,6 +22,7 @@ from ltl_stack.errors import Exit
 
 from .cli import main as transfer_main
 from .errors import TransferError
+from .profiles import SHIPPED_ROBOTS
 
 PROG = "thesis_table"
 REPO = Path(__file__).resolve().parents[3]
@@ -35,7 +36,7 @@ class Row:
     program: str
     source: str
     target: str
-    codebase: str                 # 'shared' (../shared/codebase/channel_counts.yaml) or a file in DATA
+    codebase: str                 # 'robot' (the target profile's channels, or --codebase) or a file in DATA
     topics: str | None            # A.2 listing in DATA/topics, or None
     choose: tuple[str, ...]       # the user's answers (--choose KEY=N)
     thesis: tuple                 # time s, channels, parameters, total, user inputs, examples, lines, errors
@@ -44,13 +45,13 @@ class Row:
 
 ROWS = (
     Row("Example 1: Keyboard control (Jackal → Turtlebot)", "keyboard_jackal.py", "jackal", "turtlebot",
-        "shared", None, (), (2.9, 1, 8, 9, 0, 67, 75, 0),
+        "robot", None, (), (2.9, 1, 8, 9, 0, 67, 75, 0),
         "our program (70 lines) was written from the thesis' snippet; parameters: we count the literals "
         "changed (4 non-zero commands); the thesis' 8 is consistent with "
         "counting both fields (linear.x and angular.z) of each of the 4 Twists — the zero fields are "
         "checked and left as they are"),
     Row("Example 2: Obstacle avoidance (Turtlebot → Jackal)", "wander_turtlebot.py", "turtlebot", "jackal",
-        "shared", "jackal.yaml", (), (1.4, 2, 4, 6, 0, 12, 85, 0),
+        "robot", "jackal.yaml", (), (1.4, 2, 4, 6, 0, 12, 85, 0),
         "our program (42 lines) is shorter than the original and has 2 command literals (vel=.3 and the "
         "turn); the thesis does not list its 4"),
     Row("Example 3: Joint trajectory following (UR5 → Jaco 7 DoF)", "follow_trajectory_ur5.py", "ur5",
@@ -66,11 +67,11 @@ ROWS = (
     Row("Example 5: Path planning with MoveIt! (Fetch → PR2)", "moveit_fetch.py", "fetch", "pr2",
         "thesis_script_counts.yaml", None, ("arm_with_torso=2",), (2.8, 2, 0, 2, 1, 110, 69, 0),
         "our program is shorter; the same two replacements (group and pose frame), one answer (A.3)"),
-    Row("Example 6: Localization (unknown → Turtlebot)", "localization.py", "unknown", "turtlebot", "shared",
+    Row("Example 6: Localization (unknown → Turtlebot)", "localization.py", "unknown", "turtlebot", "robot",
         "turtlebot.yaml", ("Imu=1",), (10.08, 5, 0, 5, 1, 67, 339, 0),
         "our program is a smaller localizer (the thesis used a graph-SLAM node) with the same 5 channels "
         "taken from the robot"),
-    Row("Example 6: Localization (unknown → Jackal)", "localization.py", "unknown", "jackal", "shared",
+    Row("Example 6: Localization (unknown → Jackal)", "localization.py", "unknown", "jackal", "robot",
         "jackal.yaml", ("Odometry=2",), (8.74, 5, 0, 5, 1, 12, 339, 0),
         "as for the Turtlebot"),
 )
@@ -78,12 +79,15 @@ COLUMNS = ("time taken (s)", "channels", "parameters", "total", "user inputs", "
            "lines/errors (thesis) / lines/unresolved (ours)")
 
 
-def run_row(row: Row, data: Path, robots: Path, shared_codebase: Path, out_dir: Path) -> dict:
-    """Run one example through ``ros_code_transfer`` and return its report's Table 2.5 row."""
-    codebase = shared_codebase if row.codebase == "shared" else data / "codebase" / row.codebase
+def run_row(row: Row, data: Path, robots: Path, robot_codebase: Path | None, out_dir: Path) -> dict:
+    """Run one example through ``ros_code_transfer`` and return its report's Table 2.5 row.
+
+    ``robot_codebase`` replaces the target profile's channel statistics in the rows that use them."""
+    codebase = robot_codebase if row.codebase == "robot" else data / "codebase" / row.codebase
     argv = [str(data / row.program), "--from", row.source, "--to", row.target, "--robots", str(robots),
-            "-o", str(out_dir / f"{row.target}_{row.program}"), "--codebase", str(codebase), "--json", "-q",
-            "--non-interactive"]
+            "-o", str(out_dir / f"{row.target}_{row.program}"), "--json", "-q", "--non-interactive"]
+    if codebase is not None:
+        argv += ["--codebase", str(codebase)]
     if row.topics:
         argv += ["--topics", str(data / "topics" / row.topics)]
     for answer in row.choose:
@@ -121,10 +125,10 @@ def to_markdown(results: list[dict]) -> str:
 def main(argv: list[str] | None = None) -> int:
     parser = ToolParser(PROG, "Reproduce thesis Table 2.5: run the seven example transfers of chapter 2 and "
                               "print each row as 'thesis / ours'.", exit_codes=(Exit.OK, Exit.BAD_INPUT))
-    parser.add_argument("--robots", default=str(REPO.parent / "shared" / "robots"),
-                        help="robots folder (default: ../shared/robots beside the repository)")
-    parser.add_argument("--codebase", default=str(REPO.parent / "shared" / "codebase" / "channel_counts.yaml"),
-                        help="the shared A.1 statistics (Tables 2.1, 2.3, 2.4)")
+    parser.add_argument("--robots", default=str(SHIPPED_ROBOTS),
+                        help="robots folder (default: the profiles shipped in the package)")
+    parser.add_argument("--codebase", help="A.1 statistics (Tables 2.1, 2.3, 2.4) for the rows of Examples 1, 2 "
+                                           "and 6 (default: the target profile's channels)")
     parser.add_argument("--examples", default=str(REPO / "test" / "data" / "transfer"),
                         help="folder of the example programs, listings (topics/) and counts (codebase/)")
     parser.add_argument("--keep", metavar="DIR", help="write the transferred programs into DIR")
@@ -141,7 +145,8 @@ def main(argv: list[str] | None = None) -> int:
                 out_dir.mkdir(parents=True, exist_ok=True)
             else:
                 out_dir = Path(stack.enter_context(tempfile.TemporaryDirectory()))
-            results = [run_row(row, Path(args.examples), Path(args.robots), Path(args.codebase), out_dir)
+            codebase = Path(args.codebase) if args.codebase else None
+            results = [run_row(row, Path(args.examples), Path(args.robots), codebase, out_dir)
                        for row in ROWS]
         if args.json:
             print_json(results)

@@ -15,7 +15,8 @@ import numpy as np
 import yourdfpy
 
 from .errors import TransferError
-from .urdf_tree import ACTUATED, JointInfo, UrdfTree, cached_tree, modification_time
+from .robot_data import is_robot_data
+from .urdf_tree import ACTUATED, JointInfo, UrdfTree, cached_data_tree, cached_tree, modification_time
 
 
 @dataclass(frozen=True)
@@ -28,21 +29,27 @@ class ChainJoint:
     upper: float
 
 
-class UrdfModel(UrdfTree):
-    """A URDF parsed by yourdfpy: the tree plus joint origins, axes and limits for kinematics."""
+@dataclass(frozen=True)
+class JointKinematics:
+    """What a URDF says about one joint's motion: ``<origin>`` (4x4), ``<axis>``, ``<limit>`` (or None)."""
 
-    def __init__(self, urdf, file: str):
-        joints = [JointInfo(j.name, j.type, j.parent, j.child) for j in urdf.robot.joints]
-        super().__init__(joints, {link.name for link in urdf.robot.links}, urdf.robot.name, file)
-        self.urdf = urdf
-        self._joint_elements = {j.name: j for j in urdf.robot.joints}
+    origin: np.ndarray | None
+    axis: np.ndarray | None
+    limit: tuple[float | None, float | None, float | None] | None   # lower, upper, velocity
+
+
+class UrdfModel(UrdfTree):
+    """A robot's tree plus joint origins, axes and limits for kinematics (from a URDF or our profile data)."""
+
+    def __init__(self, joints: list[JointInfo], links: set[str], name: str, file: str,
+                 kinematics: dict[str, JointKinematics]):
+        super().__init__(joints, links, name, file)
+        self.kinematics = kinematics
 
     def limits(self, name: str) -> tuple[float, float]:
         """Position limits of a joint; continuous joints without limits get one full turn each way."""
-        self.joint(name)
-        j = self._joint_elements[name]
-        lower = getattr(j.limit, "lower", None) if j.limit is not None else None
-        upper = getattr(j.limit, "upper", None) if j.limit is not None else None
+        j = self.joint(name)
+        lower, upper, _ = self.kinematics[name].limit or (None, None, None)
         if j.type == "continuous" and (lower is None or upper is None or lower >= upper):
             return -np.pi, np.pi
         if lower is None or upper is None:
@@ -55,8 +62,7 @@ class UrdfModel(UrdfTree):
     def velocity_limit(self, name: str) -> float | None:
         """The joint's velocity limit (``<limit velocity=…>``, rad/s or m/s); None when absent or not positive."""
         self.joint(name)
-        limit = self._joint_elements[name].limit
-        velocity = getattr(limit, "velocity", None) if limit is not None else None
+        velocity = (self.kinematics[name].limit or (None, None, None))[2]
         return float(velocity) if velocity is not None and velocity > 0 else None
 
     def chain(self, base: str, tip: str) -> list[ChainJoint]:
@@ -70,11 +76,11 @@ class UrdfModel(UrdfTree):
             raise TransferError(f"link {tip!r} is not below link {base!r}", self.file)
         start = names.index(base) if base != tip else len(path)
         result = []
-        for info in path[start:]:
-            j = self._joint_elements[info.name]
+        for j in path[start:]:
+            k = self.kinematics[j.name]
             lower, upper = self.limits(j.name) if j.type in ACTUATED else (0.0, 0.0)
-            origin = np.array(j.origin, dtype=float) if j.origin is not None else np.eye(4)
-            axis = np.array(j.axis if j.axis is not None else (1.0, 0.0, 0.0), dtype=float)
+            origin = np.array(k.origin, dtype=float) if k.origin is not None else np.eye(4)
+            axis = np.array(k.axis if k.axis is not None else (1.0, 0.0, 0.0), dtype=float)
             norm = np.linalg.norm(axis)
             if j.type in ACTUATED and norm == 0:
                 raise TransferError("joint axis is zero", self.file, f"joint {j.name!r}")
@@ -149,15 +155,33 @@ def actuated(chain: list[ChainJoint]) -> list[ChainJoint]:
 
 @functools.lru_cache(maxsize=32)
 def _load_cached(path: str, mtime: float) -> UrdfModel:
+    if is_robot_data(path):
+        return _from_robot_data(*cached_data_tree(path, mtime))
     text = cached_tree(path, mtime)[1]  # checked: UTF-8 text, well-formed, a consistent <robot> tree
     try:
         urdf = yourdfpy.URDF.load(io.BytesIO(text.encode("utf-8")), build_scene_graph=False, load_meshes=False,
                                   build_collision_scene_graph=False, load_collision_meshes=False)
     except Exception as err:  # yourdfpy/lxml raise many kinds for malformed files
         raise TransferError(f"not a valid URDF: {err}", path) from None
-    return UrdfModel(urdf, path)
+    joints = [JointInfo(j.name, j.type, j.parent, j.child) for j in urdf.robot.joints]
+    kinematics = {j.name: JointKinematics(j.origin, j.axis, None if j.limit is None else
+                                          (j.limit.lower, j.limit.upper, j.limit.velocity))
+                  for j in urdf.robot.joints}
+    return UrdfModel(joints, {link.name for link in urdf.robot.links}, urdf.robot.name, path, kinematics)
+
+
+def _from_robot_data(tree: UrdfTree, data: dict) -> UrdfModel:
+    """The model of our joints file; origins become matrices exactly as yourdfpy makes them from a URDF."""
+    kinematics = {}
+    for name, j in data["joints"].items():
+        origin = None if j["xyz"] is None else yourdfpy.urdf.tra.compose_matrix(translate=np.array(j["xyz"]),
+                                                                                 angles=np.array(j["rpy"]))
+        axis = None if j["axis"] is None else np.array(j["axis"])
+        kinematics[name] = JointKinematics(origin, axis, None if j["limit"] is None else tuple(j["limit"]))
+    return UrdfModel(list(tree.joints.values()), tree.links, tree.name, tree.file, kinematics)
 
 
 def load_urdf(path: str | Path) -> UrdfModel:
-    """Parse a URDF (cached per file and modification time); clear errors name the file and element."""
+    """Parse a URDF or our joints file (cached per file and modification time); clear errors name the file
+    and element."""
     return _load_cached(str(path), modification_time(path))

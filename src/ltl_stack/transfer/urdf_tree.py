@@ -14,6 +14,7 @@ from ltl_stack.errors import InputError
 from ltl_stack.inputs import read_text
 
 from .errors import TransferError
+from .robot_data import is_robot_data, load_joints
 
 ACTUATED = ("revolute", "continuous", "prismatic")
 
@@ -114,6 +115,14 @@ def cached_tree(path: str, mtime: float) -> tuple[UrdfTree, str]:
     return UrdfTree(joints, links, root.get("name", ""), path), text
 
 
+@functools.lru_cache(maxsize=32)
+def cached_data_tree(path: str, mtime: float) -> tuple[UrdfTree, dict]:
+    """The tree of our joints file (``robot_data``) and its checked data, cached like ``cached_tree``."""
+    data = load_joints(path)
+    joints = [JointInfo(name, j["type"], j["parent"], j["child"]) for name, j in data["joints"].items()]
+    return UrdfTree(joints, data["links"], data["robot"], path), data
+
+
 def modification_time(path: str | Path) -> float:
     """The file's modification time (the cache key beside its path); an error naming it if unreadable."""
     try:
@@ -123,5 +132,6 @@ def modification_time(path: str | Path) -> float:
 
 
 def load_urdf_tree(path: str | Path) -> UrdfTree:
-    """Only the link/joint names of a URDF (fast: no kinematics)."""
-    return cached_tree(str(path), modification_time(path))[0]
+    """Only the link/joint names of a URDF or of our joints file (fast: no kinematics)."""
+    load = cached_data_tree if is_robot_data(path) else cached_tree
+    return load(str(path), modification_time(path))[0]
