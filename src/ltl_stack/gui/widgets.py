@@ -135,6 +135,37 @@ def show_status(label: QLabel, text: str, error: bool = False) -> None:
     label.setStyleSheet("color: #a00000;" if error else "")
 
 
+class _Relay(QObject):
+    """Carries a worker thread's outcome to the GUI thread. The worker emits on this object, which lives
+    as long as the process, never on the task itself: a panel closed meanwhile deletes the task on the
+    GUI thread, and a signal emitted from another thread on an object being deleted crashes the process
+    (seen: a segfault in a test's teardown). On the GUI thread, a deleted task is simply skipped."""
+
+    deliver = Signal(object, str, object)  # task, the name of its _deliver_* slot, the value
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.deliver.connect(self._deliver)  # emitted from worker threads: queued to this object's thread
+
+    @Slot(object, str, object)
+    def _deliver(self, task: Any, name: str, value: object) -> None:
+        try:
+            getattr(task, name)(value)
+        except RuntimeError:  # the panel was closed and the task deleted while the work ran
+            pass
+
+
+_RELAY: _Relay | None = None
+
+
+def _relay() -> _Relay:
+    """The process' one relay, made on the GUI thread by the first task (tasks are made there)."""
+    global _RELAY
+    if _RELAY is None:
+        _RELAY = _Relay()
+    return _RELAY
+
+
 class Task(QObject):
     """Run ``work(progress)`` on a Python thread; its signals arrive on the GUI thread.
 
@@ -147,9 +178,6 @@ class Task(QObject):
     progress = Signal(str)
     finished = Signal(object)
     failed = Signal(str)
-    _done = Signal(object)  # from the worker thread, queued to the GUI thread
-    _error = Signal(str)
-    _said = Signal(str)
 
     def __init__(self, work: Callable[[Callable[[str], None]], Any], parent: QObject | None = None):
         super().__init__(parent)
@@ -157,9 +185,7 @@ class Task(QObject):
         self.thread: threading.Thread | None = None
         self._pending = False
         self._abandoned = False
-        self._done.connect(self._deliver_done)
-        self._error.connect(self._deliver_error)
-        self._said.connect(self._deliver_progress)
+        self._relay = _relay()
 
     def start(self) -> None:
         self._pending = True
@@ -189,23 +215,17 @@ class Task(QObject):
         except Exception as err:  # noqa: BLE001 - every failure is shown in the panel, none kills it
             if not isinstance(err, UserError | OSError | GraphvizError):
                 traceback.print_exc()
-            self._emit("_error", error_text(err))
+            self._relay.deliver.emit(self, "_deliver_error", error_text(err))
             return
-        self._emit("_done", result)
+        self._relay.deliver.emit(self, "_deliver_done", result)
 
     def _progress(self, text: str) -> None:
-        self._emit("_said", text)
+        self._relay.deliver.emit(self, "_deliver_progress", text)
 
     @Slot(str)
     def _deliver_progress(self, text: str) -> None:
         if not self._abandoned:
             self.progress.emit(text)
-
-    def _emit(self, name: str, value: Any) -> None:
-        try:
-            getattr(self, name).emit(value)
-        except RuntimeError:  # the panel was closed (and the task deleted) while the work ran
-            pass
 
     @property
     def running(self) -> bool:
