@@ -48,7 +48,7 @@ from ltl_stack.msg import ControllerState, PropositionValuation
 from ltl_stack.ros.master_watch import MasterWatch
 from ltl_stack.ros.negotiation import NegotiationEndpoint, prepare_negotiation
 from ltl_stack.ros.valuation import valuation_to_msg
-from ltl_stack.runtime.characterize import Counters, Event, ExecutionAborted, Mode, Negotiate
+from ltl_stack.runtime.characterize import Counters, Event, Mode, Negotiate
 from ltl_stack.runtime.controller import VIOLATION_POLICIES, Controller, Update
 from ltl_stack.runtime.executor_setup import (
     NODE_NAME,
@@ -69,20 +69,20 @@ from ltl_stack.runtime.executor_setup import (
 from ltl_stack.runtime.mapping import resolve_topics
 from ltl_stack.runtime.modes import (
     INITIAL_STATUSES,
+    USER_ABORT,
     NodeReports,
     Status,
+    aborted_report,
     counters_event,
-    liveness_refusal,
     readings_key,
     step_report,
     strategy_source,
+    waiting_text,
 )
 from ltl_stack.runtime.negotiation import negotiation_classes
 from ltl_stack.runtime.node_params import split_param_args
-from ltl_stack.runtime.resilient_executor import BackgroundResilience, Busy, thread_runner
-from ltl_stack.spec import SpecError
+from ltl_stack.runtime.resilient_executor import BackgroundResilience, thread_runner
 from ltl_stack.srv import AddEnvLiveness, AddEnvLivenessResponse
-from ltl_stack.synthesis.explain_render import explanation_text
 from ltl_stack.synthesis.recovery import StepResult
 
 PROG = "controller_executor"
@@ -350,57 +350,32 @@ class ExecutorNode:
     def _on_add_env_liveness(self, request: Any) -> AddEnvLivenessResponse:
         """Alg. 3 line 6: the user's environment liveness; synthesis runs in this service thread,
         not under the controller's lock."""
-        formula = request.formula
-        if self.resilient is not None:
-            try:
-                self.resilient.characterizer.check_liveness(formula)
-            except SpecError as err:
-                rospy.logwarn("%s: ~add_env_liveness %r refused: %s", self.name, formula, err)
-                return AddEnvLivenessResponse(success=False, code=Exit.BAD_INPUT, mode=self._current_mode(),
-                                              message=str(err))
-        refusal = liveness_refusal(self.resilient is not None, self.controller.state is not None,
-                                   self._current_mode())
-        if refusal is not None:
-            return AddEnvLivenessResponse(success=False, code=Exit.NEGATIVE, mode=self._current_mode(),
-                                          message=refusal)
-        try:
-            attempt = self.resilient.add_env_liveness(formula)
-        except SpecError as err:
-            text = f"{err}"
-            rospy.logwarn("%s: ~add_env_liveness %r refused: %s", self.name, formula, text)
-            return AddEnvLivenessResponse(success=False, code=Exit.BAD_INPUT, mode=self._current_mode(), message=text)
-        except (ExecutionAborted, Busy) as err:
-            return AddEnvLivenessResponse(success=False, code=Exit.NEGATIVE, mode=self._current_mode(),
-                                          message=str(err))
-        if attempt is not None and attempt.realizable:
-            where = f"; written to {self.options.characterized_spec}" if self.options.characterized_spec and \
-                self.resilient.write_error is None else ""
-            message = f"realizable with {formula!r} ({attempt.variant}); running the new strategy{where}"
-            rospy.loginfo("%s: ~add_env_liveness: %s", self.name, message)
-            return AddEnvLivenessResponse(success=True, code=Exit.OK, mode=self._current_mode(), message=message)
-        message = f"still unrealizable with {formula!r}: aborted, every output is false"
-        return AddEnvLivenessResponse(success=False, code=Exit.UNREALIZABLE, mode=self._current_mode(),
-                                      message=message)
+        answer = self.reports.add_env_liveness(request.formula, self.options.characterized_spec)
+        if answer.log is not None:
+            (rospy.logwarn if answer.log[0] == "warn" else rospy.loginfo)("%s: %s", self.name, answer.log[1])
+        return AddEnvLivenessResponse(success=answer.success, code=answer.code, mode=answer.mode,
+                                      message=answer.message)
 
     def _on_abort(self, _request: Any) -> TriggerResponse:
         """Abort (Alg. 3 line 11): every output false, the node stays up reporting ERROR."""
         with self.controller.lock:
-            if self.controller.aborted is not None:  # not done again: the tool's exit 1
-                return TriggerResponse(success=False, message=f"already aborted: {self.controller.aborted}")
-            reason = "aborted by the user (~abort)"
+            refusal = self.reports.abort_refusal()
+            if refusal is not None:  # not done again: the tool's exit 1
+                return TriggerResponse(success=False, message=refusal)
             if self.resilient is not None:
-                self.resilient.abort(reason)  # -> _on_resilience_changed aborts the controller
+                self.resilient.abort(USER_ABORT)  # -> _on_resilience_changed aborts the controller
             if self.controller.aborted is None:
-                self._abort_controller(reason)
+                self._abort_controller(USER_ABORT)
         return TriggerResponse(success=True, message="aborted: every output is false")
 
     def _abort_controller(self, reason: str) -> None:
         """Under the lock: every output false, no more steps, ERROR on /diagnostics."""
         update = self.controller.abort(reason)
-        rospy.logerr("%s: execution aborted (%s): every output is false; the node stays up", self.name, reason)
+        text, event = aborted_report(reason)
+        rospy.logerr("%s: %s", self.name, text)
         self._publish(update, force_state=True)
         if self.json_lines:
-            print(json.dumps({"event": "aborted", "reason": reason}), flush=True)
+            print(json.dumps(event), flush=True)
 
     def _on_poll(self, _event: Any) -> None:
         """--characterize-after-seconds: a violation may outlast it without any step."""
@@ -419,10 +394,7 @@ class ExecutorNode:
             self._abort_controller(getattr(strategy, "_abort_reason", "aborted"))
             return
         if strategy.mode is Mode.WAITING_FOR_USER and strategy.explanation is not None:
-            rospy.logwarn("%s: environment characterization found no realizable specification:\n%s\n"
-                          "add an environment liveness assumption (rosrun ltl_stack add_env_liveness "
-                          "\"FORMULA\") or abort (rosrun ltl_stack add_env_liveness --abort)",
-                          self.name, explanation_text(strategy.explanation))
+            rospy.logwarn("%s: %s", self.name, waiting_text(strategy.explanation))
         self._publish_state(Update(outputs=self.controller.current_outputs(), state=self.controller.state))
         self._update_mode()
 

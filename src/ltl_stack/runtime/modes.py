@@ -25,10 +25,12 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-from ltl_stack.runtime.characterize import Counters
+from ltl_stack.errors import Exit
+from ltl_stack.runtime.characterize import Counters, ExecutionAborted
 from ltl_stack.runtime.controller import Controller, Update
 from ltl_stack.runtime.recovery import RecoveringStrategy
-from ltl_stack.runtime.resilient_executor import BackgroundResilience
+from ltl_stack.runtime.resilient_executor import BackgroundResilience, Busy
+from ltl_stack.spec import SpecError
 from ltl_stack.spec.english import clause_to_english
 from ltl_stack.spec.model import Clause
 from ltl_stack.spec.valuation import format_valuation
@@ -309,6 +311,35 @@ class ModeReport:
     event: dict[str, Any]
 
 
+@dataclass(frozen=True)
+class Answer:
+    """A service's answer (``~add_env_liveness``, ``~abort``): success, the tool's exit code (README's
+    table), the message, the mode after the call, and the line to log (``warn``/``info``, text) or None."""
+
+    success: bool
+    code: int
+    message: str
+    mode: str
+    log: tuple[str, str] | None = None
+
+
+#: why the user's ``~abort`` aborts (Alg. 3 line 11)
+USER_ABORT = "aborted by the user (~abort)"
+
+
+def aborted_report(reason: str) -> tuple[str, dict[str, Any]]:
+    """The log line and the ``--json`` event of an abort (Alg. 3 line 11)."""
+    return (f"execution aborted ({reason}): every output is false; the node stays up",
+            {"event": "aborted", "reason": reason})
+
+
+def waiting_text(explanation: Any) -> str:
+    """The warning when environment characterization found no realizable spec (Alg. 3 S.1)."""
+    return (f"environment characterization found no realizable specification:\n{explanation_text(explanation)}\n"
+            "add an environment liveness assumption (rosrun ltl_stack add_env_liveness \"FORMULA\") or abort "
+            "(rosrun ltl_stack add_env_liveness --abort)")
+
+
 def readings_key(readings: Mapping[str, bool]) -> tuple:
     """The readings as a comparable key: a violation is reported once per distinct valuation."""
     return tuple(sorted(readings.items()))
@@ -506,6 +537,39 @@ class NodeReports:
                            [("state", str(s.id)), ("goal", str(s.goal))], quiet=True)
         return [inputs, state]
 
+    def add_env_liveness(self, formula: str, written_to: str = "") -> Answer:
+        """Alg. 3 line 6 (``~add_env_liveness``): check ``formula``, refuse it when the node is not
+        waiting for the user (``liveness_refusal``), else resynthesize with it (in the caller's thread,
+        not under the controller's lock). ``written_to``: the ``--characterized-spec`` path, if any."""
+        resilient = self.resilient
+        if resilient is not None:
+            try:
+                resilient.characterizer.check_liveness(formula)
+            except SpecError as err:
+                return Answer(False, Exit.BAD_INPUT, str(err), self.current_mode(),
+                              ("warn", f"~add_env_liveness {formula!r} refused: {err}"))
+        refusal = liveness_refusal(resilient is not None, self.controller.state is not None, self.current_mode())
+        if refusal is not None:
+            return Answer(False, Exit.NEGATIVE, refusal, self.current_mode())
+        try:
+            attempt = resilient.add_env_liveness(formula)
+        except SpecError as err:
+            return Answer(False, Exit.BAD_INPUT, f"{err}", self.current_mode(),
+                          ("warn", f"~add_env_liveness {formula!r} refused: {err}"))
+        except (ExecutionAborted, Busy) as err:
+            return Answer(False, Exit.NEGATIVE, str(err), self.current_mode())
+        if attempt is not None and attempt.realizable:
+            where = f"; written to {written_to}" if written_to and resilient.write_error is None else ""
+            message = f"realizable with {formula!r} ({attempt.variant}); running the new strategy{where}"
+            return Answer(True, Exit.OK, message, self.current_mode(), ("info", f"~add_env_liveness: {message}"))
+        return Answer(False, Exit.UNREALIZABLE, f"still unrealizable with {formula!r}: aborted, every output is false",
+                      self.current_mode())
+
+    def abort_refusal(self) -> str | None:
+        """Why ``~abort`` does nothing now (the tool's exit 1): the node already aborted."""
+        aborted = self.controller.aborted
+        return f"already aborted: {aborted}" if aborted is not None else None
+
     def silent_inputs(self, waited: float) -> str | None:
         """The ``--ready-timeout`` error line, None when every input has reported."""
         missing = self.controller.missing_inputs()
@@ -535,7 +599,8 @@ class NodeReports:
         return issued, INITIAL_STATUSES[1]
 
 
-__all__ = ["ERROR", "INITIAL_STATUSES", "MODE_LEVELS", "OK", "WARN", "Guarded", "ModeReport", "NodeReports",
+__all__ = ["ERROR", "INITIAL_STATUSES", "MODE_LEVELS", "OK", "USER_ABORT", "WARN", "Answer", "Guarded", "ModeReport",
+           "NodeReports", "aborted_report", "waiting_text",
            "OutputGuard", "Publication", "Status", "ViolationReport", "counters_event", "current_mode", "english",
            "game_of", "liveness_refusal", "mode_text", "nearest_safe_outputs", "policy_text", "readings_key",
            "shown", "step_report", "strategy_source", "violation_report"]

@@ -144,3 +144,29 @@ def test_every_violation_counted_once_and_the_mode_level_follows_the_mode(option
         assert mode.status.level == MODE_LEVELS[mode.mode]
         assert (mode.mode == "holding") == (controller.violation is not None)
     assert reports.counters.violations == violations >= reported
+
+
+def test_add_env_liveness_answers_by_mode_and_abort_is_refused_once_aborted(tmp_path):
+    """``~add_env_liveness``: a bad formula is exit 2 (a warning to log), outside the wait for the
+    user exit 1 (nothing logged), while waiting it resynthesizes (exit 0, written to the path);
+    ``~abort`` on an aborted node is refused."""
+    from ltl_stack.errors import Exit
+
+    path = tmp_path / "ch.structuredslugs"
+    controller, reports = node(recovery=False, characterized_spec=str(path))
+    reports.resilient.runner = lambda job: job()  # the resynthesis at once, in this thread
+    reports.resilient.on_installed = controller.restart_from
+    bad = reports.add_env_liveness("[ENV_TRANS]", str(path))
+    assert (bad.success, bad.code, bad.log[0]) == (False, Exit.BAD_INPUT, "warn") and "section header" in bad.message
+    early = reports.add_env_liveness("door", str(path))
+    assert (early.code, early.log) == (Exit.NEGATIVE, None) and early.message.startswith("not ready")
+    for readings in ({"person": False, "door": True}, {"person": False, "door": False},
+                     {"person": True, "door": False}):
+        reports.publication(controller.report_many(readings))
+    assert reports.current_mode() == "waiting_for_user", reports.resilient.events
+    answer = reports.add_env_liveness("door", str(path))
+    assert (answer.success, answer.code, answer.log[0]) == (True, Exit.OK, "info"), answer
+    assert answer.message == f"realizable with 'door' (EC1); running the new strategy; written to {path}"
+    assert reports.abort_refusal() is None
+    controller.abort("aborted by the user (~abort)")
+    assert reports.abort_refusal() == "already aborted: aborted by the user (~abort)"
