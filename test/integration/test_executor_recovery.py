@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import json
 import subprocess
+import sys
+from pathlib import Path
 
 import pytest
 from helpers import direct_script, wait_for
@@ -114,3 +116,56 @@ def test_person_door_probe_keeps_stop_true_in_every_mode(ros_master, probes, tmp
     bad = [e for e in states if not e["outputs"]["stop"] or (e["outputs"]["pass"] and not e["inputs"]["door"])]
     assert not bad, bad
     assert "Traceback" not in executor.output(), executor.output()
+
+
+# Negotiation configured (issue 23): door is the peer P's openDoor (an eAP input, §4.8), so when
+# characterization finds no realizable spec the node negotiates with P (a real party node, Alg. 4),
+# adopts what they agree (4.8.1: P guarantees openDoor, R may assume door infinitely often) and, door
+# still closed, characterizes again on the adopted spec.
+PARTY = Path(__file__).with_name("negotiation_party.py")
+R_MAP = ("negotiation:\n  robot: R\n  peers:\n    P:\n      service: /t/P/controller_executor/negotiate\n"
+         "      eap: {door: openDoor}\n")
+P_SPEC = "[INPUT]\nbell\n\n[OUTPUT]\nopenDoor\n\n[SYS_LIVENESS]\nopenDoor\n"
+P_MAP = "negotiation:\n  robot: P\n  peers:\n    R:\n      service: /controller_executor/negotiate\n" \
+        "      shares: {openDoor: door}\n"
+
+
+@pytest.mark.parametrize("recovery", [[], ["--no-recovery"]], ids=["recovery", "no-recovery"])
+def test_person_door_probe_keeps_stop_true_with_negotiation_configured(ros_master, probes, tmp_path,  # noqa: F811
+                                                                       recovery):
+    """Lemma 1(a) with negotiation configured: door=0 (assumption broken) and person=1 — while
+    characterizing, negotiating with P, right after adopting and characterizing again — every
+    valuation the node publishes keeps person' -> stop' and pass' -> door'."""
+    spec = tmp_path / "probe.structuredslugs"
+    spec.write_text(TWO_SPEC)
+    mapping = tmp_path / "r.yaml"
+    mapping.write_text(R_MAP)
+    (tmp_path / "p.structuredslugs").write_text(P_SPEC)
+    (tmp_path / "p.yaml").write_text(P_MAP)
+    peer = ros_master.run([sys.executable, str(PARTY), "responder", str(tmp_path / "p.structuredslugs"),
+                           str(tmp_path / "p.yaml"), "--timeout", "20", "__ns:=/t/P"], name="peer-P")
+    peer.wait_output('"ready"', timeout=60)
+    executor = ros_master.run(["rosrun", "ltl_stack", "controller_executor", str(spec), str(mapping), "--json",
+                               "--violation-grace", "0", "--characterized-spec", str(tmp_path / "ch.structuredslugs"),
+                               "--negotiation-timeout", "20", *recovery], name="executor")
+    ros_master.wait_for_subscriber(PERSON)
+    ros_master.wait_for_subscriber(DOOR)
+    probe = probes([f"state:{STATE}"])
+    probe.publish(PERSON, False)
+    probe.publish(DOOR, True)
+    wait_for(lambda: [e for e in probe.of("state") if e["inputs"] == {"person": False, "door": True}], 60,
+             "the first state")
+    probe.publish(DOOR, False)  # breaks door' (P's openDoor)
+    wait_for(lambda: [e for e in probe.of("state") if e["inputs"] == {"person": False, "door": False}], 60,
+             "a state with door=0")
+    probe.publish(PERSON, True)  # door still closed: no characterized spec is realizable, R negotiates with P
+    wait_for(lambda: '"report"' in peer.output(), 120, "P's negotiation report")
+    after = wait_for(lambda: [e for e in probe.of("state")[-1:] if e["resyntheses"] >= 2 and e["inputs"]["person"]
+                              and e["mode"] != "characterizing"], 120, "the node settled on the adopted spec")[0]
+    assert after["mode"] != "aborted", (after, executor.output()[-3000:])
+    assert '"case": "BOTH_ADOPT"' in peer.output(), peer.output()
+    states = [e for e in probe.of("state") if e["inputs"]["person"]]
+    assert states, probe.of("state")
+    bad = [e for e in states if not e["outputs"]["stop"] or (e["outputs"]["pass"] and not e["inputs"]["door"])]
+    assert not bad, bad
+    assert "Traceback" not in executor.output() + peer.output(), executor.output() + peer.output()

@@ -5,8 +5,9 @@ It synthesizes the spec (or loads a saved strategy JSON), subscribes to every in
 (``ltl_stack/PropositionValuation``, inputs then outputs) and ``~state`` (``ltl_stack/ControllerState``).
 
 The ROS-free parts are ``ltl_stack.runtime.controller.Controller`` (stepping, pause, violation
-policy) and ``ltl_stack.runtime.executor_setup`` (options, spec, mapping, topics, strategy); this
-module only wires them:
+policy), ``ltl_stack.runtime.executor_setup`` (options, spec, mapping, topics, strategy) and
+``ltl_stack.runtime.modes.NodeReports`` (what each update publishes, the counters, the mode, health
+and violation reports of ``~state`` and /diagnostics); this module only wires them:
 
 * stepping happens in the subscriber callback that changed the input valuation (under the
   controller's lock); each step's falling outputs are written before its rising ones;
@@ -32,8 +33,7 @@ import sys
 import threading
 import time
 import warnings
-from collections.abc import Callable, Mapping, Sequence
-from dataclasses import replace
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import rosgraph
@@ -48,7 +48,7 @@ from ltl_stack.msg import ControllerState, PropositionValuation
 from ltl_stack.ros.master_watch import MasterWatch
 from ltl_stack.ros.negotiation import NegotiationEndpoint, prepare_negotiation
 from ltl_stack.ros.valuation import valuation_to_msg
-from ltl_stack.runtime.characterize import Counters, Event, ExecutionAborted, Mode, Negotiate
+from ltl_stack.runtime.characterize import Counters, Event, Mode, Negotiate
 from ltl_stack.runtime.controller import VIOLATION_POLICIES, Controller, Update
 from ltl_stack.runtime.executor_setup import (
     NODE_NAME,
@@ -68,23 +68,22 @@ from ltl_stack.runtime.executor_setup import (
 )
 from ltl_stack.runtime.mapping import resolve_topics
 from ltl_stack.runtime.modes import (
-    current_mode,
-    liveness_refusal,
-    mode_text,
-    shown,
+    INITIAL_STATUSES,
+    USER_ABORT,
+    NodeReports,
+    Status,
+    aborted_report,
+    counters_event,
+    readings_key,
+    step_report,
     strategy_source,
-    violation_report,
+    waiting_text,
 )
 from ltl_stack.runtime.negotiation import negotiation_classes
 from ltl_stack.runtime.node_params import split_param_args
-from ltl_stack.runtime.recovery import RecoveringStrategy
-from ltl_stack.runtime.resilient_executor import BackgroundResilience, Busy, thread_runner
-from ltl_stack.spec import SpecError
-from ltl_stack.spec.valuation import format_valuation
+from ltl_stack.runtime.resilient_executor import BackgroundResilience, thread_runner
 from ltl_stack.srv import AddEnvLiveness, AddEnvLivenessResponse
-from ltl_stack.synthesis.errors import AssumptionViolation
-from ltl_stack.synthesis.explain_render import clause_line, explanation_text
-from ltl_stack.synthesis.recovery import StepKind, StepResult, UnsafeStep
+from ltl_stack.synthesis.recovery import StepResult
 
 PROG = "controller_executor"
 #: How often the node's statuses are published on /diagnostics (rqt_robot_monitor marks older ones stale).
@@ -94,10 +93,6 @@ DIAGNOSTICS_PERIOD = 1.0
 EDGE_GAP = 0.005
 #: How often a violation that outlasts ``--characterize-after-seconds`` without a step is looked for.
 POLL_PERIOD = 0.1
-OK, WARN, ERROR = DiagnosticStatus.OK, DiagnosticStatus.WARN, DiagnosticStatus.ERROR
-#: The diagnostic level of each mode (``~state``'s ``mode``).
-MODE_LEVELS = {"normal": OK, "recovering": WARN, "holding": WARN, "characterizing": WARN,
-               "waiting_for_user": WARN, "aborted": ERROR}
 
 
 def build_parser() -> cli.ToolParser:
@@ -231,17 +226,10 @@ class ExecutorNode:
         self.options = options
         self.json_lines = json_lines
         self.name = rospy.get_name()
-        strategy = controller.strategy
-        self.resilient: BackgroundResilience | None = strategy if isinstance(strategy, BackgroundResilience) else None
-        #: what the node counts itself when the strategy does not (no characterization)
-        self.counters = Counters()
-        self._recovering = False
-        self._violated_now: list[str] = []
-        self._mode = "normal"
-        #: recovery moves counted at the last publication, and whether the current update took one:
-        #: a one-step violation followed by a normal settling step still shows as "recovering" once
-        self._seen_recovery_steps = 0
-        self._recovered_in_update = False
+        #: the decisions: what to publish, counters, mode, health and violation reports
+        self.reports = NodeReports(controller, options.on_violation.value, options.recovery, prepared.input_topics,
+                                   options.ready_timeout)
+        self.resilient: BackgroundResilience | None = self.reports.resilient
         if self.resilient is not None:
             self.resilient.runner = thread_runner
             self.resilient.on_installed = self._on_installed
@@ -249,9 +237,7 @@ class ExecutorNode:
             self.resilient.on_event = self._on_resilience_event
         if negotiate is not None:
             self.set_negotiate(negotiate)
-        self._last_violation_key: tuple | None = None
         self._window_timer = None
-        self._warned_publishers: dict[str, tuple[str, ...]] = {}
         self._started_at = time.monotonic()
         self._statuses: dict[str, DiagnosticStatus] = {}
         self._status_lock = threading.Lock()
@@ -286,8 +272,8 @@ class ExecutorNode:
         if options.publisher_check_period > 0:
             self.publisher_timer = rospy.Timer(rospy.Duration(options.publisher_check_period),
                                                lambda _event: self.check_publishers())
-        self._set_status(OK, "environment assumptions", "no violation", [], publish=False)
-        self._set_status(OK, "input publishers", "one publisher or none per input topic", [], publish=False)
+        for status in INITIAL_STATUSES:
+            self._set_status(status)
         self._update_mode(publish=False)
         self._update_health(publish=False)
         self.diagnostics_timer = rospy.Timer(rospy.Duration(DIAGNOSTICS_PERIOD), lambda _e: self.publish_diagnostics())
@@ -364,57 +350,32 @@ class ExecutorNode:
     def _on_add_env_liveness(self, request: Any) -> AddEnvLivenessResponse:
         """Alg. 3 line 6: the user's environment liveness; synthesis runs in this service thread,
         not under the controller's lock."""
-        formula = request.formula
-        if self.resilient is not None:
-            try:
-                self.resilient.characterizer.check_liveness(formula)
-            except SpecError as err:
-                rospy.logwarn("%s: ~add_env_liveness %r refused: %s", self.name, formula, err)
-                return AddEnvLivenessResponse(success=False, code=Exit.BAD_INPUT, mode=self._current_mode(),
-                                              message=str(err))
-        refusal = liveness_refusal(self.resilient is not None, self.controller.state is not None,
-                                   self._current_mode())
-        if refusal is not None:
-            return AddEnvLivenessResponse(success=False, code=Exit.NEGATIVE, mode=self._current_mode(),
-                                          message=refusal)
-        try:
-            attempt = self.resilient.add_env_liveness(formula)
-        except SpecError as err:
-            text = f"{err}"
-            rospy.logwarn("%s: ~add_env_liveness %r refused: %s", self.name, formula, text)
-            return AddEnvLivenessResponse(success=False, code=Exit.BAD_INPUT, mode=self._current_mode(), message=text)
-        except (ExecutionAborted, Busy) as err:
-            return AddEnvLivenessResponse(success=False, code=Exit.NEGATIVE, mode=self._current_mode(),
-                                          message=str(err))
-        if attempt is not None and attempt.realizable:
-            where = f"; written to {self.options.characterized_spec}" if self.options.characterized_spec and \
-                self.resilient.write_error is None else ""
-            message = f"realizable with {formula!r} ({attempt.variant}); running the new strategy{where}"
-            rospy.loginfo("%s: ~add_env_liveness: %s", self.name, message)
-            return AddEnvLivenessResponse(success=True, code=Exit.OK, mode=self._current_mode(), message=message)
-        message = f"still unrealizable with {formula!r}: aborted, every output is false"
-        return AddEnvLivenessResponse(success=False, code=Exit.UNREALIZABLE, mode=self._current_mode(),
-                                      message=message)
+        answer = self.reports.add_env_liveness(request.formula, self.options.characterized_spec)
+        if answer.log is not None:
+            (rospy.logwarn if answer.log[0] == "warn" else rospy.loginfo)("%s: %s", self.name, answer.log[1])
+        return AddEnvLivenessResponse(success=answer.success, code=answer.code, mode=answer.mode,
+                                      message=answer.message)
 
     def _on_abort(self, _request: Any) -> TriggerResponse:
         """Abort (Alg. 3 line 11): every output false, the node stays up reporting ERROR."""
         with self.controller.lock:
-            if self.controller.aborted is not None:  # not done again: the tool's exit 1
-                return TriggerResponse(success=False, message=f"already aborted: {self.controller.aborted}")
-            reason = "aborted by the user (~abort)"
+            refusal = self.reports.abort_refusal()
+            if refusal is not None:  # not done again: the tool's exit 1
+                return TriggerResponse(success=False, message=refusal)
             if self.resilient is not None:
-                self.resilient.abort(reason)  # -> _on_resilience_changed aborts the controller
+                self.resilient.abort(USER_ABORT)  # -> _on_resilience_changed aborts the controller
             if self.controller.aborted is None:
-                self._abort_controller(reason)
+                self._abort_controller(USER_ABORT)
         return TriggerResponse(success=True, message="aborted: every output is false")
 
     def _abort_controller(self, reason: str) -> None:
         """Under the lock: every output false, no more steps, ERROR on /diagnostics."""
         update = self.controller.abort(reason)
-        rospy.logerr("%s: execution aborted (%s): every output is false; the node stays up", self.name, reason)
+        text, event = aborted_report(reason)
+        rospy.logerr("%s: %s", self.name, text)
         self._publish(update, force_state=True)
         if self.json_lines:
-            print(json.dumps({"event": "aborted", "reason": reason}), flush=True)
+            print(json.dumps(event), flush=True)
 
     def _on_poll(self, _event: Any) -> None:
         """--characterize-after-seconds: a violation may outlast it without any step."""
@@ -433,85 +394,40 @@ class ExecutorNode:
             self._abort_controller(getattr(strategy, "_abort_reason", "aborted"))
             return
         if strategy.mode is Mode.WAITING_FOR_USER and strategy.explanation is not None:
-            rospy.logwarn("%s: environment characterization found no realizable specification:\n%s\n"
-                          "add an environment liveness assumption (rosrun ltl_stack add_env_liveness "
-                          "\"FORMULA\") or abort (rosrun ltl_stack add_env_liveness --abort)",
-                          self.name, explanation_text(strategy.explanation))
+            rospy.logwarn("%s: %s", self.name, waiting_text(strategy.explanation))
         self._publish_state(Update(outputs=self.controller.current_outputs(), state=self.controller.state))
         self._update_mode()
 
     def _on_resilience_event(self, event: Event) -> None:
         rospy.loginfo("%s: [%s] %s", self.name, event.mode.value, event.message)
         if self.json_lines:
-            counters = self.resilient.counters if self.resilient is not None else self.counters
-            print(json.dumps({"event": "resilience", "mode": event.mode.value, "message": event.message,
-                              "step": event.step, "resyntheses": counters.resyntheses, "ec1": counters.ec1,
-                              "ec2": counters.ec2, "user": counters.user}), flush=True)
+            print(json.dumps(counters_event("resilience", self.reports.counters, mode=event.mode.value,
+                                            message=event.message, step=event.step)), flush=True)
 
     def _current_mode(self) -> str:
-        """normal, recovering, holding, characterizing, waiting_for_user or aborted."""
-        controller = self.controller
-        with controller.lock:
-            return current_mode(controller.aborted is not None, controller.violation is not None,
-                                self.resilient.mode.value if self.resilient is not None else None,
-                                self._recovered_in_update if self.resilient is not None else self._recovering)
+        return self.reports.current_mode()
 
     def _counters(self) -> Counters:
-        return self.resilient.counters if self.resilient is not None else self.counters
-
-    def _update_mode(self, publish: bool = True) -> None:
-        """The "mode" status: what the controller is doing and how many resyntheses happened."""
-        mode = self._current_mode()
-        counters = self._counters()
-        values = [("mode", mode), ("violations", str(counters.violations)),
-                  ("recovery_steps", str(counters.recovery_steps)), ("unsafe_steps", str(counters.unsafe)),
-                  ("resyntheses", str(counters.resyntheses)), ("resyntheses_ec1", str(counters.ec1)),
-                  ("resyntheses_ec2", str(counters.ec2)), ("resyntheses_user", str(counters.user)),
-                  ("unrealizable", str(counters.unrealizable))]
-        violated = self._violated_clauses()
-        values += [("violated_clause", c) for c in violated]
-        text = mode_text(mode, self.options.on_violation.value, self.options.recovery, self.controller.aborted)
-        if violated and mode in ("recovering", "holding", "characterizing"):
-            text += "; violated: " + "; ".join(violated)
-        if mode == "waiting_for_user" and self.resilient is not None and self.resilient.explanation is not None:
-            explanation = self.resilient.explanation
-            core = [clause_line(c, section) for section, c in explanation.core]
-            text += f" ({explanation.kind}{': ' + '; '.join(core) if core else ''})"
-            values.append(("explanation", explanation_text(explanation)))
-        if self.resilient is not None and self.resilient.write_error:
-            values.append(("write_error", self.resilient.write_error))
-        if self.resilient is not None and self.resilient.characterizer.path is not None:
-            error = self.resilient.write_error
-            self._set_status(ERROR if error else OK, "spec file", error or
-                             f"{self.resilient.characterizer.path}: written after each new strategy",
-                             [("path", str(self.resilient.characterizer.path))], publish)
-        text += (f"; resyntheses {counters.resyntheses} (EC1 {counters.ec1}, EC2 {counters.ec2}, "
-                 f"user {counters.user})" if self.resilient is not None else "")
-        changed = mode != self._mode
-        self._mode = mode
-        self._set_status(MODE_LEVELS[mode], "mode", text, values, publish)
-        if changed:
-            rospy.loginfo("%s: mode %s", self.name, mode)
-            if self.json_lines:
-                print(json.dumps({"event": "mode", "mode": mode, "resyntheses": counters.resyntheses,
-                                  "ec1": counters.ec1, "ec2": counters.ec2, "user": counters.user}), flush=True)
+        return self.reports.counters
 
     def _violated_clauses(self) -> list[str]:
-        """The env-safety clauses the current inputs violate, ``file:line: text (English)``."""
-        if self.resilient is not None:
-            clauses = self.resilient.violated_now or (self.resilient.last_violated if self._recovered_in_update
-                                                      else [])
-            return [shown(c) for c in clauses]
-        return list(self._violated_now)
+        return self.reports.violated_clauses()
+
+    def _update_mode(self, publish: bool = True) -> None:
+        """The "mode" status (and the "spec file" one), from ``NodeReports.mode_report``."""
+        report = self.reports.mode_report()
+        if report.spec_file is not None:
+            self._set_status(report.spec_file, publish)
+        self._set_status(report.status, publish)
+        if report.changed:
+            rospy.loginfo("%s: mode %s", self.name, report.mode)
+            if self.json_lines:
+                print(json.dumps(report.event), flush=True)
 
     def _on_ready_timeout(self, _event: Any) -> None:
-        missing = self.controller.missing_inputs()
-        if not missing:
+        text = self.reports.silent_inputs(time.monotonic() - self._started_at)
+        if text is None:
             return
-        waited = time.monotonic() - self._started_at
-        topics = ", ".join(f"{p} ({self.prepared.input_topics[p]})" for p in missing)
-        text = (f"no message after {waited:.0f} s from input(s) {topics}; not stepping until every input "
-                "has reported once — is each input proposition node running?")
         rospy.logerr("%s: %s", self.name, text)
         self._update_health()
 
@@ -538,24 +454,10 @@ class ExecutorNode:
             rospy.logdebug("%s: cannot ask the master for publishers: %s", self.name, err)
             return []
         by_topic = {topic: tuple(sorted(nodes)) for topic, nodes in publishers}
-        issued = []
-        crowded = []
-        for prop, topic in self.prepared.input_topics.items():
-            nodes = by_topic.get(topic, ())
-            if len(nodes) > 1:
-                crowded.append((prop, topic, nodes))
-            if len(nodes) > 1 and self._warned_publishers.get(topic) != nodes:
-                text = (f"input {prop!r}: topic {topic} has {len(nodes)} publishers ({', '.join(nodes)}); "
-                        "an input topic should have exactly one input proposition node (thesis 3.5.1)")
-                rospy.logwarn("%s: %s", self.name, text)
-                issued.append(text)
-            self._warned_publishers[topic] = nodes
-        if crowded:
-            text = "; ".join(f"{t} has {len(n)} publishers ({', '.join(n)})" for _, t, n in crowded)
-            self._set_status(WARN, "input publishers", text, [("topic", t) for _, t, _ in crowded],
-                             publish=bool(issued))
-        else:
-            self._set_status(OK, "input publishers", "one publisher or none per input topic", [], publish=False)
+        issued, status = self.reports.publishers(by_topic)
+        for text in issued:
+            rospy.logwarn("%s: %s", self.name, text)
+        self._set_status(status)
         return issued
 
     # publishing
@@ -574,61 +476,26 @@ class ExecutorNode:
         for prop in rising:
             for pub in self.output_pubs[prop]:
                 pub.publish(Bool(True))
-        update = self._account(update)
-        if (changed or update.stepped or force_state or force_outputs or update.violation is not None
-                or self._current_mode() != self._mode):
+        publication = self.reports.publication(update, force_outputs, force_state)
+        update = publication.update
+        if publication.state:
             self._publish_state(update)
-        if update.stepped:
+        if publication.step:
             self._report_step(update)
-        if update.violation is not None:
-            strategy = self.controller.strategy
-            result = strategy.last if isinstance(strategy, RecoveringStrategy | BackgroundResilience) else None
-            if isinstance(update.violation, UnsafeStep) and result is not None and result.kind is not StepKind.UNSAFE:
-                result = None
+        if publication.violation:
             if self.confirmer is not None:
-                self.confirmer.schedule(update, _key(self.controller.readings), result)
+                self.confirmer.schedule(update, readings_key(self.controller.readings), publication.result)
             else:
-                self._report_violation(update, result)
-        elif self._last_violation_key is not None and self.controller.violation is None:
-            self._last_violation_key = None
+                self._report_violation(update, publication.result)
+        elif publication.cleared is not None:
             rospy.loginfo("%s: inputs admissible again; continuing", self.name)
-            self._set_status(OK, "environment assumptions", "inputs admissible again", [])
+            self._set_status(publication.cleared)
         if update.error:
             rospy.logerr("%s: %s (waiting for the inputs to change)", self.name, update.error)
-        if update.stepped or update.error or force_state:
+        if publication.health:
             self._update_health()
-        if update.stepped or update.violation is not None or force_state or self._current_mode() != self._mode:
+        if publication.mode:
             self._update_mode()
-
-    def _account(self, update: Update) -> Update:
-        """Count what the update did (without characterization the node counts), and make a
-        violation the resilient strategy recovered from internally visible as one (also when the
-        settling steps after the recovery move were normal again)."""
-        if self.resilient is not None:
-            steps = self.resilient.counters.recovery_steps
-            self._recovered_in_update = steps > self._seen_recovery_steps
-            self._seen_recovery_steps = steps
-            violated = self.resilient.violated_now or (self.resilient.last_violated if self._recovered_in_update
-                                                       else [])
-            if update.stepped and update.violation is None and violated and self.controller.aborted is None:
-                update = replace(update, violation=AssumptionViolation(violated, self.controller.readings),
-                                 recovered=True)
-            return update
-        counters = self.counters
-        if update.violation is not None:
-            counters.violations += 1
-            self._violated_now = [shown(c) for c in update.violation.clauses]
-            strategy = self.controller.strategy
-            last = strategy.last if isinstance(strategy, RecoveringStrategy) else None
-            if update.recovered:
-                counters.recovery_steps += 1
-                self._recovering = True
-            elif isinstance(update.violation, UnsafeStep) or (last is not None and last.kind is StepKind.UNSAFE):
-                counters.unsafe += 1
-        elif update.stepped:
-            self._violated_now = []
-            self._recovering = False
-        return update
 
     def _publish_state(self, update: Update) -> None:
         stamp = rospy.Time.now()
@@ -655,68 +522,44 @@ class ExecutorNode:
         self.valuation_pub.publish(valuation_to_msg({**inputs, **update.outputs}, stamp))
 
     def _report_step(self, update: Update) -> None:
-        state = update.state
-        rospy.loginfo("%s: %s state %d (goal %d): inputs %s -> outputs %s", self.name,
-                      "initial" if update.started else "step to", state.id, state.goal,
-                      format_valuation(state.inputs), format_valuation(update.outputs))
+        text, event = step_report(update)
+        rospy.loginfo("%s: %s", self.name, text)
         if self.json_lines:
-            print(json.dumps({"event": "start" if update.started else "step", "state": state.id, "goal": state.goal,
-                              "inputs": dict(state.inputs), "outputs": update.outputs}), flush=True)
+            print(json.dumps(event), flush=True)
 
     def _confirm_violation(self, update: Update, key: tuple, result: StepResult | None = None) -> None:
         """Report ``update``'s violation if the same inputs are still there after the grace time (and,
         unless it was recovered, still inadmissible)."""
         with self.controller.lock:
-            if (update.recovered or self.controller.violation is not None) and _key(self.controller.readings) == key:
+            if self.reports.still_violated(update, key):
                 self._report_violation(update, result)
 
     def _report_violation(self, update: Update, result: StepResult | None = None) -> None:
-        """Once per distinct violation: recovered is a WARN naming the broken assumptions; otherwise an
-        ERROR, naming also the guarantees that cannot be kept when recovery found no safe move."""
-        violation = update.violation
-        readings = self.controller.readings
-        key = _key(readings)
-        if key == self._last_violation_key:
+        """Once per distinct violation (``NodeReports.violation``): recovered is a WARN naming the broken
+        assumptions; otherwise an ERROR, naming also the guarantees no move keeps."""
+        report = self.reports.violation(update, result)
+        if report is None:
             return
-        self._last_violation_key = key
-        report = violation_report(violation, result, update.unkeepable, readings, update.state.id, update.recovered,
-                                  self.options.on_violation.value)
         (rospy.logwarn if update.recovered else rospy.logerr)("%s: %s", self.name, report.text)
-        self._set_status(WARN if update.recovered else ERROR, "environment assumptions", report.text, report.values)
+        self._set_status(Status(report.level, "environment assumptions", report.text, report.values))
         if self.json_lines:
             print(json.dumps({**report.event, "outputs": update.outputs}), flush=True)
 
     # diagnostics: one status per concern, all republished every DIAGNOSTICS_PERIOD
     def _update_health(self, publish: bool = True) -> None:
-        controller = self.controller
-        missing = controller.missing_inputs()
-        if missing:
-            waited = time.monotonic() - self._started_at
-            late = self.options.ready_timeout > 0 and waited >= self.options.ready_timeout
-            topics = ", ".join(self.prepared.input_topics[p] for p in missing)
-            self._set_status(WARN if late else OK, "inputs", f"waiting for input(s) {', '.join(missing)}",
-                             [("silent_inputs", " ".join(missing)), ("topics", topics)], publish)
-        else:
-            self._set_status(OK, "inputs", "every input has reported", [], publish=False)
-        if controller.init_error:
-            self._set_status(ERROR, "controller", f"no initial state: {controller.init_error}", [], publish)
-        elif not controller.running:
-            self._set_status(OK, "controller", "paused: every output is false", [], publish)
-        elif controller.state is None:
-            self._set_status(OK, "controller", "waiting for every input to report", [], publish)
-        else:
-            state = controller.state
-            self._set_status(OK, "controller", f"running: state {state.id}, goal {state.goal}",
-                             [("state", str(state.id)), ("goal", str(state.goal))], publish=False)
+        for status in self.reports.health(time.monotonic() - self._started_at):
+            self._set_status(status, publish)
 
-    def _set_status(self, level: int, what: str, message: str, values: Sequence[tuple[str, str]],
-                    publish: bool = True) -> None:
-        status = DiagnosticStatus(level=level, name=f"{self.name}: {what}", message=message, hardware_id=self.name,
-                                  values=[KeyValue(k, v) for k, v in values])
+    def _set_status(self, report: Status, publish: bool = True) -> None:
+        """Keep ``report`` as the node's status of its concern; send it at once when it changed (unless
+        quiet or ``publish`` is False)."""
+        status = DiagnosticStatus(level=report.level, name=f"{self.name}: {report.what}", message=report.message,
+                                  hardware_id=self.name, values=[KeyValue(k, v) for k, v in report.values])
         with self._status_lock:
-            old = self._statuses.get(what)
-            self._statuses[what] = status
-        if publish and (old is None or (old.level, old.message) != (level, message)):
+            old = self._statuses.get(report.what)
+            self._statuses[report.what] = status
+        if publish and not report.quiet and (old is None or (old.level, old.message) != (report.level,
+                                                                                         report.message)):
             self._send([status])
 
     def publish_diagnostics(self) -> None:
@@ -732,10 +575,6 @@ class ExecutorNode:
             self.diag_pub.publish(array)
         except rospy.ROSException:
             pass  # shutting down
-
-
-def _key(readings: Mapping[str, bool]) -> tuple:
-    return tuple(sorted(readings.items()))
 
 
 def _cli_values(args: argparse.Namespace) -> dict[str, Any]:

@@ -157,14 +157,27 @@ class Characterizer:
         #: the latest attempts (each holds a strategy and its BDD manager, megabytes: only the last
         #: ``HISTORY_KEPT`` are kept, so memory stays flat over hundreds of resyntheses)
         self.history: deque[Attempt] = deque(maxlen=HISTORY_KEPT)
+        #: each input literal once (name, primed, value): the EC conjunctions share them, so a disjunct
+        #: holds one And and its tuple instead of 2-3 objects per input (issue 23: bounded memory)
+        self._literals: dict[tuple[str, bool, bool], Formula] = {}
 
     # --- Alg. 2 -----------------------------------------------------------------------------------
+    def _shared(self, valuation: Mapping[str, bool], primed: bool) -> list[Formula]:
+        """``_literals`` over the inputs, each literal the same object every time."""
+        out = []
+        for name in self.original.inputs:
+            key = (name, primed, bool(valuation[name]))
+            literal = self._literals.get(key)
+            if literal is None:
+                literal = self._literals[key] = _literals({name: key[2]}, [name], primed)[0]
+            out.append(literal)
+        return out
+
     def record(self, observation: Observation) -> tuple[bool, bool]:
         """Append the observation's EC1 and EC2 conjunctions (lines 4, 5); returns which were new."""
-        spec = self.original
-        incoming = _literals(observation.incoming, spec.inputs, True)
+        incoming = self._shared(observation.incoming, True)
         one = _conjunction(incoming)
-        two = _conjunction(_literals(observation.current_inputs, spec.inputs, False) + incoming)
+        two = _conjunction(self._shared(observation.current_inputs, False) + incoming)
         new1 = all(d.formula != one for d in self.ec1)
         new2 = all(d.formula != two for d in self.ec2)
         if new1:

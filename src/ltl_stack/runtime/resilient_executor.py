@@ -31,6 +31,7 @@ waiting for the user, aborted — so the node republishes its state and diagnost
 """
 from __future__ import annotations
 
+import ctypes
 import gc
 import threading
 import time
@@ -57,6 +58,27 @@ from ltl_stack.synthesis.errors import NoInitialState, SynthesisError
 from ltl_stack.synthesis.explain import explain
 from ltl_stack.synthesis.state import State
 from ltl_stack.synthesis.strategy import SymbolicStrategy
+
+#: glibc's ``mallopt`` parameter and its default: blocks of at least this many bytes are mmapped
+M_MMAP_THRESHOLD, MMAP_THRESHOLD = -3, 128 * 1024
+_FIXED_MMAP_THRESHOLD: list[bool] = []
+
+
+def fix_mmap_threshold() -> bool:
+    """Keep glibc's mmap threshold at its default, so that a freed BDD manager's tables go back to
+    the system (issue 23 item 7). glibc raises the threshold to the largest mmapped block freed (up
+    to 32 MiB); after the first replaced manager every later manager's tables (MiBs) came from the
+    heap and, once freed, stayed in the process as fragmented free memory: ``bench_flood.py --trace``
+    found 16-19 MiB of freed heap kept after 26-136 resyntheses. Setting the threshold explicitly stops that
+    adjustment. Process-wide, once; False where there is no glibc ``mallopt``."""
+    if not _FIXED_MMAP_THRESHOLD:
+        try:
+            done = bool(ctypes.CDLL(None).mallopt(M_MMAP_THRESHOLD, MMAP_THRESHOLD))
+        except (OSError, AttributeError):  # not glibc
+            done = False
+        _FIXED_MMAP_THRESHOLD.append(done)
+    return _FIXED_MMAP_THRESHOLD[0]
+
 
 #: Runs a job (a callable without arguments) in the background.
 Runner = Callable[[Callable[[], None]], None]
@@ -100,6 +122,7 @@ class BackgroundResilience(ResilientStrategy):
     def __init__(self, spec: Any, *, lock: Any, runner: Runner = thread_runner,
                  on_installed: Callable[[State], None] | None = None,
                  on_changed: Callable[[], None] | None = None, **kwargs: Any) -> None:
+        fix_mmap_threshold()  # before the first synthesis: its manager's tables are mmapped too
         super().__init__(spec, **kwargs)
         self.lock = lock if lock is not None else threading.RLock()
         self.runner = runner
@@ -401,4 +424,5 @@ class NotReady(Busy):
     """A user request arrived before the controller started (no position to resynthesize from)."""
 
 
-__all__ = ["BackgroundResilience", "Busy", "NotReady", "SpecError", "adopt", "is_winning", "thread_runner"]
+__all__ = ["BackgroundResilience", "Busy", "NotReady", "SpecError", "adopt", "fix_mmap_threshold", "is_winning",
+           "thread_runner"]
