@@ -48,3 +48,25 @@ def test_a_session_started_with_sigint_ignored_starts_children_that_obey_it(tmp_
     masks = [int(word, 16) for word in done.stdout.split()]
     assert len(masks) == 2, done.stdout
     assert all(not mask & (1 << (signal.SIGINT - 1)) for mask in masks), done.stdout
+
+
+def test_a_session_stopped_with_sigterm_stops_its_processes(tmp_path):
+    """``./tools/demo`` (or a test's ``terminate()``) ended by SIGTERM left roslaunch and its nodes running:
+    they run in sessions of their own. The session now stops them on the way out, exit 128 + 15."""
+    code = ("import sys, time\n"
+            "from ltl_stack.sim.session import RosSession\n"
+            "with RosSession() as ros:\n"
+            "    child = ros.start(['sleep', '600'])\n"
+            "    print(child.pid, flush=True)\n"
+            "    time.sleep(600)\n")
+    proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True, cwd=tmp_path)
+    try:
+        child = int(proc.stdout.readline())
+        tree = [t for t in descendants(proc.pid) if t[0] == child]
+        assert _running(tree), "the child never ran; the test shows nothing"
+        proc.send_signal(signal.SIGTERM)
+        assert proc.wait(120) == 128 + signal.SIGTERM
+        wait_for(lambda: not _running(tree), 60, "the session's child to be stopped")
+    finally:
+        proc.kill()
+        proc.wait(60)

@@ -73,15 +73,21 @@ class RosSession:
         self.own_master = not master_uri
         self.uri = self.env["ROS_MASTER_URI"]
         self.processes: list[subprocess.Popen] = []
+        self._sigterm: object = None
 
     def __enter__(self) -> RosSession:
         # Started as a background job of a non-interactive shell, this process ignores SIGINT and its
         # children would inherit that: rosmaster and nodes without rospy's handler would then outlast
         # the SIGINT that stops them (stop_process) by its whole grace period. A handled signal is reset
         # to the default in a child, so handle it here as Python does by default.
-        if (signal.getsignal(signal.SIGINT) is signal.SIG_IGN
-                and threading.current_thread() is threading.main_thread()):
+        main = threading.current_thread() is threading.main_thread()
+        if main and signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
             signal.signal(signal.SIGINT, signal.default_int_handler)
+        # The children run in sessions of their own, so a SIGTERM (kill, a supervisor, a test's
+        # terminate()) that ended this process at once left them running: end through __exit__ instead.
+        self._sigterm = signal.getsignal(signal.SIGTERM) if main else None
+        if self._sigterm is signal.SIG_DFL:
+            signal.signal(signal.SIGTERM, _exit_on_sigterm)
         if not self.own_master:
             return self
         log_path = self.workdir / "rosmaster.log"
@@ -101,6 +107,13 @@ class RosSession:
             stop_process(proc)
         if self._tmp is not None:
             self._tmp.cleanup()
+        if self._sigterm is signal.SIG_DFL:
+            signal.signal(signal.SIGTERM, signal.SIG_DFL)
+
+
+def _exit_on_sigterm(signum: int, _frame: object) -> None:
+    """SIGTERM ends a session's program as Ctrl-C does: its processes are stopped on the way out."""
+    raise SystemExit(128 + signum)
 
 
 def stop_process(proc: subprocess.Popen, timeout: float = 5.0) -> None:
