@@ -217,11 +217,13 @@ class HandOver:
         pass
 
 
-def bench_picture(app, spec: Path, rate: float = 20.0, count: int = 100) -> dict:
+def bench_picture(app, spec: Path, rate: float = 20.0, count: int = 100, sketching: bool = True) -> dict:
     from ltl_stack.gui.controller_model import StateUpdate
     from ltl_stack.gui.controller_view import ControllerView
+    from ltl_stack.gui.dotgraph import sketch_layout
 
     view = ControllerView(link_factory=HandOver)
+    view.sketching = sketching
     view.resize(1280, 760)
     view.show()
     view.spec_line_edit.setText(str(spec))
@@ -249,16 +251,23 @@ def bench_picture(app, spec: Path, rate: float = 20.0, count: int = 100) -> dict
                 time.sleep(0.0005)
             succ = a.states[sid].successors
             sid = succ[(7 * k) % len(succ)]
-    layouts = view.layout_count
+    layouts, sketches = view.layout_count, view.sketch_count
+    sketch_ms = []  # what a sketch costs the GUI thread: the neighbourhood, its sketch and drawing it
+    for sid in list(range(0, len(a), max(1, len(a) // 10)))[:10]:
+        t_sketch = time.perf_counter()
+        graph = view.model.graph(sid)
+        view.graph_view.draw(graph, sketch_layout(graph, graph.key[sid]))
+        sketch_ms.append(1000 * (time.perf_counter() - t_sketch))
     edges = view.model.edge_count()
     view.shutdown()
     view.close()
     lags.sort()
-    return {"spec": spec.stem, "states": len(a), "edges": edges,
+    return {"spec": spec.stem + ("" if sketching else " (peer: no sketch)"), "states": len(a), "edges": edges,
             "synthesis_s": t_model - t0, "first_picture_s": t_picture - t_model, "changes": count,
             "lag_median_ms": 1000 * statistics.median(lags),
             "lag_p99_ms": 1000 * lags[min(len(lags) - 1, int(0.99 * len(lags)))], "lag_max_ms": 1000 * lags[-1],
-            "layouts": layouts, **meter.figures(),
+            "layouts": layouts, "sketches": sketches,
+            "sketch_ms": statistics.median(sketch_ms), **meter.figures(),
             "attach_stall_max_ms": attaching.figures()["stall_max_ms"]}
 
 
@@ -313,7 +322,8 @@ def measure_pictures() -> dict:
     app = QApplication.instance() or QApplication(["bench_gui"])
     figures: dict = {"load": os.getloadavg()[0]}
     figures["idle"] = bench_idle(app)
-    figures["pictures"] = [bench_picture(app, SPHEROS_SPEC), bench_picture(app, ALICE_SPEC)]
+    figures["pictures"] = [bench_picture(app, SPHEROS_SPEC), bench_picture(app, SPHEROS_SPEC, sketching=False),
+                           bench_picture(app, ALICE_SPEC)]
     figures["alice_whole_layout_s"] = bench_whole_alice()
     with tempfile.TemporaryDirectory() as tmp:
         figures["analysis_stalls"] = bench_analysis_stalls(app, Path(tmp))
@@ -321,13 +331,14 @@ def measure_pictures() -> dict:
     figures["no_master"] = bench_no_master_refresh(app)
     if uri is not None:
         os.environ["ROS_MASTER_URI"] = uri
+    figures["load_end"] = os.getloadavg()[0]
     return figures
 
 
 def write_pictures_doc(f: dict) -> None:
     rows = "\n".join(
         f"| {p['spec']} | {p['states']:,} | {p['edges']:,} | {p['synthesis_s']:.1f} s | **{p['first_picture_s'] * 1000:.0f} ms** "
-        f"| {p['lag_median_ms']:.1f} ms | **{p['lag_p99_ms']:.1f} ms** | {p['lag_max_ms']:.1f} ms | {p['layouts']} "
+        f"| {p['lag_median_ms']:.1f} ms | **{p['lag_p99_ms']:.1f} ms** | {p['lag_max_ms']:.1f} ms | {p['layouts']} | {p['sketches']} ({p['sketch_ms']:.0f} ms) "
         f"| **{p['stall_max_ms']:.0f} ms** (p99 {p['stall_p99_ms']:.0f} ms, {p['stalls_over_50ms']} over 50 ms) "
         f"| {p['attach_stall_max_ms']:.0f} ms |"
         for p in f["pictures"])
@@ -335,16 +346,20 @@ def write_pictures_doc(f: dict) -> None:
     text = f"""# Controller view pictures and GUI-thread stalls (issue 25)
 
 Command: `python test/benchmarks/bench_gui.py --pictures` (offscreen Qt, {platform.python_version()}, no master,
-2 shared cores with other developers' work running, load average {f['load']:.1f} at the start).
+2 shared cores with other developers' work running, load average {f['load']:.1f} at the start, {f['load_end']:.1f} at the end; under such load single runs vary a lot, so
+compare within a run).
 
 The view is attached through a stand-in link that hands each state straight to it (what rospy's thread
 does). 100 state changes at 20 per second along the automaton's edges; lag: handed over → its state
-highlighted on screen (when the new state is outside the drawn neighbourhood and was never laid out,
-the highlight waits for Graphviz; the label does not); stalls: the gaps of a 5 ms GUI timer, less 5 ms,
-while following and, apart, from Attach to the first picture.
+highlighted on screen. When the new state is outside the drawn neighbourhood and was never laid out,
+the view draws that neighbourhood at once in a sketch (`dotgraph.sketch_layout`: columns by steps from
+the state, straight edges, no Graphviz) with the state highlighted, and replaces it by Graphviz's layout
+when that arrives; the peer row is the same walk with the sketch off (the highlight waits for Graphviz,
+as before). Stalls: the gaps of a 5 ms GUI timer, less 5 ms, while following and, apart, from Attach to
+the first picture.
 
-| spec | states | edges | attach → automaton (synthesis, worker thread) | automaton → first picture | highlight lag median | p99 | max | Graphviz layouts | GUI-thread stall max while following | while attaching (synthesis on a worker) |
-|---|---|---|---|---|---|---|---|---|---|---|
+| spec | states | edges | attach → automaton (synthesis, worker thread) | automaton → first picture | highlight lag median | p99 | max | Graphviz layouts | sketches (GUI-thread cost of one, median of 10) | GUI-thread stall max while following | while attaching (synthesis on a worker) |
+|---|---|---|---|---|---|---|---|---|---|---|---|
 {rows}
 
 Peer in the same run: alice's whole graph (30 states, 232 edges, what the view drew before) laid out by

@@ -53,7 +53,7 @@ from python_qt_binding.QtWidgets import (
 
 from ltl_stack.cli import write_output
 from ltl_stack.errors import UserError
-from ltl_stack.gui.dotgraph import DotGraph, GraphvizError, layout_dot, layout_plain, render
+from ltl_stack.gui.dotgraph import DotGraph, GraphvizError, PlainLayout, layout_dot, layout_plain, render
 
 try:  # the renderer rqt_graph uses; absent where rqt is not installed
     from qt_dotgraph.dot_to_qt import DotToQtGenerator
@@ -283,13 +283,14 @@ class GraphView(QGraphicsView):
         self.scene().setSceneRect(item.boundingRect())
 
     def draw(self, graph: DotGraph, laid_out: Any = None) -> None:
-        """Draw ``graph``; ``laid_out`` is a layout made off the GUI thread by ``layout_for``."""
+        """Draw ``graph``; ``laid_out`` is a layout made off the GUI thread by ``layout_for`` (or a
+        ``PlainLayout`` such as ``sketch_layout``'s, drawn by the plain renderer whatever this view's is)."""
         if laid_out is None:
             laid_out = self.layout_for(graph)
         scene = self.scene()
         scene.clear()
         self.items, self._marks, self.graph = {}, [], graph
-        if self.renderer == "qt_dotgraph":
+        if self.renderer == "qt_dotgraph" and not isinstance(laid_out, PlainLayout):
             nodes, _edges = DotToQtGenerator().dotcode_to_qt_items(laid_out, 1, scene=scene)
             self.items = {name.strip('"'): item for name, item in nodes.items()}
             for item in self.items.values():  # qt_dotgraph hovers in red: the panels' conflict colour
