@@ -605,6 +605,25 @@ def test_defect8_the_analysis_panel_lays_findings_out_off_the_gui_thread_once_ea
 
 
 
+def test_the_analysis_runs_with_the_garbage_collector_paused(qtbot):
+    """A full collection on the analysis' worker holds the GIL and stalls the GUI thread (90-500 ms on the
+    10,000-node graph, bench_gui --pictures): the collector is paused while the analysis runs, then on."""
+    import gc
+
+    seen = []
+
+    def snapshot(_uri):
+        seen.append(gc.isenabled())
+        return simple_snapshot()
+    panel = AnalysisPanel(take_snapshot=snapshot)
+    qtbot.addWidget(panel)
+    panel.spec_line_edit.setText(str(SIMPLE_SPEC))
+    panel.mapping_line_edit.setText(str(SIMPLE_MAPPING))
+    panel.live_check_box.setChecked(True)
+    assert gc.isenabled()
+    analyzed(qtbot, panel)
+    assert seen == [False] and gc.isenabled()
+
 def test_cancel_drops_a_running_analysis(qtbot, tmp_path):
     release = threading.Event()
 
