@@ -216,17 +216,20 @@ def test_controller_view_follows_alices_resynthesis(qtbot, tmp_path, monkeypatch
         demo.wait(90)
 
 
-def test_controller_view_follows_ds_adoption_on_kitchen(ros_master, qtbot, tmp_path):
+def test_controller_view_follows_ds_adoption_on_kitchen(qtbot, tmp_path, monkeypatch):
     """Issue 25 defect 2, live: thesis Example 13 (launch/kitchen.launch). D is blocked at the door,
     negotiates with A and puts the adopted spec in place; the view attached to D loads that spec (the
     strategy generation and spec file D reports on ~state) and goes on placing D's state in it."""
+    master = shared_master()  # the view's rospy node is the process's one, on the shared master
+    monkeypatch.setenv("ROS_MASTER_URI", master.uri)
     out = tmp_path / "specs"
     out.mkdir()
     adopted = out / "D.structuredslugs"
-    launch = ros_master.run(["roslaunch", "ltl_stack", "kitchen.launch", f"out:={out}"], name="gui_kitchen")
+    launch = master.run(["roslaunch", "ltl_stack", "kitchen.launch", f"out:={out}"], name="gui_kitchen")
+    view = None
     try:
         state = "/kitchen/D/controller_executor/state"
-        ros_master.wait_for_publisher(state, timeout=120)
+        master.wait_for_publisher(state, timeout=120)
         view = ControllerView()
         qtbot.addWidget(view)
         view.spec_line_edit.setText(str(CONFIG / "kitchen" / "delivery_agent.structuredslugs"))
@@ -252,7 +255,9 @@ def test_controller_view_follows_ds_adoption_on_kitchen(ros_master, qtbot, tmp_p
         assert view.state_label.text().startswith(f"state {state_now.id} ")
         assert "(road_c' | storage_c') -> openDoor_A'" in adopted.read_text()
         view.shutdown()
-    except (AssertionError, QtTimeoutError) as err:  # the robots' story says where it stopped
-        raise AssertionError(f"{err}\n{launch.output()[-4000:]}") from None
+    except (AssertionError, QtTimeoutError) as err:  # the view's and the robots' story say where it stopped
+        seen = "" if view is None else (f"view: {view.strategy_label.text()!r} {view.state_label.text()!r} "
+                                        f"{view.mode_label.text()!r} {view.status_label.text()!r} last ~state {view.shown}")
+        raise AssertionError(f"{err}\n{seen}\n{launch.output()[-4000:]}") from None
     finally:
         launch.stop()
