@@ -12,6 +12,8 @@ from test_nodes_probe import shared_master
 os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
 pytest.importorskip("pytestqt")
 
+from pytestqt.exceptions import TimeoutError as QtTimeoutError  # noqa: E402
+
 from ltl_stack.gui.analysis_panel import AnalysisPanel  # noqa: E402
 from ltl_stack.gui.controller_view import ControllerView  # noqa: E402
 from ltl_stack.gui.mapping_model import INPUT, OUTPUT  # noqa: E402
@@ -212,3 +214,50 @@ def test_controller_view_follows_alices_resynthesis(qtbot, tmp_path, monkeypatch
     finally:
         demo.terminate()
         demo.wait(90)
+
+
+def test_controller_view_follows_ds_adoption_on_kitchen(qtbot, tmp_path, monkeypatch):
+    """Issue 25 defect 2, live: thesis Example 13 (launch/kitchen.launch). D is blocked at the door,
+    negotiates with A and puts the adopted spec in place; the view attached to D loads that spec (the
+    strategy generation and spec file D reports on ~state) and goes on placing D's state in it."""
+    master = shared_master()  # the view's rospy node is the process's one, on the shared master
+    monkeypatch.setenv("ROS_MASTER_URI", master.uri)
+    out = tmp_path / "specs"
+    out.mkdir()
+    adopted = out / "D.structuredslugs"
+    launch = master.run(["roslaunch", "ltl_stack", "kitchen.launch", f"out:={out}"], name="gui_kitchen")
+    view = None
+    try:
+        state = "/kitchen/D/controller_executor/state"
+        master.wait_for_publisher(state, timeout=120)
+        view = ControllerView()
+        qtbot.addWidget(view)
+        view.spec_line_edit.setText(str(CONFIG / "kitchen" / "delivery_agent.structuredslugs"))
+        view.topic_combo_box.setEditText(state)
+        assert view.attach()
+        qtbot.waitUntil(lambda: view.model is not None and view.shown is not None, timeout=120_000)
+        qtbot.waitUntil(lambda: view.model.generation >= 1 and view.model.spec_path == str(adopted),
+                        timeout=120_000)
+        assert view.shown.generation >= 1 and view.shown.spec_file == str(adopted)
+        assert view.strategy_label.text().startswith(f"strategy {view.model.generation}: {adopted} (")
+        delivered = "kitchen_world: D delivered the ingredients to storage"
+
+        def back_in_company_placed_in_the_adopted_strategy() -> bool:
+            # D walks back from storage to the company after the delivery (kitchen_world); the view has
+            # placed that state (whenever the new strategy was loaded, before or after D got there)
+            update, current = view.shown, view.model.current
+            return (view.model.spec_path == str(adopted) and current is not None
+                    and bool(update.inputs.get("company_c")) and delivered in launch.output())
+        qtbot.waitUntil(back_in_company_placed_in_the_adopted_strategy, timeout=120_000)
+        assert view.model.automaton.states[view.model.current].goal == view.shown.goal
+        qtbot.waitUntil(lambda: view.current_node_id() is not None, timeout=120_000)  # drawn and highlighted
+        state_now = view.model.automaton.states[view.model.current]
+        assert view.state_label.text().startswith(f"state {state_now.id} ")
+        assert "(road_c' | storage_c') -> openDoor_A'" in adopted.read_text()
+        view.shutdown()
+    except (AssertionError, QtTimeoutError) as err:  # the view's and the robots' story say where it stopped
+        seen = "" if view is None else (f"view: {view.strategy_label.text()!r} {view.state_label.text()!r} "
+                                        f"{view.mode_label.text()!r} {view.status_label.text()!r} last ~state {view.shown}")
+        raise AssertionError(f"{err}\n{seen}\n{launch.output()[-4000:]}") from None
+    finally:
+        launch.stop()

@@ -55,6 +55,7 @@ from ltl_stack.gui.widgets import (
     GraphView,
     RowsModel,
     Task,
+    collector_paused,
     line_edit,
     restore_controls,
     save_controls,
@@ -256,7 +257,7 @@ class AnalysisPanel(QWidget):
             return run_analysis(spec, mapping, snapshot=snapshot, snapshot_path=None if live else snapshot_path,
                                 robots=robots, ignore_topics=ignore, progress=progress)
         self.clear_result()  # a failed run must not leave an older result on screen
-        self._start(work, self.show_result, "Analyzing…")
+        self._start(collector_paused(work), self.show_result, "Analyzing…")
         return True
 
     def clear_result(self) -> None:

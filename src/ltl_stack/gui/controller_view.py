@@ -54,6 +54,7 @@ from ltl_stack.gui.controller_model import (
     options_from_params,
     resilience_text,
 )
+from ltl_stack.gui.dotgraph import sketch_layout
 from ltl_stack.gui.widgets import (
     ComboBox,
     GraphView,
@@ -190,6 +191,8 @@ class ControllerView(QWidget):
         self.reload_task: Task | None = None
         self.layout_task: Task | None = None
         self.layout_count = 0  # Graphviz runs (a neighbourhood seen before is drawn from the cache)
+        self.sketch_count = 0  # neighbourhoods sketched while Graphviz lays them out
+        self.sketching = True  # off: a state that left the picture waits for Graphviz (bench_gui's peer)
         self._layouts: OrderedDict[tuple, tuple] = OrderedDict()
         self._failed_layout: tuple | None = None
         self._drawn: set[int] = set()
@@ -535,7 +538,8 @@ class ControllerView(QWidget):
     def _relayout(self, center: int | None) -> None:
         """Draw the neighbourhood of ``center`` (the whole graph when small): from the cache of laid-out
         neighbourhoods, else built and laid out off the GUI thread; one layout at a time, the newest
-        centre wins. A failed layout is tried again only for another centre."""
+        centre wins. A failed layout is tried again only for another centre. Meanwhile a state that
+        left the picture is shown at once in a sketch of its neighbourhood (``sketch_layout``)."""
         model = self.model
         key = (id(model), None if model.whole else center)
         cached = self._layouts.get(key)
@@ -543,13 +547,20 @@ class ControllerView(QWidget):
             self._layouts.move_to_end(key)
             self._on_layout((key, *cached))
             return
+        graph = None
+        if self.sketching and center is not None and center not in self._drawn and not model.whole:
+            graph = model.graph(center)
+            self.graph_view.draw(graph, sketch_layout(graph, graph.key[center]))
+            self._drawn = set(k for k in graph.key if isinstance(k, int))
+            self._mark()
+            self.sketch_count += 1
         if (self.layout_task is not None and self.layout_task.running) or key == self._failed_layout:
             return
         view = self.graph_view
 
         def work(_progress):
-            graph = model.graph(center)
-            return key, graph, view.layout_for(graph)
+            laid = graph if graph is not None else model.graph(center)
+            return key, laid, view.layout_for(laid)
         self.layout_count += 1
         self.layout_task = Task(work, self)
         self.layout_task.finished.connect(self._on_layout)
@@ -563,6 +574,10 @@ class ControllerView(QWidget):
         while len(self._layouts) > LAYOUT_CACHE:
             self._layouts.popitem(last=False)
         if self.model is None or key[0] != id(self.model):
+            return
+        current = self.model.current
+        if current is not None and current in self._drawn and current not in graph.key:
+            self._relayout(current)  # the state moved on meanwhile: its sketch stays until its own layout
             return
         self.graph_view.draw(graph, laid_out)
         self._drawn = set(k for k in graph.key if isinstance(k, int))

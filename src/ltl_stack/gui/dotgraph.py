@@ -10,6 +10,7 @@ from __future__ import annotations
 import shlex
 import shutil
 import subprocess
+from collections import deque
 from dataclasses import dataclass, field
 
 LAYOUT_TIMEOUT = 60.0
@@ -165,3 +166,53 @@ def parse_plain(text: str) -> PlainLayout:
         elif f[0] == "stop":
             break
     return PlainLayout(width, height, nodes, edges)
+
+
+def sketch_layout(graph: DotGraph, first: str) -> PlainLayout:
+    """A layout made in a moment without Graphviz, drawn while Graphviz lays ``graph`` out: the nodes in
+    columns by their number of steps from node ``first`` (edges either way; the unreached last), straight
+    edges, no self-loops and no edge labels. It lets a view highlight a state in the frame it arrives."""
+    near: dict[str, list[str]] = {n.id: [] for n in graph.nodes}
+    for e in graph.edges:
+        near[e.source].append(e.target)
+        near[e.target].append(e.source)
+    step = {first: 0} if first in near else {}
+    queue = deque(step)
+    while queue:
+        n = queue.popleft()
+        for m in near[n]:
+            if m not in step:
+                step[m] = step[n] + 1
+                queue.append(m)
+    last = max(step.values(), default=-1) + 1
+    columns: list[list[DotNode]] = [[] for _ in range(last + 1)]
+    for n in graph.nodes:
+        columns[step.get(n.id, last)].append(n)
+    nodes: dict[str, PlainNode] = {}
+    x = 0.0
+    for column in columns:
+        sizes = [(0.2 + 0.075 * max(map(len, n.label.split("\n"))), 0.1 + 0.18 * (n.label.count("\n") + 1))
+                 for n in column]
+        width = max((w for w, _h in sizes), default=0.0)
+        y = 0.0
+        for n, (w, h) in zip(column, sizes, strict=True):
+            nodes[n.id] = PlainNode(n.id, x + width / 2, y - h / 2, w, h, n.label, n.shape, n.color)
+            y -= h + 0.3
+        x += width + 1.0 if column else 0.0
+    height = max((-n.y + n.height / 2 for n in nodes.values()), default=0.0)
+    for n in nodes.values():  # y upwards from 0, as Graphviz's
+        n.y += height
+    edges = [PlainEdge(e.source, e.target, _straight(nodes[e.source], nodes[e.target]), color=e.color)
+             for e in graph.edges if e.source != e.target]
+    return PlainLayout(x, height, nodes, edges)
+
+
+def _straight(a: PlainNode, b: PlainNode) -> list[tuple[float, float]]:
+    """A straight edge from ``a``'s border to ``b``'s as one cubic segment (four points, as -Tplain)."""
+    dx, dy = b.x - a.x, b.y - a.y
+
+    def border(n: PlainNode, sign: float) -> tuple[float, float]:
+        t = min(n.width / 2 / abs(dx) if dx else float("inf"), n.height / 2 / abs(dy) if dy else float("inf"))
+        return n.x + sign * dx * t, n.y + sign * dy * t
+    (x0, y0), (x1, y1) = border(a, 1.0), border(b, -1.0)
+    return [(x0 + (x1 - x0) * k / 3, y0 + (y1 - y0) * k / 3) for k in range(4)]

@@ -31,7 +31,7 @@ from ltl_stack.gui.controller_model import (
     executor_of,
     mode_text,
 )
-from ltl_stack.gui.dotgraph import DotGraph, layout_dot, layout_plain, parse_plain
+from ltl_stack.gui.dotgraph import DotGraph, layout_dot, layout_plain, parse_plain, sketch_layout
 from ltl_stack.gui.mapping_model import INPUT, OUTPUT, LiveGraph, MappingDocument
 from ltl_stack.runtime.mapping import load_mapping, parse_mapping
 from ltl_stack.synthesis import Automaton
@@ -63,6 +63,45 @@ def test_layouts_keep_the_node_ids():
     laid = layout_dot(g.to_dot())
     assert "pos=" in laid and "n1" in laid
 
+
+
+@settings(max_examples=50, deadline=None)
+@given(st.integers(1, 25).flatmap(lambda n: st.tuples(
+    st.just(n), st.lists(st.tuples(st.integers(0, n - 1), st.integers(0, n - 1)), max_size=60),
+    st.integers(0, n - 1), st.lists(st.integers(0, 3), min_size=n, max_size=n))))
+def test_a_sketch_places_every_node_apart_with_straight_edges_between_borders(case):
+    """sketch_layout (drawn while Graphviz works): every node placed inside the picture, no two boxes
+    overlap, nodes one step from the first in the next column, and each edge runs border to border."""
+    n, pairs, first, lines = case
+    g = DotGraph()
+    for k in range(n):
+        g.add_node(k, "\n".join([f"state {k}"] + ["x" * (k % 7)] * lines[k]))
+    for s, t in pairs:
+        g.add_edge(s, t)
+    sketch = sketch_layout(g, g.key[first])
+    boxes = {i: (p.x - p.width / 2, p.y - p.height / 2, p.x + p.width / 2, p.y + p.height / 2)
+             for i, p in sketch.nodes.items()}
+    assert set(boxes) == {node.id for node in g.nodes}
+    eps = 1e-6
+    for x0, y0, x1, y1 in boxes.values():
+        assert -eps <= x0 and x1 <= sketch.width + eps and -eps <= y0 and y1 <= sketch.height + eps
+    ids = sorted(boxes)
+    for i, a in enumerate(ids):
+        for b in ids[i + 1:]:
+            (ax0, ay0, ax1, ay1), (bx0, by0, bx1, by1) = boxes[a], boxes[b]
+            assert ax1 <= bx0 + eps or bx1 <= ax0 + eps or ay1 <= by0 + eps or by1 <= ay0 + eps, (a, b)
+    first_x = sketch.nodes[g.key[first]].x
+    for s, t in pairs:
+        if first in (s, t) and s != t:
+            other = sketch.nodes[g.key[t if s == first else s]]
+            assert other.x > first_x
+    drawn = [(e.source, e.target) for e in sketch.edges]
+    assert drawn == [(g.key[s], g.key[t]) for s, t in pairs if s != t]
+    for e in sketch.edges:
+        for (x, y), node in ((e.points[0], e.source), (e.points[-1], e.target)):
+            x0, y0, x1, y1 = boxes[node]
+            on_side = min(abs(x - x0), abs(x - x1), abs(y - y0), abs(y - y1))
+            assert x0 - eps <= x <= x1 + eps and y0 - eps <= y <= y1 + eps and on_side < 1e-6
 
 def test_parse_plain_edges_with_and_without_labels():
     text = ("graph 1 3 0.5\nnode n0 0.5 0.25 1 0.5 \"a b\" solid box black lightgrey\n"

@@ -460,6 +460,47 @@ def test_defect8_a_neighbourhood_seen_before_is_drawn_from_the_cache(qtbot):
     view.shutdown()
 
 
+
+def test_defect8_a_state_that_leaves_the_picture_is_highlighted_before_graphviz_answers(qtbot, monkeypatch):
+    """Highlight within one frame of the label: a state outside the drawn neighbourhood is drawn at once
+    in a sketch of its neighbourhood (Graphviz held back here), then in Graphviz's layout when it comes."""
+    from ltl_stack.gui import widgets
+    from ltl_stack.gui.controller_model import StateUpdate
+    from ltl_stack.gui.controller_view import ControllerView
+
+    view = ControllerView(link_factory=RecordingLink)
+    qtbot.addWidget(view)
+    view.spec_line_edit.setText(str(ALICE_SPEC))
+    view.topic_combo_box.setEditText("/alice/controller_executor/state")
+    view.full_spin_box.setValue(4)
+    view.radius_spin_box.setValue(1)
+    assert view.attach()
+    qtbot.waitUntil(lambda: view.model is not None and view.graph_view.graph is not None, timeout=WAIT)
+    a = view.model.automaton
+    far = next(s.id for s in a.states if s.id not in view._drawn)
+    release, asked = threading.Event(), []
+    real = widgets.GraphView.layout_for
+
+    def held(self, graph):
+        asked.append(graph)
+        release.wait(WAIT / 1000)
+        return real(self, graph)
+    monkeypatch.setattr(widgets.GraphView, "layout_for", held)
+    try:
+        s = a.states[far]
+        view.latest.put(StateUpdate(far, s.goal, s.inputs, s.outputs, True))
+        qtbot.waitUntil(lambda: view.model.current == far, timeout=WAIT)
+        assert view.current_node_id() is not None and view.graph_view._marks  # in the frame of the label
+        assert view.sketch_count == 1
+        qtbot.waitUntil(lambda: len(asked) == 1, timeout=WAIT)  # Graphviz is asked for the same neighbourhood
+        assert set(asked[0].key) == set(view.graph_view.graph.key)
+    finally:
+        release.set()
+    qtbot.waitUntil(lambda: not view.layout_task.running, timeout=WAIT)
+    qtbot.waitUntil(lambda: (id(view.model), far) in view._layouts, timeout=WAIT)
+    assert view.graph_view.graph is view._layouts[(id(view.model), far)][0] and view.current_node_id() is not None
+    view.shutdown()
+
 def test_defect8_every_graph_saves_as_png_svg_and_dot(qtbot, tmp_path):
     from python_qt_binding.QtGui import QImage
 
@@ -562,6 +603,26 @@ def test_defect8_the_analysis_panel_lays_findings_out_off_the_gui_thread_once_ea
         panel.select_finding("E2", 0)
     assert len(threads) == 1 and threads[0] != threading.current_thread().name
 
+
+
+def test_the_analysis_runs_with_the_garbage_collector_paused(qtbot):
+    """A full collection on the analysis' worker holds the GIL and stalls the GUI thread (90-500 ms on the
+    10,000-node graph, bench_gui --pictures): the collector is paused while the analysis runs, then on."""
+    import gc
+
+    seen = []
+
+    def snapshot(_uri):
+        seen.append(gc.isenabled())
+        return simple_snapshot()
+    panel = AnalysisPanel(take_snapshot=snapshot)
+    qtbot.addWidget(panel)
+    panel.spec_line_edit.setText(str(SIMPLE_SPEC))
+    panel.mapping_line_edit.setText(str(SIMPLE_MAPPING))
+    panel.live_check_box.setChecked(True)
+    assert gc.isenabled()
+    analyzed(qtbot, panel)
+    assert seen == [False] and gc.isenabled()
 
 def test_cancel_drops_a_running_analysis(qtbot, tmp_path):
     release = threading.Event()
