@@ -200,8 +200,8 @@ _BIT = re.compile(r"(s?)bit(\d+)")
 
 class _RawLtl:
     """LTLMoP's ``parser: ltl``: assumptions, a line of dashes, guarantees; each line one conjunct,
-    ``[]<>f`` a goal, ``[]f`` a safety formula, anything else an initial condition; ``=`` is
-    ``<->`` (LTLMoP's grammar, ``LTLParser/grammar.wi``).
+    ``[]<>f`` a goal, ``[]f`` a safety formula, anything else an initial condition; ``=`` is an
+    equivalence that binds tighter than ``&`` (JTLV's, see ``_tight_iff``).
 
     With ``use_region_bit_encoding`` (``specCompiler._writeLTLFile``) the robot's region is also
     named by bits: region number i (in the order of ``decl.regions``) is the binary number i on
@@ -362,8 +362,6 @@ class _RawLtl:
                 self.numbered = True
                 out.append("(" + " & ".join(f"(sbit{j}' <-> sbit{j})" for j in range(self.width)) + ")"
                            if self.width else "TRUE")
-            elif t == "=":
-                out.append("<->")
             elif re.match(r"[A-Za-z_]", t) and t.upper() not in ("TRUE", "FALSE"):
                 name = re.sub(r"^[se]\.", "", t)
                 bit = self._bit(name, bool(next_depth), number, text.find(t) + 1)
@@ -371,7 +369,44 @@ class _RawLtl:
             else:
                 out.append(t)
             k += 1
-        return kind, " ".join(out)
+        return kind, " ".join(_tight_iff(out))
+
+
+def _tight_iff(out: list[str]) -> list[str]:
+    """JTLV's ``=`` (what LTLMoP's verdicts come from) binds tighter than ``&``, as in SMV: ``a = b & c``
+    is ``(a <-> b) & c``. Each ``=`` becomes ``<->`` around its two operands: a name, a parenthesised
+    group or one of them after ``!``s; a chain groups from the left."""
+    out = list(out)
+    k = 0
+    while k < len(out):
+        if out[k] != "=":
+            k += 1
+            continue
+        start = _operand_end(out, k - 1, -1)
+        while start > 0 and out[start - 1] == "!":
+            start -= 1
+        end = k + 1
+        while end < len(out) - 1 and out[end] == "!":
+            end += 1
+        end = _operand_end(out, end, 1)
+        out[k] = "<->"
+        out[start:end + 1] = ["(", *out[start:end + 1], ")"]
+        k += 2
+    return out
+
+
+def _operand_end(out: list[str], at: int, step: int) -> int:
+    """Where the operand at ``out[at]`` ends, walking in direction ``step`` over a parenthesised group."""
+    opening, closing = ("(", ")") if step == 1 else (")", "(")
+    if not 0 <= at < len(out) or out[at] != opening:
+        return at
+    depth = 0
+    while 0 <= at < len(out):
+        depth += (out[at] == opening) - (out[at] == closing)
+        if depth == 0:
+            return at
+        at += step
+    return at - step
 
 
 def _stay_there(decl: Declarations) -> str:
