@@ -25,7 +25,7 @@ SPECIFICATION
                                   ``english_reader`` with LTLMoP's timing) or the raw LTL
                                   (``parser: ltl``: assumptions, a line of dashes, guarantees; one
                                   conjunct per line in LTLMoP's syntax ``[]``, ``[]<>``, ``next()``,
-                                  ``s.``/``e.`` prefixes)
+                                  ``s.``/``e.`` prefixes, region bits and the follow macros, ``_RawLtl``)
 
 Other headers (``CurrentConfigName``, ``RegionMapping``, …) belong to LTLMoP's tools and are ignored.
 """
