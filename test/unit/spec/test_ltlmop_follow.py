@@ -13,6 +13,8 @@ from pathlib import Path
 
 import pytest
 from english_testing import Bdds
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from ltl_stack.spec import load_spec
 from ltl_stack.spec.errors import SpecError
@@ -130,3 +132,25 @@ def test_follow_inside_a_formula_is_refused(tmp_path):
     path = _variant(tmp_path, "\nFOLLOW_SENSOR_CONSTRAINTS\n", "\nTRUE & FOLLOW_SENSOR_CONSTRAINTS\n")
     with pytest.raises(SpecError, match="on a line of its own"):
         load_spec(path)
+
+
+@settings(max_examples=60, deadline=None)
+@given(n=st.integers(min_value=2, max_value=20), data=st.data())
+def test_a_bit_pattern_is_the_region_with_that_number(n, data):
+    """Where the robot is in exactly one of n regions, LTLMoP's pattern of number i (``s.bitJ``
+    literals, most significant first) holds exactly in region i, and a number >= n in none."""
+    from ltl_stack.spec.activation_completion import exactly_one
+    from ltl_stack.spec.english_reader import Declarations
+    from ltl_stack.spec.ltlmop_project import _RawLtl
+
+    regions = [f"r{k}" for k in range(n)]
+    width = (n - 1).bit_length()
+    i = data.draw(st.integers(min_value=0, max_value=2 ** width - 1))
+    raw = _RawLtl(Declarations(regions=regions, regions_are_places=True), "t.spec", True, {})
+    pattern = " & ".join(f"{'' if (i >> (width - 1 - j)) & 1 else '!'}s.bit{j}" for j in range(width))
+    _, infix = raw._to_infix(pattern, 1)
+    signature = "[OUTPUT]\n" + "".join(r + "\n" for r in regions)
+    formula = parse_structured(signature + f"[SYS_INIT]\n{infix}\n", "e.ltl").sys_init[0].formula
+    bdds = Bdds(regions)
+    one = bdds.of(exactly_one(regions, False))
+    assert one & bdds.of(formula) == (one & bdds.bdd.var(f"r{i}") if i < n else bdds.bdd.false)
