@@ -18,7 +18,7 @@ SETTINGS
                                   is a robot proposition saying where the robot is, as LTLMoP's
                                   default compilation has it), ``use_region_bit_encoding`` (raw LTL
                                   may name the bits of the robot's region, ``s.bitJ``, and use the
-                                  follow macros, see ``_raw_ltl``). ``convexify`` only changes how
+                                  follow macros, see ``_RawLtl``). ``convexify`` only changes how
                                   LTLMoP encodes the same spec.
 SPECIFICATION
     ``Spec:``                     the sentences (``parser: structured``, read by
@@ -196,6 +196,7 @@ def _read_map(decl: Declarations, entry: tuple[int, str], base_dir: Path, file: 
 
 _LTL_TOKEN = re.compile(r"\s*(\[\]<>|\[\]|<>|<->|->|next\b|[()!&|]|[A-Za-z_][\w.]*|\S)")
 _BIT = re.compile(r"(s?)bit(\d+)")
+_LISTED = 12  # regions named in the numbering warning
 
 
 class _RawLtl:
@@ -258,7 +259,10 @@ class _RawLtl:
 
     def numbering(self) -> str:
         """The warning that says which number (bit pattern) stands for which region."""
-        listed = ", ".join(f"{i} {r}" for i, r in enumerate(self.decl.regions))
+        regions = self.decl.regions
+        listed = ", ".join(f"{i} {r}" for i, r in enumerate(regions[:_LISTED]))
+        if len(regions) > _LISTED:
+            listed += f", … {len(regions) - 1} {regions[-1]} (in the map's order)"
         return (f"{self.file}: the region bits (bitJ, sbitJ) number the regions {listed}; LTLMoP numbers its "
                 f"decomposed map in an order of its own, so a bit pattern that names one region may name "
                 f"another there")
