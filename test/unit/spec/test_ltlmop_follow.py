@@ -154,3 +154,16 @@ def test_a_bit_pattern_is_the_region_with_that_number(n, data):
     bdds = Bdds(regions)
     one = bdds.of(exactly_one(regions, False))
     assert one & bdds.of(formula) == (one & bdds.bdd.var(f"r{i}") if i < n else bdds.bdd.false)
+
+
+def test_a_declared_proposition_named_like_a_region_bit_is_refused(tmp_path):
+    path = _variant(tmp_path, "Customs: # robot propositions of the task\nvisitor_waits\n",
+                    "Customs: # robot propositions of the task\nvisitor_waits\nbit1\n")
+    with pytest.raises(SpecError, match=r"guide.spec:45:\d+: 'bit1' is declared and is also LTLMoP's region bit 1"):
+        load_spec(path)
+
+
+def test_region_bits_with_fastslow_are_refused(tmp_path):
+    path = _variant(tmp_path, "fastslow: False", "fastslow: True")
+    with pytest.raises(SpecError, match=r"guide.spec:44:\d+: the region bit 'bit0' .*\(fastslow: False\)"):
+        load_spec(path)
