@@ -16,14 +16,16 @@ SETTINGS
                                   adjacency from shared borders), ``fastslow`` (regions follow the
                                   activation–completion encoding, ``R``/``R_rc``; without it a region
                                   is a robot proposition saying where the robot is, as LTLMoP's
-                                  default compilation has it). ``use_region_bit_encoding`` and
-                                  ``convexify`` only change how LTLMoP encodes the same spec.
+                                  default compilation has it), ``use_region_bit_encoding`` (raw LTL
+                                  may name the bits of the robot's region, ``s.bitJ``, and use the
+                                  follow macros, see ``_RawLtl``). ``convexify`` only changes how
+                                  LTLMoP encodes the same spec.
 SPECIFICATION
     ``Spec:``                     the sentences (``parser: structured``, read by
                                   ``english_reader`` with LTLMoP's timing) or the raw LTL
                                   (``parser: ltl``: assumptions, a line of dashes, guarantees; one
                                   conjunct per line in LTLMoP's syntax ``[]``, ``[]<>``, ``next()``,
-                                  ``s.``/``e.`` prefixes)
+                                  ``s.``/``e.`` prefixes, region bits and the follow macros, ``_RawLtl``)
 
 Other headers (``CurrentConfigName``, ``RegionMapping``, …) belong to LTLMoP's tools and are ignored.
 """
@@ -36,6 +38,7 @@ from ltl_stack.errors import InputError
 from ltl_stack.inputs import read_text
 from ltl_stack.spec.english_reader import Declarations, EnglishSpec, add_declaration, compile_sentences
 from ltl_stack.spec.errors import SpecError
+from ltl_stack.spec.formula import And, Formula, Implies, Not, Or, Var
 from ltl_stack.spec.model import SECTIONS, Clause
 from ltl_stack.spec.region_map import parse_region_map
 from ltl_stack.spec.sections import Line, SpecBuilder
@@ -45,9 +48,10 @@ _CONTAINER = re.compile(r"^=+\s*(?P<title>[^=]+?)\s*=+")
 _HEADER = re.compile(r"^(?P<key>\w+):\s*(?:#.*)?$")
 _TRUE = ("true", "t", "1")
 #: LTLMoP's defaults (``project.py``) for the options that change the meaning
-DEFAULT_OPTIONS = {"parser": "structured", "decompose": True, "fastslow": False}
-#: macros of LTLMoP's raw LTL that need its bit encoding of regions and its follow handler
-_MACROS = ("FOLLOW_SENSOR_CONSTRAINTS", "TARGET_IS_STATIONARY")
+DEFAULT_OPTIONS = {"parser": "structured", "decompose": True, "fastslow": False, "use_region_bit_encoding": True}
+#: LTLMoP's follow macro (``specCompiler.substituteMacros``): the followed target's region, as sensor
+#: bits ``sbitJ``, moves on the map as the robot does
+FOLLOW = "FOLLOW_SENSOR_CONSTRAINTS"
 
 
 def read_project(text: str, file: str, base_dir: Path) -> EnglishSpec:
@@ -87,7 +91,11 @@ def read_project(text: str, file: str, base_dir: Path) -> EnglishSpec:
         _read_map(decl, region_file[0], base_dir, file, options["decompose"], derived)
     sentences = [(n, s) for n, s in spec_lines if s.strip() and not s.lstrip().startswith("#")]
     if parser == "ltl":
-        return compile_sentences(decl, [], file, _raw_ltl(decl, spec_lines, file))
+        raw = _RawLtl(decl, file, options["use_region_bit_encoding"], option_line)
+        english = compile_sentences(decl, [], file, raw.read(spec_lines))
+        if raw.numbered:
+            english.spec.warnings.append(raw.numbering())
+        return english
     return compile_sentences(decl, [(n, _strip_comment(s)) for n, s in sentences if _strip_comment(s).strip()],
                              file)
 
@@ -187,40 +195,222 @@ def _read_map(decl: Declarations, entry: tuple[int, str], base_dir: Path, file: 
 
 
 _LTL_TOKEN = re.compile(r"\s*(\[\]<>|\[\]|<>|<->|->|next\b|[()!&|]|[A-Za-z_][\w.]*|\S)")
+_BIT = re.compile(r"(s?)bit(\d+)")
+_LISTED = 12  # regions named in the numbering warning
 
 
-def _raw_ltl(decl: Declarations, lines: list[tuple[int, str]], file: str) -> dict[str, list[Clause]]:
+class _RawLtl:
     """LTLMoP's ``parser: ltl``: assumptions, a line of dashes, guarantees; each line one conjunct,
-    ``[]<>f`` a goal, ``[]f`` a safety formula, anything else an initial condition."""
-    builder = SpecBuilder(file, valid_name, NAME_RULE)
-    builder.read_layout("[INPUT]\n" + "".join(n + "\n" for n in decl.inputs)
-                        + "[OUTPUT]\n" + "".join(n + "\n" for n in decl.outputs))
-    sections: dict[str, list[Clause]] = {name: [] for name in SECTIONS}
-    side = "env"
-    dashes = False
-    for number, raw in lines:
-        text = _strip_comment(raw).strip().rstrip("&").strip()
-        if not text:
+    ``[]<>f`` a goal, ``[]f`` a safety formula, anything else an initial condition; ``=`` is an
+    equivalence that binds tighter than ``&`` (JTLV's, see ``_tight_iff``).
+
+    With ``use_region_bit_encoding`` (``specCompiler._writeLTLFile``) the robot's region is also
+    named by bits: region number i (in the order of ``decl.regions``) is the binary number i on
+    ``bit0`` (most significant) … ``bitK-1``, K = ceil(log2 n) (``bitEncoding``). A bit is read as
+    the disjunction of the regions whose number has it set, which means what LTLMoP's bits mean
+    where exactly one region holds. ``sbitJ`` are sensors encoding a followed target's region the
+    same way; ``FOLLOW_SENSOR_CONSTRAINTS`` (a line of its own) stands for LTLMoP's mirror of the
+    topology onto them: the target starts in and stays in one of the n numbers, and moves only to a
+    neighbour (or stays); ``TARGET_IS_STATIONARY`` for ``sbitJ' <-> sbitJ`` for every J."""
+
+    def __init__(self, decl: Declarations, file: str, bits: bool, option_line: dict[str, int]):
+        self.decl, self.file, self.bits, self.option_line = decl, file, bits, option_line
+        self.width = (len(decl.regions) - 1).bit_length() if len(decl.regions) > 1 else 0
+        self.numbered = False  # a line used the bit numbering of the regions
+
+    def read(self, lines: list[tuple[int, str]]) -> dict[str, list[Clause]]:
+        file = self.file
+        for number, raw in lines:  # LTLMoP adds the target's bits to the sensors
+            if FOLLOW in _strip_comment(raw):
+                self._declare_target_bits(number)
+        builder = SpecBuilder(file, valid_name, NAME_RULE)
+        builder.read_layout("[INPUT]\n" + "".join(n + "\n" for n in self.decl.inputs)
+                            + "[OUTPUT]\n" + "".join(n + "\n" for n in self.decl.outputs))
+        sections: dict[str, list[Clause]] = {name: [] for name in SECTIONS}
+        side = "env"
+        dashes = False
+        for number, raw in lines:
+            text = _strip_comment(raw).strip().rstrip("&").strip()
+            if not text:
+                continue
+            if re.fullmatch(r"-+", text):
+                if dashes:
+                    raise SpecError(file, number, 1, "a raw LTL spec has one line of dashes (assumptions above it, "
+                                                     "guarantees below)")
+                side, dashes = "sys", True
+                continue
+            if FOLLOW in text:
+                if text != FOLLOW:
+                    raise SpecError(file, number, text.index(FOLLOW) + 1, f"{FOLLOW} stands for several conjuncts "
+                                                                          "(initial and []); write it on a line of "
+                                                                          "its own")
+                for kind, formula, why in self._follow():
+                    sections[f"{side}_{kind}"].append(Clause(formula, f"{FOLLOW}: {why}", file, number))
+                continue
+            kind, infix = self._to_infix(text, number)
+            section = f"{side}_{kind}"
+            line = Line(number, infix)
+            formula = parse_clause(line, builder.names(section, line))
+            sections[section].append(Clause(formula, raw.strip(), file, number))
+        if not dashes:
+            raise SpecError(file, lines[0][0] if lines else 0, 1, "a raw LTL spec ('parser: ltl') has the "
+                                                                  "assumptions, a line of dashes, then the guarantees")
+        return sections
+
+    def numbering(self) -> str:
+        """The warning that says which number (bit pattern) stands for which region."""
+        regions = self.decl.regions
+        listed = ", ".join(f"{i} {r}" for i, r in enumerate(regions[:_LISTED]))
+        if len(regions) > _LISTED:
+            listed += f", … {len(regions) - 1} {regions[-1]} (in the map's order)"
+        return (f"{self.file}: the region bits (bitJ, sbitJ) number the regions {listed}; LTLMoP numbers its "
+                f"decomposed map in an order of its own, so a bit pattern that names one region may name "
+                f"another there")
+
+    def _declare_target_bits(self, number: int) -> None:
+        if not self.bits:
+            raise SpecError(self.file, number, 1, f"LTLMoP expands {FOLLOW} only with use_region_bit_encoding: "
+                                                  f"True (line {self.option_line.get('use_region_bit_encoding', 0)}"
+                                                  "); without it LTLMoP leaves the word in the formula")
+        if self.width == 0:
+            raise SpecError(self.file, number, 1, f"{FOLLOW} needs a map with at least two regions (the target's "
+                                                  "region is encoded in bits)")
+        for j in range(self.width):
+            name = f"sbit{j}"
+            if self.decl.kind_of.get(name) != "sensors":
+                self.decl.disabled.pop(name, None)
+                add_declaration(self.decl, "sensors", name, number, 1, self.file)
+        self.numbered = True
+
+    def _pattern(self, prefix: str, i: int, primed: bool) -> Formula:
+        """Region number ``i`` on the bits ``prefix0`` (most significant) … (``bitEncoding``)."""
+        lits = []
+        for j in range(self.width):
+            var = Var(f"{prefix}{j}", primed)
+            lits.append(var if (i >> (self.width - 1 - j)) & 1 else Not(var))
+        return And(tuple(lits))
+
+    def _follow(self) -> list[tuple[str, Formula, str]]:
+        """LTLMoP's ``FOLLOW_SENSOR_CONSTRAINTS``: its region topology and initial-region fragment
+        (``createTopologyFragment``, ``createInitialRegionFragment``) with the robot's bits replaced
+        by the target's."""
+        regions = self.decl.regions
+        topology = self.decl.topology
+        index = {r: i for i, r in enumerate(regions)}
+        valid = Or(tuple(self._pattern("sbit", i, False) for i in range(len(regions))))
+        out = []
+        for i, r in enumerate(regions):
+            near = sorted(topology.neighbours(r), key=index.__getitem__)
+            moves = Or(tuple(self._pattern("sbit", k, True) for k in (i, *(index[n] for n in near))))
+            out.append(("safety", Implies(self._pattern("sbit", i, False), moves),
+                        f"from {r} the target moves only to a neighbour of it (or stays)"))
+        out.append(("safety", valid, "the target is in one of the regions"))
+        out.append(("init", valid, "the target starts in one of the regions"))
+        return out
+
+    def _bit(self, name: str, primed: bool, number: int, column: int) -> str | None:
+        """``bitJ`` (the robot's region) in infix, or None when ``name`` is no region bit."""
+        m = _BIT.fullmatch(name)
+        if not m or not self.bits or int(m[2]) >= self.width:
+            return None
+        self.numbered = True
+        if m[1]:
+            return None  # the target's bit: a sensor
+        j = int(m[2])
+        if name in self.decl.kind_of:
+            raise SpecError(self.file, number, column, f"'{name}' is declared and is also LTLMoP's region bit {j} "
+                                                       "(use_region_bit_encoding: True); rename the proposition")
+        if not self.decl.regions_are_places:
+            raise SpecError(self.file, number, column, f"the region bit '{name}' names where the robot is, which "
+                                                       "LTLMoP's region model has (fastslow: False); with fastslow: "
+                                                       "True name the regions")
+        tick = "'" if primed else ""
+        ones = [r + tick for i, r in enumerate(self.decl.regions) if (i >> (self.width - 1 - j)) & 1]
+        return "(" + " | ".join(ones) + ")"
+
+    def _to_infix(self, text: str, number: int) -> tuple[str, str]:
+        """One LTLMoP conjunct as (init|safety|liveness, the structured format's infix text)."""
+        file = self.file
+        tokens = _LTL_TOKEN.findall(text)
+        kind = "init"
+        if tokens and tokens[0] == "[]<>":
+            kind, tokens = "liveness", tokens[1:]
+        elif tokens and tokens[0] == "[]":
+            kind, tokens = "safety", tokens[1:]
+        out: list[str] = []
+        next_depth: list[int] = []  # paren depths at which a next( opened
+        depth = 0
+        k = 0
+        while k < len(tokens):
+            t = tokens[k]
+            if t in ("[]", "[]<>", "<>"):
+                raise SpecError(file, number, text.find(t) + 1, f"'{t}' inside a formula is not GR(1); write one "
+                                                                "conjunct per line, [] or []<> in front")
+            if t == "next":
+                if k + 1 >= len(tokens) or tokens[k + 1] != "(":
+                    raise SpecError(file, number, 1, "expected '(' after next")
+                next_depth.append(depth)
+                depth += 1
+                out.append("(")
+                k += 2
+                continue
+            if t == "(":
+                depth += 1
+            elif t == ")":
+                depth -= 1
+                if next_depth and next_depth[-1] == depth:
+                    next_depth.pop()
+            if t == "STAY_THERE":
+                out.append(_stay_there(self.decl))
+            elif t == "TARGET_IS_STATIONARY":
+                self.numbered = True
+                out.append("(" + " & ".join(f"(sbit{j}' <-> sbit{j})" for j in range(self.width)) + ")"
+                           if self.width else "TRUE")
+            elif re.match(r"[A-Za-z_]", t) and t.upper() not in ("TRUE", "FALSE"):
+                name = re.sub(r"^[se]\.", "", t)
+                bit = self._bit(name, bool(next_depth), number, text.find(t) + 1)
+                out.append(bit if bit is not None else name + ("'" if next_depth else ""))
+            else:
+                out.append(t)
+            k += 1
+        return kind, " ".join(_tight_iff(out))
+
+
+def _tight_iff(out: list[str]) -> list[str]:
+    """JTLV's ``=`` (what LTLMoP's verdicts come from) binds tighter than ``&``, as in SMV: ``a = b & c``
+    is ``(a <-> b) & c``. Each ``=`` becomes ``<->`` around its two operands: a name, a parenthesised
+    group or one of them after ``!``s; a chain groups from the left."""
+    out = list(out)
+    k = 0
+    while k < len(out):
+        if out[k] != "=":
+            k += 1
             continue
-        if re.fullmatch(r"-+", text):
-            if dashes:
-                raise SpecError(file, number, 1, "a raw LTL spec has one line of dashes (assumptions above it, "
-                                                 "guarantees below)")
-            side, dashes = "sys", True
-            continue
-        for macro in _MACROS:
-            if macro in text:
-                raise SpecError(file, number, text.index(macro) + 1, f"LTLMoP's macro {macro} is expanded by its "
-                                                                     "own handlers and has no meaning here")
-        kind, infix = _ltl_to_infix(text, number, file, _stay_there(decl))
-        section = f"{side}_{kind}"
-        line = Line(number, infix)
-        formula = parse_clause(line, builder.names(section, line))
-        sections[section].append(Clause(formula, raw.strip(), file, number))
-    if not dashes:
-        raise SpecError(file, lines[0][0] if lines else 0, 1, "a raw LTL spec ('parser: ltl') has the assumptions, "
-                                                              "a line of dashes, then the guarantees")
-    return sections
+        start = _operand_end(out, k - 1, -1)
+        while start > 0 and out[start - 1] == "!":
+            start -= 1
+        end = k + 1
+        while end < len(out) - 1 and out[end] == "!":
+            end += 1
+        end = _operand_end(out, end, 1)
+        out[k] = "<->"
+        out[start:end + 1] = ["(", *out[start:end + 1], ")"]
+        k += 2
+    return out
+
+
+def _operand_end(out: list[str], at: int, step: int) -> int:
+    """Where the operand at ``out[at]`` ends, walking in direction ``step`` over a parenthesised group."""
+    opening, closing = ("(", ")") if step == 1 else (")", "(")
+    if not 0 <= at < len(out) or out[at] != opening:
+        return at
+    depth = 0
+    while 0 <= at < len(out):
+        depth += (out[at] == opening) - (out[at] == closing)
+        if depth == 0:
+            return at
+        at += step
+    return at - step
 
 
 def _stay_there(decl: Declarations) -> str:
@@ -230,45 +420,3 @@ def _stay_there(decl: Declarations) -> str:
     if decl.regions_are_places:
         return "(" + " & ".join(f"({r} <-> {r}')" for r in decl.regions) + ")"
     return "(" + " & ".join(f"({r}_rc | !{r}')" for r in decl.regions) + ")"
-
-
-def _ltl_to_infix(text: str, number: int, file: str, stay: str) -> tuple[str, str]:
-    """One LTLMoP conjunct as (init|safety|liveness, the structured format's infix text)."""
-    tokens = _LTL_TOKEN.findall(text)
-    kind = "init"
-    if tokens and tokens[0] == "[]<>":
-        kind, tokens = "liveness", tokens[1:]
-    elif tokens and tokens[0] == "[]":
-        kind, tokens = "safety", tokens[1:]
-    out: list[str] = []
-    next_depth: list[int] = []  # paren depths at which a next( opened
-    depth = 0
-    k = 0
-    while k < len(tokens):
-        t = tokens[k]
-        if t in ("[]", "[]<>", "<>"):
-            raise SpecError(file, number, text.find(t) + 1, f"'{t}' inside a formula is not GR(1); write one "
-                                                            "conjunct per line, [] or []<> in front")
-        if t == "next":
-            if k + 1 >= len(tokens) or tokens[k + 1] != "(":
-                raise SpecError(file, number, 1, "expected '(' after next")
-            next_depth.append(depth)
-            depth += 1
-            out.append("(")
-            k += 2
-            continue
-        if t == "(":
-            depth += 1
-        elif t == ")":
-            depth -= 1
-            if next_depth and next_depth[-1] == depth:
-                next_depth.pop()
-        if t == "STAY_THERE":
-            out.append(stay)
-        elif re.match(r"[A-Za-z_]", t) and t.upper() not in ("TRUE", "FALSE"):
-            name = re.sub(r"^[se]\.", "", t)
-            out.append(name + ("'" if next_depth else ""))
-        else:
-            out.append(t)
-        k += 1
-    return kind, " ".join(out)
