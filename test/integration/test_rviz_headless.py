@@ -37,14 +37,19 @@ def display(tmp_path):
 
 @pytest.mark.parametrize("config", CONFIGS, ids=[p.stem for p in CONFIGS])
 def test_rviz_loads_the_config_headless(ros_master, display, config):
-    ros_master.env.update(DISPLAY=display, LIBGL_ALWAYS_SOFTWARE="1")
+    # the GUI tests set QT_QPA_PLATFORM=offscreen in every worker's environment when collected; RViz
+    # needs a real X11 window on the Xvfb display (offscreen: no GL context, it exits at once)
+    ros_master.env.update(DISPLAY=display, LIBGL_ALWAYS_SOFTWARE="1", QT_QPA_PLATFORM="xcb")
     rviz = ros_master.run(["rviz", "-d", str(config)], name="rviz")
     displays = yaml.safe_load(config.read_text())["Visualization Manager"]["Displays"]
     topics = ["/" + (d.get("Marker Topic") or d["Topic"]) for d in displays
               if d["Class"] in ("rviz/MarkerArray", "rviz/Odometry")]
     assert topics, config
-    wait_for(lambda: all(ros_master.subscribers(t) for t in topics), 120,
-             f"RViz subscribed to the config's topics {topics}")
+    def subscribed() -> bool:
+        assert rviz.running(), rviz.output()  # RViz died: say why now, not after the whole wait
+        return all(ros_master.subscribers(t) for t in topics)
+
+    wait_for(subscribed, 120, f"RViz subscribed to the config's topics {topics}")
     assert rviz.running(), rviz.output()
     # Debian's rviz asks rospack for the (absent) media_export package: not about the config
     errors = [line for line in rviz.output().splitlines()

@@ -37,7 +37,7 @@ MAP_MARKERS = NodeSpec(
               "region_localization); empty: from the controller's R_rc inputs", ros_name=True),
         Param("region_suffix", "_rc", "without a ~region_topic message: the region R whose input R<suffix> is "
               "true (the controller's region sensing)"),
-        Param("rate", 2.0, "republish this often (Hz)", bound=Bound.POSITIVE),
+        Param("rate", 2.0, "republish this often (Hz)", bound=Bound.RATE),
         Param("draw_regions", True, "draw the regions (false: only the controller's text, for the other "
               "robots of a scenario whose map one map_markers draws)"),
         Param("label", "", "first line of the controller's text (a robot's name when several run)"),

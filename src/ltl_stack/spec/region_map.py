@@ -32,14 +32,14 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass, field
-
-import shapely
-from shapely.geometry import Polygon
-from shapely.ops import unary_union
+from typing import TYPE_CHECKING
 
 from ltl_stack.errors import InputError
 from ltl_stack.inputs import parse_json
 from ltl_stack.spec.errors import SpecError
+
+if TYPE_CHECKING:  # shapely (and numpy under it) load only when a map is read: not at every tool's start
+    from shapely.geometry import Polygon
 
 BOUNDARY = "boundary"
 #: a map with more vertices or regions than this is refused (bounded input)
@@ -269,6 +269,7 @@ def parse_region_map(text: str, file: str, decompose: bool = False,
 
 
 def _overlapping(names: list[str], outlines: dict[str, list[Point]]) -> bool:
+    import shapely
     shapes = [_polygon(outlines[n]) for n in names]
     tree = shapely.STRtree(shapes)
     for i, shape in enumerate(shapes):
@@ -284,6 +285,7 @@ def _overlay(file: str, boundary: RegionOutline, names: list[str], outlines: dic
     """Cut the boundary into pieces no two named areas share; each area is the union of its pieces.
     Obstacles are no place to be, but ``between``/``near`` may name them (LTLMoP's examples do).
     Each area may cut every piece so far, so the work is bounded by refusing large overlays."""
+    from shapely.ops import unary_union
     if len(names) + len(derived) > MAX_OVERLAY:
         raise SpecError(file, line, 1, f"the map's regions overlap (or the spec names areas between or near "
                                        f"them): cutting more than {MAX_OVERLAY} areas into pieces is refused")
@@ -341,16 +343,20 @@ def _overlay(file: str, boundary: RegionOutline, names: list[str], outlines: dic
 
 
 def _parts(shape) -> list[Polygon]:
+    from shapely.geometry import Polygon
     return [g for g in getattr(shape, "geoms", [shape]) if isinstance(g, Polygon)]
 
 
 def _polygon(points: list[Point], holes: list[list[Point]] | None = None) -> Polygon:
+    from shapely.geometry import Polygon
     polygon = Polygon(points, holes or [])
     return polygon if polygon.is_valid else polygon.buffer(0)  # self-touching outlines: the area they enclose
 
 
 def _free_space(boundary: RegionOutline, others: list[RegionOutline]) -> list[list[Point]]:
     """The outlines of the pieces of the boundary that no other region covers (LTLMoP's ``others``)."""
+    from shapely.geometry import Polygon
+    from shapely.ops import unary_union
     covered = unary_union([_polygon(r.outline, r.holes) for r in others]) if others else None
     space = _polygon(boundary.outline)
     if covered is not None:
@@ -368,6 +374,7 @@ def _touching(names: list[str], outlines: dict[str, list[Point]]) -> list[tuple[
 
 
 def _touching_shapes(names: list[str], polygons: dict[str, object]) -> list[tuple[str, str]]:
+    import shapely
     if len(names) < 2:
         return []
     shapes = [polygons[n] for n in names]
