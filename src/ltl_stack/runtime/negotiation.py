@@ -62,9 +62,9 @@ from ltl_stack.fileio import write_atomic
 from ltl_stack.runtime.characterize import NegotiationAbort
 from ltl_stack.runtime.mapping import Mapping as MappingFile
 from ltl_stack.spec import SpecError, clause_to_english, formula_to_infix, parse_structured, write_slugsin
-from ltl_stack.spec.formula import And, Formula, Not, Or, Var, children, evaluate, variables
+from ltl_stack.spec.formula import And, Formula, Not, Var, evaluate, variables
 from ltl_stack.spec.model import SECTIONS, Clause, Spec
-from ltl_stack.spec.ops import fold
+from ltl_stack.spec.ops import map_vars
 from ltl_stack.synthesis import synthesize
 from ltl_stack.synthesis.explain import explain
 from ltl_stack.synthesis.explain_render import explanation_text
@@ -304,32 +304,12 @@ def split_by_ownership(clauses: list[Clause], inputs: list[str],
 
 def rename_next(f: Formula, table: Mapping[str, str]) -> Formula:
     """``f`` with each next-state variable ``x'`` in ``table`` renamed to ``table[x]'``."""
-    def combine(node: Formula, kids: tuple) -> Formula:
-        if isinstance(node, Var):
-            return Var(table[node.name], True) if node.primed and node.name in table else node
-        if not kids or all(a is b for a, b in zip(kids, children(node), strict=True)):
-            return node
-        if isinstance(node, Not):
-            return Not(kids[0])
-        if isinstance(node, And | Or):
-            return type(node)(kids)
-        return type(node)(kids[0], kids[1])
-    return fold(f, combine)
+    return map_vars(f, lambda v: Var(table[v.name], True) if v.primed and v.name in table else v)
 
 
 def rename(f: Formula, table: Mapping[str, str]) -> Formula:
     """``f`` with every variable ``x`` renamed to ``table[x]`` (``KeyError`` for a name not in it)."""
-    def combine(node: Formula, kids: tuple) -> Formula:
-        if isinstance(node, Var):
-            return Var(table[node.name], node.primed)
-        if not kids or all(a is b for a, b in zip(kids, children(node), strict=True)):
-            return node
-        if isinstance(node, Not):
-            return Not(kids[0])
-        if isinstance(node, And | Or):
-            return type(node)(kids)
-        return type(node)(kids[0], kids[1])
-    return fold(f, combine)
+    return map_vars(f, lambda v: Var(table[v.name], v.primed))
 
 
 # --- messages ---------------------------------------------------------------------------------------

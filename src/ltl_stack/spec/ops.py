@@ -91,6 +91,12 @@ def prefix_normal_form(f: Formula) -> Formula:
     return fold(f, combine)
 
 
+def map_vars(f: Formula, replace: Callable[[Var], Formula]) -> Formula:
+    """``f`` with every variable ``v`` replaced by ``replace(v)``; shared subformulas stay shared, and
+    parts in which nothing changed are the same objects."""
+    return fold(f, lambda node, kids: replace(node) if isinstance(node, Var) else _rebuild(node, kids))
+
+
 def _rebuild(node: Formula, kids: tuple) -> Formula:
     """``node`` with new children (the same object when nothing changed, to keep sharing)."""
     if all(a is b for a, b in zip(kids, children(node), strict=True)):
