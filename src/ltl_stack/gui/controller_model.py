@@ -88,12 +88,13 @@ class ControllerModel:
         spec = load_spec(spec_path)
         say(f"synthesizing {spec_path} (robotics semantics {options.robotics_semantics}, "
             f"cooperative {options.cooperative})")
-        result = synthesize(spec, robotics_semantics=options.robotics_semantics, cooperative=options.cooperative)
+        result = synthesize(spec, robotics_semantics=options.robotics_semantics, cooperative=options.cooperative,
+                            progress=say)
         if not result.realizable:
             raise UserError(f"{spec_path}: the specification is unrealizable (robotics semantics "
                             f"{options.robotics_semantics}); the executor cannot run it", Exit.UNREALIZABLE)
         say("extracting the explicit automaton")
-        automaton = result.strategy.explicit(max_states=MAX_STATES)
+        automaton = result.strategy.explicit(max_states=MAX_STATES, progress=say)
         say(f"{len(automaton)} states")
         model = cls(str(spec_path), automaton, options)
         model.predecessors(0)  # the indexes the view needs, made here on the worker thread, not the GUI's

@@ -240,6 +240,11 @@ class ControllerView(QWidget):
         self.attach_push_button = QPushButton("Attach")
         self.attach_push_button.setObjectName("attach_push_button")
         self.attach_push_button.clicked.connect(self.attach)
+        self.cancel_push_button = QPushButton("Cancel")
+        self.cancel_push_button.setObjectName("cancel_push_button")
+        self.cancel_push_button.setToolTip("stop attaching: the synthesis stops at its next step, the topic is let go")
+        self.cancel_push_button.clicked.connect(self.cancel)
+        self.cancel_push_button.hide()
         grid.addWidget(QLabel("Spec"), 0, 0)
         grid.addWidget(self.spec_line_edit, 0, 1, 1, 4)
         grid.addWidget(browse, 0, 5)
@@ -255,6 +260,7 @@ class ControllerView(QWidget):
         options.addWidget(self.radius_spin_box)
         options.addStretch(1)
         options.addWidget(self.attach_push_button)
+        options.addWidget(self.cancel_push_button)
         grid.addLayout(options, 2, 0, 1, 6)
 
         self.graph_view = GraphView()
@@ -392,17 +398,31 @@ class ControllerView(QWidget):
             link = factory(topic, latest.put, diagnostic.emit)
             try:
                 options = options_from_params(link.params(), wanted)
-                return link, ControllerModel.synthesize(spec, options, progress)
+                model = ControllerModel.synthesize(spec, options, progress)
+                progress(f"attached to {topic}")  # raises Cancelled when Cancel came meanwhile
+                return link, model
             except BaseException:
                 link.close()
                 raise
-        self.task = Task(work, self)
+
+        def discard(done: tuple) -> None:  # Cancel came after the last progress report
+            threading.Thread(target=done[0].close, name="ltl_stack_gui_detach", daemon=True).start()
+        self.task = Task(work, self, discard=discard)
         self.task.progress.connect(self._status)
         self.task.finished.connect(self._on_attached)
         self.task.failed.connect(lambda text: (self._busy(False), self._status(f"Cannot attach: {text}", error=True)))
         self._busy(True)
         self._status(f"Attaching to {topic}; synthesizing {spec}…")
         self.task.start()
+        return True
+
+    def cancel(self) -> bool:
+        """Stop attaching: the synthesis stops at its next progress report and the topic is let go."""
+        if self.task is None or not self.task.running:
+            return False
+        self.task.abandon()
+        self._busy(False)
+        self._status("Cancelled: not attached.")
         return True
 
     def detach(self) -> None:
@@ -624,6 +644,7 @@ class ControllerView(QWidget):
     # --- plumbing -----------------------------------------------------------------------------------------
     def _busy(self, busy: bool) -> None:
         self.progress_bar.setVisible(busy)
+        self.cancel_push_button.setVisible(busy)
         self.attach_push_button.setEnabled(not busy)
 
     def _status(self, text: str, error: bool = False) -> None:

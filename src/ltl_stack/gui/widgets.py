@@ -9,9 +9,11 @@ from __future__ import annotations
 import gc
 import math
 import os
+import sys
 import threading
 import traceback
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from typing import Any
 
 from python_qt_binding.QtCore import (
@@ -167,6 +169,37 @@ def _relay() -> _Relay:
     return _RELAY
 
 
+#: Python's GIL switch interval while a background task runs (the default is 5 ms).
+HANDOVER_INTERVAL_S = 0.0002
+_handover = {"running": 0, "saved": 0.005}
+_handover_lock = threading.Lock()
+
+
+@contextmanager
+def quick_handover() -> Iterator[None]:
+    """While any background task runs, the GIL changes hands every 0.2 ms instead of every 5 ms.
+
+    PyQt takes the GIL for every event it hands to Python (slots, models, reimplemented handlers). With a
+    worker thread running Python code, each of those waits until the worker is asked to let go: up to the
+    switch interval, 5 ms by default, and a repaint needs dozens of them. That was the analysis panel's
+    GUI-thread stalls (300 ms with the machine idle; 41 ms at 0.2 ms, `bench_gui.py --pictures`, and
+    py-spy showed the GUI thread waiting for the GIL inside Qt's event dispatch). The interval is set
+    back when the last task ends. Process-wide, as the interval is; work is not slowed (the worker only
+    hands over when the GUI thread asks)."""
+    with _handover_lock:
+        if _handover["running"] == 0:
+            _handover["saved"] = sys.getswitchinterval()
+            sys.setswitchinterval(min(HANDOVER_INTERVAL_S, _handover["saved"]))
+        _handover["running"] += 1
+    try:
+        yield
+    finally:
+        with _handover_lock:
+            _handover["running"] -= 1
+            if _handover["running"] == 0:
+                sys.setswitchinterval(_handover["saved"])
+
+
 _collector = {"paused_by": 0, "was_enabled": True}
 _collector_lock = threading.Lock()
 
@@ -194,6 +227,11 @@ def collector_paused(work: Callable[[Callable[[str], None]], Any]) -> Callable[[
     return run
 
 
+class Cancelled(Exception):
+    """Raised in a task's work by its ``progress`` callback once the task was cancelled: long work stops at
+    its next progress report instead of running to the end for nothing."""
+
+
 class Task(QObject):
     """Run ``work(progress)`` on a Python thread; its signals arrive on the GUI thread.
 
@@ -201,15 +239,20 @@ class Task(QObject):
     error text. Both are emitted on the GUI thread by one queued delivery that first marks the task
     settled, so a panel's slots run in the same event as ``running`` turning False (nobody sees an idle
     panel without its result). Keep a reference to the task until it has finished.
+
+    After ``abandon`` the work's next ``progress`` call raises ``Cancelled``; a result that arrives anyway
+    is handed to ``discard`` (on the GUI thread), so what the work opened can be closed.
     """
 
     progress = Signal(str)
     finished = Signal(object)
     failed = Signal(str)
 
-    def __init__(self, work: Callable[[Callable[[str], None]], Any], parent: QObject | None = None):
+    def __init__(self, work: Callable[[Callable[[str], None]], Any], parent: QObject | None = None,
+                 discard: Callable[[Any], None] | None = None):
         super().__init__(parent)
         self._work = work
+        self._discard = discard
         self.thread: threading.Thread | None = None
         self._pending = False
         self._abandoned = False
@@ -230,6 +273,8 @@ class Task(QObject):
         self._pending = False
         if not self._abandoned:
             self.finished.emit(result)
+        elif self._discard is not None:
+            self._discard(result)
 
     @Slot(str)
     def _deliver_error(self, text: str) -> None:
@@ -239,15 +284,18 @@ class Task(QObject):
 
     def _run(self) -> None:
         try:
-            result = self._work(self._progress)
+            with quick_handover():
+                result = self._work(self._progress)
         except Exception as err:  # noqa: BLE001 - every failure is shown in the panel, none kills it
-            if not isinstance(err, UserError | OSError | GraphvizError):
+            if not isinstance(err, UserError | OSError | GraphvizError | Cancelled):
                 traceback.print_exc()
             self._relay.deliver.emit(self, "_deliver_error", error_text(err))
             return
         self._relay.deliver.emit(self, "_deliver_done", result)
 
     def _progress(self, text: str) -> None:
+        if self._abandoned:
+            raise Cancelled(text)
         self._relay.deliver.emit(self, "_deliver_progress", text)
 
     @Slot(str)

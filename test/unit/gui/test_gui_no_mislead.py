@@ -359,6 +359,68 @@ def test_item11_an_unrealizable_spec_is_one_line_in_the_view_not_a_traceback(qtb
     assert "Traceback" not in capfd.readouterr().err
 
 
+def test_cancel_stops_attaching_and_lets_the_topic_go(qtbot, capfd):
+    """Cancel while the view attaches: the synthesis stops at its next step (it is not run to the end for
+    nothing), the link is closed, nothing is shown, no traceback."""
+    from ltl_stack.gui.controller_view import ControllerView
+
+    asked, go, closed = threading.Event(), threading.Event(), []
+
+    class SlowLink(RecordingLink):
+        def params(self):
+            asked.set()
+            go.wait(60)  # the master answers slowly
+            return {}
+
+        def close(self):
+            closed.append(threading.current_thread().name)
+    view = ControllerView(link_factory=SlowLink)
+    qtbot.addWidget(view)
+    view.spec_line_edit.setText(str(SIMPLE_SPEC))
+    view.topic_combo_box.setEditText("/simple/controller_executor/state")
+    assert view.attach() and not view.cancel_push_button.isHidden()
+    assert asked.wait(60)
+    assert view.cancel() and view.cancel_push_button.isHidden() and view.attach_push_button.isEnabled()
+    assert "Cancelled" in view.status_label.text()
+    go.set()
+    view.task.thread.join(60)
+    assert not view.task.thread.is_alive()
+    qtbot.wait(100)
+    assert closed and view.model is None and view.link is None and "Cancelled" in view.status_label.text()
+    assert "Traceback" not in capfd.readouterr().err
+
+
+def test_a_cancelled_task_stops_at_its_next_progress_and_hands_a_late_result_to_discard(qtbot):
+    from ltl_stack.gui.widgets import Cancelled, Task
+
+    go, reports, ended = threading.Event(), [], []
+
+    def endless(progress):
+        try:
+            while True:
+                progress("step")
+                reports.append(1)
+                go.wait(0.01)
+        except Cancelled:
+            ended.append("cancelled")
+            raise
+    task = Task(endless)
+    task.start()
+    qtbot.waitUntil(lambda: len(reports) > 3, timeout=WAIT)
+    task.abandon()
+    task.thread.join(60)
+    assert ended == ["cancelled"] and not task.thread.is_alive()
+
+    discarded, finished = [], []
+    late = Task(lambda _progress: "a link to close", discard=discarded.append)
+    late.finished.connect(finished.append)
+    late.start()
+    late.thread.join(60)  # done, its delivery still queued for the GUI thread
+    late.abandon()
+    qtbot.waitUntil(lambda: discarded == ["a link to close"], timeout=WAIT)
+    assert finished == []
+
+
 def attached_view(qtbot, spec):
     from ltl_stack.gui.controller_view import ControllerView
 
@@ -623,6 +685,43 @@ def test_the_analysis_runs_with_the_garbage_collector_paused(qtbot):
     assert gc.isenabled()
     analyzed(qtbot, panel)
     assert seen == [False] and gc.isenabled()
+
+
+def test_the_gil_changes_hands_quickly_while_any_task_runs(qtbot):
+    """Every event PyQt hands to Python waits for the GIL; with the default 5 ms switch interval a worker
+    running Python stalled the GUI thread 300 ms per analysis (bench_gui --pictures). While tasks run the
+    interval is 0.2 ms; it is set back when the last one ends, also when a task fails."""
+    import sys
+
+    from ltl_stack.gui import widgets
+    from ltl_stack.gui.widgets import HANDOVER_INTERVAL_S, Task
+
+    qtbot.waitUntil(lambda: widgets._handover["running"] == 0, timeout=WAIT)  # earlier tests' tasks ended
+    before = sys.getswitchinterval()
+    assert before > HANDOVER_INTERVAL_S
+    go = [threading.Event(), threading.Event()]
+    seen: list[float] = []
+
+    def work(k):
+        def run(_progress):
+            seen.append(sys.getswitchinterval())
+            go[k].wait(60)
+            if k == 1:
+                raise OSError("the second task fails")
+            return k
+        return run
+    tasks = [Task(work(0)), Task(work(1))]
+    for task in tasks:
+        task.start()
+    qtbot.waitUntil(lambda: len(seen) == 2, timeout=WAIT)
+    assert seen == [pytest.approx(HANDOVER_INTERVAL_S)] * 2  # the interpreter keeps microseconds
+    go[0].set()
+    tasks[0].thread.join(60)
+    assert sys.getswitchinterval() == pytest.approx(HANDOVER_INTERVAL_S)  # the second task still runs
+    go[1].set()
+    tasks[1].thread.join(60)
+    assert sys.getswitchinterval() == before
+
 
 def test_cancel_drops_a_running_analysis(qtbot, tmp_path):
     release = threading.Event()
