@@ -239,6 +239,8 @@ def test_controller_view_follows_ds_adoption_on_kitchen(qtbot, tmp_path, monkeyp
         qtbot.waitUntil(lambda: view.model.generation >= 1 and view.model.spec_path == str(adopted),
                         timeout=120_000)
         assert view.shown.generation >= 1 and view.shown.spec_file == str(adopted)
+        assert view.shown.negotiations >= 1 and view.shown.negotiated >= 1  # D negotiated with A and adopted
+        assert f"negotiations {view.shown.negotiations}" in view.resilience_label.text()
         assert view.strategy_label.text().startswith(f"strategy {view.model.generation}: {adopted} (")
         delivered = "kitchen_world: D delivered the ingredients to storage"
 

@@ -49,6 +49,8 @@ class StateUpdate:
     recovery_steps: int = 0
     unsafe_steps: int = 0
     resyntheses: int = 0
+    negotiations: int = 0  # negotiations held with a collaborative robot (thesis §4.8)
+    negotiated: int = 0  # new strategies adopted from one (also in resyntheses)
     violated_clauses: tuple[str, ...] = ()
     spec_file: str = ""  # the spec of the running strategy (original, characterized or adopted)
     generation: int = 0  # 0: the start-up strategy; +1 per strategy put in place
@@ -242,7 +244,8 @@ def resilience_text(update: StateUpdate | None) -> str:
     if update is None:
         return ""
     return (f"violations {update.violations}, recovery steps {update.recovery_steps}, unsafe steps "
-            f"{update.unsafe_steps}, new strategies {update.resyntheses}")
+            f"{update.unsafe_steps}, new strategies {update.resyntheses} ({update.negotiated} negotiated), "
+            f"negotiations {update.negotiations}")
 
 
 def mode_text(update: StateUpdate | None, violation: str) -> str:

@@ -119,6 +119,8 @@ def update_of(msg: Any) -> StateUpdate:
                        recovery_steps=int(getattr(msg, "recovery_steps", 0)),
                        unsafe_steps=int(getattr(msg, "unsafe_steps", 0)),
                        resyntheses=int(getattr(msg, "resyntheses", 0)),
+                       negotiations=int(getattr(msg, "negotiations", 0)),
+                       negotiated=int(getattr(msg, "resyntheses_negotiated", 0)),
                        violated_clauses=tuple(getattr(msg, "violated_clauses", ())),
                        spec_file=str(getattr(msg, "spec_file", "")),
                        generation=int(getattr(msg, "strategy_generation", 0)))

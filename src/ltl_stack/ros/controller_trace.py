@@ -21,7 +21,7 @@ from std_msgs.msg import String
 from ltl_stack import cli
 from ltl_stack.errors import Exit, UserError
 from ltl_stack.msg import ControllerState
-from ltl_stack.ros.master import master_uri, ros_name, wait_for_master
+from ltl_stack.ros.master import init_node, master_uri, ros_name, wait_for_master
 from ltl_stack.ros.valuation import msg_to_valuation
 from ltl_stack.runtime.negotiation import report_lines
 from ltl_stack.runtime.trace import GoalCycles, TraceStep, describe
@@ -167,7 +167,7 @@ def _trace(args) -> int:
     if args.bag:
         return replay_bag(args, goals)
     wait_for_master(master_uri(args.master_uri), MASTER_WAIT)
-    rospy.init_node("controller_trace", anonymous=True)
+    init_node("controller_trace", anonymous=True)
     trace = ControllerTrace(args.topic, goals, args.json)
     if args.cycles:
         reached = trace.wait_cycles(args.cycles, args.timeout or float("inf"))

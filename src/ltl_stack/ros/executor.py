@@ -45,6 +45,7 @@ from std_srvs.srv import SetBool, SetBoolResponse, Trigger, TriggerResponse
 from ltl_stack import cli
 from ltl_stack.errors import Exit, UserError
 from ltl_stack.msg import ControllerState, PropositionValuation
+from ltl_stack.ros.master import init_node
 from ltl_stack.ros.master_watch import MasterWatch
 from ltl_stack.ros.negotiation import NegotiationEndpoint, prepare_negotiation
 from ltl_stack.ros.valuation import valuation_to_msg
@@ -516,6 +517,7 @@ class ExecutorNode:
         msg.resyntheses, msg.resyntheses_ec1, msg.resyntheses_ec2, msg.resyntheses_user = (
             counters.resyntheses, counters.ec1, counters.ec2, counters.user)
         msg.unrealizable = counters.unrealizable
+        msg.negotiations, msg.resyntheses_negotiated = counters.negotiations, counters.negotiated
         msg.violated_clauses = self._violated_clauses()
         msg.spec_file, msg.strategy_generation = strategy_source(self.prepared.spec_path, self.resilient)
         self.state_pub.publish(msg)
@@ -614,7 +616,7 @@ def _run(args: argparse.Namespace, negotiate: Negotiate | None = None,
     for warning in warnings_:
         cli.warn(PROG, warning)
     node_argv, refused = split_param_args(sys.argv)
-    rospy.init_node(NODE_NAME, argv=node_argv)
+    init_node(NODE_NAME, argv=node_argv)
     try:
         if refused:
             raise ExecutorError(refused)

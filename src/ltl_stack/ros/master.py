@@ -14,6 +14,7 @@ import os
 import socket
 import time
 import xmlrpc.client
+from typing import Any
 from urllib.parse import urlsplit
 from xml.parsers.expat import ExpatError
 
@@ -90,6 +91,25 @@ def wait_for_master(uri: str, timeout: float) -> None:
         if time.monotonic() >= end:
             raise UserError(f"no ROS master at {uri} (waited {timeout:g} s)", Exit.NO_ROS)
         time.sleep(0.1)
+
+
+def init_node(name: str, **kwargs: Any) -> None:
+    """``rospy.init_node``, which waits for the master as long as it takes. Stopped meanwhile (Ctrl-C,
+    SIGTERM from roslaunch or a test), rospy raises ``ROSInitException`` with a traceback; here it is one
+    ``UserError`` line naming the master, exit ``Exit.INTERRUPTED``. With ``_param:=`` arguments and no
+    master rospy failed at once with ``ConnectionRefusedError``'s traceback; any failure to start is now
+    one line, ``Exit.NO_ROS``."""
+    import rospy
+
+    try:
+        rospy.init_node(name, **kwargs)
+    except OSError as err:  # rospy sets the _param:= arguments on the master first: refused
+        raise UserError(f"no ROS master at {rosgraph.get_master_uri()} ({err.strerror or err})", Exit.NO_ROS) from None
+    except rospy.exceptions.ROSInitException as err:
+        uri = rosgraph.get_master_uri()
+        if rospy.core.is_shutdown():
+            raise UserError(f"stopped while waiting for the ROS master at {uri}", Exit.INTERRUPTED) from None
+        raise UserError(f"cannot start the node with the ROS master at {uri}: {err}", Exit.NO_ROS) from None
 
 
 def ros_name(text: str) -> str:

@@ -28,7 +28,8 @@ import rostopic
 from std_msgs.msg import Bool
 
 from ltl_stack import cli
-from ltl_stack.errors import Exit
+from ltl_stack.errors import Exit, UserError
+from ltl_stack.ros.master import init_node
 from ltl_stack.ros.master_watch import MasterWatch
 from ltl_stack.runtime.edges import FALLING, RISING, EdgeDetector, StaleWatch
 from ltl_stack.runtime.node_params import (
@@ -342,7 +343,11 @@ def run_node(spec: NodeSpec, build: Callable[[dict[str, Any]], Any],
     args = rospy.myargv(argv=list(sys.argv if argv is None else argv))
     parse_node_cli(spec.name, spec.kind, spec.description, spec.params, args[1:])
     node_argv, refused = split_param_args(list(sys.argv if argv is None else argv))
-    rospy.init_node(spec.name, argv=node_argv, anonymous=False)
+    try:
+        init_node(spec.name, argv=node_argv, anonymous=False)
+    except UserError as error:
+        cli.error(spec.name, str(error))
+        sys.exit(int(error.code))
     try:
         if refused:
             raise NodeConfigError(f"{rospy.get_name()}: {refused}")

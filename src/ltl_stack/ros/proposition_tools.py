@@ -16,7 +16,7 @@ import rospy
 from ltl_stack import cli
 from ltl_stack.errors import Exit, UserError
 from ltl_stack.msg import PropositionValuation
-from ltl_stack.ros.master import master_uri, ros_name, wait_for_master
+from ltl_stack.ros.master import init_node, master_uri, ros_name, wait_for_master
 from ltl_stack.ros.valuation import msg_to_valuation, valuation_to_msg
 from ltl_stack.spec.valuation import format_valuation, parse_valuation
 
@@ -60,7 +60,7 @@ def _set_propositions(args) -> int:
     except ValueError as err:
         raise UserError(str(err)) from None
     wait_for_master(master_uri(args.master_uri), args.timeout)
-    rospy.init_node("set_propositions", anonymous=True, disable_signals=False)
+    init_node("set_propositions", anonymous=True, disable_signals=False)
     pub = rospy.Publisher(args.topic, PropositionValuation, queue_size=1, latch=True)
     deadline = rospy.Time.now() + rospy.Duration(args.timeout)
     while pub.get_num_connections() < args.wait_subscribers and not rospy.is_shutdown():
@@ -107,7 +107,7 @@ def proposition_monitor_main(argv: list[str] | None = None) -> int:
 
 def _proposition_monitor(args) -> int:
     wait_for_master(master_uri(args.master_uri), args.timeout)
-    rospy.init_node("proposition_monitor", anonymous=True)
+    init_node("proposition_monitor", anonymous=True)
     received = 0
 
     def on_valuation(msg: PropositionValuation) -> None:

@@ -20,7 +20,7 @@ from std_srvs.srv import Trigger
 
 from ltl_stack import cli
 from ltl_stack.errors import Exit, UserError
-from ltl_stack.ros.master import master_uri, ros_name, wait_for_master
+from ltl_stack.ros.master import init_node, master_uri, ros_name, wait_for_master
 from ltl_stack.ros.proposition_tools import add_master_options
 from ltl_stack.srv import AddEnvLiveness
 
@@ -55,7 +55,7 @@ def _call(args) -> int:
     if args.formula is not None and not args.formula.strip():
         raise UserError("the formula is empty; write one like: doorOpen | doorBroken")
     wait_for_master(master_uri(args.master_uri), args.timeout)
-    rospy.init_node(PROG, anonymous=True, disable_signals=True)
+    init_node(PROG, anonymous=True, disable_signals=True)
     node = rospy.resolve_name(args.node)
     service = node + ("/abort" if args.abort else "/add_env_liveness")
     try:

@@ -20,7 +20,7 @@ from ltl_stack import cli
 from ltl_stack.errors import Exit, UserError
 from ltl_stack.msg import PropositionAction, PropositionFeedback, PropositionGoal, PropositionResult
 from ltl_stack.ros.action_client import SimpleActionClient
-from ltl_stack.ros.master import master_uri, ros_name, wait_for_master
+from ltl_stack.ros.master import init_node, master_uri, ros_name, wait_for_master
 from ltl_stack.ros.proposition_node import NodeSpec, Param, run_node
 from ltl_stack.runtime.node_params import Bound
 
@@ -114,7 +114,7 @@ def client_main(argv: list[str] | None = None) -> int:
 
 def _send_goal(args) -> int:
     wait_for_master(master_uri(args.master_uri), args.timeout)
-    rospy.init_node("send_proposition_goal", anonymous=True)
+    init_node("send_proposition_goal", anonymous=True)
 
     printing = threading.Lock()  # feedback arrives on actionlib's thread, the result on ours
 

@@ -362,6 +362,8 @@ class Counters:
     ec2: int = 0                    # ... from the EC2 variant
     user: int = 0                   # ... after user liveness
     unrealizable: int = 0           # characterizations where EC1 and EC2 both failed
+    negotiations: int = 0           # negotiations held with a collaborative robot (§4.8)
+    negotiated: int = 0             # new strategies adopted from a negotiation (also in resyntheses)
     unsafe: int = 0                 # steps where no move kept sys safety
 
 
@@ -513,6 +515,7 @@ class ResilientStrategy:
             write_atomic(path, write_slugsin(spec, comments=True) if path.suffix == ".slugsin" else text)
         observation = Observation(self.steps, self.wall_clock(), dict(inputs), dict(outputs), dict(inputs))
         self.counters.resyntheses += 1
+        self.counters.negotiated += 1
         self.threshold.reset()
         state = self._install(Attempt(True, "negotiation", spec, text, strategy, 0.0), observation)
         self._event("adopted the specification negotiated with a collaborative robot (Alg. 4)")
@@ -550,6 +553,7 @@ class ResilientStrategy:
                 text = self.characterizer.text(None, observation)
                 attempt = Attempt(True, "negotiation", spec, text, result.strategy, 0.0)
                 self.counters.resyntheses += 1
+                self.counters.negotiated += 1
                 self._event("negotiation gave a realizable specification")
                 return self._install(attempt, observation)
             if spec is not None:

@@ -69,7 +69,7 @@ EXECUTOR_PARAMS = [
     Param("strategy", "", "run this saved strategy JSON instead of synthesizing"),
     Param("init_props", "", "initial values a=1,b=0 (string) or {a: true, b: false} (dict)", kind=(str, dict)),
     Param("rate", 0.0, "also step at this rate (Hz; 0: only on input changes)", bound=Bound.RATE_OR_ZERO),
-    Param("ready_timeout", 10.0, "report silent inputs every S seconds (0: never)", bound=Bound.NON_NEGATIVE),
+    Param("ready_timeout", 10.0, "report silent inputs every S seconds (0: never)", bound=Bound.PERIOD_OR_ZERO),
     Param("on_violation", ViolationPolicy.HOLD.value, "outputs after an assumption violation",
           choices=VIOLATION_POLICIES),
     Param("recovery", True, "after an environment-assumption violation take a recovery step (thesis §4.6) "
@@ -85,7 +85,7 @@ EXECUTOR_PARAMS = [
           "resynthesis; .slugsin: slugsin, else the structured format (English sentences for a .spec spec)"),
     Param("start_paused", False, "start paused"),
     Param("publisher_check_period", 2.0, "how often to look for extra publishers on input topics (s; 0: never)",
-          bound=Bound.NON_NEGATIVE),
+          bound=Bound.PERIOD_OR_ZERO),
     Param("violation_grace", 0.2, "report a violation only if it lasts this long (s)", bound=Bound.NON_NEGATIVE),
     Param("settle_steps", 16, "steps with unchanged inputs after a step, at most", bound=Bound.NON_NEGATIVE),
     Param("input_window", 0.0, "after an input change, wait this long (s) for more before stepping once "

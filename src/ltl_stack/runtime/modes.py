@@ -357,7 +357,8 @@ def step_report(update: Update) -> tuple[str, dict[str, Any]]:
 def counters_event(kind: str, counters: Counters, **fields: Any) -> dict[str, Any]:
     """A ``--json`` event (``mode``, ``resilience``) with the resynthesis counters."""
     return {"event": kind, **fields, "resyntheses": counters.resyntheses, "ec1": counters.ec1,
-            "ec2": counters.ec2, "user": counters.user}
+            "ec2": counters.ec2, "user": counters.user, "negotiated": counters.negotiated,
+            "negotiations": counters.negotiations}
 
 
 class NodeReports:
@@ -488,7 +489,8 @@ class NodeReports:
                   ("recovery_steps", str(counters.recovery_steps)), ("unsafe_steps", str(counters.unsafe)),
                   ("resyntheses", str(counters.resyntheses)), ("resyntheses_ec1", str(counters.ec1)),
                   ("resyntheses_ec2", str(counters.ec2)), ("resyntheses_user", str(counters.user)),
-                  ("unrealizable", str(counters.unrealizable))]
+                  ("unrealizable", str(counters.unrealizable)), ("negotiations", str(counters.negotiations)),
+                  ("resyntheses_negotiated", str(counters.negotiated))]
         violated = self.violated_clauses()
         values += [("violated_clause", c) for c in violated]
         text = mode_text(mode, self.policy, self.recovery, self.controller.aborted)
@@ -508,7 +510,8 @@ class NodeReports:
                                f"{resilient.characterizer.path}: written after each new strategy",
                                [("path", str(resilient.characterizer.path))])
         text += (f"; resyntheses {counters.resyntheses} (EC1 {counters.ec1}, EC2 {counters.ec2}, "
-                 f"user {counters.user})" if resilient is not None else "")
+                 f"user {counters.user}, negotiated {counters.negotiated}); negotiations {counters.negotiations}"
+                 if resilient is not None else "")
         changed = mode != self.mode
         self.mode = mode
         return ModeReport(mode, Status(MODE_LEVELS[mode], "mode", text, values), spec_file, changed,

@@ -769,6 +769,15 @@ def drive(initiator: Negotiation, call: Callable[[Message], Message]) -> None:
             pass
 
 
+def count_negotiation(strategy: Any) -> None:
+    """One more negotiation held by ``strategy``'s robot, whatever its outcome (``Counters.negotiations``,
+    published on ``~state``)."""
+    counters = getattr(strategy, "counters", None)
+    if counters is not None:
+        with getattr(strategy, "lock", None) or contextlib.nullcontext():
+            counters.negotiations += 1
+
+
 def violated_clauses(spec: Spec, current: Mapping[str, bool], incoming: Mapping[str, bool]) -> list[Clause]:
     """The env-safety clauses of ``spec`` broken by the transition (``current`` position -> ``incoming``)."""
     now = {n: bool(v) for n, v in current.items()}
@@ -945,11 +954,12 @@ class Negotiator:
         if peer is None:
             return None
         n = self.initiate(star, peer, observation.incoming, observation.current_outputs)
-        if peer in self.yielded:  # we answer the peer's negotiation instead (serve installs its outcome)
+        if peer in self.yielded:  # we answer the peer's negotiation instead (serve installs and counts it)
             self.wait_answered(peer, self.answer_wait)
             with self.lock:
                 self.yielded.discard(peer)
             return None
+        count_negotiation(strategy)
         if n.outcome in (Outcome.BOTH_ABORT, Outcome.ABORT_LINE_20):
             raise NegotiationAbort(f"negotiation with {peer}: {n.outcome.value}")
         adopted = n.adopted
@@ -986,6 +996,7 @@ class Negotiator:
             reply, n = self.respond(message, star, inputs, outputs)
         if n is not None and n.done:
             written = self.commit(n)
+            count_negotiation(strategy)
             with controller.lock:
                 if n.adopted is not None:  # from the position the negotiation started at (its init)
                     state = strategy.adopt(n.adopted.spec, n.adopted.text, n.adopted.strategy, n.incoming, n.outputs,

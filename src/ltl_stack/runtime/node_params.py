@@ -37,6 +37,8 @@ class Bound(Enum):
     #: a rate or frequency (Hz): ``POSITIVE`` (``RATE_OR_ZERO``: ``NON_NEGATIVE``) and at most ``MAX_RATE``
     RATE = f"> 0 and <= {MAX_RATE:g} (Hz)"
     RATE_OR_ZERO = f">= 0 and <= {MAX_RATE:g} (Hz; 0: off)"
+    #: the period of something repeated (s): 0 (off) or at least ``1 / MAX_RATE`` (a shorter one spins a core)
+    PERIOD_OR_ZERO = f"0 (off) or >= {1 / MAX_RATE:g} (s)"
 
 
 @dataclass(frozen=True)
@@ -180,7 +182,7 @@ def _convert(param: Param, want: type | None, value: Any, node: str) -> Any:
     raise _fail(param, node, f"must be a {want.__name__}, got {value!r}")
 
 
-_LOWER = {Bound.RATE: Bound.POSITIVE, Bound.RATE_OR_ZERO: Bound.NON_NEGATIVE}
+_LOWER = {Bound.RATE: Bound.POSITIVE, Bound.RATE_OR_ZERO: Bound.NON_NEGATIVE, Bound.PERIOD_OR_ZERO: Bound.NON_NEGATIVE}
 
 
 def _check_value(param: Param, value: Any, node: str) -> None:
@@ -195,7 +197,10 @@ def _check_value(param: Param, value: Any, node: str) -> None:
             raise _fail(param, node, f"must be a number > 0, got {value!r}")
         if not math.isfinite(value):
             raise _fail(param, node, f"must be a finite number, got {value!r}")
-        if lower is not param.bound and value > MAX_RATE:
+        if param.bound is Bound.PERIOD_OR_ZERO and 0 < value < 1 / MAX_RATE:
+            raise _fail(param, node, f"must be 0 (off) or at least {1 / MAX_RATE:g} s (a shorter period only spins "
+                                     f"a core), got {shown(value)}")
+        if param.bound in (Bound.RATE, Bound.RATE_OR_ZERO) and value > MAX_RATE:
             raise _fail(param, node, f"must be at most {MAX_RATE:g} (Hz; a faster loop only spins a core), "
                                      f"got {shown(value)}")
     if param.choices and value not in param.choices:

@@ -277,6 +277,8 @@ class BackgroundResilience(ResilientStrategy):
             self.counters.ec1 += 1
         elif attempt.variant == EC2:
             self.counters.ec2 += 1
+        elif attempt.variant == "negotiation":
+            self.counters.negotiated += 1
         self.threshold.reset()
         strategy = self._switch_to(attempt)
         current = self._state

@@ -87,3 +87,24 @@ def test_rates_take_exactly_0_and_1e_9_to_1000_hz_as_option_and_param(x):
         else:
             with pytest.raises((argparse.ArgumentTypeError, NodeConfigError)):
                 parse(repr(x))
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.one_of(st.floats(allow_nan=True, allow_infinity=True), st.floats(min_value=0, max_value=0.01),
+                 st.sampled_from([0.0, 1e-9, 0.000999, 0.001, 2.0])))
+def test_periods_take_exactly_0_and_a_thousandth_of_a_second_or_more(x):
+    """A period of something repeated (``Bound.PERIOD_OR_ZERO``: ``~publisher_check_period``,
+    ``~ready_timeout``) is 0 (off) or at least 1 / ``MAX_RATE`` s: 1e-9 s accepted before spun a core."""
+    param = Param("publisher_check_period", 2.0, bound=Bound.PERIOD_OR_ZERO)
+    if x == 0 or (math.isfinite(x) and 1 / cli.MAX_RATE <= x < 1e18):
+        assert coerce_param(param, repr(x), "n") == x
+    else:
+        with pytest.raises(NodeConfigError, match="publisher_check_period"):
+            coerce_param(param, repr(x), "n")
+
+
+def test_every_repeating_period_of_the_executor_has_the_period_bound():
+    from ltl_stack.runtime.executor_setup import EXECUTOR_PARAMS
+
+    periods = {p.name: p.bound for p in EXECUTOR_PARAMS if p.name.endswith("period") or "every S seconds" in p.doc}
+    assert periods == {"publisher_check_period": Bound.PERIOD_OR_ZERO, "ready_timeout": Bound.PERIOD_OR_ZERO}

@@ -65,6 +65,11 @@ def test_example_13_narrative(tmp_path):
     assert summary["cooked"] > summary["passed"]
     assert summary["back_in_company"] > summary["delivered"]
     assert summary["violation_raised"] == [] and set(summary["modes"].values()) == {"normal"}
+    # what ~state counts (the controller view shows it): A answered two negotiations and adopted twice,
+    # D and C started one each and adopted its outcome
+    counters = {r: world.strategies[r].counters for r in ("A", "C", "D")}
+    assert {r: (c.negotiations, c.negotiated) for r, c in counters.items()} == {"A": (2, 2), "C": (1, 1), "D": (1, 1)}
+    assert all(c.resyntheses >= c.negotiated for c in counters.values())
     # A's adopted spec holds both negotiated guarantees, was written atomically and loads
     a_text = (tmp_path / "kitchen_assistant.negotiated.structuredslugs").read_text()
     assert a_text.count("Alg. 4 line 5: assumption of C") == 2 and "(road_c_D' | storage_c_D') -> openDoor'" in a_text

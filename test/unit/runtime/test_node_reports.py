@@ -73,7 +73,7 @@ def test_characterizing_then_aborted_mode_and_the_spec_file_status(tmp_path):
     mode = reports.mode_report()
     assert mode.mode == "characterizing" and mode.status.level == WARN
     assert mode.status.message.startswith("characterizing: resynthesizing (holding meanwhile, kept safe)")
-    assert mode.status.message.endswith("; resyntheses 0 (EC1 0, EC2 0, user 0)")
+    assert mode.status.message.endswith("; resyntheses 0 (EC1 0, EC2 0, user 0, negotiated 0); negotiations 0")
     assert mode.spec_file.level == OK and mode.spec_file.message == f"{path}: written after each new strategy"
     reports.resilient.write_error = f"{path}: cannot write"
     assert reports.mode_report().spec_file.level == ERROR
@@ -81,7 +81,8 @@ def test_characterizing_then_aborted_mode_and_the_spec_file_status(tmp_path):
     aborted = reports.mode_report()
     assert aborted.status.level == ERROR and aborted.changed
     assert aborted.status.message.startswith("aborted (aborted by the user (~abort)): every output is false")
-    assert aborted.event == {"event": "mode", "mode": "aborted", "resyntheses": 0, "ec1": 0, "ec2": 0, "user": 0}
+    assert aborted.event == {"event": "mode", "mode": "aborted", "resyntheses": 0, "ec1": 0, "ec2": 0, "user": 0,
+                            "negotiated": 0, "negotiations": 0}
 
 
 def test_health_before_the_inputs_paused_and_running():

@@ -367,9 +367,11 @@ def test_negotiation_hook_runs_in_the_job_and_its_spec_is_installed_or_the_run_a
     assert calls[0][1] == {"door": False}
     if agree:
         assert rs.mode is Mode.NORMAL and installed and rs.counters.resyntheses >= 1
+        assert rs.counters.negotiated == 1 and rs.counters.ec1 + rs.counters.ec2 + rs.counters.negotiated \
+            == rs.counters.resyntheses
         assert rs.counters.unrealizable >= 1 and [e for e in rs.events if "negotiation" in e.message]
     elif agree is False:
-        assert rs.mode is Mode.ABORTED and not installed
+        assert rs.mode is Mode.ABORTED and not installed and rs.counters.negotiated == 0
     else:
         assert rs.mode is Mode.WAITING_FOR_USER and rs.explanation is not None and not installed
         assert rs.counters.unrealizable == 1 and [e for e in rs.events if "S.1" in e.message]
