@@ -12,7 +12,7 @@ explains an unrealizable result. Loading, the checks, the problem list and apply
 """
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 
 from ltl_stack.analysis import report
@@ -162,6 +162,86 @@ class AnalysisResult:
                 f"findings: {found}{feedback}; {len(self.suggestions)} suggestion(s)")
 
 
+    def parts(self, chunk: int = 500) -> Iterator[tuple]:
+        """The result as ``AnalysisView.assemble`` takes it, in parts of at most ``chunk`` rows or findings:
+        the analysis process sends them one by one, so that reading any one of them is short (reading a
+        whole result holds the GIL 280 ms on the 10,000-node graph, and the panel's GUI thread waits)."""
+        self.prepare()
+        yield ("meta", {"spec": self.spec, "suggestions": self.suggestions, "problems": self.problems,
+                        "spec_path": self.spec_path, "mapping_path": self.mapping_path,
+                        "snapshot_path": self.snapshot_path, "counts": self.counts(), "texts": dict(self._texts)})
+        for key, table in self.tables().items():
+            yield ("table", key, table.header)
+            for start in range(0, len(table.rows), chunk):
+                yield ("rows", key, table.rows[start:start + chunk], table.finding[start:start + chunk])
+        counts = self.counts()
+        for key in (k for k in TAB_KEYS if k != "C2"):
+            for start in range(0, counts[key], chunk):
+                yield ("witnesses", key, [self.witnesses(key, i) for i in range(start, min(counts[key], start + chunk))])
+
+    def view(self) -> AnalysisView:
+        """The same as ``AnalysisView.assemble(self.parts())``, in this process."""
+        return AnalysisView.assemble(self.parts())
+
+
+@dataclass
+class AnalysisView:
+    """What the analysis panel shows of an ``AnalysisResult`` (tables, counts, problems, suggestions, each
+    finding's chains) and what Apply needs (spec, suggestions, paths), without the graph: the analysis
+    runs in its own process (``analysis_process``) and sends this back in parts. ``snapshot`` is the live
+    graph when the panel took it."""
+
+    spec: Spec
+    suggestions: list[MutualExclusion]
+    problems: list[Problem]
+    spec_path: str = ""
+    mapping_path: str = ""
+    snapshot_path: str | None = None
+    snapshot: Snapshot | None = None
+    _counts: dict[str, int] = field(default_factory=dict)
+    _texts: dict[str, str] = field(default_factory=dict)
+    _tables: dict[str, Table] = field(default_factory=dict)
+    _witnesses: dict[str, list[tuple[list[Witness], set[str]]]] = field(default_factory=dict)
+
+    @classmethod
+    def assemble(cls, parts: Iterable[tuple]) -> AnalysisView:
+        view = None
+        for part in parts:
+            kind = part[0]
+            if kind == "meta":
+                meta = dict(part[1])
+                counts, texts = meta.pop("counts"), meta.pop("texts")
+                view = cls(**meta, _counts=counts, _texts=texts)
+            elif kind == "table":
+                view._tables[part[1]] = Table(part[1], list(part[2]))
+            elif kind == "rows":
+                view._tables[part[1]].rows.extend(part[2])
+                view._tables[part[1]].finding.extend(part[3])
+            elif kind == "witnesses":
+                view._witnesses.setdefault(part[1], []).extend(part[2])
+        if view is None:
+            raise ValueError("no analysis in the parts")
+        return view
+
+    def tables(self) -> dict[str, Table]:
+        return self._tables
+
+    def counts(self) -> dict[str, int]:
+        return self._counts
+
+    def summary(self) -> str:
+        return self._texts["summary"]
+
+    def suggestion_text(self, form: str) -> str:
+        if form not in self._texts:
+            self._texts[form] = suggestion_text(self.suggestions, form)
+        return self._texts[form]
+
+    def witnesses(self, key: str, index: int) -> tuple[list[Witness], set[str]]:
+        found = self._witnesses.get(key, [])
+        return found[index] if 0 <= index < len(found) else ([], set())
+
+
 def _add(table: Table, finding: int, row: list[str]) -> None:
     table.rows.append(row)
     table.finding.append(finding)
@@ -214,7 +294,7 @@ def suggestion_text(suggestions: Sequence[MutualExclusion], form: str) -> str:
     return "\n".join(out).rstrip() + "\n"
 
 
-def conflict_graph(result: AnalysisResult, key: str, index: int) -> DotGraph:
+def conflict_graph(result: AnalysisResult | AnalysisView, key: str, index: int) -> DotGraph:
     """The subgraph of the finding's witness chains (nodes round, topics and actions boxed, as
     rqt_graph draws them), the conflicting channels red, the proposition nodes blue."""
     chains, conflict = result.witnesses(key, index)
@@ -233,7 +313,7 @@ def conflict_graph(result: AnalysisResult, key: str, index: int) -> DotGraph:
     return g
 
 
-def apply_and_check(result: AnalysisResult, out: str, chosen: Sequence[int] | None = None,
+def apply_and_check(result: AnalysisResult | AnalysisView, out: str, chosen: Sequence[int] | None = None,
                     progress: Callable[[str], None] | None = None) -> dict:
     """Write the spec plus the chosen suggestions (1-based; default all) to ``out``, synthesize it
     (robotics init semantics) and, when unrealizable, explain it and try the input-exclusion hint of

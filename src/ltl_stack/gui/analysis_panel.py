@@ -43,13 +43,14 @@ from ltl_stack.gui.analysis_model import (
     FORMS,
     TAB_KEYS,
     TAB_TITLES,
-    AnalysisResult,
+    AnalysisView,
     Table,
     apply_and_check,
     conflict_graph,
     names,
     run_analysis,
 )
+from ltl_stack.gui.analysis_process import AnalysisProcess
 from ltl_stack.gui.widgets import (
     ComboBox,
     GraphView,
@@ -71,13 +72,13 @@ def take_live_snapshot(master_uri: str | None):
 
 
 class AnalysisPanel(QWidget):
-    """The panel; ``result`` is the last ``AnalysisResult``, ``applied`` the last apply-and-check dict."""
+    """The panel; ``result`` is the last ``AnalysisView``, ``applied`` the last apply-and-check dict."""
 
     def __init__(self, parent: QWidget | None = None, take_snapshot=take_live_snapshot):
         super().__init__(parent)
         self.setObjectName("AnalysisPanel")
         self.setWindowTitle("Conflict analysis")
-        self.result: AnalysisResult | None = None
+        self.result: AnalysisView | None = None
         self.tables: dict[str, Table] = {}
         self.applied: dict | None = None
         self.task: Task | None = None
@@ -88,6 +89,8 @@ class AnalysisPanel(QWidget):
         self.stale = False  # inputs changed since the result on screen was made
         self._auto_amended = ""  # the amended path the panel filled in (follows the spec until edited)
         self._take_snapshot = take_snapshot
+        #: the process the analyses run in (started at the first Analyze; None: on a worker thread here)
+        self.analysis_process: AnalysisProcess | None = AnalysisProcess()
         self._build()
         for edit in (self.spec_line_edit, self.mapping_line_edit, self.snapshot_line_edit, self.master_line_edit,
                      self.robots_line_edit, self.ignore_line_edit):
@@ -249,13 +252,18 @@ class AnalysisPanel(QWidget):
         uri = self.master_line_edit.text().strip() or None
         take = self._take_snapshot
 
+        process = self.analysis_process
+
         def work(progress):
             snapshot = None
             if live:
                 progress("taking a snapshot of the ROS master")
                 snapshot = take(uri)
-            return run_analysis(spec, mapping, snapshot=snapshot, snapshot_path=None if live else snapshot_path,
-                                robots=robots, ignore_topics=ignore, progress=progress)
+            request = {"spec": spec, "mapping": mapping, "snapshot": snapshot,
+                       "snapshot_path": None if live else snapshot_path, "robots": robots, "ignore_topics": ignore}
+            if process is not None:  # the analysis in its own process: it shares no GIL with the GUI thread
+                return process.analyze(request, progress)
+            return run_analysis(**request, progress=progress).view()
         self.clear_result()  # a failed run must not leave an older result on screen
         self._start(collector_paused(work), self.show_result, "Analyzing…")
         return True
@@ -292,7 +300,7 @@ class AnalysisPanel(QWidget):
     def _update_apply(self) -> None:
         self.apply_push_button.setEnabled(not self.busy and self.result is not None and not self.stale)
 
-    def show_result(self, result: AnalysisResult) -> None:
+    def show_result(self, result: AnalysisView) -> None:
         """Fill the problems, the tables, the suggestions and the picture of the first finding."""
         self.result, self.stale = result, False
         for widget in (self.findings_tab_widget, self.problems_list_widget, self.suggestions_text):
@@ -325,7 +333,7 @@ class AnalysisPanel(QWidget):
         warn = f" {len(result.problems)} problem(s) listed above the tables." if result.problems else ""
         self._status(result.summary() + "." + warn, error=bool(result.problems))
 
-    def _show_problems(self, result: AnalysisResult) -> None:
+    def _show_problems(self, result: AnalysisView) -> None:
         self.problems_list_widget.clear()
         for p in result.problems:
             item = QListWidgetItem(f"{p.severity}: {p.text}")
@@ -465,10 +473,13 @@ class AnalysisPanel(QWidget):
         self.task.start()
 
     def cancel(self) -> bool:
-        """Stop waiting for the running analysis or apply-and-check; its outcome is dropped."""
+        """Stop waiting for the running analysis or apply-and-check; its outcome is dropped (an analysis'
+        process is stopped)."""
         if not self.busy:
             return False
         self.task.abandon()
+        if self.analysis_process is not None:
+            self.analysis_process.kill()
         self._busy(False)
         self._status("Cancelled: nothing from that run is shown or applied.")
         return True
@@ -481,6 +492,15 @@ class AnalysisPanel(QWidget):
 
     def _status(self, text: str, error: bool = False) -> None:
         show_status(self.status_label, text, error)
+
+    def shutdown(self) -> None:
+        """Closed (rqt's shutdown_plugin, or the window): the analysis process ends."""
+        if self.analysis_process is not None:
+            self.analysis_process.close()
+
+    def closeEvent(self, event) -> None:  # noqa: N802 - Qt's name
+        self.shutdown()
+        super().closeEvent(event)
 
     def save_settings(self, settings: Any) -> None:
         save_controls(self, settings)

@@ -16,6 +16,7 @@ from ltl_stack.analysis.snapshot import Snapshot
 from ltl_stack.gui.analysis_model import (
     FEEDBACK_KEY,
     TAB_KEYS,
+    AnalysisView,
     apply_and_check,
     conflict_graph,
     names,
@@ -270,6 +271,33 @@ def test_expected_feedback_has_its_own_table_not_counted_as_findings(tmp_path):
     chains, ends = result.witnesses(FEEDBACK_KEY, 0)
     assert [w.text for w in chains] == [tables[FEEDBACK_KEY].rows[0][3]] and ends == {"/pickup_ac"}
     assert len(conflict_graph(result, FEEDBACK_KEY, 0).nodes) == 3
+
+
+@pytest.fixture(scope="module")
+def feedback_result():
+    spec = require_shared("specs", "move_group_and_move_base", "move_group_and_move_base.slugsin")
+    snapshot = analysis_scenarios.scenario_snapshot(ANALYSIS_DATA / "clean_and_patrol.yaml")
+    return run_analysis(str(spec), str(spec.with_suffix(".yaml")), snapshot=snapshot, robots=["a", "b"])
+
+
+@settings(max_examples=25, deadline=None)
+@given(chunk=st.integers(min_value=1, max_value=600))
+def test_the_analysis_sent_in_parts_is_the_analysis(feedback_result, chunk):
+    """What the analysis process sends in parts (``AnalysisResult.parts``), assembled again, shows the
+    same tables, counts, summary, suggestions, problems and chains as the result itself."""
+    result = feedback_result
+    view = AnalysisView.assemble(result.parts(chunk=chunk))
+    assert {k: (t.header, t.rows, t.finding) for k, t in view.tables().items()} == \
+        {k: (t.header, t.rows, t.finding) for k, t in result.tables().items()}
+    assert view.counts() == result.counts() and view.summary() == result.summary()
+    assert [view.suggestion_text(f) for f in ("english", "ltl", "slugsin")] == \
+        [result.suggestion_text(f) for f in ("english", "ltl", "slugsin")]
+    assert view.problems == result.problems and view.spec_path == result.spec_path
+    for key, count in result.counts().items():
+        for i in range(count if key != "C2" else 0):
+            assert view.witnesses(key, i) == result.witnesses(key, i)
+            assert conflict_graph(view, key, i).to_dot() == conflict_graph(result, key, i).to_dot()
+    assert all(len(part[2]) <= chunk for part in result.parts(chunk=chunk) if part[0] in ("rows", "witnesses"))
 
 
 def test_apply_and_check_appends_english_sentences_to_an_english_spec(tmp_path):

@@ -723,6 +723,38 @@ def test_the_gil_changes_hands_quickly_while_any_task_runs(qtbot):
     assert sys.getswitchinterval() == before
 
 
+def test_the_analysis_runs_in_a_process_of_its_own_and_ends_with_the_panel(qtbot, tmp_path, monkeypatch):
+    """A worker thread running the analysis shares the GIL with the GUI thread (61 ms stalls on a loaded
+    machine, bench_gui --pictures): the analysis runs in a child process, reused, ended with the panel."""
+    from ltl_stack.gui import analysis_panel as panel_module
+
+    monkeypatch.setattr(panel_module, "run_analysis", lambda *a, **k: pytest.fail("analysed in the GUI's process"))
+    snap = tmp_path / "graph.json"
+    simple_snapshot().save(snap)
+    panel = analyzed(qtbot, analysis_panel(qtbot, SIMPLE_SPEC, SIMPLE_MAPPING, snap))
+    assert panel.result.counts()["E2"] == 1 and panel.tables["E2"].rows
+    child = panel.analysis_process._proc
+    assert child is not None and child.pid != os.getpid() and child.poll() is None
+    analyzed(qtbot, panel)
+    assert panel.analysis_process._proc is child  # started once
+    panel.close()
+    assert child.wait(60) is not None
+
+
+def test_cancel_stops_the_analysis_process_and_the_next_analysis_starts_another(qtbot, tmp_path):
+    snap = tmp_path / "graph.json"
+    simple_snapshot().save(snap)
+    panel = analyzed(qtbot, analysis_panel(qtbot, SIMPLE_SPEC, SIMPLE_MAPPING, snap))
+    child = panel.analysis_process._proc
+    assert panel.analyze() and panel.cancel()  # nothing delivered yet: the GUI thread has not run since
+    assert child.wait(60) is not None and not panel.busy
+    panel.task.thread.join(60)
+    qtbot.wait(100)
+    assert panel.result is None and "Cancelled" in panel.status_label.text()
+    analyzed(qtbot, panel)
+    assert panel.analysis_process._proc is not child and panel.result.counts()["E2"] == 1
+
+
 def test_cancel_drops_a_running_analysis(qtbot, tmp_path):
     release = threading.Event()
 

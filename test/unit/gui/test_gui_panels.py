@@ -200,7 +200,9 @@ def test_analysis_errors_are_shown_not_raised(qtbot, tmp_path):
     panel.mapping_line_edit.setText(str(SIMPLE_MAPPING))
     panel.snapshot_line_edit.setText(str(tmp_path / "missing.yaml"))
     panel.analyze()
-    qtbot.waitUntil(lambda: "missing.yaml" in panel.status_label.text(), timeout=WAIT)
+    qtbot.waitUntil(lambda: not panel.busy, timeout=WAIT)  # (a progress line names the file too)
+    assert "missing.yaml" in panel.status_label.text() and panel.status_label.text() != "loading " + str(
+        tmp_path / "missing.yaml")
     assert panel.result is None and panel.analyze_push_button.isEnabled()
 
 
