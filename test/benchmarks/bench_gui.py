@@ -67,7 +67,7 @@ def pump(app, condition, timeout: float) -> None:
         time.sleep(0.001)
 
 
-def bench_analysis_panel(app, tmp: Path, meter: StallMeter | None = None) -> dict:
+def bench_analysis_panel(app, tmp: Path, meter: StallMeter | None = None, in_process: bool = True) -> dict:
     snap, mapping_text, inputs, outputs = synthetic()
     snap_path = tmp / "graph.json"
     snap.save(snap_path)
@@ -77,6 +77,8 @@ def bench_analysis_panel(app, tmp: Path, meter: StallMeter | None = None) -> dic
     spec_path.write_text("[INPUT]\n" + "\n".join(inputs) + "\n\n[OUTPUT]\n" + "\n".join(outputs) + "\n")
     robots = ", ".join(f"robot{c}" for c in range(20))
     panel = AnalysisPanel()
+    if not in_process:  # peer: the analysis on a worker thread of this process, as before
+        panel.analysis_process = None
     panel.resize(1440, 900)
     panel.show()
     panel.spec_line_edit.setText(str(spec_path))
@@ -109,6 +111,7 @@ def bench_analysis_panel(app, tmp: Path, meter: StallMeter | None = None) -> dic
         bare.append(time.perf_counter() - t0)
     rows = {k: panel.models[k].rowCount() for k in panel.models}
     panel.close()
+    app.processEvents()
     return {"nodes": len(snap.nodes), "edges": sum(len(t.publishers) + len(t.subscribers) for t in snap.topics.values()),
             "click_to_tables_s": statistics.median(clicks), "click_to_tables_max_s": max(clicks),
             "fill_tables_s": statistics.median(fills), "bare_analysis_s": statistics.median(bare), "rows": rows}
@@ -318,10 +321,13 @@ def bench_no_master_refresh(app) -> dict:
     return {"said_no_master_s": said, **meter.figures()}
 
 
-def bench_analysis_stalls(app, tmp: Path, collector_paused: bool = True, quick_handover: bool = True) -> dict:
-    """The GUI thread's stalls from the click on Analyze to the first picture. Peers: Python's garbage
-    collector left running during the analysis (the panel pauses it: ``widgets.collector_paused``); the
-    GIL handed over every 5 ms, Python's default (tasks make it 0.2 ms: ``widgets.quick_handover``)."""
+def bench_analysis_stalls(app, tmp: Path, collector_paused: bool = True, quick_handover: bool = True,
+                          in_process: bool = True) -> dict:
+    """The GUI thread's stalls from the click on Analyze to the first picture. Peers: the analysis on a
+    worker thread of the GUI's process (the panel runs it in a process of its own: ``analysis_process``),
+    and on that thread: Python's garbage collector left running (the panel pauses it:
+    ``widgets.collector_paused``); the GIL handed over every 5 ms, Python's default (tasks make it 0.2 ms:
+    ``widgets.quick_handover``)."""
     from ltl_stack.gui import analysis_panel, widgets
 
     meter, pause, interval = StallMeter(), analysis_panel.collector_paused, widgets.HANDOVER_INTERVAL_S
@@ -330,7 +336,7 @@ def bench_analysis_stalls(app, tmp: Path, collector_paused: bool = True, quick_h
     if not quick_handover:
         widgets.HANDOVER_INTERVAL_S = sys.getswitchinterval()
     try:
-        bench_analysis_panel(app, tmp, meter)
+        bench_analysis_panel(app, tmp, meter, in_process=in_process)
     finally:
         analysis_panel.collector_paused, widgets.HANDOVER_INTERVAL_S = pause, interval
     return meter.figures()
@@ -364,8 +370,11 @@ def measure_pictures() -> dict:
     figures["alice_whole_layout_s"] = bench_whole_alice()
     with tempfile.TemporaryDirectory() as tmp:
         figures["analysis_stalls"] = bench_analysis_stalls(app, Path(tmp))
-        figures["analysis_stalls_collector_on"] = bench_analysis_stalls(app, Path(tmp), collector_paused=False)
-        figures["analysis_stalls_slow_handover"] = bench_analysis_stalls(app, Path(tmp), quick_handover=False)
+        figures["analysis_stalls_thread"] = bench_analysis_stalls(app, Path(tmp), in_process=False)
+        figures["analysis_stalls_slow_handover"] = bench_analysis_stalls(app, Path(tmp), quick_handover=False,
+                                                                         in_process=False)
+        figures["analysis_stalls_collector_on"] = bench_analysis_stalls(app, Path(tmp), collector_paused=False,
+                                                                        in_process=False)
     uri = os.environ.get("ROS_MASTER_URI")
     figures["no_master"] = bench_no_master_refresh(app)
     if uri is not None:
@@ -382,7 +391,7 @@ def write_pictures_doc(f: dict) -> None:
         f"| {p['attach_stall_max_ms']:.0f} ms |"
         for p in f["pictures"])
     a, g, n = f["analysis_stalls"], f["analysis_stalls_collector_on"], f["no_master"]
-    h = f["analysis_stalls_slow_handover"]
+    h, t = f["analysis_stalls_slow_handover"], f["analysis_stalls_thread"]
     text = f"""# Controller view pictures and GUI-thread stalls (issue 25)
 
 Command: `python test/benchmarks/bench_gui.py --pictures --load {f.get("busy_processes", 0)}` (offscreen Qt, {platform.python_version()}, no master,
@@ -406,25 +415,27 @@ Peer in the same run: alice's whole graph (30 states, 232 edges, what the view d
 Graphviz: {f['alice_whole_layout_s']:.1f} s, on every layout.
 
 GUI-thread stalls elsewhere: the analysis panel from the click on Analyze to the tables filled and the
-first finding drawn, 10,020-node snapshot, 3 runs: max {a['stall_max_ms']:.0f} ms
-(p99 {a['stall_p99_ms']:.0f} ms, {a['stalls_over_50ms']} over 50 ms). Peers in the same run: the GIL handed over
-every 5 ms, Python's default (as before): max {h['stall_max_ms']:.0f} ms (p99 {h['stall_p99_ms']:.0f} ms,
-{h['stalls_over_50ms']} over 50 ms); the cyclic garbage collector left running during the analysis (as before
-that): max {g['stall_max_ms']:.0f} ms (p99 {g['stall_p99_ms']:.0f} ms, {g['stalls_over_50ms']} over 50 ms).
+first finding drawn, 10,020-node snapshot, 3 runs, the analysis in a process of its own (as the panel
+runs it): max {a['stall_max_ms']:.0f} ms (p99 {a['stall_p99_ms']:.0f} ms, {a['stalls_over_50ms']} over 50 ms). Peers in the
+same run, the analysis on a worker thread of the GUI's process: with the GIL handed over every 0.2 ms
+max {t['stall_max_ms']:.0f} ms (p99 {t['stall_p99_ms']:.0f} ms, {t['stalls_over_50ms']} over 50 ms); every 5 ms, Python's default
+(as before): max {h['stall_max_ms']:.0f} ms (p99 {h['stall_p99_ms']:.0f} ms, {h['stalls_over_50ms']} over 50 ms); and with the cyclic
+garbage collector left running (as before that): max {g['stall_max_ms']:.0f} ms (p99 {g['stall_p99_ms']:.0f} ms,
+{g['stalls_over_50ms']} over 50 ms).
 
 Where the stalls came from. (1) Python's full garbage collections on the analysis' worker thread: a
-collection holds the GIL for as long as it walks every object (90-500 ms each), so the panel pauses the
-collector while the analysis runs (`widgets.collector_paused`; the analysis makes no reference cycles).
-(2) The GIL's switch interval: PyQt takes the GIL for every event it hands to Python, and while a worker
-runs Python code each of those waits up to the switch interval, 5 ms by default; a repaint needs dozens.
-py-spy (`--native --idle`) showed the GUI thread in `pthread_cond_timedwait` under Qt's event dispatch,
-and faulthandler dumps taken at each stall showed the worker anywhere in the analysis' Python code. With
+collection holds the GIL for as long as it walks every object (90-500 ms each). (2) The GIL's switch
+interval: PyQt takes the GIL for every event it hands to Python, and while a worker runs Python code
+each of those waits up to the switch interval, 5 ms by default; a repaint needs dozens. py-spy
+(`--native --idle`) showed the GUI thread in `pthread_cond_timedwait` under Qt's event dispatch, and
+faulthandler dumps taken at each stall showed the worker anywhere in the analysis' Python code. With
 the machine idle the analysis stalled the GUI 300 ms at 5 ms, 81 ms at 1 ms, 48 ms at 0.5 ms and 41 ms
-at 0.2 ms, so every background task now runs with 0.2 ms (`widgets.quick_handover`, set back when the
-last task ends). What is left is the operating system's: when the worker is descheduled while it holds
-the GIL (a loaded machine), the GUI thread waits until it runs again; only a separate process would avoid
-that, at the price of sending the whole result back (7.7 MB pickled, 280 ms to unpickle, itself one call
-holding the GIL). The controller view's Refresh with no master
+at 0.2 ms, so every background task runs with 0.2 ms (`widgets.quick_handover`). (3) What that leaves
+is the operating system's: on a loaded machine the worker is descheduled while it holds the GIL and the
+GUI thread waits until it runs again. So the analysis runs in a process of its own
+(`gui.analysis_process`), which shares no GIL with the GUI, and sends its result back in parts of at
+most 500 rows (`AnalysisResult.parts`): the whole result pickled is 7.7 MB and takes 280 ms to read,
+in one call that holds the GIL. The controller view's Refresh with no master
 (`ROS_MASTER_URI` on a closed port): "no ROS master" on screen after {n['said_no_master_s'] * 1000:.0f} ms, stall max
 {n['stall_max_ms']:.0f} ms.
 

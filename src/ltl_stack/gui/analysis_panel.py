@@ -48,9 +48,8 @@ from ltl_stack.gui.analysis_model import (
     apply_and_check,
     conflict_graph,
     names,
-    run_analysis,
 )
-from ltl_stack.gui.analysis_process import AnalysisProcess
+from ltl_stack.gui.analysis_process import AnalysisProcess, analyze_request
 from ltl_stack.gui.widgets import (
     ComboBox,
     GraphView,
@@ -263,7 +262,9 @@ class AnalysisPanel(QWidget):
                        "snapshot_path": None if live else snapshot_path, "robots": robots, "ignore_topics": ignore}
             if process is not None:  # the analysis in its own process: it shares no GIL with the GUI thread
                 return process.analyze(request, progress)
-            return run_analysis(**request, progress=progress).view()
+            view = analyze_request(request, progress).view()
+            view.snapshot = snapshot
+            return view
         self.clear_result()  # a failed run must not leave an older result on screen
         self._start(collector_paused(work), self.show_result, "Analyzing…")
         return True

@@ -25,7 +25,14 @@ from collections.abc import Callable, Iterator
 from typing import Any, BinaryIO
 
 from ltl_stack.errors import Exit, UserError
-from ltl_stack.gui.analysis_model import AnalysisView, run_analysis
+from ltl_stack.gui.analysis_model import AnalysisResult, AnalysisView, run_analysis
+
+
+def analyze_request(request: dict[str, Any], progress: Callable[[str], None]) -> AnalysisResult:
+    """One request of the protocol, analysed in this process."""
+    return run_analysis(request["spec"], request["mapping"], snapshot=request.get("snapshot"),
+                        snapshot_path=request.get("snapshot_path"), robots=request.get("robots", ()),
+                        ignore_topics=request.get("ignore_topics", ()), progress=progress)
 
 
 class AnalysisFailed(UserError):
@@ -114,10 +121,7 @@ def _serve(requests: BinaryIO, replies: BinaryIO) -> None:
             return
         gc.disable()  # the analysis makes no reference cycles; a full collection only costs time
         try:
-            result = run_analysis(request["spec"], request["mapping"], snapshot=request.get("snapshot"),
-                                  snapshot_path=request.get("snapshot_path"), robots=request.get("robots", ()),
-                                  ignore_topics=request.get("ignore_topics", ()),
-                                  progress=lambda text: send(("progress", text)))
+            result = analyze_request(request, lambda text: send(("progress", text)))
             for part in result.parts():
                 send(part)
             send(("done",))

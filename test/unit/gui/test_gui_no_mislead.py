@@ -726,9 +726,9 @@ def test_the_gil_changes_hands_quickly_while_any_task_runs(qtbot):
 def test_the_analysis_runs_in_a_process_of_its_own_and_ends_with_the_panel(qtbot, tmp_path, monkeypatch):
     """A worker thread running the analysis shares the GIL with the GUI thread (61 ms stalls on a loaded
     machine, bench_gui --pictures): the analysis runs in a child process, reused, ended with the panel."""
-    from ltl_stack.gui import analysis_panel as panel_module
+    from ltl_stack.gui import analysis_process
 
-    monkeypatch.setattr(panel_module, "run_analysis", lambda *a, **k: pytest.fail("analysed in the GUI's process"))
+    monkeypatch.setattr(analysis_process, "run_analysis", lambda *a, **k: pytest.fail("analysed in the GUI's process"))
     snap = tmp_path / "graph.json"
     simple_snapshot().save(snap)
     panel = analyzed(qtbot, analysis_panel(qtbot, SIMPLE_SPEC, SIMPLE_MAPPING, snap))
@@ -739,6 +739,15 @@ def test_the_analysis_runs_in_a_process_of_its_own_and_ends_with_the_panel(qtbot
     assert panel.analysis_process._proc is child  # started once
     panel.close()
     assert child.wait(60) is not None
+
+
+def test_without_its_process_the_panel_analyses_on_a_worker_thread(qtbot, tmp_path):
+    snap = tmp_path / "graph.json"
+    simple_snapshot().save(snap)
+    panel = analysis_panel(qtbot, SIMPLE_SPEC, SIMPLE_MAPPING, snap)
+    panel.analysis_process = None
+    analyzed(qtbot, panel)
+    assert panel.result.counts()["E2"] == 1 and panel.tables["E2"].rows
 
 
 def test_cancel_stops_the_analysis_process_and_the_next_analysis_starts_another(qtbot, tmp_path):
