@@ -58,13 +58,30 @@ SPHEROS_SPEC = ROOT / "config" / "spheros" / "spheros.slugsin"
 ALICE_SPEC = ROOT / "config" / "alice" / "alice.structuredslugs"
 
 
+def run_loop(seconds: float) -> None:
+    """Let Qt's event loop run for ``seconds``, as rqt's does (it sleeps until an event or a timer is due;
+    polling ``processEvents`` in a loop instead burnt a core share of its own on a loaded machine)."""
+    from python_qt_binding.QtCore import QEventLoop, QTimer
+
+    loop = QEventLoop()
+    QTimer.singleShot(max(0, int(seconds * 1000)), loop.quit)
+    loop.exec_()
+
+
 def pump(app, condition, timeout: float) -> None:
+    """Run the event loop until ``condition()`` (checked every millisecond of the loop's time)."""
     deadline = time.monotonic() + timeout
     while not condition():
         if time.monotonic() > deadline:
             raise RuntimeError("timed out")
-        app.processEvents()
-        time.sleep(0.001)
+        run_loop(0.001)
+
+
+def run_until(moment: float) -> None:
+    """Run the event loop until ``time.perf_counter()`` reaches ``moment``."""
+    left = moment - time.perf_counter()
+    if left > 0:
+        run_loop(left)
 
 
 def bench_analysis_panel(app, tmp: Path, meter: StallMeter | None = None, in_process: bool = True) -> dict:
@@ -155,10 +172,7 @@ def bench_controller_view(app, rate: float, count: int) -> dict:
         msg.inputs = valuation_to_msg(s.inputs, msg.header.stamp)
         msg.outputs = valuation_to_msg(s.outputs, msg.header.stamp)
         pub.publish(msg)
-        next_at = start + (k + 1) * period
-        while time.perf_counter() < next_at:  # the GUI keeps running while we publish
-            app.processEvents()
-            time.sleep(0.0005)
+        run_until(start + (k + 1) * period)  # the GUI keeps running while we publish
     sent_s = time.perf_counter() - start
     last_stamp = msg.header.stamp.to_sec()
     t_end = time.perf_counter()
@@ -255,9 +269,7 @@ def bench_picture(app, spec: Path, rate: float = 20.0, count: int = 200, sketchi
             lags.append(time.perf_counter() - handed)
             if leaves:
                 leaving.append(lags[-1])
-            while time.perf_counter() < start + (k + 1) * period:
-                app.processEvents()
-                time.sleep(0.0005)
+            run_until(start + (k + 1) * period)
             succ = a.states[sid].successors
             sid = succ[(7 * k) % len(succ)]
     layouts, sketches = view.layout_count, view.sketch_count
@@ -300,10 +312,7 @@ def bench_whole_alice() -> float:
 def bench_idle(app, seconds: float = 5.0) -> dict:
     """Peer: the same meter while the GUI thread has nothing to do (the machine's own noise)."""
     with StallMeter() as meter:
-        end = time.perf_counter() + seconds
-        while time.perf_counter() < end:
-            app.processEvents()
-            time.sleep(0.0005)
+        run_loop(seconds)
     return meter.figures()
 
 
@@ -405,7 +414,9 @@ the view draws that neighbourhood at once in a sketch (`dotgraph.sketch_layout`:
 the state, straight edges, no Graphviz) with the state highlighted, and replaces it by Graphviz's layout
 when that arrives; the peer row is the same walk with the sketch off (the highlight waits for Graphviz,
 as before). Stalls: the gaps of a 5 ms GUI timer, less 5 ms, while following and, apart, from Attach to
-the first picture.
+the first picture. The benchmark waits in Qt's event loop, as rqt does (it used to poll `processEvents`,
+which took a core share of its own and, with the machine loaded, starved the GUI it measured); the
+lamps and the mode label are re-styled only when they change (a style sheet re-polishes the widget).
 
 | spec | states | edges | attach → automaton (synthesis, worker thread) | automaton → first picture | highlight lag median | p99 | max | changes that leave the picture: their lag max | Graphviz layouts | sketches (GUI-thread cost of one, median of 10) | GUI-thread stall max while following | while attaching (synthesis on a worker) |
 |---|---|---|---|---|---|---|---|---|---|---|---|---|

@@ -493,7 +493,9 @@ class ControllerView(QWidget):
     def _show_mode(self, update: StateUpdate | None) -> None:
         self.mode_label.setText("mode: " + mode_text(update, self.violation))
         color = mode_color(update)
-        self.mode_label.setStyleSheet(f"color: white; background: {color}; padding: 2px;" if color else "")
+        style = f"color: white; background: {color}; padding: 2px;" if color else ""
+        if self.mode_label.styleSheet() != style:  # setting it re-polishes the label, even when the same
+            self.mode_label.setStyleSheet(style)
 
     def _reload(self, update: StateUpdate) -> None:
         """The executor put a new strategy in place (resynthesis or adoption): load its spec, as the
@@ -614,7 +616,8 @@ class ControllerView(QWidget):
         for title, pairs in (("Inputs", ins), ("Outputs", outs)):
             for name, value in pairs:
                 lamp = self._lamps.get((title, name))
-                if lamp is not None:
+                if lamp is not None and lamp.property("lit") is not bool(value):  # a style sheet costs a re-polish
+                    lamp.setProperty("lit", bool(value))
                     lamp.setStyleSheet(f"background: {LAMP_ON if value else LAMP_OFF}; border-radius: 7px;")
                     lamp.setToolTip(f"{name}: {'true' if value else 'false'}")
 
