@@ -139,7 +139,9 @@ def main(argv: list[str] | None = None) -> int:
                  "the layout around the current state")
             settle(app, 0.5)
             save(view, out / "controller_view.png")
-            shown["controller_view"] = {"states": len(view.model.automaton), "whole": view.model.whole}
+            shown["controller_view"] = {"states": len(view.model.automaton), "whole": view.model.whole,
+                                        "state": view.state_label.text(),
+                                        "resilience": view.resilience_label.text()}
             view.shutdown()
             (out / SOURCE).write_text(json.dumps(shown, indent=1) + "\n")
         except OSError as err:

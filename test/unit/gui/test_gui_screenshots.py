@@ -43,3 +43,16 @@ def test_the_analysis_picture_shows_what_the_panel_shows_today(qtbot):
     assert tabs == shown["analysis_panel"]["tabs"]
     here = [p.replace(f"{ROOT}/", "") for p in panel.problem_texts()]  # the pictures name files from ROOT
     assert here == shown["analysis_panel"]["problems"]
+
+
+def test_the_controller_view_picture_shows_todays_counters_line():
+    """The counters line of the picture (an executor in normal mode, nothing counted yet) is the one the
+    view writes today for the same state (issue 25: the negotiation counters were added after a picture)."""
+    import re
+
+    from ltl_stack.gui.controller_model import StateUpdate, resilience_text
+
+    view = json.loads((IMAGES / SOURCE).read_text())["controller_view"]
+    numbers = [int(n) for n in re.findall(r"\d+", view["resilience"])]
+    assert numbers and not any(numbers), view["resilience"]  # the picture's executor counted nothing
+    assert view["resilience"] == resilience_text(StateUpdate(0, 0, {}, {}, True, mode="normal"))
