@@ -333,7 +333,7 @@ def bench_no_master_refresh(app) -> dict:
 def bench_analysis_stalls(app, tmp: Path, collector_paused: bool = True, quick_handover: bool = True,
                           in_process: bool = True) -> dict:
     """The GUI thread's stalls from the click on Analyze to the first picture. Peers: the analysis on a
-    worker thread of the GUI's process (the panel runs it in a process of its own: ``analysis_process``),
+    worker thread of the GUI's process (the panel runs it in a process of its own: ``worker_process``),
     and on that thread: Python's garbage collector left running (the panel pauses it:
     ``widgets.collector_paused``); the GIL handed over every 5 ms, Python's default (tasks make it 0.2 ms:
     ``widgets.quick_handover``)."""
@@ -444,7 +444,7 @@ the machine idle the analysis stalled the GUI 300 ms at 5 ms, 81 ms at 1 ms, 48 
 at 0.2 ms, so every background task runs with 0.2 ms (`widgets.quick_handover`). (3) What that leaves
 is the operating system's: on a loaded machine the worker is descheduled while it holds the GIL and the
 GUI thread waits until it runs again. So the analysis runs in a process of its own
-(`gui.analysis_process`), which shares no GIL with the GUI, and sends its result back in parts of at
+(`gui.worker_process`), which shares no GIL with the GUI, and sends its result back in parts of at
 most 500 rows (`AnalysisResult.parts`): the whole result pickled is 7.7 MB and takes 280 ms to read,
 in one call that holds the GIL. The controller view's Refresh with no master
 (`ROS_MASTER_URI` on a closed port): "no ROS master" on screen after {n['said_no_master_s'] * 1000:.0f} ms, stall max

@@ -188,7 +188,7 @@ class AnalysisResult:
 class AnalysisView:
     """What the analysis panel shows of an ``AnalysisResult`` (tables, counts, problems, suggestions, each
     finding's chains) and what Apply needs (spec, suggestions, paths), without the graph: the analysis
-    runs in its own process (``analysis_process``) and sends this back in parts. ``snapshot`` is the live
+    runs in its own process (``worker_process``) and sends this back in parts. ``snapshot`` is the live
     graph when the panel took it."""
 
     spec: Spec

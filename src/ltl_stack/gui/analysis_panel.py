@@ -49,7 +49,6 @@ from ltl_stack.gui.analysis_model import (
     conflict_graph,
     names,
 )
-from ltl_stack.gui.analysis_process import AnalysisProcess, analyze_request
 from ltl_stack.gui.widgets import (
     ComboBox,
     GraphView,
@@ -62,6 +61,7 @@ from ltl_stack.gui.widgets import (
     show_status,
     status_row,
 )
+from ltl_stack.gui.worker_process import WorkerProcess, analyze_request
 
 
 def take_live_snapshot(master_uri: str | None):
@@ -89,7 +89,7 @@ class AnalysisPanel(QWidget):
         self._auto_amended = ""  # the amended path the panel filled in (follows the spec until edited)
         self._take_snapshot = take_snapshot
         #: the process the analyses run in (started at the first Analyze; None: on a worker thread here)
-        self.analysis_process: AnalysisProcess | None = AnalysisProcess()
+        self.analysis_process: WorkerProcess | None = WorkerProcess()
         self._build()
         for edit in (self.spec_line_edit, self.mapping_line_edit, self.snapshot_line_edit, self.master_line_edit,
                      self.robots_line_edit, self.ignore_line_edit):

@@ -14,13 +14,14 @@ from __future__ import annotations
 
 import threading
 from collections import deque
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 
 from ltl_stack.errors import Exit, UserError
 from ltl_stack.gui.dotgraph import DotGraph
 from ltl_stack.spec import load_spec
 from ltl_stack.synthesis import Automaton, synthesize
+from ltl_stack.synthesis.automaton import AutomatonState
 
 CURRENT_COLOR = "#ff9a00"
 GOAL_COLOR = "#3a7bd5"
@@ -80,25 +81,23 @@ class ControllerModel:
     @classmethod
     def synthesize(cls, spec_path: str, options: ViewOptions | None = None,
                    progress: Callable[[str], None] | None = None) -> ControllerModel:
-        """Synthesize ``spec_path`` as the executor does and extract the explicit automaton.
+        """Synthesize ``spec_path`` as the executor does and extract the explicit automaton, in this
+        process (the view runs ``synthesize_automaton`` in its worker process: ``gui.worker_process``).
 
         Raises ``SpecError`` for a bad spec, ``UserError`` (shown, no traceback) when it is unrealizable, ``TooManyStates``
         beyond ``MAX_STATES``.
         """
         options = options or ViewOptions()
-        say = progress or (lambda _t: None)
-        spec = load_spec(spec_path)
-        say(f"synthesizing {spec_path} (robotics semantics {options.robotics_semantics}, "
-            f"cooperative {options.cooperative})")
-        result = synthesize(spec, robotics_semantics=options.robotics_semantics, cooperative=options.cooperative,
-                            progress=say)
-        if not result.realizable:
-            raise UserError(f"{spec_path}: the specification is unrealizable (robotics semantics "
-                            f"{options.robotics_semantics}); the executor cannot run it", Exit.UNREALIZABLE)
-        say("extracting the explicit automaton")
-        automaton = result.strategy.explicit(max_states=MAX_STATES, progress=say)
-        say(f"{len(automaton)} states")
-        model = cls(str(spec_path), automaton, options)
+        return cls.indexed(str(spec_path), synthesize_automaton(spec_path, options, progress), options)
+
+    @classmethod
+    def assemble(cls, spec_path: str, options: ViewOptions, parts: Iterable[tuple]) -> ControllerModel:
+        """The model of an automaton sent in parts (``automaton_parts``)."""
+        return cls.indexed(str(spec_path), assemble_automaton(parts), options)
+
+    @classmethod
+    def indexed(cls, spec_path: str, automaton: Automaton, options: ViewOptions) -> ControllerModel:
+        model = cls(spec_path, automaton, options)
         model.predecessors(0)  # the indexes the view needs, made here on the worker thread, not the GUI's
         model.edge_count()
         return model
@@ -299,3 +298,49 @@ def options_from_params(params: Mapping[str, object], defaults: ViewOptions | No
     rs, coop = params.get("robotics_semantics"), params.get("cooperative")
     return ViewOptions(rs if isinstance(rs, bool) else o.robotics_semantics,
                        coop if isinstance(coop, bool) else o.cooperative, o.full_limit, o.radius)
+
+
+def synthesize_automaton(spec_path: str, options: ViewOptions | None = None,
+                         progress: Callable[[str], None] | None = None) -> Automaton:
+    """The explicit automaton the executor runs for ``spec_path`` (see ``ControllerModel.synthesize``)."""
+    options = options or ViewOptions()
+    say = progress or (lambda _t: None)
+    spec = load_spec(spec_path)
+    say(f"synthesizing {spec_path} (robotics semantics {options.robotics_semantics}, "
+        f"cooperative {options.cooperative})")
+    result = synthesize(spec, robotics_semantics=options.robotics_semantics, cooperative=options.cooperative,
+                        progress=say)
+    if not result.realizable:
+        raise UserError(f"{spec_path}: the specification is unrealizable (robotics semantics "
+                        f"{options.robotics_semantics}); the executor cannot run it", Exit.UNREALIZABLE)
+    say("extracting the explicit automaton")
+    automaton = result.strategy.explicit(max_states=MAX_STATES, progress=say)
+    say(f"{len(automaton)} states")
+    return automaton
+
+
+def automaton_parts(automaton: Automaton, chunk: int = 1000) -> Iterator[tuple]:
+    """``automaton`` as ``assemble_automaton`` takes it: its header, then its states ``chunk`` at a time
+    as plain tuples (a state's inputs and outputs as values in the automaton's order), so that reading
+    any one part is short (gui.worker_process)."""
+    yield ("automaton", {"inputs": list(automaton.inputs), "outputs": list(automaton.outputs),
+                         "initial": list(automaton.initial), "goals": automaton.goals,
+                         "metadata": dict(automaton.metadata), "path": automaton.path})
+    ins, outs = automaton.inputs, automaton.outputs
+    for start in range(0, len(automaton.states), chunk):
+        yield ("states", [(s.id, s.goal, tuple(bool(s.inputs[n]) for n in ins), tuple(bool(s.outputs[n]) for n in outs),
+                           list(s.successors), list(s.recovery)) for s in automaton.states[start:start + chunk]])
+
+
+def assemble_automaton(parts: Iterable[tuple]) -> Automaton:
+    automaton = None
+    for part in parts:
+        if part[0] == "automaton":
+            automaton = Automaton(states=[], **part[1])
+        elif part[0] == "states":
+            ins, outs = automaton.inputs, automaton.outputs
+            automaton.states.extend(AutomatonState(i, dict(zip(ins, iv, strict=True)), dict(zip(outs, ov, strict=True)),
+                                                   goal, succ, rec) for i, goal, iv, ov, succ, rec in part[1])
+    if automaton is None:
+        raise ValueError("no automaton in the parts")
+    return automaton

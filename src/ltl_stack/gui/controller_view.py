@@ -65,6 +65,7 @@ from ltl_stack.gui.widgets import (
     show_status,
     status_row,
 )
+from ltl_stack.gui.worker_process import WorkerProcess
 
 STATE_TYPE = "ltl_stack/ControllerState"
 REFRESH_MS = 30
@@ -192,6 +193,8 @@ class ControllerView(QWidget):
         self.refresh_task: Task | None = None
         self.reload_task: Task | None = None
         self.layout_task: Task | None = None
+        #: the process the syntheses run in (CUDD holds the GIL; None: on a worker thread here)
+        self.worker: WorkerProcess | None = WorkerProcess()
         self.layout_count = 0  # Graphviz runs (a neighbourhood seen before is drawn from the cache)
         self.sketch_count = 0  # neighbourhoods sketched while Graphviz lays them out
         self.sketching = True  # off: a state that left the picture waits for Graphviz (bench_gui's peer)
@@ -393,14 +396,15 @@ class ControllerView(QWidget):
             return False
         self.detach()
         wanted = self.options()
-        factory, latest, diagnostic = self._link_factory, self.latest, self.diagnostic
+        factory, latest, diagnostic, worker = self._link_factory, self.latest, self.diagnostic, self.worker
 
         def work(progress):  # every master call here, off the GUI thread
             progress(f"connecting to {topic}")
             link = factory(topic, latest.put, diagnostic.emit)
             try:
                 options = options_from_params(link.params(), wanted)
-                model = ControllerModel.synthesize(spec, options, progress)
+                model = (worker.controller_model(spec, options, progress) if worker is not None
+                         else ControllerModel.synthesize(spec, options, progress))
                 progress(f"attached to {topic}")  # raises Cancelled when Cancel came meanwhile
                 return link, model
             except BaseException:
@@ -423,6 +427,8 @@ class ControllerView(QWidget):
         if self.task is None or not self.task.running:
             return False
         self.task.abandon()
+        if self.worker is not None:
+            self.worker.kill()
         self._busy(False)
         self._status("Cancelled: not attached.")
         return True
@@ -509,10 +515,11 @@ class ControllerView(QWidget):
                                         "with --characterized-spec): the picture is of an older strategy")
             self.strategy_label.setStyleSheet("color: #a00000;")
             return
-        spec, options, generation = update.spec_file, model.options, update.generation
+        spec, options, generation, worker = update.spec_file, model.options, update.generation, self.worker
 
         def work(progress):
-            new = ControllerModel.synthesize(spec, options, progress)
+            new = (worker.controller_model(spec, options, progress) if worker is not None
+                   else ControllerModel.synthesize(spec, options, progress))
             new.generation = generation
             return new
         self.reload_task = Task(work, self)
@@ -668,3 +675,9 @@ class ControllerView(QWidget):
     def shutdown(self) -> None:
         self.timer.stop()
         self.detach()
+        if self.worker is not None:
+            self.worker.close()
+
+    def closeEvent(self, event) -> None:  # noqa: N802 - Qt's name
+        self.shutdown()
+        super().closeEvent(event)

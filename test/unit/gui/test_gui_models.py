@@ -29,6 +29,8 @@ from ltl_stack.gui.controller_model import (
     Latest,
     StateUpdate,
     ViewOptions,
+    assemble_automaton,
+    automaton_parts,
     executor_of,
     mode_text,
 )
@@ -342,6 +344,21 @@ def test_names_field():
 @pytest.fixture(scope="module")
 def clean_model():
     return ControllerModel.synthesize(str(CLEAN_SPEC), ViewOptions())
+
+
+@settings(max_examples=20, deadline=None)
+@given(chunk=st.integers(min_value=1, max_value=80))
+def test_the_automaton_sent_in_parts_is_the_automaton(clean_model, chunk):
+    """What the worker process sends of a synthesis (``automaton_parts``), assembled again, is the same
+    automaton, and no part holds more than ``chunk`` states."""
+    a = clean_model.automaton
+    parts = list(automaton_parts(a, chunk=chunk))
+    assert all(len(p[1]) <= chunk for p in parts if p[0] == "states")
+    b = assemble_automaton(parts)
+    assert (b.inputs, b.outputs, b.initial, b.goals, b.metadata) == (a.inputs, a.outputs, a.initial, a.goals, a.metadata)
+    assert b.states == a.states
+    model = ControllerModel.assemble(str(CLEAN_SPEC), ViewOptions(), parts)
+    assert model.edge_count() == clean_model.edge_count() and model.predecessors(5) == clean_model.predecessors(5)
 
 
 def test_state_ids_are_those_of_the_exported_automaton(clean_model, tmp_path):

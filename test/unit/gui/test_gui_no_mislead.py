@@ -390,6 +390,48 @@ def test_cancel_stops_attaching_and_lets_the_topic_go(qtbot, capfd):
     assert "Traceback" not in capfd.readouterr().err
 
 
+def test_the_view_synthesizes_in_a_process_of_its_own(qtbot, monkeypatch):
+    """A synthesis' CUDD calls hold the GIL (the GUI stalled ~400 ms attaching spheros): the view
+    synthesizes in its worker process, started once, ended with the view."""
+    from ltl_stack.gui import controller_view
+
+    monkeypatch.setattr(controller_view.ControllerModel, "synthesize",
+                        classmethod(lambda *a, **k: pytest.fail("synthesized in the GUI's process")))
+    view = attached_view(qtbot, SIMPLE_SPEC)
+    child = view.worker._proc
+    assert child is not None and child.pid != os.getpid() and child.poll() is None
+    assert len(view.model.automaton) > 1 and view.model.predecessors(0) is not None
+    view.close()
+    assert child.wait(60) is not None
+
+
+def test_killing_the_worker_process_stops_a_running_synthesis_at_once():
+    """Cancel kills the worker process: a long synthesis (spheros, 65,536 states) ends at once with one
+    line, and the next job starts a new process."""
+    from ltl_stack.gui.controller_model import ViewOptions
+    from ltl_stack.gui.worker_process import WorkerProcess, WorkFailed
+
+    worker, started, failed = WorkerProcess(), threading.Event(), []
+
+    def attach():
+        try:
+            worker.controller_model(str(CONFIG / "spheros" / "spheros.slugsin"), ViewOptions(),
+                                    lambda _text: started.set())
+        except WorkFailed as err:
+            failed.append(str(err))
+    thread = threading.Thread(target=attach)
+    thread.start()
+    assert started.wait(60)  # the child reports that it synthesizes
+    child = worker._proc
+    worker.kill()
+    thread.join(60)
+    assert not thread.is_alive() and child.poll() is not None
+    assert failed == ["the worker process ended unexpectedly"]
+    model = worker.controller_model(str(SIMPLE_SPEC), ViewOptions(), lambda _text: None)
+    assert worker._proc is not child and len(model.automaton) > 1
+    worker.close()
+
+
 def test_a_cancelled_task_stops_at_its_next_progress_and_hands_a_late_result_to_discard(qtbot):
     from ltl_stack.gui.widgets import Cancelled, Task
 
@@ -726,9 +768,9 @@ def test_the_gil_changes_hands_quickly_while_any_task_runs(qtbot):
 def test_the_analysis_runs_in_a_process_of_its_own_and_ends_with_the_panel(qtbot, tmp_path, monkeypatch):
     """A worker thread running the analysis shares the GIL with the GUI thread (61 ms stalls on a loaded
     machine, bench_gui --pictures): the analysis runs in a child process, reused, ended with the panel."""
-    from ltl_stack.gui import analysis_process
+    from ltl_stack.gui import worker_process
 
-    monkeypatch.setattr(analysis_process, "run_analysis", lambda *a, **k: pytest.fail("analysed in the GUI's process"))
+    monkeypatch.setattr(worker_process, "run_analysis", lambda *a, **k: pytest.fail("analysed in the GUI's process"))
     snap = tmp_path / "graph.json"
     simple_snapshot().save(snap)
     panel = analyzed(qtbot, analysis_panel(qtbot, SIMPLE_SPEC, SIMPLE_MAPPING, snap))
