@@ -60,6 +60,7 @@ from ltl_stack.gui.widgets import (
     GraphView,
     SpinBox,
     Task,
+    collector_paused,
     restore_controls,
     save_controls,
     show_status,
@@ -413,7 +414,8 @@ class ControllerView(QWidget):
 
         def discard(done: tuple) -> None:  # Cancel came after the last progress report
             threading.Thread(target=done[0].close, name="ltl_stack_gui_detach", daemon=True).start()
-        self.task = Task(work, self, discard=discard)
+        # assembling 65,536 states made full collections that held the GIL ~400 ms (bench_gui --pictures)
+        self.task = Task(collector_paused(work), self, discard=discard)
         self.task.progress.connect(self._status)
         self.task.finished.connect(self._on_attached)
         self.task.failed.connect(lambda text: (self._busy(False), self._status(f"Cannot attach: {text}", error=True)))
@@ -522,7 +524,7 @@ class ControllerView(QWidget):
                    else ControllerModel.synthesize(spec, options, progress))
             new.generation = generation
             return new
-        self.reload_task = Task(work, self)
+        self.reload_task = Task(collector_paused(work), self)
         self.reload_task.finished.connect(self._on_reloaded)
         self.reload_task.failed.connect(lambda text: (self.strategy_label.setText(
             f"strategy {generation}: cannot load {spec}: {text}"), self.strategy_label.setStyleSheet("color: #a00000;")))
