@@ -1,6 +1,6 @@
 """Explicit strategy export vs slugs, whole process (run on demand; issue 16).
 
-    python test/benchmarks/bench_explicit.py --slugs SLUGS [--repeat 3]
+    python test/benchmarks/bench_explicit.py --slugs SLUGS [--repeat 3] [--cooperative]
 
 For each shared spec: ``synthesize SPEC --no-robotics-semantics --no-cooperative --slugs-json OUT``
 (slugs' default init semantics, any winning move: what slugs computes) against
@@ -13,6 +13,11 @@ Specs: the thesis' (../shared/specs), slugs' examples (benchmarks/slugsin, reali
 generated family members for which slugs' explicit strategy finished in its reference run
 (``generated/slugs_times.csv``). Goal: no slower than slugs, and no more states, wherever slugs
 finishes. Writes docs/benchmarks/explicit.md.
+
+``--cooperative``: the cooperative strategy on both sides, our default export (``synthesize SPEC
+--no-robotics-semantics --slugs-json OUT``) against ``slugs --cooperativeGR1Strategy --explicitStrategy
+--jsonOutput SPEC OUT``, to docs/benchmarks/explicit_cooperative.md (issue 28: the default export is
+no larger than slugs' in the same mode).
 
 Bytecode (as in ``bench_cli_latency.py``): the session that runs the suite sets
 ``PYTHONDONTWRITEBYTECODE``, so every process of ours would compile ~30 modules from source
@@ -38,6 +43,7 @@ ROOT = Path(__file__).resolve().parents[2]
 SHARED = ROOT.parent / "shared"  # the project's shared folder, beside the repository
 SPECS = SHARED / "specs"
 OUT = ROOT / "docs" / "benchmarks" / "explicit.md"
+OUT_COOPERATIVE = ROOT / "docs" / "benchmarks" / "explicit_cooperative.md"
 
 THESIS = ["move_group_and_move_base/move_group_and_move_base.slugsin", "firefighting/firefighting.slugsin",
           "simple/simple.slugsin"]
@@ -71,7 +77,9 @@ CHILD_ENV = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECOD
 
 
 def run_ours(spec: Path, out: Path, extra: list[str]) -> dict:
-    cmd = [*synthesize_command(), str(spec), "--no-robotics-semantics", "--no-cooperative", "--slugs-json", str(out),
+    """``extra`` holds ``--cooperative`` for the cooperative comparison; else ``--no-cooperative`` is added."""
+    mode = [] if "--cooperative" in extra else ["--no-cooperative"]
+    cmd = [*synthesize_command(), str(spec), "--no-robotics-semantics", *mode, "--slugs-json", str(out),
            "--json", "--quiet", "--max-states", "3000000", *extra]
     start, cpu = time.perf_counter(), cpu_of_children()
     done = subprocess.run(cmd, capture_output=True, text=True, check=False, env=CHILD_ENV)
@@ -154,8 +162,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--slugs", help="path of the slugs binary (its columns are skipped without it)")
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--slugs-timeout", type=float, default=120.0)
+    parser.add_argument("--cooperative", action="store_true",
+                        help="both sides cooperative: our default against slugs --cooperativeGR1Strategy")
     parser.add_argument("specs", nargs="*", help="spec files (default: the shared specs above)")
     args = parser.parse_args(argv)
+    ours_extra, slugs_extra = (["--cooperative"], ["--cooperativeGR1Strategy"]) if args.cooperative else ([], [])
     slugs = args.slugs if args.slugs and Path(args.slugs).exists() else None
     if args.slugs and not slugs:
         print(f"slugs not found at {args.slugs}: its columns are skipped", file=sys.stderr)
@@ -169,20 +180,23 @@ def main(argv: list[str] | None = None) -> int:
     print("\n".join(HEADER), flush=True)
     for spec in chosen:
         name = spec.stem if "generated" in spec.parts or "slugsin" in spec.parts else f"{spec.parent.name} (thesis)"
-        rows.append(row(name, measure(spec, slugs, args.repeat, args.slugs_timeout, [], []), slugs,
+        rows.append(row(name, measure(spec, slugs, args.repeat, args.slugs_timeout, ours_extra, slugs_extra), slugs,
                         args.slugs_timeout))
         print(rows[-1], flush=True)
+    ours_cmd = (f"{' '.join(Path(c).name for c in synthesize_command())} SPEC --no-robotics-semantics "
+                f"{'--cooperative' if args.cooperative else '--no-cooperative'} --slugs-json OUT")
+    slugs_cmd = f"slugs --explicitStrategy {'--cooperativeGR1Strategy ' if args.cooperative else ''}--jsonOutput SPEC OUT"
     text = "\n".join([
-        "# Explicit strategy export vs slugs",
+        "# Explicit strategy export vs slugs" + (", both cooperative" if args.cooperative else ""),
         "",
-        f"`python test/benchmarks/bench_explicit.py --slugs SLUGS --repeat {args.repeat}` on {platform.machine()}, "
+        f"`python test/benchmarks/bench_explicit.py --slugs SLUGS --repeat {args.repeat}"
+        f"{' --cooperative' if args.cooperative else ''}` on {platform.machine()}, "
         f"Python {platform.python_version()}, {time.strftime('%Y-%m-%d %H:%M')} (machine shared with other work; "
         "ours and slugs alternate, so the ratio of one row is a same-run figure; CPU is user + system time of "
         "the process, the steadier figure on a loaded machine). Our processes use a warmed bytecode cache, "
         f"as an installed package does. Load average at the end: {' / '.join(f'{v:.1f}' for v in os.getloadavg())}.",
         "",
-        f"Ours: `{' '.join(Path(c).name for c in synthesize_command())} SPEC --no-robotics-semantics --no-cooperative "
-        "--slugs-json OUT`; slugs: `slugs --explicitStrategy --jsonOutput SPEC OUT`. Medians of the runs; "
+        f"Ours: `{ours_cmd}`; slugs: `{slugs_cmd}`. Medians of the runs; "
         f"slugs' time limit {args.slugs_timeout:.0f} s.",
         "",
         *HEADER,
@@ -190,8 +204,9 @@ def main(argv: list[str] | None = None) -> int:
         "",
     ])
     if not args.specs:
-        OUT.write_text(text)
-        print(f"written {OUT}")
+        out = OUT_COOPERATIVE if args.cooperative else OUT
+        out.write_text(text)
+        print(f"written {out}")
     print(f"load average {' / '.join(f'{v:.1f}' for v in os.getloadavg())} (1 / 5 / 15 min) at the end")
     pycache.cleanup()
     return 0
