@@ -2,6 +2,9 @@
 
     python test/benchmarks/bench_explicit.py --slugs SLUGS [--repeat 3] [--cooperative]
 
+SLUGS: a slugs binary built from its public sources (github.com/VerifiableRobotics/slugs: ``cd src &&
+make``; CUDD comes with it, no qmake needed).
+
 For each shared spec: ``synthesize SPEC --no-robotics-semantics --no-cooperative --slugs-json OUT``
 (slugs' default init semantics, any winning move: what slugs computes) against
 ``slugs --explicitStrategy --jsonOutput SPEC OUT``, both as whole processes, alternating, medians of
