@@ -14,13 +14,11 @@ import rospy
 
 from ltl_stack.ros.proposition_node import (
     INPUT_PARAMS,
-    InputPropositionNode,
     NodeConfigError,
     NodeSpec,
     Param,
-    message_class,
+    TopicMessageSensor,
     run_node,
-    wait_for_topic_class,
 )
 from ltl_stack.runtime.predicate import OPS, MessagePredicate
 
@@ -74,19 +72,15 @@ def check_fields(sample: Any, steps: tuple, type_name: str) -> None:
         value = getattr(value, step)
 
 
-class TopicPredicateSensor(InputPropositionNode):
+class TopicPredicateSensor(TopicMessageSensor):
     def __init__(self, config: dict[str, Any]) -> None:
         try:
             self.predicate = MessagePredicate([str(c) for c in config["conditions"]], config["array"])
         except ValueError as error:
             raise NodeConfigError(f"{rospy.get_name()}: parameter ~conditions: {error}") from None
-        self.cls = message_class(config["type"]) if config["type"] else None
-        if self.cls is not None:
-            self._check(self.cls)
-        self._warned = False
         super().__init__(config)
 
-    def _check(self, cls: type) -> None:
+    def check(self, cls: type) -> None:
         try:
             element = element_class(cls, self.predicate.array) if self.predicate.array else cls
             if element is not None:
@@ -95,24 +89,8 @@ class TopicPredicateSensor(InputPropositionNode):
         except LookupError as error:
             raise NodeConfigError(f"{rospy.get_name()}: parameter ~array/~conditions: {error}") from None
 
-    def spin(self) -> None:
-        cls = self.cls or wait_for_topic_class(rospy.resolve_name(self.config["topic"]))
-        if cls is None:
-            return
-        if self.cls is None:
-            self._check(cls)
-        rospy.Subscriber(self.config["topic"], cls, self._on_msg, queue_size=10)
-        super().spin()
-
-    def _on_msg(self, msg: Any) -> None:
-        try:
-            value = self.predicate.evaluate(msg)
-        except (LookupError, TypeError, ValueError) as error:
-            if not self._warned:
-                rospy.logerr("%s: %s: %s", rospy.get_name(), self.config["topic"], error)
-                self._warned = True
-            return
-        self.set_value(value)
+    def value(self, msg: Any) -> bool:
+        return self.predicate.evaluate(msg)
 
 
 def topic_predicate_sensor_main() -> None:

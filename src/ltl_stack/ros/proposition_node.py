@@ -255,6 +255,49 @@ class InputPropositionNode:
         self.output.close()
 
 
+class TopicMessageSensor(InputPropositionNode):
+    """An input node whose value comes from each message on ``~topic``, of the class ``~type`` names or,
+    when empty, of the type the master reports (waited for in ``spin``). Subclasses check that a class
+    has what they read (``check``: ``NodeConfigError`` naming the parameter), compute the value of a
+    message (``value``) and say what they read in the one error line logged when a message cannot be
+    read (``what``)."""
+
+    def __init__(self, config: dict[str, Any]) -> None:
+        self.cls = message_class(config["type"]) if config["type"] else None
+        if self.cls is not None:
+            self.check(self.cls)
+        self._warned = False
+        super().__init__(config)
+
+    def check(self, cls: type) -> None:
+        raise NotImplementedError
+
+    def value(self, msg: Any) -> bool:
+        raise NotImplementedError
+
+    def what(self) -> str:
+        return self.config["topic"]
+
+    def spin(self) -> None:
+        cls = self.cls or wait_for_topic_class(rospy.resolve_name(self.config["topic"]))
+        if cls is None:
+            return
+        if self.cls is None:
+            self.check(cls)  # the type the master reports
+        rospy.Subscriber(self.config["topic"], cls, self._on_msg, queue_size=10)
+        super().spin()
+
+    def _on_msg(self, msg: Any) -> None:
+        try:
+            value = self.value(msg)
+        except (LookupError, TypeError, ValueError) as error:
+            if not self._warned:
+                rospy.logerr("%s: %s: %s", rospy.get_name(), self.what(), error)
+                self._warned = True
+            return
+        self.set_value(value)
+
+
 class OutputPropositionNode:
     """Base of output proposition nodes.
 

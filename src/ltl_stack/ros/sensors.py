@@ -20,6 +20,7 @@ from ltl_stack.ros.proposition_node import (
     NodeConfigError,
     NodeSpec,
     Param,
+    TopicMessageSensor,
     message_class,
     run_node,
     wait_for_topic_class,
@@ -52,7 +53,7 @@ THRESHOLD_SENSOR = NodeSpec(
 )
 
 
-class TopicThresholdSensor(InputPropositionNode):
+class TopicThresholdSensor(TopicMessageSensor):
     def __init__(self, config: dict[str, Any]) -> None:
         self.field = config["field"]
         try:
@@ -61,38 +62,19 @@ class TopicThresholdSensor(InputPropositionNode):
                                                   config["hysteresis"])
         except ValueError as error:
             raise NodeConfigError(f"{rospy.get_name()}: parameter ~field: {error}") from None
-        self.cls = message_class(config["type"]) if config["type"] else None
-        if self.cls is not None:
-            self._check_field(self.cls)
-        self._warned = False
         super().__init__(config)
 
-    def _check_field(self, cls: type) -> None:
+    def check(self, cls: type) -> None:
         try:
             check_field_path(cls(), self.steps, cls._type)
         except LookupError as error:
             raise NodeConfigError(f"{rospy.get_name()}: parameter ~field {self.field!r}: {error}") from None
 
-    def spin(self) -> None:
-        cls = self.cls or wait_for_topic_class(rospy.resolve_name(self.config["topic"]))
-        if cls is None:
-            return
-        if self.cls is None:
-            self._check_field(cls)  # the type the master reports
-        rospy.Subscriber(self.config["topic"], cls, self._on_msg, queue_size=10)
-        super().spin()
+    def value(self, msg: Any) -> bool:
+        return self.comparator.update(float(extract_field(msg, self.steps)))
 
-    def _on_msg(self, msg: Any) -> None:
-        try:
-            value = extract_field(msg, self.steps)
-            result = self.comparator.update(float(value))
-        except (LookupError, TypeError, ValueError) as error:
-            if not self._warned:
-                rospy.logerr("%s: field %r of %s: %s", rospy.get_name(), self.config["field"],
-                             self.config["topic"], error)
-                self._warned = True
-            return
-        self.set_value(result)
+    def what(self) -> str:
+        return f"field {self.config['field']!r} of {self.config['topic']}"
 
 
 REGION_SENSOR = NodeSpec(
