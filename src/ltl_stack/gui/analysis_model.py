@@ -161,7 +161,6 @@ class AnalysisResult:
         return (f"{len(g.nodes)} nodes, {len(g.channels)} topics/actions, {g.edge_count} edges; "
                 f"findings: {found}{feedback}; {len(self.suggestions)} suggestion(s)")
 
-
     def parts(self, chunk: int = 500) -> Iterator[tuple]:
         """The result as ``AnalysisView.assemble`` takes it, in parts of at most ``chunk`` rows or findings:
         the analysis process sends them one by one, so that reading any one of them is short (reading a
@@ -178,10 +177,6 @@ class AnalysisResult:
         for key in (k for k in TAB_KEYS if k != "C2"):
             for start in range(0, counts[key], chunk):
                 yield ("witnesses", key, [self.witnesses(key, i) for i in range(start, min(counts[key], start + chunk))])
-
-    def view(self) -> AnalysisView:
-        """The same as ``AnalysisView.assemble(self.parts())``, in this process."""
-        return AnalysisView.assemble(self.parts())
 
 
 @dataclass

@@ -61,7 +61,7 @@ from ltl_stack.gui.widgets import (
     show_status,
     status_row,
 )
-from ltl_stack.gui.worker_process import WorkerProcess, analyze_request
+from ltl_stack.gui.worker_process import WorkerProcess, analysis_view
 
 
 def take_live_snapshot(master_uri: str | None):
@@ -249,9 +249,7 @@ class AnalysisPanel(QWidget):
             return False
         robots, ignore = names(self.robots_line_edit.text()), names(self.ignore_line_edit.text())
         uri = self.master_line_edit.text().strip() or None
-        take = self._take_snapshot
-
-        process = self.analysis_process
+        take, process = self._take_snapshot, self.analysis_process
 
         def work(progress):
             snapshot = None
@@ -260,11 +258,7 @@ class AnalysisPanel(QWidget):
                 snapshot = take(uri)
             request = {"spec": spec, "mapping": mapping, "snapshot": snapshot,
                        "snapshot_path": None if live else snapshot_path, "robots": robots, "ignore_topics": ignore}
-            if process is not None:  # the analysis in its own process: it shares no GIL with the GUI thread
-                return process.analyze(request, progress)
-            view = analyze_request(request, progress).view()
-            view.snapshot = snapshot
-            return view
+            return analysis_view(process, request, progress)  # in its own process: no GIL shared with the GUI
         self.clear_result()  # a failed run must not leave an older result on screen
         self._start(collector_paused(work), self.show_result, "Analyzing…")
         return True

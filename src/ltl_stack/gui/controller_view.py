@@ -66,7 +66,7 @@ from ltl_stack.gui.widgets import (
     show_status,
     status_row,
 )
-from ltl_stack.gui.worker_process import WorkerProcess
+from ltl_stack.gui.worker_process import WorkerProcess, controller_model
 
 STATE_TYPE = "ltl_stack/ControllerState"
 REFRESH_MS = 30
@@ -194,7 +194,7 @@ class ControllerView(QWidget):
         self.refresh_task: Task | None = None
         self.reload_task: Task | None = None
         self.layout_task: Task | None = None
-        #: the process the syntheses run in (CUDD holds the GIL; None: on a worker thread here)
+        #: the process the syntheses run in (no GIL shared with the GUI; None: on a worker thread here)
         self.worker: WorkerProcess | None = WorkerProcess()
         self.layout_count = 0  # Graphviz runs (a neighbourhood seen before is drawn from the cache)
         self.sketch_count = 0  # neighbourhoods sketched while Graphviz lays them out
@@ -404,8 +404,7 @@ class ControllerView(QWidget):
             link = factory(topic, latest.put, diagnostic.emit)
             try:
                 options = options_from_params(link.params(), wanted)
-                model = (worker.controller_model(spec, options, progress) if worker is not None
-                         else ControllerModel.synthesize(spec, options, progress))
+                model = controller_model(worker, spec, options, progress)
                 progress(f"attached to {topic}")  # raises Cancelled when Cancel came meanwhile
                 return link, model
             except BaseException:
@@ -520,8 +519,7 @@ class ControllerView(QWidget):
         spec, options, generation, worker = update.spec_file, model.options, update.generation, self.worker
 
         def work(progress):
-            new = (worker.controller_model(spec, options, progress) if worker is not None
-                   else ControllerModel.synthesize(spec, options, progress))
+            new = controller_model(worker, spec, options, progress)
             new.generation = generation
             return new
         self.reload_task = Task(collector_paused(work), self)

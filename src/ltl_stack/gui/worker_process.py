@@ -4,8 +4,8 @@ view's syntheses. Qt-free.
 A worker thread running Python code stalls the GUI thread: every event PyQt hands to Python waits for
 the GIL, and on a loaded machine the worker is often descheduled while it holds it (bench_gui
 --pictures: 61 ms stalls during an analysis with the GIL handed over every 0.2 ms and six busy
-processes beside it); a synthesis' CUDD calls hold the GIL for as long as they run (~400 ms attaching
-the 65,536-state spheros automaton). In a process of its own the work shares no GIL with the GUI. It
+processes beside it), and a synthesis' CUDD calls hold the GIL for as long as each runs. In a process
+of its own the work shares no GIL with the GUI. It
 sends its result in small parts that the panel's worker thread reads one by one, each read short (the
 analysis of a 10,000-node graph is 7.7 MB pickled, 280 ms to read in one call). Cancel kills the
 process: the work really stops.
@@ -83,17 +83,6 @@ class WorkerProcess:
                 self.kill()
                 raise
 
-    def analyze(self, request: dict[str, Any], progress: Callable[[str], None]) -> AnalysisView:
-        """An analysis (``analyze_request``) in the child."""
-        view = AnalysisView.assemble(self.run("analysis", request, progress))
-        view.snapshot = request.get("snapshot")
-        return view
-
-    def controller_model(self, spec: str, options: Any, progress: Callable[[str], None]) -> ControllerModel:
-        """``ControllerModel.synthesize`` with the synthesis in the child."""
-        return ControllerModel.assemble(spec, options, self.run("automaton", {"spec": spec, "options": options},
-                                                                 progress))
-
     @staticmethod
     def _parts(stream: BinaryIO, progress: Callable[[str], None]) -> Iterator[tuple]:
         while True:
@@ -124,6 +113,26 @@ class WorkerProcess:
         proc, self._proc = self._proc, None
         if proc is not None:
             _end(proc)
+
+
+def analysis_view(worker: WorkerProcess | None, request: dict[str, Any],
+                  progress: Callable[[str], None]) -> AnalysisView:
+    """An analysis (``analyze_request``) in ``worker``'s process, or on this thread without one."""
+    parts = (worker.run("analysis", request, progress) if worker is not None
+             else analyze_request(request, progress).parts())
+    view = AnalysisView.assemble(parts)
+    view.snapshot = request.get("snapshot")
+    return view
+
+
+def controller_model(worker: WorkerProcess | None, spec: str, options: Any,
+                     progress: Callable[[str], None]) -> ControllerModel:
+    """``ControllerModel.synthesize`` with the synthesis in ``worker``'s process, or on this thread
+    without one."""
+    if worker is None:
+        return ControllerModel.synthesize(spec, options, progress)
+    return ControllerModel.assemble(spec, options, worker.run("automaton", {"spec": spec, "options": options},
+                                                             progress))
 
 
 def _end(proc: subprocess.Popen) -> None:

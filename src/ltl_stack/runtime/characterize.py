@@ -366,6 +366,14 @@ class Counters:
     negotiated: int = 0             # new strategies adopted from a negotiation (also in resyntheses)
     unsafe: int = 0                 # steps where no move kept sys safety
 
+    def new_strategy(self, source: str | None) -> None:
+        """One more new strategy in place, from ``source``: EC1, EC2, "user" (the user's liveness) or
+        "negotiation"; it counts in ``resyntheses`` and in that source's counter."""
+        self.resyntheses += 1
+        name = {EC1: "ec1", EC2: "ec2", "user": "user", "negotiation": "negotiated"}.get(source)
+        if name is not None:
+            setattr(self, name, getattr(self, name) + 1)
+
 
 @dataclass(frozen=True)
 class Event:
@@ -479,8 +487,7 @@ class ResilientStrategy:
         if attempt.realizable:
             self.characterizer.accept(attempt, observation, texts)
             self._install(attempt, observation)
-            self.counters.resyntheses += 1
-            self.counters.user += 1
+            self.counters.new_strategy("user")
             self._event(f"user env liveness {'; '.join(texts)}: realizable ({attempt.variant}); continuing")
         else:
             self.mode = previous
@@ -514,8 +521,7 @@ class ResilientStrategy:
         if path is not None and write:  # (negotiation writes it itself before agreeing: two-phase)
             write_atomic(path, write_slugsin(spec, comments=True) if path.suffix == ".slugsin" else text)
         observation = Observation(self.steps, self.wall_clock(), dict(inputs), dict(outputs), dict(inputs))
-        self.counters.resyntheses += 1
-        self.counters.negotiated += 1
+        self.counters.new_strategy("negotiation")
         self.threshold.reset()
         state = self._install(Attempt(True, "negotiation", spec, text, strategy, 0.0), observation)
         self._event("adopted the specification negotiated with a collaborative robot (Alg. 4)")
@@ -533,11 +539,7 @@ class ResilientStrategy:
         attempt = self.characterizer.characterize(observation)
         if attempt.realizable:
             self.characterizer.accept(attempt, observation)
-            self.counters.resyntheses += 1
-            if attempt.variant == EC1:
-                self.counters.ec1 += 1
-            else:
-                self.counters.ec2 += 1
+            self.counters.new_strategy(attempt.variant)  # EC1 or EC2
             self.threshold.reset()
             self._event(f"resynthesized with {attempt.variant} in {attempt.seconds * 1000:.1f} ms")
             return self._install(attempt, observation)
@@ -552,8 +554,7 @@ class ResilientStrategy:
             if result is not None and result.realizable:
                 text = self.characterizer.text(None, observation)
                 attempt = Attempt(True, "negotiation", spec, text, result.strategy, 0.0)
-                self.counters.resyntheses += 1
-                self.counters.negotiated += 1
+                self.counters.new_strategy("negotiation")
                 self._event("negotiation gave a realizable specification")
                 return self._install(attempt, observation)
             if spec is not None:

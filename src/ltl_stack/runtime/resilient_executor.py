@@ -270,15 +270,7 @@ class BackgroundResilience(ResilientStrategy):
         self.write_error = None
         if write:
             self._keep(attempt, observation, list(liveness))
-        self.counters.resyntheses += 1
-        if liveness:
-            self.counters.user += 1
-        elif attempt.variant == EC1:
-            self.counters.ec1 += 1
-        elif attempt.variant == EC2:
-            self.counters.ec2 += 1
-        elif attempt.variant == "negotiation":
-            self.counters.negotiated += 1
+        self.counters.new_strategy("user" if liveness else attempt.variant)
         self.threshold.reset()
         strategy = self._switch_to(attempt)
         current = self._state

@@ -409,14 +409,14 @@ def test_killing_the_worker_process_stops_a_running_synthesis_at_once():
     """Cancel kills the worker process: a long synthesis (spheros, 65,536 states) ends at once with one
     line, and the next job starts a new process."""
     from ltl_stack.gui.controller_model import ViewOptions
-    from ltl_stack.gui.worker_process import WorkerProcess, WorkFailed
+    from ltl_stack.gui.worker_process import WorkerProcess, WorkFailed, controller_model
 
     worker, started, failed = WorkerProcess(), threading.Event(), []
 
     def attach():
         try:
-            worker.controller_model(str(CONFIG / "spheros" / "spheros.slugsin"), ViewOptions(),
-                                    lambda _text: started.set())
+            controller_model(worker, str(CONFIG / "spheros" / "spheros.slugsin"), ViewOptions(),
+                             lambda _text: started.set())
         except WorkFailed as err:
             failed.append(str(err))
     thread = threading.Thread(target=attach)
@@ -427,7 +427,7 @@ def test_killing_the_worker_process_stops_a_running_synthesis_at_once():
     thread.join(60)
     assert not thread.is_alive() and child.poll() is not None
     assert failed == ["the worker process ended unexpectedly"]
-    model = worker.controller_model(str(SIMPLE_SPEC), ViewOptions(), lambda _text: None)
+    model = controller_model(worker, str(SIMPLE_SPEC), ViewOptions(), lambda _text: None)
     assert worker._proc is not child and len(model.automaton) > 1
     worker.close()
 
