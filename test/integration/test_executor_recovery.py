@@ -85,6 +85,31 @@ MODES = {"recovery": [], "hold": ["--no-recovery"], "all-false": ["--no-recovery
          "characterization with recovery": ["--characterized-spec", "{tmp}/ch.structuredslugs"]}
 
 
+def break_door_then_see_a_person(ros_master, make_probe):
+    """With the executor subscribed: door=1 and no person (a first state), then door=0 (breaks door'),
+    then a person: the probe of ~state, once the state with door=0 was published."""
+    ros_master.wait_for_subscriber(PERSON)
+    ros_master.wait_for_subscriber(DOOR)
+    probe = make_probe([f"state:{STATE}"])
+    probe.publish(PERSON, False)
+    probe.publish(DOOR, True)
+    wait_for(lambda: [e for e in probe.of("state") if e["inputs"] == {"person": False, "door": True}], 60,
+             "the first state")
+    probe.publish(DOOR, False)  # breaks door'
+    wait_for(lambda: [e for e in probe.of("state") if e["inputs"] == {"person": False, "door": False}], 60,
+             "a state with door=0")
+    probe.publish(PERSON, True)
+    return probe
+
+
+def assert_every_state_with_a_person_keeps_the_guarantees(probe) -> None:
+    """person' -> stop' and pass' -> door' in every published state with a person."""
+    states = [e for e in probe.of("state") if e["inputs"]["person"]]
+    assert states, probe.of("state")
+    bad = [e for e in states if not e["outputs"]["stop"] or (e["outputs"]["pass"] and not e["inputs"]["door"])]
+    assert not bad, bad
+
+
 @pytest.mark.parametrize("mode", list(MODES))
 def test_person_door_probe_keeps_stop_true_in_every_mode(ros_master, probes, tmp_path, mode):  # noqa: F811
     """Lemma 1(a) in every mode (issue 23): with door=0 (assumption broken) and person=1 every valuation
@@ -95,26 +120,13 @@ def test_person_door_probe_keeps_stop_true_in_every_mode(ros_master, probes, tmp
     extra = [a.format(tmp=tmp_path) for a in MODES[mode]]
     executor = ros_master.run(["rosrun", "ltl_stack", "controller_executor", str(spec), "--json",
                                "--violation-grace", "0", *extra], name="executor")
-    ros_master.wait_for_subscriber(PERSON)
-    ros_master.wait_for_subscriber(DOOR)
-    probe = probes([f"state:{STATE}"])
-    probe.publish(PERSON, False)
-    probe.publish(DOOR, True)
-    wait_for(lambda: [e for e in probe.of("state") if e["inputs"] == {"person": False, "door": True}], 60,
-             "the first state")
-    probe.publish(DOOR, False)  # breaks door'
-    wait_for(lambda: [e for e in probe.of("state") if e["inputs"] == {"person": False, "door": False}], 60,
-             "a state with door=0")
-    probe.publish(PERSON, True)
+    probe = break_door_then_see_a_person(ros_master, probes)
     seen = wait_for(lambda: [e for e in probe.of("state") if e["inputs"] == {"person": True, "door": False}], 60,
                     "a state with person=1 door=0")
     if "characterization" in mode:  # and through the resynthesis (or the wait for the user)
         wait_for(lambda: probe.of("state")[-1]["mode"] != "characterizing" and probe.of("state")[-1]["t"] >= seen[0]["t"],
                  120, "characterization done")
-    states = [e for e in probe.of("state") if e["inputs"]["person"]]
-    assert states, probe.of("state")
-    bad = [e for e in states if not e["outputs"]["stop"] or (e["outputs"]["pass"] and not e["inputs"]["door"])]
-    assert not bad, bad
+    assert_every_state_with_a_person_keeps_the_guarantees(probe)
     assert "Traceback" not in executor.output(), executor.output()
 
 
@@ -148,24 +160,12 @@ def test_person_door_probe_keeps_stop_true_with_negotiation_configured(ros_maste
     executor = ros_master.run(["rosrun", "ltl_stack", "controller_executor", str(spec), str(mapping), "--json",
                                "--violation-grace", "0", "--characterized-spec", str(tmp_path / "ch.structuredslugs"),
                                "--negotiation-timeout", "20", *recovery], name="executor")
-    ros_master.wait_for_subscriber(PERSON)
-    ros_master.wait_for_subscriber(DOOR)
-    probe = probes([f"state:{STATE}"])
-    probe.publish(PERSON, False)
-    probe.publish(DOOR, True)
-    wait_for(lambda: [e for e in probe.of("state") if e["inputs"] == {"person": False, "door": True}], 60,
-             "the first state")
-    probe.publish(DOOR, False)  # breaks door' (P's openDoor)
-    wait_for(lambda: [e for e in probe.of("state") if e["inputs"] == {"person": False, "door": False}], 60,
-             "a state with door=0")
-    probe.publish(PERSON, True)  # door still closed: no characterized spec is realizable, R negotiates with P
+    # door is P's openDoor; still closed with a person: no characterized spec is realizable, R negotiates with P
+    probe = break_door_then_see_a_person(ros_master, probes)
     wait_for(lambda: '"report"' in peer.output(), 120, "P's negotiation report")
     after = wait_for(lambda: [e for e in probe.of("state")[-1:] if e["resyntheses"] >= 2 and e["inputs"]["person"]
                               and e["mode"] != "characterizing"], 120, "the node settled on the adopted spec")[0]
     assert after["mode"] != "aborted", (after, executor.output()[-3000:])
     assert '"case": "BOTH_ADOPT"' in peer.output(), peer.output()
-    states = [e for e in probe.of("state") if e["inputs"]["person"]]
-    assert states, probe.of("state")
-    bad = [e for e in states if not e["outputs"]["stop"] or (e["outputs"]["pass"] and not e["inputs"]["door"])]
-    assert not bad, bad
+    assert_every_state_with_a_person_keeps_the_guarantees(probe)
     assert "Traceback" not in executor.output() + peer.output(), executor.output() + peer.output()

@@ -463,13 +463,19 @@ def test_a_cancelled_task_stops_at_its_next_progress_and_hands_a_late_result_to_
     assert finished == []
 
 
-def attached_view(qtbot, spec):
+def attached_view(qtbot, spec, full_limit: int | None = None, radius: int | None = None):
+    """A view attached to ``spec`` through ``RecordingLink``, its first picture drawn (whole graph up to
+    ``full_limit`` states, else a neighbourhood of ``radius``, when given)."""
     from ltl_stack.gui.controller_view import ControllerView
 
     view = ControllerView(link_factory=RecordingLink)
     qtbot.addWidget(view)
     view.spec_line_edit.setText(str(spec))
     view.topic_combo_box.setEditText("/x/controller_executor/state")
+    if full_limit is not None:
+        view.full_spin_box.setValue(full_limit)
+    if radius is not None:
+        view.radius_spin_box.setValue(radius)
     assert view.attach()
     qtbot.waitUntil(lambda: view.model is not None and view.graph_view.graph is not None, timeout=WAIT)
     return view
@@ -542,16 +548,8 @@ def test_defect8_the_layout_never_gets_more_than_a_bounded_neighbourhood():
 
 def test_defect8_a_neighbourhood_seen_before_is_drawn_from_the_cache(qtbot):
     from ltl_stack.gui.controller_model import StateUpdate
-    from ltl_stack.gui.controller_view import ControllerView
 
-    view = ControllerView(link_factory=RecordingLink)
-    qtbot.addWidget(view)
-    view.spec_line_edit.setText(str(ALICE_SPEC))
-    view.topic_combo_box.setEditText("/alice/controller_executor/state")
-    view.full_spin_box.setValue(4)
-    view.radius_spin_box.setValue(1)
-    assert view.attach()
-    qtbot.waitUntil(lambda: view.model is not None and view.graph_view.graph is not None, timeout=WAIT)
+    view = attached_view(qtbot, ALICE_SPEC, full_limit=4, radius=1)
     a = view.model.automaton
     first = a.initial[0]
     far = next(s.id for s in a.states if s.id not in view.model.shown_states(first))
@@ -564,22 +562,13 @@ def test_defect8_a_neighbourhood_seen_before_is_drawn_from_the_cache(qtbot):
     view.shutdown()
 
 
-
 def test_defect8_a_state_that_leaves_the_picture_is_highlighted_before_graphviz_answers(qtbot, monkeypatch):
     """Highlight within one frame of the label: a state outside the drawn neighbourhood is drawn at once
     in a sketch of its neighbourhood (Graphviz held back here), then in Graphviz's layout when it comes."""
     from ltl_stack.gui import widgets
     from ltl_stack.gui.controller_model import StateUpdate
-    from ltl_stack.gui.controller_view import ControllerView
 
-    view = ControllerView(link_factory=RecordingLink)
-    qtbot.addWidget(view)
-    view.spec_line_edit.setText(str(ALICE_SPEC))
-    view.topic_combo_box.setEditText("/alice/controller_executor/state")
-    view.full_spin_box.setValue(4)
-    view.radius_spin_box.setValue(1)
-    assert view.attach()
-    qtbot.waitUntil(lambda: view.model is not None and view.graph_view.graph is not None, timeout=WAIT)
+    view = attached_view(qtbot, ALICE_SPEC, full_limit=4, radius=1)
     a = view.model.automaton
     far = next(s.id for s in a.states if s.id not in view._drawn)
     release, asked = threading.Event(), []
