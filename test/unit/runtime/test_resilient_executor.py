@@ -8,6 +8,7 @@ import threading
 import pytest
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
+from queued_jobs import Jobs
 
 from ltl_stack.runtime.characterize import ExecutionAborted, Mode, NegotiationAbort, Observation, Threshold
 from ltl_stack.runtime.controller import Controller
@@ -30,20 +31,6 @@ PROBE = "[INPUT]\nperson\ndoor\n\n[OUTPUT]\nstop\n\n[ENV_INIT]\ndoor\n\n[ENV_TRA
 STUCK = "[INPUT]\ndoor\n\n[OUTPUT]\nat\n\n[SYS_INIT]\n!at\n\n[SYS_TRANS]\nat -> at'\n\n[SYS_LIVENESS]\n!at\n"
 DOOR = "[INPUT]\ndoor\n\n[OUTPUT]\nat\n\n[ENV_INIT]\ndoor\n\n[SYS_INIT]\n!at\n\n[ENV_TRANS]\ndoor'\n\n" \
        "[SYS_TRANS]\nat' -> door'\n\n[SYS_LIVENESS]\nat\n"
-
-
-class Jobs:
-    """A runner that keeps the jobs until the test runs them (as the worker thread would, later)."""
-
-    def __init__(self) -> None:
-        self.queue: list = []
-
-    def __call__(self, job) -> None:
-        self.queue.append(job)
-
-    def run_all(self) -> None:
-        while self.queue:
-            self.queue.pop(0)()
 
 
 def resilient(text: str, tmp_path=None, **kwargs) -> tuple[BackgroundResilience, Controller, Jobs, list]:

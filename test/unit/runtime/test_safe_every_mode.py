@@ -13,6 +13,7 @@ import itertools
 
 from hypothesis import HealthCheck, assume, example, given, settings
 from hypothesis import strategies as st
+from queued_jobs import Jobs
 
 from ltl_stack.runtime.characterize import Observation
 from ltl_stack.runtime.executor_setup import build_strategy, make_controller, merge_options
@@ -73,18 +74,6 @@ OPS = st.one_of(st.tuples(st.just("inputs"), st.sampled_from(VALUATIONS)),
 
 
 CHECKED: list = []  # the runs that got past ``assume`` (the test checks there are many)
-
-
-class Jobs:
-    def __init__(self) -> None:
-        self.queue: list = []
-
-    def __call__(self, job) -> None:
-        self.queue.append(job)
-
-    def run_all(self) -> None:
-        while self.queue:
-            self.queue.pop(0)()
 
 
 def check_run(text, clauses, options, ops) -> None:
