@@ -73,6 +73,12 @@ class Recorder:
         with self._lock:
             return self.messages[-1] if self.messages else None
 
+    def wait_connected(self, publishers: int = 1, timeout: float = WAIT) -> None:
+        """Wait until this recorder is connected to ``publishers`` publishers: rospy connects a subscriber
+        to a publisher that registered later in the background, and what is sent before is not seen."""
+        wait_for(lambda: self.sub.get_num_connections() >= publishers, timeout,
+                 f"{publishers} publisher(s) connected on {self.topic}")
+
     def wait(self, predicate, timeout: float = WAIT, what: str = "a message"):
         """Wait until ``predicate(messages)`` is truthy; return its value."""
         return wait_for(lambda: predicate(self.snapshot()), timeout, f"{what} on {self.topic}")

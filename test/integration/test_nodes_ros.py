@@ -76,6 +76,7 @@ def test_set_color_sets_the_colour_on_rising_edge_and_black_on_falling(ros):
     colors = ros.record(ros.topic("sphero/set_color"), ColorRGBA)
     ros.run("set_color", f"_publish_topic:={ros.topic('sphero/set_color')}", "_r:=255", "_g:=0", "_b:=0",
             "_off_on_false:=true", f"proposition:={ros.topic('outputs/turn_red')}")
+    colors.wait_connected()  # the colours are counted: none may go out before the recorder hears them
     ros.set_bool(ros.topic("outputs/turn_red"), True)
     red = colors.wait_last(lambda c: c.r == 255.0, what="red")
     assert (red.g, red.b) == (0.0, 0.0), red

@@ -89,6 +89,7 @@ def test_move_base_region_resends_an_aborted_goal_until_it_arrives(ros):
             f"_regions_file:={REGIONS}", f"__ns:={ros.ns}", f"proposition:={ros.topic('outputs/leftGround')}",
             f"completion:={ros.topic('inputs/leftGround_done')}")
     ros.master.wait_for_subscriber(ros.topic("move_base/result"))
+    goals.wait_connected()  # else the first goal can go out before the recorder hears it (seen: 2 of 3)
     ros.set_bool(ros.topic("outputs/leftGround"), True)
     completion.wait_last(lambda b: b.data is True, timeout=90, what="arrival after two aborts")
     sent = goals.snapshot()
