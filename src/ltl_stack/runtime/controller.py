@@ -23,11 +23,14 @@ strategy at once; a repeated reading does nothing.
   outputs are the new state's, no policy applies); None means no recovery, and the policy applies.
 
 * Lemma 1(a) (thesis ch. 4): a ``guard`` (``ltl_stack.runtime.modes.OutputGuard``, installed by
-  ``make_controller``) turns the policy's valuation into one that keeps the system safety rho_s from
-  the last state with the current readings whenever one exists: hold keeps the last state's outputs
-  if they keep rho_s, else the nearest safe valuation; all-false the safe valuation with the fewest
-  outputs true. ``unkeepable`` names the rho_s clauses when none exists (the policy's valuation is
-  then published as it is, and the Update carries them).
+  ``make_controller``) turns the policy's valuation into one that keeps the system safety rho_s for
+  the move the world sees: from the position last *published* (the readings then and the outputs
+  published then, which differ from the last state's after an earlier policy valuation) to the
+  current readings. Guarantees that tie consecutive outputs (``stop -> brake'``) are thereby kept
+  across holds too. Hold keeps the last state's outputs if they keep rho_s, else the nearest safe
+  valuation; all-false the safe valuation with the fewest outputs true. ``unkeepable`` names the
+  rho_s clauses when none exists (the policy's valuation is then published as it is, and the
+  Update carries them).
 
 * Abort (``abort``; thesis Alg. 3 line 11, the executor's ``~abort``): every output false, nothing
   stepped any more; the node stays up. ``restart_from(state)`` continues from a state of a strategy
@@ -78,8 +81,9 @@ class StrategyLike(Protocol):
 
 
 Recovery = Callable[["Controller", AssumptionViolation], Any]
-#: (last state, readings, the policy's outputs) -> an object with ``outputs`` and ``unkeepable``
-Guard = Callable[[Any, Mapping[str, bool], Mapping[str, bool]], Any]
+#: (position published last: every input and output, readings, the policy's outputs) -> an object
+#: with ``outputs`` and ``unkeepable``
+Guard = Callable[[Mapping[str, bool], Mapping[str, bool], Mapping[str, bool]], Any]
 
 
 @dataclass(frozen=True)
@@ -140,6 +144,10 @@ class Controller:
         # Inputs given in init_props count as readings until their topic says otherwise.
         self._readings: dict[str, bool] = {p: v for p, v in init_props.items() if p in self.inputs}
         self._published: dict[str, bool] | None = None
+        #: the positions (readings and outputs) of the last two distinct publications, oldest first:
+        #: a policy valuation is a move from the latest one; re-asked (``current_outputs``) with the
+        #: same readings, it is the same move, from the one before
+        self._moves: tuple[dict[str, bool] | None, dict[str, bool] | None] = (None, None)
 
     # --- what the adapter reads -------------------------------------------------------------
     @property
@@ -163,8 +171,15 @@ class Controller:
 
     def current_outputs(self) -> dict[str, bool]:
         """The output valuation to publish: all false while paused, before the start or once aborted;
-        on a violation the policy's valuation (through ``guard``: the nearest one keeping rho_s);
-        otherwise the current state's outputs."""
+        on a violation the policy's valuation (through ``guard``: the nearest one keeping rho_s from
+        the position last published); otherwise the current state's outputs."""
+        with self.lock:
+            before, last = self._moves
+            same = last is not None and all(last.get(p) == v for p, v in self.readings.items())
+            return self._outputs_from(before if same else last)
+
+    def _outputs_from(self, published: Mapping[str, bool] | None) -> dict[str, bool]:
+        """``current_outputs`` for a move from the position ``published`` (None: the last state's)."""
         with self.lock:
             self.unkeepable = []
             if not self.running or self.state is None or self.aborted is not None:
@@ -175,7 +190,8 @@ class Controller:
             wanted = dict.fromkeys(self.outputs, False) if self.on_violation == ALL_FALSE else last
             if self.guard is None:
                 return wanted
-            guarded = self.guard(self.state, self.readings, wanted)
+            position = {**self.state.inputs, **self.state.outputs, **(published or {})}
+            guarded = self.guard(position, self.readings, wanted)
             self.unkeepable = list(guarded.unkeepable)
             return dict(guarded.outputs)
 
@@ -284,7 +300,10 @@ class Controller:
             self.state = following
 
     def _result(self, **kwargs: Any) -> Update:
-        outputs = self.current_outputs()
+        outputs = self._outputs_from(self._moves[1])
+        position = {**self.readings, **outputs}
+        if position != self._moves[1]:
+            self._moves = (self._moves[1], position)
         before = self._published or {}
         changed = {p: v for p, v in outputs.items() if self._published is None or before.get(p) != v}
         self._published = outputs

@@ -7,8 +7,10 @@ outputs the node publishes when it does *not* take a strategy move — a violati
 answers, the phases of negotiation — come from the ``--on-violation`` policy, and ``OutputGuard``
 makes them keep rho_s too:
 
-* ``hold``: the outputs of the controller's last state when they keep rho_s from that state with the
-  current inputs, else the valuation that keeps rho_s with the fewest outputs changed;
+* ``hold``: the outputs of the controller's last state when they keep rho_s with the current inputs
+  from the position last *published* (not the last state: after a policy valuation the two differ,
+  and guarantees tying consecutive outputs, ``stop -> brake'``, are about what the robot did), else
+  the valuation that keeps rho_s with the fewest outputs changed;
 * ``all-false``: the valuation that keeps rho_s with the fewest outputs true;
 * only when no output valuation keeps rho_s the policy's valuation is published as it is, and the
   guard names the clauses that cannot be kept together (``file:line``; the node logs them as ERROR).
@@ -183,7 +185,8 @@ class ViolationReport:
 
 
 def violation_report(violation: Any, result: Any, unkeepable: list[Clause], readings: Mapping[str, bool],
-                     state_id: int, recovered: bool, policy: str) -> ViolationReport:
+                     state_id: int, recovered: bool, policy: str,
+                     outputs: Mapping[str, bool] | None = None) -> ViolationReport:
     """The report of an environment-assumption violation: the broken clauses (``file:line``, text and
     English), how the robot answered — a recovery move (``result``: its kind), or the ``policy``'s
     outputs kept safe — and, when no move keeps the system safety, the guarantees that cannot all be
@@ -202,7 +205,9 @@ def violation_report(violation: Any, result: Any, unkeepable: list[Clause], read
         cannot = (f"; no move keeps the system safety, these guarantees cannot all be kept: {'; '.join(unsafe)}"
                   if unsafe else "")
         text = (f"environment assumption violated by inputs {inputs} from state {state_id}: {'; '.join(parts)}"
-                f"{cannot}; {policy_text(policy, bool(unkeepable))}, waiting for admissible inputs")
+                f"{cannot}; {policy_text(policy, bool(unkeepable))}"
+                f"{f': publishing outputs {format_valuation(outputs)}' if outputs is not None else ''}"
+                ", waiting for admissible inputs")
     values = [("clause", c) for c in clauses] + [("meaning", m) for m in meanings if m] + [
         ("unsafe_clause", c) for c in unsafe] + [
         ("inputs", inputs), ("state", str(state_id)), ("policy", f"recovery ({kind})" if recovered else policy)]
@@ -244,11 +249,14 @@ class OutputGuard:
             return self._game
         return game_of(self.strategy)
 
-    def __call__(self, state: Any, inputs: Mapping[str, bool], wanted: Mapping[str, bool]) -> Guarded:
+    def __call__(self, position: Mapping[str, bool], inputs: Mapping[str, bool],
+                 wanted: Mapping[str, bool]) -> Guarded:
+        """``wanted`` made to keep rho_s for the move from ``position`` (the inputs and outputs
+        last published) to ``inputs``."""
         game = self.game()
-        if game is None or state is None or any(p not in inputs for p in game.inputs):
+        if game is None or any(p not in inputs for p in game.inputs) or any(p not in position for p in game.variables):
             return Guarded(dict(wanted))
-        return nearest_safe_outputs(game, {**state.inputs, **state.outputs}, inputs, wanted)
+        return nearest_safe_outputs(game, position, inputs, wanted)
 
 
 def strategy_source(original: str, resilient: Any | None) -> tuple[str, int]:
@@ -478,7 +486,7 @@ class NodeReports:
             return None
         self._last_violation_key = key
         return violation_report(update.violation, result, update.unkeepable, readings, update.state.id,
-                                update.recovered, self.policy)
+                                update.recovered, self.policy, update.outputs)
 
     def mode_report(self) -> ModeReport:
         """The "mode" status: what the controller is doing and how many resyntheses happened."""

@@ -102,5 +102,6 @@ def test_violation_report_names_the_broken_and_the_unkeepable_clauses():
     assert "s:11: p' -> x'; s:12: p' -> !x'" in report.text and "publishing the hold valuation" in report.text
     assert ("unsafe_clause", "s:12: p' -> !x'") in report.values and report.event["unsafe"] == [
         "s:11: p' -> x'", "s:12: p' -> !x'"]
-    kept = violation_report(broken, None, [], {"p": True}, 3, False, "all-false")
+    kept = violation_report(broken, None, [], {"p": True}, 3, False, "all-false", {"x": True})
     assert "the fewest outputs true that keep the system safety" in kept.text and "unsafe" not in kept.event
+    assert "publishing outputs x" in kept.text  # what was published, not the last state's outputs

@@ -4,8 +4,10 @@ spec — every output valuation the controller publishes keeps the system safety
 valuation does. In process, as the node builds it (``build_strategy`` + ``make_controller``), no ROS.
 
 The oracle evaluates the generated rho_s clauses itself (Python, not BDDs). Generated rho_s clauses
-speak of next-state variables only, so a published valuation can be judged from the current
-readings alone, also after settling steps (which publish only the last state of a chain of moves).
+speak of next-state variables (judged from the current readings alone, also after settling steps,
+which publish only the last state of a chain of moves) and of current and next outputs (``x -> y'``):
+those the valuations a policy publishes (holding, characterizing, waiting for the user) must keep
+for the move the robot made, from the position last published (readings then, outputs published).
 """
 from __future__ import annotations
 
@@ -25,11 +27,17 @@ from ltl_stack.synthesis.game import Game
 
 INPUTS = ["a", "b"]
 OUTPUTS = ["x", "y", "z"]
-# rho_s templates over next-state variables: (text, python check on the next valuation)
-SYS = [("{i}' -> {o}'", lambda v, i, o, p: not v[i] or v[o]),
-       ("{o}' -> {i}'", lambda v, i, o, p: not v[o] or v[i]),
-       ("{i}' -> !{o}'", lambda v, i, o, p: not v[i] or not v[o]),
-       ("!({o}' & {p}')", lambda v, i, o, p: not (v[o] and v[p]))]
+# rho_s templates: (text, python check on the position before ``w`` and the next valuation ``v``)
+SYS = [("{i}' -> {o}'", lambda w, v, i, o, p: not v[i] or v[o]),
+       ("{o}' -> {i}'", lambda w, v, i, o, p: not v[o] or v[i]),
+       ("{i}' -> !{o}'", lambda w, v, i, o, p: not v[i] or not v[o]),
+       ("!({o}' & {p}')", lambda w, v, i, o, p: not (v[o] and v[p])),
+       # over current and next outputs: consecutive outputs tied together
+       ("{o} -> {p}'", lambda w, v, i, o, p: not w[o] or v[p]),
+       ("{o} & {i}' -> {o}'", lambda w, v, i, o, p: not (w[o] and v[i]) or v[o]),
+       ("!{o} -> !{p}'", lambda w, v, i, o, p: w[o] or not v[p])]
+#: the templates that speak of next-state variables only
+NEXT_ONLY = {SYS[k][0] for k in range(4)}
 ENV = ["a'", "!a' | !b'", "a' -> a", "b' -> !a'", "a' | b'"]
 
 
@@ -40,7 +48,7 @@ def specs(draw):
         k = draw(st.integers(0, len(SYS) - 1))
         i = draw(st.sampled_from(INPUTS))
         o, p = draw(st.permutations(OUTPUTS))[:2]
-        clauses.append((SYS[k][0].format(i=i, o=o, p=p), SYS[k][1], i, o, p))
+        clauses.append((SYS[k][0].format(i=i, o=o, p=p), SYS[k][1], i, o, p, SYS[k][0] in NEXT_ONLY))
     env = draw(st.lists(st.sampled_from(ENV), min_size=1, max_size=2, unique=True))
     goal = draw(st.sampled_from(["", "x", "!x", "y | a"]))
     text = ("[INPUT]\na\nb\n\n[OUTPUT]\nx\ny\nz\n\n[ENV_INIT]\na\n!b\n\n[SYS_INIT]\n!x\n!y\n!z\n\n"
@@ -50,8 +58,10 @@ def specs(draw):
     return text, clauses
 
 
-def keeps(clauses, valuation) -> bool:
-    return all(check(valuation, i, o, p) for _text, check, i, o, p in clauses)
+def keeps(clauses, valuation, before=None) -> bool:
+    """``valuation`` keeps the clauses for the move from ``before`` (None: the next-only clauses)."""
+    return all(check(before, valuation, i, o, p) for _text, check, i, o, p, next_only in clauses
+               if next_only or before is not None)
 
 
 MODES = [  # (name, options): the mode matrix of issue 23
@@ -84,13 +94,23 @@ def check_run(text, clauses, options, ops) -> None:
     strategy = build_strategy(spec, opts, log=lambda _t: None)
     controller = make_controller(strategy, opts, {})
     jobs = Jobs()
-    published = []
+    world = []  # the distinct positions (readings and outputs published) the robot went through
+
+    class Published(list):
+        def append(self, update) -> None:
+            super().append(update)
+            position = {**controller.readings, **update.outputs}
+            if not world or world[-1] != position:
+                world.append(position)
+
+    published = Published()
     if isinstance(strategy, BackgroundResilience):
         strategy.runner = jobs
         strategy.on_installed = lambda state: published.append(controller.restart_from(state))
     published.append(controller.report_many({"a": True, "b": False}))
     first = controller.state  # the initial state keeps the init sections; rho_s is about moves
     for op in ops:
+        moves = len(world)
         if op[0] == "inputs":
             published.append(controller.report_many(op[1]))
         elif op[0] == "tick":
@@ -123,16 +143,32 @@ def check_run(text, clauses, options, ops) -> None:
         if possible:
             assert keeps(clauses, {**readings, **outputs}), (op, readings, outputs, controller.violation)
             assert keeps(clauses, {**readings, **published[-1].outputs}), (op, readings, published[-1])
+        if controller.violation is None or len(world) == moves or len(world) < 2:
+            continue  # a strategy move (kept by construction), or nothing new published
+        before = world[-2]  # the policy's valuation: a move from the position published before
+        possible = any(keeps(clauses, {**readings, **{o: bits[k] for k, o in enumerate(OUTPUTS)}}, before)
+                       for bits in itertools.product([False, True], repeat=len(OUTPUTS)))
+        if possible:
+            assert keeps(clauses, world[-1], before), (op, before, world[-1])
+            assert keeps(clauses, {**readings, **outputs}, before), (op, before, outputs)
 
 
 @settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
 @given(specs(), st.sampled_from(MODES), st.lists(OPS, min_size=1, max_size=12))
 @example(("[INPUT]\na\nb\n\n[OUTPUT]\nx\ny\nz\n\n[ENV_INIT]\na\n!b\n\n[SYS_INIT]\n!x\n\n[ENV_TRANS]\na'\n\n[SYS_TRANS]\nb' -> x'\n",
-          [("b' -> x'", SYS[0][1], "b", "x", "y")]),
+          [("b' -> x'", SYS[0][1], "b", "x", "y", True)]),
          MODES[6], [("inputs", {"a": False, "b": True}), ("inputs", {"a": False, "b": True})])
 @example(("[INPUT]\na\nb\n\n[OUTPUT]\nx\ny\nz\n\n[ENV_INIT]\na\n!b\n\n[SYS_INIT]\n!x\n\n[ENV_TRANS]\na'\n\n[SYS_TRANS]\nb' -> x'\n",
-          [("b' -> x'", SYS[0][1], "b", "x", "y")]),
+          [("b' -> x'", SYS[0][1], "b", "x", "y", True)]),
          MODES[3], [("inputs", {"a": False, "b": True})])
+@example(("[INPUT]\na\nb\n\n[OUTPUT]\nx\ny\nz\n\n[ENV_INIT]\na\n!b\n\n[SYS_INIT]\n!x\n!y\n\n[ENV_TRANS]\na'\n\n"
+          "[SYS_TRANS]\nb' -> x'\nx -> y'\n",
+          [("b' -> x'", SYS[0][1], "b", "x", "y", True), ("x -> y'", SYS[4][1], "b", "x", "y", False)]),
+         MODES[3], [("inputs", {"a": False, "b": True}), ("inputs", {"a": False, "b": False})])
+@example(("[INPUT]\na\nb\n\n[OUTPUT]\nx\ny\nz\n\n[ENV_INIT]\na\n!b\n\n[SYS_INIT]\n!x\n!y\n\n[ENV_TRANS]\na'\n\n"
+          "[SYS_TRANS]\nb' -> x'\nx -> y'\n",
+          [("b' -> x'", SYS[0][1], "b", "x", "y", True), ("x -> y'", SYS[4][1], "b", "x", "y", False)]),
+         MODES[4], [("inputs", {"a": False, "b": True}), ("inputs", {"a": False, "b": False})])
 def test_every_published_valuation_keeps_rho_s_when_one_can(spec_and_clauses, mode, ops):
     text, clauses = spec_and_clauses
     check_run(text, clauses, mode[1], ops)
