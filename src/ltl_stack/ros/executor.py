@@ -13,6 +13,8 @@ and violation reports of ``~state`` and /diagnostics); this module only wires th
   controller's lock); each step's falling outputs are written before its rising ones;
 * optional fixed-rate stepping (``--rate``) for specs that progress without input changes;
 * the ready handshake: the timer ``--ready-timeout`` reports the inputs that have never reported;
+* freshness (``runtime.freshness``): a timer marks inputs whose last message is older than their
+  bound unknown (``Controller.set_unknown``), a message makes them known again;
 * run/pause: service ``~set_running`` (``std_srvs/SetBool``) and topic ``~running`` (``std_msgs/Bool``);
 * violations are confirmed after ``--violation-grace`` by one worker thread, whatever the input rate;
 * ``/diagnostics``: the node's statuses once a second, and at once when one changes;
@@ -67,6 +69,7 @@ from ltl_stack.runtime.executor_setup import (
     prepare,
     scenario_namespace,
 )
+from ltl_stack.runtime.freshness import Freshness, freshness_bounds, unknown_text
 from ltl_stack.runtime.mapping import resolve_topics
 from ltl_stack.runtime.modes import (
     INITIAL_STATUSES,
@@ -124,6 +127,9 @@ def build_parser() -> cli.ToolParser:
                                                                  "default 0: only on input changes)")
     parser.add_argument("--ready-timeout", type=float, metavar="S", help="report inputs that have not "
                         "published after S seconds, and again every S seconds (default 10; 0 = never)")
+    parser.add_argument("--freshness", type=float, metavar="S", help="an input reading older than S seconds makes "
+                        "the input unknown, for inputs whose bound neither the mapping's freshness: nor their node's "
+                        "rate gives (default 0: never); unknown inputs: outputs safe for every value of them")
     parser.add_argument("--on-violation", choices=VIOLATION_POLICIES, help="outputs after an environment-"
                         "assumption violation: hold the last safe valuation (default) or drive all false")
     parser.add_argument("--recovery", dest="recovery", action="store_true", default=None,
@@ -240,6 +246,7 @@ class ExecutorNode:
             self.set_negotiate(negotiate)
         self._window_timer = None
         self._started_at = time.monotonic()
+        self.freshness = Freshness(freshness_bounds(prepared.mapping, controller.inputs, options.freshness))
         self._statuses: dict[str, DiagnosticStatus] = {}
         self._status_lock = threading.Lock()
         with warnings.catch_warnings():
@@ -270,6 +277,8 @@ class ExecutorNode:
             self.tick_timer = rospy.Timer(rospy.Duration(1.0 / options.rate), self._on_tick)
         if options.ready_timeout > 0 and not controller.ready:
             self.ready_timer = rospy.Timer(rospy.Duration(options.ready_timeout), self._on_ready_timeout)
+        self.freshness_timer = rospy.Timer(rospy.Duration(self.freshness.check_period()),
+                                           lambda _event: self.check_freshness()) if self.freshness.active else None
         if options.publisher_check_period > 0:
             self.publisher_timer = rospy.Timer(rospy.Duration(options.publisher_check_period),
                                                lambda _event: self.check_publishers())
@@ -291,6 +300,11 @@ class ExecutorNode:
 
     # callbacks (each runs in a rospy thread; the controller's lock orders steps and publications)
     def _on_input(self, msg: Bool, prop: str) -> None:
+        self.freshness.seen(prop, time.monotonic())
+        if prop in self.controller.unknown:  # known again: resume (check_freshness steps)
+            self.controller.record({prop: msg.data})
+            self.check_freshness()
+            return
         if self.options.input_window > 0:
             with self.controller.lock:
                 if self.controller.record({prop: msg.data}) and self._window_timer is None:
@@ -322,6 +336,22 @@ class ExecutorNode:
             if self._window_timer is not None:
                 return  # readings are arriving: the window's step comes
             self._publish(self.controller.tick())
+
+    def check_freshness(self) -> None:
+        """Mark the inputs older than their freshness bound unknown, and the others known (the
+        controller resumes when none is left); say so on /diagnostics and in the log."""
+        with self.controller.lock:
+            now = time.monotonic()
+            stale = self.freshness.stale(now)
+            if stale == self.controller.unknown:
+                return
+            update = self.controller.set_unknown(stale)
+            status = self.reports.unknown_report(update, unknown_text(stale, self.prepared.input_topics,
+                                                                      self.freshness, now))
+            self._publish(update, force_state=True)
+        log = {0: rospy.loginfo, 1: rospy.logwarn}.get(status.level, rospy.logerr)
+        log("%s: %s", self.name, status.message)
+        self._set_status(status)
 
     def _on_set_running(self, request: Any) -> SetBoolResponse:
         self.set_running(request.data)

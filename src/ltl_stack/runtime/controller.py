@@ -32,6 +32,14 @@ strategy at once; a repeated reading does nothing.
   rho_s clauses when none exists (the policy's valuation is then published as it is, and the
   Update carries them).
 
+* Unknown inputs (``set_unknown``): inputs whose last reading is older than their freshness bound
+  (``runtime.freshness``; a partition, a dead sensor). Nothing is stepped while there are any (a step
+  would take a stale reading for the truth); the outputs are those nearest to the ones published
+  that keep rho_s for *every* value of the unknown inputs (the guard, from the position last
+  published), else every output false with ``unkeepable`` naming the clauses. When every input is
+  fresh again the strategy steps from its last state with the current readings (like a tick): the
+  execution resumes where it was, no restart.
+
 * Abort (``abort``; thesis Alg. 3 line 11, the executor's ``~abort``): every output false, nothing
   stepped any more; the node stays up. ``restart_from(state)`` continues from a state of a strategy
   that was put in place meanwhile (environment characterization, ``runtime.resilient_executor``).
@@ -106,6 +114,8 @@ class Update:
     changed_outputs: dict[str, bool] = field(default_factory=dict)
     #: the rho_s clauses no output valuation keeps while a policy applies (then ``outputs`` break them)
     unkeepable: list = field(default_factory=list)
+    #: the inputs unknown now (stale), in spec order
+    unknown: list = field(default_factory=list)
 
 
 class Controller:
@@ -143,6 +153,8 @@ class Controller:
         self.init_outputs = {p: v for p, v in init_props.items() if p in self.outputs}
         # Inputs given in init_props count as readings until their topic says otherwise.
         self._readings: dict[str, bool] = {p: v for p, v in init_props.items() if p in self.inputs}
+        #: inputs whose reading is stale (``set_unknown``), in spec order
+        self.unknown: list[str] = []
         self._published: dict[str, bool] | None = None
         #: the positions (readings and outputs) of the last two distinct publications, oldest first:
         #: a policy valuation is a move from the latest one; re-asked (``current_outputs``) with the
@@ -185,6 +197,8 @@ class Controller:
             if not self.running or self.state is None or self.aborted is not None:
                 return dict.fromkeys(self.outputs, False)
             last = {p: bool(self.state.outputs[p]) for p in self.outputs}
+            if self.unknown and self.guard is not None:
+                return self._outputs_for_unknown(published, last)
             if self.violation is None:
                 return last
             wanted = dict.fromkeys(self.outputs, False) if self.on_violation == ALL_FALSE else last
@@ -194,6 +208,17 @@ class Controller:
             guarded = self.guard(position, self.readings, wanted)
             self.unkeepable = list(guarded.unkeepable)
             return dict(guarded.outputs)
+
+    def _outputs_for_unknown(self, published: Mapping[str, bool] | None, last: dict[str, bool]) -> dict[str, bool]:
+        """The outputs nearest to those published (else the last state's) keeping rho_s for every
+        value of the unknown inputs; every output false when none does (``unkeepable`` says why)."""
+        position = {**self.state.inputs, **self.state.outputs, **(published or {})}
+        wanted = {p: bool(position.get(p, last[p])) for p in self.outputs}
+        guarded = self.guard(position, self.readings, wanted, unknown=self.unknown)
+        if guarded.unkeepable:
+            self.unkeepable = list(guarded.unkeepable)
+            return dict.fromkeys(self.outputs, False)
+        return dict(guarded.outputs)
 
     # --- what the adapter calls -------------------------------------------------------------
     def report(self, prop: str, value: bool) -> Update:
@@ -242,6 +267,19 @@ class Controller:
             self.aborted = reason
             return self._result()
 
+    def set_unknown(self, props: Any) -> Update:
+        """Mark the inputs ``props`` unknown (stale) and every other one known. While any is unknown
+        nothing is stepped; when the last one is known again, step from the last state with the
+        current readings (``tick``), as if the execution had never stopped."""
+        with self.lock:
+            unknown = [p for p in self.inputs if p in set(props)]
+            if unknown == self.unknown:
+                return self._result()
+            self.unknown = unknown
+            if unknown or self.state is None:
+                return self._result()
+            return self._advance(force=True)
+
     def restart_from(self, state: Any) -> Update:
         """Continue from ``state`` (of a strategy just put in place): step once with the current
         readings and settle, like a tick. Nothing happens once aborted or before the start."""
@@ -258,7 +296,7 @@ class Controller:
 
     # --- internals ---------------------------------------------------------------------------
     def _advance(self, force: bool) -> Update:
-        if not self.running or not self.ready or self.aborted is not None:
+        if not self.running or not self.ready or self.aborted is not None or (self.unknown and self.state is not None):
             return self._result()
         readings = self.readings
         if self.state is None:
@@ -308,7 +346,7 @@ class Controller:
         changed = {p: v for p, v in outputs.items() if self._published is None or before.get(p) != v}
         self._published = outputs
         return Update(outputs=outputs, state=self.state, changed_outputs=changed, unkeepable=list(self.unkeepable),
-                      **kwargs)
+                      unknown=list(self.unknown), **kwargs)
 
 
 def _valuation(values: Mapping[str, bool], names: list[str]) -> dict[str, bool]:

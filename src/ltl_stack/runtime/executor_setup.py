@@ -70,6 +70,9 @@ EXECUTOR_PARAMS = [
     Param("init_props", "", "initial values a=1,b=0 (string) or {a: true, b: false} (dict)", kind=(str, dict)),
     Param("rate", 0.0, "also step at this rate (Hz; 0: only on input changes)", bound=Bound.RATE_OR_ZERO),
     Param("ready_timeout", 10.0, "report silent inputs every S seconds (0: never)", bound=Bound.PERIOD_OR_ZERO),
+    Param("freshness", 0.0, "seconds an input reading stays valid when neither the mapping's freshness: nor its "
+          "node's rate gives a bound (0: forever); an older one makes the input unknown (docs/several_machines.md)",
+          bound=Bound.NON_NEGATIVE),
     Param("on_violation", ViolationPolicy.HOLD.value, "outputs after an assumption violation",
           choices=VIOLATION_POLICIES),
     Param("recovery", True, "after an environment-assumption violation take a recovery step (thesis §4.6) "
@@ -111,6 +114,7 @@ class Options:
     init_props: str = ""
     rate: float = 0.0
     ready_timeout: float = 10.0
+    freshness: float = 0.0
     on_violation: ViolationPolicy = ViolationPolicy.HOLD
     recovery: bool = True
     characterize: bool | None = None

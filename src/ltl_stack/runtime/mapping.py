@@ -21,7 +21,8 @@ subscribe to its output topic::
 
 Compatible extensions: an optional top-level ``namespace:``; ``negotiation:`` (the proposition
 classes for integrative negotiation, read by ``runtime.negotiation``, docs/negotiation.md); per node ``type:`` (the executable,
-otherwise taken from ``filename``) and ``args:`` (command-line arguments for the launch file).
+otherwise taken from ``filename``) and ``args:`` (command-line arguments for the launch file); per input
+``freshness:`` (seconds a reading stays valid; 0: forever; ``runtime.freshness``).
 
 ``load_mapping`` reads a file as it is (structure errors raise ``MappingError`` naming file and line);
 ``check_mapping`` compares it with a spec's propositions and returns errors and warnings.
@@ -45,7 +46,7 @@ INPUT = "input"
 OUTPUT = "output"
 _TOPIC_KEY = {INPUT: "node_publish_topic", OUTPUT: "node_subscribe_topic"}
 _ENTRY_KEYS = {"node", "node_publish_topic", "node_subscribe_topic", "pkg", "filename", "parameters",
-               "type", "args"}
+               "type", "args", "freshness"}
 _TOP_KEYS = {"inputs", "outputs", "namespace", "negotiation", "expected_feedback"}
 _NAME = re.compile(r"^/?[A-Za-z_~][A-Za-z0-9_/]*$")
 
@@ -87,6 +88,8 @@ class NodeEntry:
     type: str | None = None
     args: str = ""
     line: int = 0
+    #: seconds a reading of this input stays valid (None: derived, ``runtime.freshness``; 0: forever)
+    freshness: float | None = None
 
     @property
     def executable(self) -> str | None:
@@ -254,9 +257,17 @@ def _entry(file: str, kind: str, prop: str, value: Any, node: yaml.Node) -> Node
     parameters = value.get("parameters") or {}
     if not isinstance(parameters, dict):
         raise MappingError(file, keys["parameters"][0], f"{kind} {prop!r}: parameters must be a mapping")
+    freshness = value.get("freshness")
+    if "freshness" in value:
+        if kind != INPUT:
+            raise MappingError(file, keys["freshness"][0], f"{kind} {prop!r}: freshness is for inputs")
+        if isinstance(freshness, bool) or not isinstance(freshness, (int, float)) or not 0 <= freshness < float("inf"):
+            raise MappingError(file, keys["freshness"][0], f"{kind} {prop!r}: freshness must be a number of seconds "
+                               f">= 0 (0: a reading stays valid forever), got {freshness!r}")
     return NodeEntry(proposition=prop, kind=kind, node=node_name, topic=topic, pkg=text("pkg"),
                      filename=text("filename"), parameters={str(k): v for k, v in parameters.items()},
-                     type=text("type"), args=text("args") or "", line=line)
+                     type=text("type"), args=text("args") or "", line=line,
+                     freshness=float(freshness) if freshness is not None else None)
 
 
 def _line(node: yaml.Node) -> int:
@@ -410,7 +421,7 @@ def format_mapping(mapping: Mapping) -> str:
 def _entry_dict(entry: NodeEntry) -> dict[str, Any]:
     fields = [("node", entry.node), (_TOPIC_KEY[entry.kind], entry.topic), ("pkg", entry.pkg),
               ("filename", entry.filename), ("type", entry.type), ("args", entry.args or None),
-              ("parameters", dict(entry.parameters) or None)]
+              ("parameters", dict(entry.parameters) or None), ("freshness", entry.freshness)]
     return {key: value for key, value in fields if value is not None}
 
 

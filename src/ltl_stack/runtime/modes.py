@@ -23,7 +23,7 @@ violations, recovery moves and unsafe steps are counted, the mode and health sta
 from __future__ import annotations
 
 import os
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -45,7 +45,7 @@ from ltl_stack.synthesis.recovery import StepKind, StepResult, UnsafeStep, unkee
 OK, WARN, ERROR = 0, 1, 2
 #: The diagnostic level of each mode (``~state``'s ``mode``).
 MODE_LEVELS = {"normal": OK, "recovering": WARN, "holding": WARN, "characterizing": WARN,
-               "waiting_for_user": WARN, "aborted": ERROR}
+               "waiting_for_user": WARN, "inputs_unknown": WARN, "aborted": ERROR}
 
 
 @dataclass(frozen=True)
@@ -62,20 +62,27 @@ class Guarded:
 
 
 def nearest_safe_outputs(game: Game, position: Mapping[str, bool], inputs: Mapping[str, bool],
-                         wanted: Mapping[str, bool]) -> Guarded:
+                         wanted: Mapping[str, bool], unknown: Sequence[str] = ()) -> Guarded:
     """The output valuation keeping rho_s (``game.sys_trans``) for the move from ``position`` (every
     input and output) to (``inputs``, outputs) that differs from ``wanted`` in the fewest outputs
     (ties: ``wanted``'s value in spec order); ``wanted`` itself when it keeps rho_s. The search
-    counts differences over the outputs rho_s constrains here: O(k^2) BDD operations for k of them."""
+    counts differences over the outputs rho_s constrains here: O(k^2) BDD operations for k of them.
+
+    ``unknown``: inputs whose next value is not known (stale readings): the valuation must keep rho_s
+    for *every* value of them — the next outputs allowed are ``forall unknown'. rho_s`` with the
+    known values put in, one exact BDD quantification."""
     bdd = game.bdd
+    unknown_next = [prime_name(p) for p in game.inputs if p in unknown]
     assign = game.assignment({p: bool(position[p]) for p in game.variables},
-                             {p: bool(inputs[p]) for p in game.inputs})
-    allowed = bdd.let(assign, game.sys_trans)  # over the next outputs
+                             {p: bool(inputs[p]) for p in game.inputs if p not in unknown})
+    allowed = bdd.let(assign, game.sys_trans)  # over the next outputs (and the unknown next inputs)
+    if unknown_next:
+        allowed = bdd.forall(unknown_next, allowed)
     wanted = {p: bool(wanted[p]) for p in game.outputs}
     if bdd.let({prime_name(p): v for p, v in wanted.items()}, allowed) == bdd.true:
         return Guarded(wanted)
     if allowed == bdd.false:
-        return Guarded(wanted, unkeepable_clauses(game, assign))
+        return Guarded(wanted, unkeepable_clauses(game, assign, unknown_next))
     support = bdd.support(allowed)
     names = [p for p in game.outputs if prime_name(p) in support]
     exact = [bdd.true]  # exact[j]: the valuations of the names seen so far with j changes
@@ -102,14 +109,19 @@ def nearest_safe_outputs(game: Game, position: Mapping[str, bool], inputs: Mappi
     return Guarded(chosen)
 
 
-def current_mode(aborted: bool, violation: bool, resilient: str | None, recovered: bool) -> str:
-    """``~state``'s mode: normal, recovering, holding, characterizing, waiting_for_user or aborted.
+def current_mode(aborted: bool, violation: bool, resilient: str | None, recovered: bool,
+                 unknown: bool = False) -> str:
+    """``~state``'s mode: normal, recovering, holding, characterizing, waiting_for_user,
+    inputs_unknown or aborted.
 
     ``violation``: the controller holds a violation (no recovery move was taken); ``resilient``: the
     resilient strategy's mode (None without characterization); ``recovered``: the latest update
-    took a recovery move."""
+    took a recovery move; ``unknown``: some input is stale (older than its freshness bound), the
+    outputs keep rho_s for every value of it, nothing is stepped."""
     if aborted:
         return "aborted"
+    if unknown:
+        return "inputs_unknown"
     if resilient is not None:
         if resilient in ("normal", "recovering") and violation:
             return "holding"
@@ -129,6 +141,8 @@ def mode_text(mode: str, policy: str, recovery: bool, aborted: str | None) -> st
             if recovery else "characterizing: resynthesizing (holding meanwhile, kept safe)",
             "waiting_for_user": "waiting for the user: unrealizable after environment characterization; call "
                                 "~add_env_liveness with an environment liveness assumption, or ~abort",
+            "inputs_unknown": "inputs unknown (no message within their freshness bound): not stepping; outputs "
+                              "keep the system safety for every value of them",
             "aborted": f"aborted ({aborted}): every output is false"}[mode]
 
 
@@ -250,13 +264,14 @@ class OutputGuard:
         return game_of(self.strategy)
 
     def __call__(self, position: Mapping[str, bool], inputs: Mapping[str, bool],
-                 wanted: Mapping[str, bool]) -> Guarded:
+                 wanted: Mapping[str, bool], unknown: Sequence[str] = ()) -> Guarded:
         """``wanted`` made to keep rho_s for the move from ``position`` (the inputs and outputs
-        last published) to ``inputs``."""
+        last published) to ``inputs``, for every value of the ``unknown`` inputs."""
         game = self.game()
-        if game is None or any(p not in inputs for p in game.inputs) or any(p not in position for p in game.variables):
+        if game is None or any(p not in inputs and p not in unknown for p in game.inputs) \
+                or any(p not in position for p in game.variables):
             return Guarded(dict(wanted))
-        return nearest_safe_outputs(game, position, inputs, wanted)
+        return nearest_safe_outputs(game, position, inputs, wanted, unknown)
 
 
 def strategy_source(original: str, resilient: Any | None) -> tuple[str, int]:
@@ -410,7 +425,8 @@ class NodeReports:
         with controller.lock:
             return current_mode(controller.aborted is not None, controller.violation is not None,
                                 self.resilient.mode.value if self.resilient is not None else None,
-                                self._recovered_in_update if self.resilient is not None else self._recovering)
+                                self._recovered_in_update if self.resilient is not None else self._recovering,
+                                bool(controller.unknown) and controller.state is not None)
 
     def violated_clauses(self) -> list[str]:
         """The env-safety clauses the current inputs violate, ``file:line: text (English)``."""
@@ -502,6 +518,13 @@ class NodeReports:
         violated = self.violated_clauses()
         values += [("violated_clause", c) for c in violated]
         text = mode_text(mode, self.policy, self.recovery, self.controller.aborted)
+        level = MODE_LEVELS[mode]
+        if mode == "inputs_unknown":
+            values += [("unknown_input", p) for p in self.controller.unknown]
+            text += f"; unknown: {', '.join(self.controller.unknown)}"
+            if self.controller.unkeepable:
+                level = ERROR
+                text += "; no output valuation keeps it for every value: every output false"
         if violated and mode in ("recovering", "holding", "characterizing"):
             text += "; violated: " + "; ".join(violated)
         if mode == "waiting_for_user" and resilient is not None and resilient.explanation is not None:
@@ -522,8 +545,26 @@ class NodeReports:
                  if resilient is not None else "")
         changed = mode != self.mode
         self.mode = mode
-        return ModeReport(mode, Status(MODE_LEVELS[mode], "mode", text, values), spec_file, changed,
+        return ModeReport(mode, Status(level, "mode", text, values), spec_file, changed,
                           counters_event("mode", counters, mode=mode))
+
+    def unknown_report(self, update: Update, named: str) -> Status:
+        """The "input freshness" status after the set of unknown (stale) inputs changed to
+        ``update.unknown`` (``named``: them with topic and age, ``runtime.freshness.unknown_text``):
+        WARN when the outputs keep rho_s for every value of them, ERROR when no valuation does (every
+        output false, the clauses named), OK when every input is fresh again."""
+        if not update.unknown:
+            state = f"; resuming from state {update.state.id}" if update.state is not None else ""
+            return Status(OK, "input freshness", f"every input is fresh again{state}")
+        values = [("unknown_input", p) for p in update.unknown] + [("outputs", format_valuation(update.outputs))]
+        if update.unkeepable:
+            clauses = [f"{c.location}: {c.text}" for c in update.unkeepable]
+            values += [("unsafe_clause", c) for c in clauses]
+            return Status(ERROR, "input freshness", f"input(s) unknown: {named}; no output valuation keeps the system "
+                          f"safety for every value of them ({'; '.join(clauses)}): every output false", values)
+        return Status(WARN, "input freshness", f"input(s) unknown: {named}; not stepping, publishing outputs "
+                      f"{format_valuation(update.outputs)} (they keep the system safety for every value of them)",
+                      values)
 
     def health(self, waited: float) -> list[Status]:
         """The "inputs" and "controller" statuses, ``waited`` seconds after the node started."""

@@ -42,6 +42,7 @@ mode moves exactly as the normal strategy does.
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from enum import Enum
 
@@ -269,12 +270,15 @@ class RecoveryRelations:
         return in_w, in_r
 
 
-def unkeepable_clauses(game: Game, assign: dict) -> list[Clause]:
+def unkeepable_clauses(game: Game, assign: dict, unknown_next: Sequence[str] = ()) -> list[Clause]:
     """A minimal set of sys-safety clauses that no next output satisfies together for the
-    (current, next inputs) valuation ``assign``: the clauses false on their own when there are any,
-    else a subset minimal by deletion."""
+    (current, next inputs) valuation ``assign`` — for every value of the next inputs ``unknown_next``
+    (primed names) left out of it: the clauses false on their own when there are any, else a subset
+    minimal by deletion."""
     bdd = game.bdd
     restricted = [(c, bdd.let(assign, u)) for c, u in game.clauses("sys_safety")]
+    if unknown_next:  # forall distributes over the conjunction of the clauses
+        restricted = [(c, bdd.forall(list(unknown_next), u)) for c, u in restricted]
     alone = [c for c, u in restricted if u == bdd.false]
     if alone:
         return alone

@@ -80,7 +80,9 @@ VALUATIONS = [dict(zip(INPUTS, bits, strict=True)) for bits in itertools.product
 OPS = st.one_of(st.tuples(st.just("inputs"), st.sampled_from(VALUATIONS)),
                 st.tuples(st.just("inputs"), st.sampled_from(VALUATIONS)),
                 st.tuples(st.just("jobs")), st.tuples(st.just("tick")), st.tuples(st.just("user")),
-                st.tuples(st.just("adopt")))
+                st.tuples(st.just("adopt")),
+                # inputs going stale (older than their freshness bound) and fresh again
+                st.tuples(st.just("stale"), st.sampled_from([(), ("a",), ("b",), ("a", "b")])))
 
 
 CHECKED: list = []  # the runs that got past ``assume`` (the test checks there are many)
@@ -117,6 +119,8 @@ def check_run(text, clauses, options, ops) -> None:
             published.append(controller.tick())
         elif op[0] == "jobs":
             jobs.run_all()
+        elif op[0] == "stale":
+            published.append(controller.set_unknown(op[1]))
         elif op[0] == "user" and isinstance(strategy, BackgroundResilience) and strategy.job is None:
             try:
                 strategy.add_env_liveness("a | !a")
@@ -143,6 +147,9 @@ def check_run(text, clauses, options, ops) -> None:
         if possible:
             assert keeps(clauses, {**readings, **outputs}), (op, readings, outputs, controller.violation)
             assert keeps(clauses, {**readings, **published[-1].outputs}), (op, readings, published[-1])
+        if controller.unknown and len(world) >= 2 and len(world) > moves:
+            check_unknown(clauses, controller, world, op)
+            continue
         if controller.violation is None or len(world) == moves or len(world) < 2:
             continue  # a strategy move (kept by construction), or nothing new published
         before = world[-2]  # the policy's valuation: a move from the position published before
@@ -151,6 +158,25 @@ def check_run(text, clauses, options, ops) -> None:
         if possible:
             assert keeps(clauses, world[-1], before), (op, before, world[-1])
             assert keeps(clauses, {**readings, **outputs}, before), (op, before, outputs)
+
+
+def check_unknown(clauses, controller, world, op) -> None:
+    """With inputs unknown, the published valuation keeps every clause for every value of them
+    (from the position published before) when some valuation does, else every output is false."""
+    before, now = world[-2], world[-1]
+    unknown = controller.unknown
+    values = [dict(zip(unknown, bits)) for bits in itertools.product([False, True], repeat=len(unknown))]  # noqa: B905
+
+    def safe(outputs) -> bool:
+        return all(keeps(clauses, {**now, **v, **outputs}, before) for v in values)
+
+    some = any(safe({o: bits[k] for k, o in enumerate(OUTPUTS)})
+               for bits in itertools.product([False, True], repeat=len(OUTPUTS)))
+    outputs = {o: now[o] for o in OUTPUTS}
+    if some:
+        assert safe(outputs), (op, before, now, unknown)
+    else:
+        assert not any(outputs.values()), (op, before, now, unknown)
 
 
 @settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
