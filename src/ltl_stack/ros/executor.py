@@ -12,6 +12,7 @@ and violation reports of ``~state`` and /diagnostics); this module only wires th
 * stepping happens in the subscriber callback that changed the input valuation (under the
   controller's lock); each step's falling outputs are written before its rising ones;
 * optional fixed-rate stepping (``--rate``) for specs that progress without input changes;
+* the heartbeat: every output topic republished every ``--heartbeat`` s (output nodes' deadman);
 * the ready handshake: the timer ``--ready-timeout`` reports the inputs that have never reported;
 * freshness (``runtime.freshness``): a timer marks inputs whose last message is older than their
   bound unknown (``Controller.set_unknown``), a message makes them known again;
@@ -130,6 +131,9 @@ def build_parser() -> cli.ToolParser:
     parser.add_argument("--freshness", type=float, metavar="S", help="an input reading older than S seconds makes "
                         "the input unknown, for inputs whose bound neither the mapping's freshness: nor their node's "
                         "rate gives (default 0: never); unknown inputs: outputs safe for every value of them")
+    parser.add_argument("--heartbeat", type=float, metavar="S", help="republish every output topic every S seconds "
+                        "(default 0.25; 0: only on change): output nodes go to their safe state when their topic "
+                        "stays silent for their ~deadman (default 1 s)")
     parser.add_argument("--on-violation", choices=VIOLATION_POLICIES, help="outputs after an environment-"
                         "assumption violation: hold the last safe valuation (default) or drive all false")
     parser.add_argument("--recovery", dest="recovery", action="store_true", default=None,
@@ -277,6 +281,8 @@ class ExecutorNode:
             self.tick_timer = rospy.Timer(rospy.Duration(1.0 / options.rate), self._on_tick)
         if options.ready_timeout > 0 and not controller.ready:
             self.ready_timer = rospy.Timer(rospy.Duration(options.ready_timeout), self._on_ready_timeout)
+        self.heartbeat_timer = rospy.Timer(rospy.Duration(options.heartbeat), lambda _event: self.heartbeat()) \
+            if options.heartbeat > 0 else None
         self.freshness_timer = rospy.Timer(rospy.Duration(self.freshness.check_period()),
                                            lambda _event: self.check_freshness()) if self.freshness.active else None
         if options.publisher_check_period > 0:
@@ -336,6 +342,16 @@ class ExecutorNode:
             if self._window_timer is not None:
                 return  # readings are arriving: the window's step comes
             self._publish(self.controller.tick())
+
+    def heartbeat(self) -> None:
+        """Republish every output's current value (the output nodes' deadman listens for it)."""
+        with self.controller.lock:
+            outputs = self.controller.outputs_published()
+            if outputs is None:
+                return
+            for prop, value in outputs.items():
+                for pub in self.output_pubs[prop]:
+                    pub.publish(Bool(value))
 
     def check_freshness(self) -> None:
         """Mark the inputs older than their freshness bound unknown, and the others known (the

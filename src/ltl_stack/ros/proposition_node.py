@@ -6,6 +6,13 @@ subscribes to an output proposition topic and reacts to its edges: it starts its
 rising edge, may act periodically while the value is true, stops on the falling edge, and does
 nothing while false. On shutdown it drives its behaviour off.
 
+Deadman: the controller executor republishes every output topic at a steady rate (its heartbeat,
+``--heartbeat``). An output node that heard its topic once and then hears nothing for ``~deadman``
+seconds (default 1; 0: off) — a partition, a dead executor, a lost link — goes to its safe state,
+the falling-edge behaviour (zero velocity, goal cancelled, ``~on_false`` published), says so once
+(WARN and a /diagnostics status) and follows the topic again from its next message, as the
+cmd_vel timeouts of twist_mux and of base drivers do.
+
 The proposition topic comes from the ``~proposition_topic`` parameter, or else from the relative
 name ``proposition`` (remap it: ``proposition:=/ns/outputs/move``).
 
@@ -25,6 +32,7 @@ import genpy
 import roslib.message
 import rospy
 import rostopic
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from std_msgs.msg import Bool
 
 from ltl_stack import cli
@@ -216,6 +224,9 @@ OUTPUT_PARAMS = [
     Param("proposition_topic", "", "topic of the output proposition (default: relative name 'proposition')",
           ros_name=True),
     Param("rate", 10.0, "how often (Hz) the behaviour acts while the proposition is true", bound=Bound.RATE),
+    Param("deadman", 1.0, "seconds without a message on the proposition topic (the executor republishes it "
+          "every --heartbeat s) after which the node goes to its safe state, the falling-edge behaviour, "
+          "until messages return (0: off)", bound=Bound.PERIOD_OR_ZERO),
 ]
 
 
@@ -313,8 +324,14 @@ class OutputPropositionNode:
         self._lock = threading.RLock()
         self._stopped = False
         self.topic = proposition_topic(config)
+        after = float(config.get("deadman", 0.0))
+        self.deadman = StaleWatch(after, time.monotonic())
+        self._heard = False  # the deadman is armed by the first message: before it the node is idle anyway
+        self._diag = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=2) if after > 0 else None
         rospy.on_shutdown(self._on_shutdown)
         self._sub = rospy.Subscriber(self.topic, Bool, self._on_value, queue_size=10)
+        self._deadman_timer = rospy.Timer(rospy.Duration(min(after / 5, 0.1)), self._check_deadman) \
+            if after > 0 else None
 
     @property
     def active(self) -> bool:
@@ -344,6 +361,10 @@ class OutputPropositionNode:
         with self._lock:
             if self._stopped:
                 return
+            self._heard = True
+            if self.deadman.seen(time.monotonic()):
+                rospy.loginfo("%s: %s heard again: following the controller", rospy.get_name(), self.topic)
+                self._deadman_status(DiagnosticStatus.OK, f"{self.topic} heard again: following the controller")
             edge = self.edges.update(msg.data)
             if edge == RISING:
                 rospy.loginfo("%s: %s rose", rospy.get_name(), self.topic)
@@ -351,6 +372,31 @@ class OutputPropositionNode:
             elif edge == FALLING:
                 rospy.loginfo("%s: %s fell", rospy.get_name(), self.topic)
                 self.on_falling()
+
+    def _check_deadman(self, _event: Any) -> None:
+        """No message for ``~deadman`` s: the safe state (the falling-edge behaviour), said once."""
+        with self._lock:
+            if self._stopped or not self._heard or not self.deadman.check(time.monotonic()):
+                return
+            text = (f"no message on {self.topic} for {self.deadman.after:g} s (the controller's heartbeat): "
+                    f"{'stopping, ' if self.edges.value else ''}safe state until it returns")
+            rospy.logwarn("%s: %s", rospy.get_name(), text)
+            self._deadman_status(DiagnosticStatus.WARN, text)
+            if self.edges.value:
+                self.edges.update(False)
+                self.on_falling()
+
+    def _deadman_status(self, level: int, text: str) -> None:
+        if self._diag is None:
+            return
+        name = rospy.get_name()
+        status = DiagnosticStatus(level=level, name=f"{name}: deadman", message=text, hardware_id=name)
+        array = DiagnosticArray(status=[status])
+        array.header.stamp = rospy.Time.now()
+        try:
+            self._diag.publish(array)
+        except rospy.ROSException:  # shutting down
+            pass
 
     def _on_shutdown(self, _reason: str = "") -> None:
         with self._lock:

@@ -73,6 +73,8 @@ EXECUTOR_PARAMS = [
     Param("freshness", 0.0, "seconds an input reading stays valid when neither the mapping's freshness: nor its "
           "node's rate gives a bound (0: forever); an older one makes the input unknown (docs/several_machines.md)",
           bound=Bound.NON_NEGATIVE),
+    Param("heartbeat", 0.25, "republish every output topic this often (s; 0: only on change): the heartbeat of "
+          "the output nodes' deadman (~deadman, default 1 s)", bound=Bound.PERIOD_OR_ZERO),
     Param("on_violation", ViolationPolicy.HOLD.value, "outputs after an assumption violation",
           choices=VIOLATION_POLICIES),
     Param("recovery", True, "after an environment-assumption violation take a recovery step (thesis §4.6) "
@@ -115,6 +117,7 @@ class Options:
     rate: float = 0.0
     ready_timeout: float = 10.0
     freshness: float = 0.0
+    heartbeat: float = 0.25
     on_violation: ViolationPolicy = ViolationPolicy.HOLD
     recovery: bool = True
     characterize: bool | None = None
