@@ -32,6 +32,13 @@ Applied by ``import ltl_stack.ros``, which every node of ours does before anythi
   gh-110052, gh-127893). An exit job, registered when ``ltl_stack.ros`` is
   imported, makes the main thread wait, at most 10 s, until no other thread is inside
   ``rospy.core.signal_shutdown`` and those loops have returned.
+- **Logging asks the master** (ros/ros_comm#2337): every ``rospy.log*`` call that reaches /rosout
+  reads ``/rosout_disable_topics_generation`` with ``rospy.get_param_cached``, which caches only
+  parameters that are set: while it is unset (always, unless someone sets it) each log line is an
+  XML-RPC call to the master, and with the master unreachable it blocks for as long as TCP tries —
+  under the executor's controller lock, in a sensor's callback. The flag is now asked once, in a
+  daemon thread of its own, and its answer kept; until it comes (and if it never does) log lines
+  list their topics, rospy's default. A master restart changes nothing: nothing is asked again.
 """
 from __future__ import annotations
 
@@ -138,6 +145,38 @@ def finish_shutdown_at_exit(timeout: float = 10.0) -> None:
         time.sleep(0.01)
     for stopper in list(_stoppers):
         stopper.join(max(0.0, deadline - time.monotonic()))
+
+
+#: the parameter rospy's /rosout handler reads on every log line
+ROSOUT_FLAG = "/rosout_disable_topics_generation"
+
+
+def log_without_master(rospy_module: object) -> None:
+    """Make ``rospy.get_param_cached(ROSOUT_FLAG)`` never block (see the module docstring); other
+    parameters are read as before."""
+    original = rospy_module.get_param_cached
+    if getattr(original, "ltl_stack_fixed", False):
+        return
+    known = {"value": False, "asked": False}
+    lock = threading.Lock()
+
+    def ask() -> None:
+        try:
+            known["value"] = bool(original(ROSOUT_FLAG, False))
+        except Exception:  # noqa: BLE001 - no master, no node yet: keep rospy's default
+            pass
+
+    def get_param_cached(param_name, *default):
+        if param_name != ROSOUT_FLAG:
+            return original(param_name, *default)
+        with lock:
+            first, known["asked"] = not known["asked"], True
+        if first:
+            threading.Thread(target=ask, name="rosout_flag", daemon=True).start()
+        return known["value"]
+
+    get_param_cached.ltl_stack_fixed = True  # type: ignore[attr-defined]
+    rospy_module.get_param_cached = get_param_cached
 
 
 class AfterImport(importlib.abc.MetaPathFinder):

@@ -29,3 +29,40 @@ def test_a_fix_runs_once_right_after_its_module_is_imported(tmp_path):
                           timeout=120, check=False)
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.splitlines() == ["['sys'] False", "['sys', 42] 42", "['sys', 42] []"], proc.stdout
+
+
+def test_the_rosout_flag_is_asked_once_in_a_thread_of_its_own_and_never_blocks_a_log_line():
+    """ros_comm#2337: rospy asks the master for an unset /rosout_disable_topics_generation on every
+    log line; with the master unreachable that call blocks. A fake rospy whose lookup blocks until
+    released stands for the unreachable master."""
+    import threading
+    import types
+
+    from ltl_stack.ros import rospy_fixes
+
+    release = threading.Event()
+    asked = []
+
+    def get_param_cached(name, *default):
+        asked.append(name)
+        if name == rospy_fixes.ROSOUT_FLAG:
+            release.wait(60)  # the master answers only when released
+            return True
+        return f"value of {name}"
+
+    fake = types.SimpleNamespace(get_param_cached=get_param_cached)
+    rospy_fixes.log_without_master(fake)
+    done = []
+    logger = threading.Thread(target=lambda: done.extend(fake.get_param_cached(rospy_fixes.ROSOUT_FLAG, False)
+                                                         for _ in range(100)), daemon=True)
+    logger.start()
+    logger.join(30)
+    assert done == [False] * 100  # answered at once with rospy's default while the master is silent
+    assert fake.get_param_cached("/other") == "value of /other"
+    release.set()
+    from helpers import wait_for
+
+    wait_for(lambda: fake.get_param_cached(rospy_fixes.ROSOUT_FLAG) is True, 60, "the flag's answer kept")
+    assert asked.count(rospy_fixes.ROSOUT_FLAG) == 1  # asked once, then kept
+    rospy_fixes.log_without_master(fake)  # applied twice: still one wrapper
+    assert fake.get_param_cached(rospy_fixes.ROSOUT_FLAG) is True and asked.count(rospy_fixes.ROSOUT_FLAG) == 1

@@ -1,0 +1,167 @@
+"""Emulated hosts for integration tests: network namespaces joined by veth pairs to one bridge.
+
+Each "host" is a namespace with one interface (``eth0``, 10.232.0.K/24) whose peer is a port of a
+bridge in a "switch" namespace; nothing is created in this process's own namespace. ``cut(host)``
+takes the host's switch port down (a partition: the host's processes keep running, their packets
+go nowhere); ``heal(host)`` brings it back. Processes run in a host with ``ip netns exec``, their
+ROS_IP set to the host's address. Names contain ``i32``, the xdist worker and this process id, so
+concurrent workers never share one; ``close`` removes every namespace (and with it every link).
+"""
+from __future__ import annotations
+
+import os
+import subprocess
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+import pytest
+from helpers import RosProcess, stop_all, wait_for
+
+SUBNET = "10.232.0"
+
+
+def _ip(*args: str, check: bool = True) -> subprocess.CompletedProcess:
+    return subprocess.run(["ip", *args], capture_output=True, text=True, check=check, timeout=30)
+
+
+def netns_refusal() -> str | None:
+    """Why emulated hosts cannot be made here (None: they can)."""
+    if os.geteuid() != 0:
+        return "network namespaces need root"
+    probe = f"i32probe{os.getpid()}"
+    try:
+        made = _ip("netns", "add", probe, check=False)
+    except (OSError, subprocess.TimeoutExpired) as err:
+        return f"ip netns is not available: {err}"
+    if made.returncode != 0:
+        return f"ip netns add is not permitted: {made.stderr.strip()}"
+    _ip("netns", "del", probe, check=False)
+    return None
+
+
+class Hosts:
+    """``count`` emulated hosts on one switch; host K has address ``address(K)``."""
+
+    def __init__(self, workdir: Path, count: int) -> None:
+        worker = os.environ.get("PYTEST_XDIST_WORKER", "gw0")
+        self.prefix = f"i32{worker}p{os.getpid()}"
+        self.workdir = workdir
+        self.count = count
+        self.processes: list[RosProcess] = []
+        self.namespaces: list[str] = []
+        try:
+            self._build()
+        except BaseException:
+            self.close()
+            raise
+
+    def ns(self, host: int) -> str:
+        return f"{self.prefix}h{host}"
+
+    @property
+    def switch(self) -> str:
+        return f"{self.prefix}sw"
+
+    def address(self, host: int) -> str:
+        return f"{SUBNET}.{host + 1}"
+
+    def _add(self, name: str) -> None:
+        _ip("netns", "add", name)
+        self.namespaces.append(name)
+        _ip("-n", name, "link", "set", "lo", "up")
+
+    def _build(self) -> None:
+        self._add(self.switch)
+        _ip("-n", self.switch, "link", "add", "br0", "type", "bridge")
+        _ip("-n", self.switch, "link", "set", "br0", "up")
+        for host in range(self.count):
+            self._add(self.ns(host))
+            _ip("link", "add", "eth0", "netns", self.ns(host), "type", "veth", "peer", "name", f"p{host}",
+                "netns", self.switch)
+            _ip("-n", self.switch, "link", "set", f"p{host}", "master", "br0")
+            _ip("-n", self.switch, "link", "set", f"p{host}", "up")
+            _ip("-n", self.ns(host), "addr", "add", f"{self.address(host)}/24", "dev", "eth0")
+            _ip("-n", self.ns(host), "link", "set", "eth0", "up")
+
+    def cut(self, host: int) -> None:
+        """Partition ``host`` from every other one."""
+        _ip("-n", self.switch, "link", "set", f"p{host}", "down")
+
+    def heal(self, host: int) -> None:
+        _ip("-n", self.switch, "link", "set", f"p{host}", "up")
+
+    def env(self, host: int, master_host: int, port: int) -> dict[str, str]:
+        """The environment of a ROS process on ``host`` with the master on ``master_host``."""
+        env = dict(os.environ, ROS_MASTER_URI=f"http://{self.address(master_host)}:{port}/",
+                   ROS_IP=self.address(host), PYTHONUNBUFFERED="1", ROS_LOG_DIR=str(self.workdir / "log"),
+                   ROS_HOME=str(self.workdir / "ros_home"))
+        env.pop("ROS_HOSTNAME", None)
+        return env
+
+    def run(self, host: int, args: Sequence[str], env: Mapping[str, str], name: str) -> RosProcess:
+        """Start ``args`` on ``host`` (stopped by ``close``)."""
+        from helpers import direct_script
+
+        log = self.workdir / f"{len(self.processes):02d}-h{host}-{name}.log"
+        proc = RosProcess(["ip", "netns", "exec", self.ns(host), *direct_script(args, env)], env, log)
+        self.processes.append(proc)
+        return proc
+
+    def close(self) -> None:
+        stop_all(self.processes)
+        for name in reversed(self.namespaces):
+            _ip("netns", "del", name, check=False)
+        self.namespaces = []
+
+
+def reachable(hosts: Hosts, host: int, address: str) -> bool:
+    return subprocess.run(["ip", "netns", "exec", hosts.ns(host), "ping", "-c", "1", "-W", "1", address],
+                          capture_output=True, timeout=30).returncode == 0
+
+
+def start_master(hosts: Hosts, host: int, port: int = 11400) -> RosProcess:
+    """A bare rosmaster on ``host`` (the namespace is fresh: the port is free), with ``/run_id`` set."""
+    import xmlrpc.client
+
+    from ltl_stack.sim.session import master_command
+
+    env = hosts.env(host, host, port)
+    master = hosts.run(host, master_command(port), env, "rosmaster")
+    uri = env["ROS_MASTER_URI"]
+
+    def answers() -> bool:
+        out = subprocess.run(["ip", "netns", "exec", hosts.ns(host), sys_python(), "-c",
+                              f"import xmlrpc.client as x; print(x.ServerProxy({uri!r}).setParam('/t', '/run_id', "
+                              f"'i32-{port}')[0])"], capture_output=True, text=True, timeout=30)
+        return out.stdout.strip() == "1"
+
+    wait_for(answers, 60, f"the rosmaster on {hosts.ns(host)}")
+    del xmlrpc
+    return master
+
+
+def sys_python() -> str:
+    import sys
+
+    return sys.executable
+
+
+@pytest.fixture
+def hosts_factory(tmp_path):
+    """``make(count)`` -> Hosts, all removed after the test (also when it fails); skips with the reason
+    where network namespaces cannot be made."""
+    refusal = netns_refusal()
+    if refusal is not None:
+        pytest.skip(refusal)
+    made: list[Hosts] = []
+
+    def make(count: int) -> Hosts:
+        hosts = Hosts(tmp_path, count)
+        made.append(hosts)
+        return hosts
+
+    try:
+        yield make
+    finally:
+        for hosts in made:
+            hosts.close()
