@@ -103,6 +103,8 @@ class Session:
         self._pubs: dict = {}
         self._recorders: list[Recorder] = []
         self._clients: list = []
+        self._beats: dict = {}  # output topics set_bool keeps republishing, as the executor's heartbeat
+        self._beat_timer = None
 
     def topic(self, name: str) -> str:
         return f"{self.ns}/{name}"
@@ -130,9 +132,19 @@ class Session:
         pub.publish(msg)
 
     def set_bool(self, topic: str, value: bool, subscribers: int = 1) -> None:
+        """Set a proposition as the controller executor does: published at once, then republished
+        every 0.25 s (its heartbeat, which output nodes' deadman listens for)."""
+        import rospy
         from std_msgs.msg import Bool
 
         self.publish(topic, Bool(data=value), subscribers=subscribers)
+        self._beats[topic] = Bool(data=value)
+        if self._beat_timer is None:
+            self._beat_timer = rospy.Timer(rospy.Duration(0.25), self._beat)
+
+    def _beat(self, _event) -> None:
+        for topic, msg in list(self._beats.items()):
+            self._pubs[topic].publish(msg)
 
     def action_client(self, name: str, action_type: type, timeout: float = WAIT):
         """A real actionlib SimpleActionClient (ours: without actionlib's send_goal race, see
@@ -147,6 +159,8 @@ class Session:
         return client
 
     def close(self, processes_before: int) -> None:
+        if self._beat_timer is not None:
+            self._beat_timer.shutdown()
         for client in self._clients:
             ac = client.action_client
             for endpoint in (ac.pub_goal, ac.pub_cancel, ac.status_sub, ac.result_sub, ac.feedback_sub):

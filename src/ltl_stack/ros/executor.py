@@ -48,7 +48,7 @@ from std_srvs.srv import SetBool, SetBoolResponse, Trigger, TriggerResponse
 from ltl_stack import cli
 from ltl_stack.errors import Exit, UserError
 from ltl_stack.msg import ControllerState, PropositionValuation
-from ltl_stack.ros.master import init_node
+from ltl_stack.ros.master import init_node, timed_proxy
 from ltl_stack.ros.master_watch import MasterWatch
 from ltl_stack.ros.negotiation import NegotiationEndpoint, prepare_negotiation
 from ltl_stack.ros.valuation import valuation_to_msg
@@ -250,6 +250,8 @@ class ExecutorNode:
             self.set_negotiate(negotiate)
         self._window_timer = None
         self._started_at = time.monotonic()
+        #: when each output topic was last written (the heartbeat repeats the silent ones)
+        self._written: dict[str, float] = {}
         self.freshness = Freshness(freshness_bounds(prepared.mapping, controller.inputs, options.freshness))
         self._statuses: dict[str, DiagnosticStatus] = {}
         self._status_lock = threading.Lock()
@@ -344,14 +346,21 @@ class ExecutorNode:
             self._publish(self.controller.tick())
 
     def heartbeat(self) -> None:
-        """Republish every output's current value (the output nodes' deadman listens for it)."""
+        """Republish the current value of every output not published for ``--heartbeat`` s (the
+        output nodes' deadman listens for it; one that changed meanwhile needs no repeat)."""
         with self.controller.lock:
             outputs = self.controller.outputs_published()
             if outputs is None:
                 return
+            now = time.monotonic()
             for prop, value in outputs.items():
-                for pub in self.output_pubs[prop]:
-                    pub.publish(Bool(value))
+                if now - self._written.get(prop, 0.0) >= self.options.heartbeat * 0.9:
+                    self._write(prop, value, now)
+
+    def _write(self, prop: str, value: bool, now: float) -> None:
+        for pub in self.output_pubs[prop]:
+            pub.publish(Bool(value))
+        self._written[prop] = now
 
     def check_freshness(self) -> None:
         """Mark the inputs older than their freshness bound unknown, and the others known (the
@@ -496,7 +505,10 @@ class ExecutorNode:
     def check_publishers(self) -> list[str]:
         """Warn about input topics with more than one publisher; returns the warnings issued now."""
         try:
-            publishers, _, _ = rosgraph.Master(self.name).getSystemState()
+            code, message, state = timed_proxy(rosgraph.get_master_uri()).getSystemState(self.name)
+            if code != 1:
+                raise rosgraph.MasterException(message)
+            publishers = state[0]
         except Exception as err:  # noqa: BLE001 - the master may be going away
             rospy.logdebug("%s: cannot ask the master for publishers: %s", self.name, err)
             return []
@@ -516,13 +528,11 @@ class ExecutorNode:
         falling = [p for p, v in changed.items() if not v]
         rising = [p for p, v in changed.items() if v]
         for prop in falling:
-            for pub in self.output_pubs[prop]:
-                pub.publish(Bool(False))
+            self._write(prop, False, time.monotonic())
         if falling and rising and EDGE_GAP > 0:
             time.sleep(EDGE_GAP)
         for prop in rising:
-            for pub in self.output_pubs[prop]:
-                pub.publish(Bool(True))
+            self._write(prop, True, time.monotonic())
         publication = self.reports.publication(update, force_outputs, force_state)
         update = publication.update
         if publication.state:

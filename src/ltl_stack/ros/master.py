@@ -65,6 +65,30 @@ def master_uri(given: str | None = None) -> str:
     return check_master_uri(uri, origin)
 
 
+#: Seconds any XML-RPC call our nodes make at run time may take (the master, or a node, across a
+#: partition would otherwise hold the calling thread for as long as TCP retries).
+CALL_TIMEOUT = 3.0
+
+
+class TimedTransport(xmlrpc.client.Transport):
+    """An XML-RPC transport whose connections time out after ``timeout`` seconds."""
+
+    def __init__(self, timeout: float) -> None:
+        super().__init__()
+        self.timeout = timeout
+
+    def make_connection(self, host: Any) -> http.client.HTTPConnection:
+        connection = super().make_connection(host)
+        connection.timeout = self.timeout  # used when it connects, and for every read
+        return connection
+
+
+def timed_proxy(uri: str, timeout: float = CALL_TIMEOUT) -> xmlrpc.client.ServerProxy:
+    """An XML-RPC proxy of ``uri`` (the master's, a node's) whose calls fail with ``OSError`` after
+    ``timeout`` seconds instead of blocking."""
+    return xmlrpc.client.ServerProxy(uri, transport=TimedTransport(timeout))
+
+
 def master_online(uri: str) -> bool:
     """True when a ROS master answers at ``uri`` within ``PROBE_TIMEOUT`` seconds.
 

@@ -6,7 +6,8 @@ never connect to its topics, its services cannot be found, its parameters are go
 polls the master's process id (``getPid``) once a period in one daemon thread; when a different
 master answers, it registers everything the node has — through rospy's own topic and service
 managers, so nothing is created twice — sets the node's private parameters again, and connects the
-node's subscribers to the publishers the new master knows.
+node's subscribers to the publishers the new master knows. Every call has a timeout
+(``ros.master.CALL_TIMEOUT``): an unreachable master never holds the thread for longer.
 """
 from __future__ import annotations
 
@@ -19,6 +20,8 @@ import rosgraph
 import rospy
 from rospy.impl.registration import get_service_manager, get_topic_manager
 
+from ltl_stack.ros.master import timed_proxy
+
 
 class MasterWatch:
     """Polls the master's pid every ``period`` seconds and re-registers the node with a new master."""
@@ -28,7 +31,7 @@ class MasterWatch:
         self.on_restart = on_restart
         self.restarts = 0
         self.caller_id = rospy.get_name()
-        self.master = rosgraph.Master(self.caller_id)
+        self.master = timed_proxy(rosgraph.get_master_uri())
         self.params = self._private_params()
         self.pid = self._master_pid()
         self._stop = threading.Event()
@@ -38,14 +41,14 @@ class MasterWatch:
 
     def _master_pid(self) -> int | None:
         try:
-            return int(self.master.getPid())
-        except (OSError, rosgraph.MasterException, xmlrpc.client.Error, ValueError):
+            return int(_ok(self.master.getPid(self.caller_id), "getPid"))
+        except (OSError, rosgraph.MasterException, xmlrpc.client.Error, ValueError, TypeError):
             return None
 
     def _private_params(self) -> dict[str, Any]:
         try:
-            value = rospy.get_param("~", {})
-        except (OSError, KeyError, rosgraph.MasterException):
+            value = _ok(self.master.getParam(self.caller_id, rospy.resolve_name("~")), "~")
+        except (OSError, rosgraph.MasterException, xmlrpc.client.Error, TypeError, ValueError):
             return {}
         return value if isinstance(value, dict) else {}
 
@@ -71,17 +74,17 @@ class MasterWatch:
     def reregister(self) -> None:
         """Register every publisher, subscriber, service and private parameter with the master."""
         uri = rospy.core.get_node_uri()
-        master = xmlrpc.client.ServerProxy(rosgraph.get_master_uri())
+        master = self.master
         tm, sm = get_topic_manager(), get_service_manager()
         with tm.lock, sm.lock:
             publications = tm.get_publications()
             subscriptions = tm.get_subscriptions()
             services = sm.get_services()
         if self.params:
-            rospy.set_param("~", self.params)
+            _ok(master.setParam(self.caller_id, rospy.resolve_name("~"), self.params), "~")
         for name, msg_type in publications:
             _ok(master.registerPublisher(self.caller_id, name, msg_type, uri), name)
-        node = xmlrpc.client.ServerProxy(uri)
+        node = timed_proxy(uri)
         for name, msg_type in subscriptions:
             publishers = _ok(master.registerSubscriber(self.caller_id, name, msg_type, uri), name)
             # Connect to the publishers the new master knows (it tells us about later ones itself).
