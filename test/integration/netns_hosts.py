@@ -1,9 +1,10 @@
 """Emulated hosts for integration tests: network namespaces joined by veth pairs to one bridge.
 
 Each "host" is a namespace with one interface (``eth0``, 10.232.0.K/24) whose peer is a port of a
-bridge in a "switch" namespace; nothing is created in this process's own namespace. ``cut(host)``
-takes the host's switch port down (a partition: the host's processes keep running, their packets
-go nowhere); ``heal(host)`` brings it back. Processes run in a host with ``ip netns exec``, their
+bridge in a "switch" namespace; nothing is created in this process's own namespace. Neighbour
+entries are permanent, so a partition is silent as on a real network (no ARP failure tells the
+sender at once). ``cut(host)`` takes the host's port off the bridge (its processes keep running,
+their packets go nowhere, connects hang until their timeout); ``heal(host)`` puts it back. Processes run in a host with ``ip netns exec``, their
 ROS_IP set to the host's address. Names contain ``i32``, the xdist worker and this process id, so
 concurrent workers never share one; ``close`` removes every namespace (and with it every link).
 """
@@ -14,7 +15,6 @@ import subprocess
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
-import pytest
 from helpers import RosProcess, stop_all, wait_for
 
 SUBNET = "10.232.0"
@@ -82,13 +82,23 @@ class Hosts:
             _ip("-n", self.switch, "link", "set", f"p{host}", "up")
             _ip("-n", self.ns(host), "addr", "add", f"{self.address(host)}/24", "dev", "eth0")
             _ip("-n", self.ns(host), "link", "set", "eth0", "up")
+        macs = {host: self._mac(host) for host in range(self.count)}
+        for host in range(self.count):
+            for other in range(self.count):
+                if other != host:
+                    _ip("-n", self.ns(host), "neigh", "replace", self.address(other), "lladdr", macs[other],
+                        "dev", "eth0", "nud", "permanent")
+
+    def _mac(self, host: int) -> str:
+        out = _ip("-n", self.ns(host), "-o", "link", "show", "eth0").stdout
+        return out.split("link/ether")[1].split()[0]
 
     def cut(self, host: int) -> None:
         """Partition ``host`` from every other one."""
-        _ip("-n", self.switch, "link", "set", f"p{host}", "down")
+        _ip("-n", self.switch, "link", "set", f"p{host}", "nomaster")
 
     def heal(self, host: int) -> None:
-        _ip("-n", self.switch, "link", "set", f"p{host}", "up")
+        _ip("-n", self.switch, "link", "set", f"p{host}", "master", "br0")
 
     def env(self, host: int, master_host: int, port: int) -> dict[str, str]:
         """The environment of a ROS process on ``host`` with the master on ``master_host``."""
@@ -114,15 +124,15 @@ class Hosts:
         self.namespaces = []
 
 
-def reachable(hosts: Hosts, host: int, address: str) -> bool:
-    return subprocess.run(["ip", "netns", "exec", hosts.ns(host), "ping", "-c", "1", "-W", "1", address],
+def reachable(hosts: Hosts, host: int, address: str, port: int) -> bool:
+    """A TCP connection from ``host`` to ``address:port`` succeeds within 2 s."""
+    code = f"import socket; socket.create_connection(({address!r}, {port}), 2).close()"
+    return subprocess.run(["ip", "netns", "exec", hosts.ns(host), sys_python(), "-c", code],
                           capture_output=True, timeout=30).returncode == 0
 
 
 def start_master(hosts: Hosts, host: int, port: int = 11400) -> RosProcess:
     """A bare rosmaster on ``host`` (the namespace is fresh: the port is free), with ``/run_id`` set."""
-    import xmlrpc.client
-
     from ltl_stack.sim.session import master_command
 
     env = hosts.env(host, host, port)
@@ -136,7 +146,6 @@ def start_master(hosts: Hosts, host: int, port: int = 11400) -> RosProcess:
         return out.stdout.strip() == "1"
 
     wait_for(answers, 60, f"the rosmaster on {hosts.ns(host)}")
-    del xmlrpc
     return master
 
 
@@ -144,24 +153,3 @@ def sys_python() -> str:
     import sys
 
     return sys.executable
-
-
-@pytest.fixture
-def hosts_factory(tmp_path):
-    """``make(count)`` -> Hosts, all removed after the test (also when it fails); skips with the reason
-    where network namespaces cannot be made."""
-    refusal = netns_refusal()
-    if refusal is not None:
-        pytest.skip(refusal)
-    made: list[Hosts] = []
-
-    def make(count: int) -> Hosts:
-        hosts = Hosts(tmp_path, count)
-        made.append(hosts)
-        return hosts
-
-    try:
-        yield make
-    finally:
-        for hosts in made:
-            hosts.close()

@@ -1,0 +1,171 @@
+"""A robot and its controller on two emulated hosts (network namespaces, ``netns_hosts``): what a
+partition and a lost master do to the guarantee the stack exists for.
+
+* The cmd_vel story: the executor on host 0, the robot on host 1 — a ``topic_threshold_sensor``
+  (person = distance < 2) and two ``set_velocity`` nodes on one cmd_vel (move 0.3 m/s, stop 0 m/s),
+  spec ``move' <-> !person'``, ``stop' <-> person'``. Host 1 is cut off and a person appears: the
+  robot's ``move`` node stops it on its deadman, the executor marks ``person`` unknown (every output
+  false, an ERROR); after the partition both follow the controller again.
+* A master cut: the executor and its sensor and actuator on host 1, the master on host 0. With host 1
+  cut off from the master, an input change still reaches the outputs (nothing of ours waits for the
+  master on the way: the log line of the step used to ask it).
+"""
+from __future__ import annotations
+
+import sys
+
+import pytest
+from helpers import wait_for
+from netns_hosts import Hosts, netns_refusal, reachable, start_master
+
+PORT = 11400
+SPEC = """[INPUT]
+person
+
+[OUTPUT]
+move
+stop
+
+[ENV_INIT]
+!person
+
+[SYS_INIT]
+move
+!stop
+
+[SYS_TRANS]
+move' <-> !person'
+stop' <-> person'
+"""
+MAPPING = """namespace: r
+inputs:
+  person:
+    node: /r/inputs/person
+    node_publish_topic: /r/inputs/person
+    type: topic_threshold_sensor
+outputs:
+  move:
+    node: /r/outputs/move
+    node_subscribe_topic: /r/outputs/move
+    type: set_velocity
+  stop:
+    node: /r/outputs/stop
+    node_subscribe_topic: /r/outputs/stop
+    type: set_velocity
+"""
+#: The robot's world: publishes the distance read from a file at 10 Hz, prints every cmd_vel.
+WORLD = '''
+import sys
+import ltl_stack.ros  # noqa: F401 - our rospy fixes, as every node of ours
+import rospy
+from geometry_msgs.msg import Twist
+from std_msgs.msg import Float32
+
+rospy.init_node("world", disable_signals=True)
+rospy.Subscriber("/r/cmd_vel", Twist, lambda m: print("cmd", m.linear.x, flush=True), queue_size=100)
+pub = rospy.Publisher("/r/distance", Float32, queue_size=10)
+rate = rospy.Rate(10)
+while not rospy.is_shutdown():
+    try:
+        pub.publish(Float32(float(open(sys.argv[1]).read())))
+    except ValueError:
+        pass
+    rate.sleep()
+'''
+
+
+@pytest.fixture
+def hosts_factory(tmp_path):
+    """``make(count)`` -> Hosts, all removed after the test (also when it fails); skips with the reason
+    where network namespaces cannot be made."""
+    refusal = netns_refusal()
+    if refusal is not None:
+        pytest.skip(refusal)
+    made: list[Hosts] = []
+
+    def make(count: int) -> Hosts:
+        hosts = Hosts(tmp_path, count)
+        made.append(hosts)
+        return hosts
+
+    try:
+        yield make
+    finally:
+        for hosts in made:
+            hosts.close()
+
+
+def robot(hosts, host: int, env: dict, control) -> None:
+    """The robot's nodes on ``host``: the world, the person sensor, the move and stop actuators."""
+    script = control.parent / "world.py"
+    script.write_text(WORLD)
+    hosts.run(host, [sys.executable, str(script), str(control)], env, "world")
+    hosts.run(host, ["rosrun", "ltl_stack", "topic_threshold_sensor", "__name:=person_sensor", "_topic:=/r/distance",
+                     "_type:=std_msgs/Float32", "_comparison:=<", "_threshold:=2.0",
+                     "_proposition_topic:=/r/inputs/person"], env, "sensor")
+    for name, vx in (("move", "0.3"), ("stop", "0.0")):
+        hosts.run(host, ["rosrun", "ltl_stack", "set_velocity", f"__name:={name}", f"_proposition_topic:=/r/outputs/{name}",
+                         "_topic:=/r/cmd_vel", f"_vx:={vx}"], env, name)
+
+
+def commands(world) -> list[float]:
+    return [float(line.split()[1]) for line in world.output().splitlines() if line.startswith("cmd ")]
+
+
+def files(tmp_path):
+    spec, mapping, control = tmp_path / "r.structuredslugs", tmp_path / "r.yaml", tmp_path / "distance"
+    spec.write_text(SPEC)
+    mapping.write_text(MAPPING)
+    control.write_text("5.0")
+    return spec, mapping, control
+
+
+def test_a_partition_stops_the_robot_on_its_deadman_and_the_executor_calls_the_input_unknown(hosts_factory, tmp_path):
+    hosts = hosts_factory(2)
+    start_master(hosts, 0, PORT)
+    spec, mapping, control = files(tmp_path)
+    executor = hosts.run(0, ["rosrun", "ltl_stack", "controller_executor", str(spec), str(mapping)],
+                         hosts.env(0, 0, PORT), "executor")
+    robot(hosts, 1, hosts.env(1, 0, PORT), control)
+    world = next(p for p in hosts.processes if "world" in p.log_path.name)
+    move = next(p for p in hosts.processes if p.log_path.name.endswith("-move.log"))
+    wait_for(lambda: 0.3 in commands(world), 90, "the robot moving (cmd_vel 0.3)")
+
+    hosts.cut(1)
+    control.write_text("1.0")  # a person in front of the robot, which the executor cannot hear of
+    move.wait_output("safe state until it returns", timeout=60)
+    executor.wait_output("input(s) unknown: person", timeout=60)
+    wait_for(lambda: commands(world)[-1] == 0.0, 60, "cmd_vel 0 after the deadman")
+    assert move.output().count("safe state until it returns") == 1  # said once
+    assert "no output valuation keeps the system safety for every value of them" in executor.output()
+    stopped = len(commands(world))
+    wait_for(lambda: "mode inputs_unknown" in executor.output(), 60, "mode inputs_unknown")
+    assert 0.3 not in commands(world)[stopped:]  # still stopped: nothing moves it while cut off
+
+    hosts.heal(1)
+    executor.wait_output("every input is fresh again", timeout=90)
+    control.write_text("5.0")  # the person has gone: the controller moves the robot again
+    wait_for(lambda: 0.3 in commands(world)[stopped:], 90, "the robot moving again after the partition")
+    assert "heard again: following the controller" in move.output()
+
+
+def test_with_the_master_cut_off_an_input_change_still_reaches_the_outputs(hosts_factory, tmp_path):
+    hosts = hosts_factory(2)
+    start_master(hosts, 0, PORT)
+    spec, mapping, control = files(tmp_path)
+    env = hosts.env(1, 0, PORT)
+    executor = hosts.run(1, ["rosrun", "ltl_stack", "controller_executor", str(spec), str(mapping)], env, "executor")
+    robot(hosts, 1, env, control)
+    world = next(p for p in hosts.processes if "world" in p.log_path.name)
+    wait_for(lambda: 0.3 in commands(world), 90, "the robot moving (cmd_vel 0.3)")
+    executor.wait_output("initial state", timeout=60)
+
+    hosts.cut(1)
+    wait_for(lambda: not reachable(hosts, 1, hosts.address(0), PORT), 60, "host 1 cut off from the master")
+    before = executor.output().count("step to state")
+    control.write_text("1.0")  # the sensor, executor and actuators are all on host 1: nothing needs the master
+    wait_for(lambda: executor.output().count("step to state") > before, 60, "the executor's step")
+    stopped = len(commands(world))
+    wait_for(lambda: commands(world)[-1] == 0.0 and len(commands(world)) > stopped, 60, "cmd_vel 0 from the stop node")
+    control.write_text("5.0")
+    wait_for(lambda: 0.3 in commands(world)[stopped:], 60, "the robot moving again, the master still cut off")
