@@ -219,8 +219,11 @@ def run(args: argparse.Namespace) -> int:
         out = [f"out:={ros.workdir}"] if scenario.negotiation else []  # the negotiated specs are written there
         launch = ros.start(["roslaunch", "ltl_stack", scenario.launch, *scenario.launch_args, *out, *args.launch_arg],
                            stdout=open(log_path, "wb"))  # noqa: SIM115 - closed with the process
-        for key in ("ROS_MASTER_URI", "ROS_IP", "ROS_LOG_DIR", "ROS_HOME"):
-            os.environ[key] = ros.env[key]
+        for key in ("ROS_MASTER_URI", "ROS_IP", "ROS_HOSTNAME", "ROS_LOG_DIR", "ROS_HOME"):
+            if key in ros.env:
+                os.environ[key] = ros.env[key]
+            else:
+                os.environ.pop(key, None)
         import rospy
         from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 

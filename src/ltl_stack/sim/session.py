@@ -63,13 +63,20 @@ class RosSession:
     """A private master and the processes started against it (use as a context manager)."""
 
     def __init__(self, workdir: Path | None = None, port: int | None = None, master_uri: str | None = None):
-        """``master_uri``: use that running master instead of starting a private one."""
+        """``master_uri``: use that running master instead of starting a private one (the nodes then
+        keep the caller's ROS_IP/ROS_HOSTNAME: the master may be on another host)."""
         self._tmp = None if workdir else tempfile.TemporaryDirectory(prefix="ltl_stack-")
         self.workdir = Path(workdir or self._tmp.name)
         self.port = port or free_port()
         self.env = master_env(self.port, self.workdir)
         if master_uri:
             self.env["ROS_MASTER_URI"] = master_uri
+            # A master on another host reaches our nodes at the caller's address, not at 127.0.0.1.
+            for key in ("ROS_IP", "ROS_HOSTNAME"):
+                if key in os.environ:
+                    self.env[key] = os.environ[key]
+                else:
+                    self.env.pop(key, None)
         self.own_master = not master_uri
         self.uri = self.env["ROS_MASTER_URI"]
         self.processes: list[subprocess.Popen] = []
