@@ -103,8 +103,11 @@ def test_region_localization_from_amcl_pose_does_not_chatter_on_a_border(ros):
     from geometry_msgs.msg import PoseWithCovarianceStamped
     from std_msgs.msg import Bool, String
 
+    from ltl_stack.msg import PropositionValuation
+
     region = ros.record(ros.topic("localized_region"), String)
     top = ros.record(ros.topic("inputs/topLane_rc"), Bool)
+    whole = ros.record(f"{ros.ns}/{ros.ns.strip('/')}_region_localization/valuation", PropositionValuation)
     ros.run("region_localization", f"_regions_file:={REGIONS}", "_source:=topic", "_hysteresis:=0.2",
             "_pose_type:=geometry_msgs/PoseWithCovarianceStamped", f"__ns:={ros.ns}")
     (x1, y1), (x2, y2) = shared_border(MAP.find("topLane"), MAP.find("rightLane"))
@@ -129,6 +132,10 @@ def test_region_localization_from_amcl_pose_does_not_chatter_on_a_border(ros):
                       region.last().data == "rightLane")[1], 60, "rightLane after the crossing")
     assert changes([s.data for s in region.snapshot()]) == ["topLane", "rightLane"]
     top.wait_last(lambda b: b.data is False, what="topLane_rc false")
+    # the region change as one message too: every region proposition, keyed by its topic
+    whole.wait(lambda ms: len(ms) >= 2, what="two valuations on ~valuation")
+    last = dict(zip(whole.last().keys, whole.last().values))  # noqa: B905
+    assert last[ros.topic("inputs/rightLane_rc")] is True and sum(last.values()) == 1, last
 
 
 def test_topic_predicate_sensor_sees_tag_7_within_1_5_m(ros):

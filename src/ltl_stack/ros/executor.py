@@ -14,6 +14,9 @@ and violation reports of ``~state`` and /diagnostics); this module only wires th
 * optional fixed-rate stepping (``--rate``) for specs that progress without input changes;
 * the heartbeat: every output topic republished every ``--heartbeat`` s (output nodes' deadman);
 * the ready handshake: the timer ``--ready-timeout`` reports the inputs that have never reported;
+* a node owning several inputs (region localization) publishes their valuation at once on
+  ``<node>/valuation``; once it has, that message is their reading (one step for one region change)
+  and their Bool topics only count for freshness;
 * freshness (``runtime.freshness``): a timer marks inputs whose last message is older than their
   bound unknown (``Controller.set_unknown``), a message makes them known again;
 * run/pause: service ``~set_running`` (``std_srvs/SetBool``) and topic ``~running`` (``std_msgs/Bool``);
@@ -51,7 +54,7 @@ from ltl_stack.msg import ControllerState, PropositionValuation
 from ltl_stack.ros.master import init_node, timed_proxy
 from ltl_stack.ros.master_watch import MasterWatch
 from ltl_stack.ros.negotiation import NegotiationEndpoint, prepare_negotiation
-from ltl_stack.ros.valuation import valuation_to_msg
+from ltl_stack.ros.valuation import msg_to_valuation, valuation_to_msg
 from ltl_stack.runtime.characterize import Counters, Event, Mode, Negotiate
 from ltl_stack.runtime.controller import VIOLATION_POLICIES, Controller, Update
 from ltl_stack.runtime.executor_setup import (
@@ -71,7 +74,7 @@ from ltl_stack.runtime.executor_setup import (
     scenario_namespace,
 )
 from ltl_stack.runtime.freshness import Freshness, freshness_bounds, unknown_text
-from ltl_stack.runtime.mapping import resolve_topics
+from ltl_stack.runtime.mapping import resolve_topics, valuation_topics
 from ltl_stack.runtime.modes import (
     INITIAL_STATUSES,
     USER_ABORT,
@@ -270,9 +273,14 @@ class ExecutorNode:
             self._publish(controller.set_running(not options.start_paused), force_outputs=True)
         # before the subscribers: a latched input may arrive (and _on_input run) at once
         self.tick_timer = self.ready_timer = self.publisher_timer = self.poll_timer = None
+        #: inputs whose node's ~valuation has spoken: their Bool topics count for freshness only
+        self._grouped: set[str] = set()
         self.subscribers = [rospy.Subscriber(topic, Bool, self._on_input, callback_args=prop, queue_size=10,
                                              tcp_nodelay=True)
                             for prop, topic in prepared.input_topics.items()]
+        self.subscribers += [rospy.Subscriber(topic, PropositionValuation, self._on_valuation, callback_args=props,
+                                              queue_size=10, tcp_nodelay=True)
+                             for topic, props in prepared.valuation_topics.items()]
         self.service = rospy.Service("~set_running", SetBool, self._on_set_running)
         self.liveness_service = rospy.Service("~add_env_liveness", AddEnvLiveness, self._on_add_env_liveness)
         self.abort_service = rospy.Service("~abort", Trigger, self._on_abort)
@@ -309,19 +317,43 @@ class ExecutorNode:
     # callbacks (each runs in a rospy thread; the controller's lock orders steps and publications)
     def _on_input(self, msg: Bool, prop: str) -> None:
         self.freshness.seen(prop, time.monotonic())
-        if prop in self.controller.unknown:  # known again: resume (check_freshness steps)
-            self.controller.record({prop: msg.data})
+        if prop in self._grouped:
+            return  # its node's ~valuation carries it (one message for a change of several)
+        self._report_inputs({prop: msg.data})
+
+    def _on_valuation(self, msg: PropositionValuation, props: list[str]) -> None:
+        """A node owning several inputs sent their valuation at once: one update for all of them,
+        and from now on its per-proposition topics only say it is alive."""
+        try:
+            values = msg_to_valuation(msg)
+        except ValueError as err:
+            rospy.logwarn_throttle(10, "%s: %s", self.name, err)
+            return
+        by_topic = {self.prepared.input_topics[p]: p for p in props}
+        got = {by_topic[k]: v for k, v in values.items() if k in by_topic}
+        if not got:
+            return
+        now = time.monotonic()
+        for prop in got:
+            self.freshness.seen(prop, now)
+        self._grouped.update(got)
+        self._report_inputs(got)
+
+    def _report_inputs(self, values: dict[str, bool]) -> None:
+        """Record readings and step (at once, or when the input window closes)."""
+        if any(p in self.controller.unknown for p in values):  # known again: resume (check_freshness steps)
+            self.controller.record(values)
             self.check_freshness()
             return
         if self.options.input_window > 0:
             with self.controller.lock:
-                if self.controller.record({prop: msg.data}) and self._window_timer is None:
+                if self.controller.record(values) and self._window_timer is None:
                     self._window_timer = rospy.Timer(rospy.Duration(self.options.input_window), self._on_window,
                                                      oneshot=True)
             return
         with self.controller.lock:
             was_ready = self.controller.ready
-            update = self.controller.report(prop, msg.data)
+            update = self.controller.report_many(values)
             self._publish(update)
             if not was_ready and self.controller.ready:
                 rospy.loginfo("%s: every input has reported", self.name)
@@ -680,7 +712,8 @@ def _run(args: argparse.Namespace, negotiate: Negotiate | None = None,
         check_characterized_spec(options, [args.spec, args.mapping, options.strategy or None])
         namespace = scenario_namespace(options.namespace, rospy.get_namespace(), mapping, args.spec)
         in_topics, out_topics = resolve_topics(mapping, spec.inputs, spec.outputs, namespace.strip("/"))
-        prepared = Prepared(spec, mapping, namespace, in_topics, out_topics, warnings_, args.spec)
+        prepared = Prepared(spec, mapping, namespace, in_topics, out_topics, warnings_, args.spec,
+                            valuation_topics(mapping, spec.inputs, namespace.strip("/")))
         init = parse_init_props(options.init_props, spec)
         strategy = build_strategy(spec, options, log=lambda text: rospy.loginfo("%s: %s", rospy.get_name(), text))
         controller = make_controller(strategy, options, init)

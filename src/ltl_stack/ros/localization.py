@@ -16,6 +16,7 @@ from typing import Any
 import rospy
 from std_msgs.msg import String
 
+from ltl_stack.msg import PropositionValuation
 from ltl_stack.ros.action_proposition import ACTION_PROPOSITION, ActionProposition
 from ltl_stack.ros.proposition_node import (
     INPUT_PARAMS,
@@ -27,6 +28,7 @@ from ltl_stack.ros.proposition_node import (
     run_node,
     wait_for_topic_class,
 )
+from ltl_stack.ros.valuation import valuation_to_msg
 from ltl_stack.runtime.localization import RegionTracker, region_goal
 from ltl_stack.runtime.node_params import Bound
 from ltl_stack.runtime.regions import RegionMap, RegionsError
@@ -91,6 +93,9 @@ class RegionLocalization:
                         for name in self.tracker.shapes}
         self.region_pub = rospy.Publisher(config["region_topic"], String, queue_size=1, latch=True) \
             if config["region_topic"] else None
+        # every region proposition at once (keys: their topics): the executor takes a region change
+        # as one update, not two messages on two topics that a slow link delivers apart
+        self.valuation_pub = rospy.Publisher("~valuation", PropositionValuation, queue_size=10, latch=True)
         self.cls = message_class(config["pose_type"]) if config["pose_type"] else None
         self.reported: str | None = None
         self._warned = False
@@ -101,8 +106,10 @@ class RegionLocalization:
             return
         rospy.loginfo("%s: in region %s", rospy.get_name(), region)
         self.reported = region
-        # false first, then true: the controller never sees two regions at once
-        for name, value in sorted(self.tracker.valuation().items(), key=lambda item: item[1]):
+        valuation = self.tracker.valuation()
+        self.valuation_pub.publish(valuation_to_msg({self.outputs[n].topic: v for n, v in valuation.items()}))
+        # false first, then true: a listener of the Bool topics never sees two regions at once
+        for name, value in sorted(valuation.items(), key=lambda item: item[1]):
             self.outputs[name].set(value)
         if self.region_pub is not None:
             self.region_pub.publish(String(data=region))

@@ -39,7 +39,14 @@ from ltl_stack.runtime.characterize import Threshold
 from ltl_stack.runtime.controller import VIOLATION_POLICIES, Controller, ViolationPolicy
 from ltl_stack.runtime.explicit import AutomatonStrategy
 from ltl_stack.runtime.mapping import Mapping as PropositionMapping
-from ltl_stack.runtime.mapping import MappingError, check_mapping, load_mapping, misfit, resolve_topics
+from ltl_stack.runtime.mapping import (
+    MappingError,
+    check_mapping,
+    load_mapping,
+    misfit,
+    resolve_topics,
+    valuation_topics,
+)
 from ltl_stack.runtime.modes import OutputGuard
 from ltl_stack.runtime.node_params import Bound, NodeConfigError, Param, coerce_param
 from ltl_stack.runtime.recovery import RecoveringStrategy
@@ -233,6 +240,8 @@ class Prepared:
     warnings: list[str] = field(default_factory=list)
     #: the spec file as given ("" when it was not read from a file)
     spec_path: str = ""
+    #: ``<node>/valuation`` -> the inputs that node owns (``runtime.mapping.valuation_topics``)
+    valuation_topics: dict[str, list[str]] = field(default_factory=dict)
 
 
 def load_inputs(spec_path: str, mapping_path: str | None) -> tuple[Any, PropositionMapping | None, list[str]]:
@@ -283,7 +292,8 @@ def prepare(spec_path: str, mapping_path: str | None, namespace: str = "", node_
     spec, mapping, warnings = load_inputs(spec_path, mapping_path)
     ns = scenario_namespace(namespace, node_namespace, mapping, spec_path)
     in_topics, out_topics = resolve_topics(mapping, spec.inputs, spec.outputs, ns.strip("/"))
-    return Prepared(spec, mapping, ns, in_topics, out_topics, warnings, spec_path)
+    return Prepared(spec, mapping, ns, in_topics, out_topics, warnings, spec_path,
+                    valuation_topics(mapping, spec.inputs, ns.strip("/")))
 
 
 def parse_init_props(text: str, spec: Any) -> dict[str, bool]:

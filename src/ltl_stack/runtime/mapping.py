@@ -381,6 +381,19 @@ def resolve_topics(mapping: Mapping | None, inputs: Iterable[str], outputs: Iter
     return in_topics, out_topics
 
 
+def valuation_topics(mapping: Mapping | None, inputs: Iterable[str], namespace: str) -> dict[str, list[str]]:
+    """``<node>/valuation`` of every node that owns several inputs (region localization, an
+    exactly-one group) -> those inputs: such a node also publishes the valuation of all its
+    propositions as one ``ltl_stack/PropositionValuation`` (keys: their topics), so that one change of
+    several of them is one update."""
+    owners: dict[str, list[str]] = {}
+    for prop in inputs:
+        entry = next((e for e in (mapping.inputs.get(prop) or []) if e.node), None) if mapping else None
+        if entry is not None:
+            owners.setdefault(resolve_node_name(entry.node, namespace), []).append(prop)
+    return {posixpath.join(node, "valuation"): props for node, props in owners.items() if len(props) > 1}
+
+
 def _entry_topics(mapping: Mapping | None, kind: str, prop: str, namespace: str) -> list[str]:
     if mapping is None:
         return []

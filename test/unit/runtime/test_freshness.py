@@ -139,3 +139,19 @@ def test_unknown_inputs_keep_the_outputs_nearest_to_those_published_that_are_saf
     assert update.outputs == {"go": False, "brake": True} and not update.unkeepable
     assert reports.unknown_report(update, "person").level == WARN
     assert controller.report("other", False).unknown == ["person"]  # a known input: still not stepping
+
+
+def test_a_node_owning_several_inputs_has_a_valuation_topic():
+    from ltl_stack.runtime.mapping import valuation_topics
+
+    mapping = parse_mapping("""\
+inputs:
+  a_rc: {node: localization, node_publish_topic: a_rc, type: region_localization}
+  b_rc: {node: localization, node_publish_topic: b_rc}
+  c_rc: {node: /abs/loc, node_publish_topic: c_rc}
+  person: {node: person_sensor, node_publish_topic: person}
+outputs: {}
+""", "m.yaml")
+    assert valuation_topics(mapping, ["a_rc", "b_rc", "c_rc", "person"], "kitchen") == {
+        "/kitchen/localization/valuation": ["a_rc", "b_rc"]}
+    assert valuation_topics(None, ["a_rc"], "kitchen") == {}
