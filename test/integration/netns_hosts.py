@@ -93,6 +93,29 @@ class Hosts:
         out = _ip("-n", self.ns(host), "-o", "link", "show", "eth0").stdout
         return out.split("link/ether")[1].split()[0]
 
+    def make_lossy(self, host: int, delay: float, jitter: float, loss: float) -> RosProcess:
+        """Put a user-space delay/loss forwarder (``lossy_forwarder.py``) between ``host`` and the
+        bridge: its port leaves the bridge, a new veth pair joins it, the forwarder copies frames
+        between the two with ``delay`` ± ``jitter`` s and probability ``loss`` of a drop."""
+        _ip("-n", self.switch, "link", "add", f"q{host}", "type", "veth", "peer", "name", f"r{host}")
+        _ip("-n", self.switch, "link", "set", f"r{host}", "master", "br0")
+        for name in (f"q{host}", f"r{host}"):
+            _ip("-n", self.switch, "link", "set", name, "up")
+        _ip("-n", self.switch, "link", "set", f"p{host}", "nomaster")
+        # frames copied in user space must be whole: checksums computed, no 64 KiB offload segments
+        ends = [(self.ns(h), "eth0") for h in range(self.count)] + [(self.switch, d) for d in ("br0", f"p{host}",
+                                                                                               f"q{host}", f"r{host}")]
+        for ns, dev in ends:
+            subprocess.run(["ip", "netns", "exec", ns, "ethtool", "-K", dev, "tx", "off", "tso", "off", "gso", "off",
+                            "gro", "off"], capture_output=True, check=True, timeout=30)
+        script = Path(__file__).with_name("lossy_forwarder.py")
+        log = self.workdir / f"forwarder-h{host}.log"
+        proc = RosProcess(["ip", "netns", "exec", self.switch, sys_python(), str(script), f"p{host}", f"q{host}",
+                           str(delay), str(jitter), str(loss)], dict(os.environ), log)
+        self.processes.append(proc)
+        proc.wait_output("up", timeout=60)
+        return proc
+
     def cut(self, host: int) -> None:
         """Partition ``host`` from every other one."""
         _ip("-n", self.switch, "link", "set", f"p{host}", "nomaster")

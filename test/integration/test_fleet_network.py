@@ -169,3 +169,86 @@ def test_with_the_master_cut_off_an_input_change_still_reaches_the_outputs(hosts
     wait_for(lambda: commands(world)[-1] == 0.0 and len(commands(world)) > stopped, 60, "cmd_vel 0 from the stop node")
     control.write_text("5.0")
     wait_for(lambda: 0.3 in commands(world)[stopped:], 60, "the robot moving again, the master still cut off")
+
+
+REGION_SPEC = """[INPUT]
+a_rc
+b_rc
+
+[OUTPUT]
+x
+
+[ENV_INIT]
+a_rc
+!b_rc
+
+[ENV_TRANS]
+a_rc' <-> !b_rc'
+
+[SYS_TRANS]
+x' <-> a_rc'
+"""
+REGION_MAPPING = """namespace: loc
+inputs:
+  a_rc: {node: localization, node_publish_topic: a_rc}
+  b_rc: {node: localization, node_publish_topic: b_rc}
+outputs:
+  x: {node: x_node, node_subscribe_topic: x}
+"""
+#: A robot crossing between regions a and b every second, localized as region_localization does:
+#: the whole valuation on ~valuation, then old region off, then new region on, on two Bool topics.
+CROSSINGS = '''
+import sys, time
+import ltl_stack.ros  # noqa: F401
+import rospy
+from std_msgs.msg import Bool
+from ltl_stack.msg import PropositionValuation
+from ltl_stack.ros.valuation import valuation_to_msg
+
+rospy.init_node("localization", disable_signals=True)
+topics = {r: rospy.resolve_name("/loc/inputs/" + r + "_rc") for r in "ab"}
+bools = {r: rospy.Publisher(t, Bool, queue_size=10, latch=True) for r, t in topics.items()}
+whole = rospy.Publisher("~valuation", PropositionValuation, queue_size=10, latch=True)
+here = "a"
+whole.publish(valuation_to_msg({topics["a"]: True, topics["b"]: False}))
+bools["a"].publish(Bool(True))
+bools["b"].publish(Bool(False))
+while bools["a"].get_num_connections() < 1 or bools["b"].get_num_connections() < 1:
+    time.sleep(0.1)
+deadline = time.monotonic() + 20  # an executor that reads ~valuation has connected to it by then
+while whole.get_num_connections() < 1 and time.monotonic() < deadline:
+    time.sleep(0.1)
+time.sleep(2.0)
+for k in range(int(sys.argv[1])):
+    there = "b" if here == "a" else "a"
+    whole.publish(valuation_to_msg({topics[here]: False, topics[there]: True}))
+    bools[here].publish(Bool(False))
+    bools[there].publish(Bool(True))
+    here = there
+    print("crossing", k + 1, flush=True)
+    time.sleep(1.0)
+print("done", here, flush=True)
+time.sleep(3600)
+'''
+
+
+def test_over_a_slow_lossy_link_a_region_change_is_no_assumption_violation(hosts_factory, tmp_path):
+    hosts = hosts_factory(2)
+    start_master(hosts, 0, PORT)
+    hosts.make_lossy(1, 0.2, 0.05, 0.2)  # 200 ± 50 ms, 20 % of the frames lost
+    spec, mapping, script = tmp_path / "loc.structuredslugs", tmp_path / "loc.yaml", tmp_path / "crossings.py"
+    spec.write_text(REGION_SPEC)
+    mapping.write_text(REGION_MAPPING)
+    script.write_text(CROSSINGS)
+    executor = hosts.run(0, ["rosrun", "ltl_stack", "controller_executor", str(spec), str(mapping), "--no-recovery"],
+                         hosts.env(0, 0, PORT), "executor")
+    crossings = 12
+    robot = hosts.run(1, [sys.executable, str(script), str(crossings), "__ns:=/loc"], hosts.env(1, 0, PORT),
+                      "localization")
+    robot.wait_output("done", timeout=180)
+    wait_for(lambda: executor.output().count("step to state") >= crossings or "violated" in executor.output(), 120,
+             "the executor's steps for every crossing")
+    assert "violated" not in executor.output() and "mode holding" not in executor.output(), executor.output()[-3000:]
+    assert executor.output().count("step to state") == crossings, executor.output()[-3000:]  # one per crossing
+    last = "!a_rc b_rc -> outputs !x" if crossings % 2 else "a_rc !b_rc -> outputs x"
+    assert executor.output().rstrip().splitlines()[-1].endswith(last), executor.output()[-3000:]
