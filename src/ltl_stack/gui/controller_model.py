@@ -229,6 +229,8 @@ MODES = {  # the executor's ~state mode -> (what it means, colour)
                 "#d05000"),
     "characterizing": ("characterizing: resynthesizing with the observed environment (thesis §4.5)", "#3a7bd5"),
     "waiting_for_user": ("waiting for the user: unrealizable; add an environment liveness or abort", "#c00000"),
+    "inputs_unknown": ("inputs unknown: stale readings (a partition?); outputs safe for every value of them",
+                       "#b05000"),
     "aborted": ("aborted: every output false", "#800000"),
 }
 
