@@ -13,6 +13,8 @@ Hosts are network namespaces on one bridge (``test/integration/netns_hosts.py``)
   bridge's median.
 * Deadman: ``set_velocity`` on host 1 active (cmd_vel 0.3), host 1 cut off; the time from the cut to
   its zero Twist (``~deadman`` 1 s by default). The old code never sends one (no deadman).
+* The executor's CPU (user + sys, /proc) over 10 s with its input fresh, and over 10 s with it
+  unknown (host 1 cut off, ``--freshness 1``).
 """
 from __future__ import annotations
 
@@ -103,14 +105,23 @@ def latency(workdir: Path, executor_host: int, link: tuple[float, float] | None,
         hosts.close()
 
 
-def deadman(workdir: Path, cuts: int) -> list[float]:
-    """Seconds from cutting host 1 off to its set_velocity node's zero Twist, ``cuts`` times."""
+def cpu_seconds(pid: int) -> float:
+    import os
+
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def deadman(workdir: Path, cuts: int) -> tuple[list[float], float, float]:
+    """Seconds from cutting host 1 off to its set_velocity node's zero Twist, ``cuts`` times; the
+    executor's CPU seconds over 10 s with its input fresh and over 10 s with it unknown."""
     hosts = Hosts(workdir, 2)
     try:
         start_master(hosts, 0, PORT)
         spec = workdir / "bench.structuredslugs"
         spec.write_text(SPEC.replace("x' <-> a'", "x' <-> !a'"))
-        hosts.run(0, ["rosrun", "ltl_stack", "controller_executor", str(spec)], hosts.env(0, 0, PORT), "executor")
+        executor = hosts.run(0, ["rosrun", "ltl_stack", "controller_executor", str(spec), "--freshness", "1"],
+                             hosts.env(0, 0, PORT), "executor")
         env = hosts.env(1, 0, PORT)
         script = workdir / "world.py"
         script.write_text(WORLD)
@@ -123,6 +134,16 @@ def deadman(workdir: Path, cuts: int) -> list[float]:
             return [(float(p[1]), float(p[2])) for p in (line.split() for line in world.output().splitlines())
                     if p and p[0] == "cmd"]
 
+        wait_for(lambda: any(v == 0.3 for v, _ in cmds()), 120, "cmd_vel 0.3")
+        start = cpu_seconds(executor.popen.pid)
+        time.sleep(10)
+        fresh = cpu_seconds(executor.popen.pid) - start
+        hosts.cut(1)
+        executor.wait_output("input(s) unknown", timeout=60)
+        start = cpu_seconds(executor.popen.pid)
+        time.sleep(10)
+        unknown = cpu_seconds(executor.popen.pid) - start
+        hosts.heal(1)
         reactions = []
         for _ in range(cuts):
             seen = len(cmds())
@@ -133,7 +154,7 @@ def deadman(workdir: Path, cuts: int) -> list[float]:
             wait_for(lambda n=mark: any(v == 0.0 for v, _ in cmds()[n:]), 60, "the deadman's zero Twist")
             reactions.append(next(t for v, t in cmds()[mark:] if v == 0.0) - cut)
             hosts.heal(1)
-        return reactions
+        return reactions, fresh, unknown
     finally:
         hosts.close()
 
@@ -160,9 +181,10 @@ def main(argv: list[str] | None = None) -> int:
     for row in results.values():
         row["ratio_to_bridge"] = row["median_ms"] / base
     with tempfile.TemporaryDirectory(prefix="i32bench-") as tmp:
-        reactions = deadman(Path(tmp), args.cuts)
+        reactions, fresh, unknown = deadman(Path(tmp), args.cuts)
     results["deadman (~deadman 1 s)"] = {"n": len(reactions), "median_ms": 1000 * statistics.median(reactions),
                                          "max_ms": 1000 * max(reactions)}
+    results["executor CPU per 10 s"] = {"fresh_ms": 1000 * fresh, "unknown_ms": 1000 * unknown}
     if args.json:
         print(json.dumps(results, indent=2))
     else:
