@@ -154,9 +154,9 @@ ROSOUT_FLAG = "/rosout_disable_topics_generation"
 def log_without_master(rospy_module: object) -> None:
     """Make ``rospy.get_param_cached(ROSOUT_FLAG)`` never block (see the module docstring); other
     parameters are read as before."""
-    original = rospy_module.get_param_cached
-    if getattr(original, "ltl_stack_fixed", False):
-        return
+    original = getattr(rospy_module, "get_param_cached", None)
+    if original is None or getattr(original, "ltl_stack_fixed", False):
+        return  # no rospy here (marked absent), or already fixed
     known = {"value": False, "asked": False}
     lock = threading.Lock()
 

@@ -141,7 +141,7 @@ def test_node_cli_json_prints_the_parameters_and_exits(capsys):
     assert done.value.code == 0
     got = json.loads(capsys.readouterr().out)
     names = [p["name"] for p in got["params"]]
-    assert got["kind"] == "output" and names[:3] == ["proposition_topic", "rate", "topic"], names
+    assert got["kind"] == "output" and names[:4] == ["proposition_topic", "rate", "deadman", "topic"], names
     assert {"vx", "vy", "vz", "ax", "ay", "az"} <= set(names)
 
 
