@@ -49,6 +49,9 @@ whole = rospy.Publisher("~valuation", PropositionValuation, queue_size=10, latch
 whole.publish(valuation_to_msg({topics["a"]: True, topics["b"]: False}))
 bools["a"].publish(Bool(True))
 bools["b"].publish(Bool(False))
+deadline = time.monotonic() + 20  # an executor that reads ~valuation has connected to it by then
+while whole.get_num_connections() < 1 and time.monotonic() < deadline:
+    time.sleep(0.05)
 print("up", flush=True)
 for line in sys.stdin:
     if line.strip() == "b":
@@ -75,6 +78,7 @@ def test_a_region_change_is_one_step_whatever_the_order_of_its_bool_messages(ros
                             stdout=log, stderr=subprocess.STDOUT, text=True, start_new_session=True)
     try:
         executor.wait_output("initial state", timeout=60)
+        wait_for(lambda: "up" in (tmp_path / "loc.log").read_text(), 60, "the localization's connections")
         fake.stdin.write("b\n")
         fake.stdin.flush()
         executor.wait_output("inputs !a_rc b_rc", timeout=60)
