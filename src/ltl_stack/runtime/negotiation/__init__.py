@@ -25,11 +25,10 @@ for both robots (the transport decides who sends first; the initiator sends, the
 
 1. ``offer()`` (line 3): phi^{t(r_env)}_{e,r} and phi^g_{s,r}, renamed into r_env's names, as
    structured spec text (``[SYS_TRANS]`` / ``[ENV_LIVENESS]`` of the receiver) — the received
-   assumptions become system safety and the received goals environment liveness (line 5), except
-   that a received assumption no next move of the receiver can keep (no next-state output of its
-   own) is kept through the activations its completion sensors report (``road_c'`` -> ``road'``), or,
-   when no move of the receiver can keep it, becomes an environment assumption of the receiver
-   (``split_by_ownership``: a robot guarantees only what it controls);
+   assumptions become system safety and the received goals environment liveness (line 5); a received
+   assumption over the receiver's completion sensors only is kept through the activations they
+   report (``road_c'`` -> ``road'``) when that rewrite implies it, else as sent (``ownership``):
+   a clause the receiver cannot keep makes phi^nego unrealizable (4.8.2/4.8.3), never an adoption;
 2. ``receive(offer)`` (lines 4-9): parse it against our propositions (garbled text or an unknown
    name is a fault), phi^nego = init from the current state (lines 6-7: incoming inputs, current
    outputs), original env safety phi^t_e (line 2: the EC disjuncts are dropped), phi*^t_s /\\ received
@@ -61,6 +60,13 @@ from ltl_stack.errors import UserError
 from ltl_stack.fileio import write_atomic
 from ltl_stack.runtime.characterize import NegotiationAbort
 from ltl_stack.runtime.mapping import Mapping as MappingFile
+from ltl_stack.runtime.negotiation.ownership import (
+    COMPLETION_SUFFIXES,
+    Ownership,
+    action_of,
+    rename_next,
+    split_by_ownership,
+)
 from ltl_stack.spec import SpecError, clause_to_english, formula_to_infix, parse_structured, write_slugsin
 from ltl_stack.spec.formula import And, Formula, Not, Var, evaluate, variables
 from ltl_stack.spec.model import SECTIONS, Clause, Spec
@@ -223,19 +229,6 @@ def assumptions_about(spec: Spec, classes: Classes, peer: str) -> list[Clause]:
     return [c for c in spec.env_safety if any(v.name in eap for v in variables(c.formula))]
 
 
-#: name endings of completion sensors (activation-completion, thesis §4.3): ``R_c`` / ``R_rc`` / ``a_ac``
-#: report that the robot's own output ``R`` / ``a`` took effect
-COMPLETION_SUFFIXES = ("_rc", "_ac", "_c")
-
-
-def action_of(sensor: str, outputs: list[str]) -> str | None:
-    """The receiver's output whose completion ``sensor`` reports (``road_c`` -> ``road``), or None."""
-    for suffix in COMPLETION_SUFFIXES:
-        if sensor.endswith(suffix) and sensor[:-len(suffix)] in outputs:
-            return sensor[:-len(suffix)]
-    return None
-
-
 def offer_refusal(text: str) -> str | None:
     """Why an offer's text is refused before it is parsed (one line), or None: larger than
     ``MAX_OFFER_BYTES`` or ``MAX_OFFER_CLAUSES``, or declaring a section other than ``[SYS_TRANS]``
@@ -270,41 +263,6 @@ def caller_refusal(caller: str, sender: str, peers: Mapping[str, str]) -> str | 
     if caller != peers[sender]:
         return f"a message for {sender} from node {caller or '(unknown)'}, not from {peers[sender]}"
     return None
-
-
-def split_by_ownership(clauses: list[Clause], inputs: list[str],
-                       outputs: list[str]) -> tuple[list[Clause], list[Clause]]:
-    """Received assumptions (Alg. 4 line 5) by who can keep them: ``(guarantees, assumptions)``.
-
-    * a clause that mentions a next-state output of the receiver is its guarantee as it is (it keeps
-      it by its next move, as A's ``openDoor'`` in Example 13);
-    * a clause over the receiver's own completion sensors (``road_c'``: the robot *is* in road) is
-      kept by the receiver through the activations they complete: it becomes the guarantee with each
-      next-state completion sensor replaced by its activation (``road'``), which the receiver
-      controls — D promising "never in the kitchen" promises never to head there;
-    * a clause whose next-state inputs include a sensor the receiver does not complete (a global
-      sensor, another robot's proposition) cannot be kept by any move: it becomes an environment
-      assumption of the receiver, never a guarantee it could be forced to break."""
-    mine = set(outputs)
-    guarantees, assumptions = [], []
-    for clause in clauses:
-        used = variables(clause.formula)
-        if any(v.primed and v.name in mine for v in used):
-            guarantees.append(clause)
-            continue
-        sensed = {v.name for v in used if v.primed and v.name in inputs}
-        actions = {name: action_of(name, outputs) for name in sensed}
-        if sensed and all(actions.values()):
-            formula = rename_next(clause.formula, actions)
-            guarantees.append(Clause(formula, formula_to_infix(formula), clause.file, clause.line))
-        else:
-            assumptions.append(clause)
-    return guarantees, assumptions
-
-
-def rename_next(f: Formula, table: Mapping[str, str]) -> Formula:
-    """``f`` with each next-state variable ``x'`` in ``table`` renamed to ``table[x]'``."""
-    return map_vars(f, lambda v: Var(table[v.name], True) if v.primed and v.name in table else v)
 
 
 def rename(f: Formula, table: Mapping[str, str]) -> Formula:
@@ -421,6 +379,8 @@ class Negotiation:
         self.stage = stage
         self.staged: Any = None
         self._stage_error = ""
+        #: how each received assumption is kept (``ownership.split_by_ownership``), once the offer is read
+        self.ownership: Ownership | None = None
 
     # --- line 3: what we send -----------------------------------------------------------------------
     def offer(self) -> Message:
@@ -500,16 +460,19 @@ class Negotiation:
             raise ProtocolFault(f"garbled specification text: {err}") from None
         if received.env_safety or received.sys_init or received.env_init or received.sys_liveness:
             raise ProtocolFault(f"{where}: only [SYS_TRANS] and [ENV_LIVENESS] may be sent")
-        guarantees, sensed = split_by_ownership(received.sys_safety, self.star.inputs, self.star.outputs)
-        self.received = [f"assumption of {self.peer.name}: {clause_to_english(c, 'sys_safety')}" for c in guarantees]
-        self.received += [f"assumption of {self.peer.name} over what this robot cannot control (kept as an "
-                          f"assumption): {clause_to_english(c, 'env_safety')}" for c in sensed]
+        owned = split_by_ownership(received.sys_safety, self.star, {**self.incoming, **self.outputs})
+        self.ownership = owned
+        self.received = [f"assumption of {self.peer.name}: {clause_to_english(c, 'sys_safety')}"
+                         for c in owned.by_move + owned.rewritten]
+        self.received += [f"assumption of {self.peer.name} over what this robot senses, kept as sent (a guarantee "
+                          f"only if its moves can keep it): {clause_to_english(c, 'sys_safety')}" for c in owned.literal]
         self.received += [f"goal of {self.peer.name}: {clause_to_english(c, 'env_liveness')}"
                           for c in received.env_liveness]
-        self._note(f"received {len(received.sys_safety)} assumption(s) ({len(sensed)} kept as assumptions) and "
+        self._note(f"received {len(received.sys_safety)} assumption(s) ({len(owned.rewritten)} kept through our "
+                   f"activations, {len(owned.literal)} over our sensors kept as sent) and "
                    f"{len(received.env_liveness)} goal(s) from {self.peer.name}")
-        # lines 5-9; a received clause this robot's next outputs cannot satisfy is an assumption (ownership)
-        extra = {"sys_safety": guarantees, "env_safety": sensed, "env_liveness": received.env_liveness}
+        # lines 5-9: every received assumption is a guarantee (ownership decides only its form)
+        extra = {"sys_safety": owned.guarantees, "env_liveness": received.env_liveness}
         try:
             spec, text = self._spec(self.star, extra, "phi^nego (Alg. 4 line 8)")
         except SpecError as err:
@@ -518,6 +481,9 @@ class Negotiation:
         self._nego = (spec, text, strategy)
         self._status[1] = strategy is not None
         self._note(f"phi^nego {'realizable' if strategy is not None else 'unrealizable'} (line 9)")
+        if strategy is None and owned.literal:
+            self._note(f"this robot cannot guarantee what it only senses: {len(owned.literal)} received clause(s) "
+                       f"over its sensors ({', '.join(c.location for c in owned.literal)}) are in phi^nego")
         self.phase = Phase.SYNTHESIZED
 
     def status(self, round_: int) -> Message:
