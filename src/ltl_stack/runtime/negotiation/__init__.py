@@ -60,6 +60,7 @@ from ltl_stack.errors import UserError
 from ltl_stack.fileio import write_atomic
 from ltl_stack.runtime.characterize import NegotiationAbort
 from ltl_stack.runtime.mapping import Mapping as MappingFile
+from ltl_stack.runtime.negotiation.auth import Authenticator, load_authenticator
 from ltl_stack.runtime.negotiation.ownership import (
     COMPLETION_SUFFIXES,
     Ownership,
@@ -107,6 +108,7 @@ class Peer:
     eap: dict[str, str]           # our input -> the peer's proposition it abstracts (eAP about the peer)
     shares: dict[str, str]        # our proposition -> the peer's input that abstracts it
     service: str | None = None
+    secret_file: str | None = None  # the secret shared with this peer only (``auth``)
 
     @property
     def table(self) -> dict[str, str]:
@@ -123,6 +125,8 @@ class Classes:
     global_sensors: tuple[str, ...] = ()
     file: str = "<memory>"
     line: int = 0
+    #: the fleet's secret (``auth``): every peer without a ``secret_file`` of its own
+    secret_file: str | None = None
 
     def eap(self, peer: str | None = None) -> set[str]:
         """eAP_r (about ``peer``, or about any peer)."""
@@ -169,9 +173,13 @@ def classes_from_data(data: Any, file: str = "<memory>", line: int = 0) -> Class
 
     if not isinstance(data, dict):
         raise fail("expected a mapping with robot:, peers: and optionally global_sensors:")
-    unknown = set(data) - {"robot", "peers", "global_sensors"}
+    unknown = set(data) - {"robot", "peers", "global_sensors", "secret_file"}
     if unknown:
-        raise fail(f"unknown key(s) {', '.join(sorted(map(str, unknown)))} (expected robot, peers, global_sensors)")
+        raise fail(f"unknown key(s) {', '.join(sorted(map(str, unknown)))} (expected robot, peers, global_sensors, "
+                   "secret_file)")
+    secret_file = data.get("secret_file")
+    if secret_file is not None and not isinstance(secret_file, str):
+        raise fail("secret_file: must name a file")
     robot = data.get("robot")
     if not isinstance(robot, str) or not robot.strip():
         raise fail("robot: must name this robot")
@@ -185,9 +193,10 @@ def classes_from_data(data: Any, file: str = "<memory>", line: int = 0) -> Class
     for name, value in peers_data.items():
         if not isinstance(value, dict):
             raise fail(f"peers.{name}: expected a mapping with eap:, shares:, service:")
-        bad = set(value) - {"eap", "shares", "service"}
+        bad = set(value) - {"eap", "shares", "service", "secret_file"}
         if bad:
-            raise fail(f"peers.{name}: unknown key(s) {', '.join(sorted(map(str, bad)))} (expected eap, shares, service)")
+            raise fail(f"peers.{name}: unknown key(s) {', '.join(sorted(map(str, bad)))} (expected eap, shares, "
+                       "service, secret_file)")
         tables = {}
         for key in ("eap", "shares"):
             table = value.get(key) or {}
@@ -198,10 +207,13 @@ def classes_from_data(data: Any, file: str = "<memory>", line: int = 0) -> Class
         service = value.get("service")
         if service is not None and not isinstance(service, str):
             raise fail(f"peers.{name}.service: must be a ROS service name")
+        pair_secret = value.get("secret_file")
+        if pair_secret is not None and not isinstance(pair_secret, str):
+            raise fail(f"peers.{name}.secret_file: must name a file")
         if str(name) == robot:
             raise fail(f"peers.{name}: a robot does not negotiate with itself")
-        peers[str(name)] = Peer(str(name), tables["eap"], tables["shares"], service)
-    return Classes(robot.strip(), peers, tuple(sensors), file, line)
+        peers[str(name)] = Peer(str(name), tables["eap"], tables["shares"], service, pair_secret)
+    return Classes(robot.strip(), peers, tuple(sensors), file, line, secret_file)
 
 
 def classes_from_mapping(mapping: MappingFile) -> Classes | None:
@@ -221,6 +233,14 @@ def negotiation_classes(mapping: MappingFile | None, spec: Spec) -> Classes | No
             raise NegotiationError(classes.file, classes.line,
                                    "; ".join(p.split(": ", 1)[1] if ": " in p else p for p in problems))
     return classes
+
+
+def classes_authenticator(classes: Classes) -> Authenticator | None:
+    """The ``Authenticator`` of the secrets ``classes`` name (relative to the mapping's folder), None
+    when it names none; ``SecretError`` (one line, exit code 2) for a file that cannot be used."""
+    base = Path(classes.file).parent if classes.file != "<memory>" else Path(".")
+    return load_authenticator(classes.robot, classes.secret_file,
+                              {name: peer.secret_file for name, peer in classes.peers.items()}, base)
 
 
 def assumptions_about(spec: Spec, classes: Classes, peer: str) -> list[Clause]:
@@ -283,17 +303,20 @@ class Message:
     english: tuple[str, ...] = ()  # offer: the same clauses in Structured English (for people)
     realizable: bool = False    # status
     reason: str = ""            # abort / status: why
+    nonce: str = ""             # authentication (``auth``): when and something unguessable; "" unsigned
+    mac: str = ""               # HMAC of every other field (``auth.mac``); "" unsigned
 
     def to_dict(self) -> dict[str, Any]:
         return {"kind": self.kind, "sender": self.sender, "session": self.session, "round": self.round,
                 "text": self.text, "english": list(self.english), "realizable": self.realizable,
-                "reason": self.reason}
+                "reason": self.reason, "nonce": self.nonce, "mac": self.mac}
 
     @classmethod
     def from_dict(cls, data: Mapping[str, Any]) -> Message:
         return cls(str(data["kind"]), str(data["sender"]), str(data["session"]), int(data.get("round", 0)),
                    str(data.get("text", "")), tuple(str(s) for s in data.get("english", ())),
-                   bool(data.get("realizable", False)), str(data.get("reason", "")))
+                   bool(data.get("realizable", False)), str(data.get("reason", "")), str(data.get("nonce", "")),
+                   str(data.get("mac", "")))
 
 
 class Phase(Enum):
