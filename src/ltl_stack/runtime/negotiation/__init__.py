@@ -61,13 +61,7 @@ from ltl_stack.fileio import write_atomic
 from ltl_stack.runtime.characterize import NegotiationAbort
 from ltl_stack.runtime.mapping import Mapping as MappingFile
 from ltl_stack.runtime.negotiation.auth import Authenticator, load_authenticator
-from ltl_stack.runtime.negotiation.ownership import (
-    COMPLETION_SUFFIXES,
-    Ownership,
-    action_of,
-    rename_next,
-    split_by_ownership,
-)
+from ltl_stack.runtime.negotiation.ownership import Ownership, split_by_ownership
 from ltl_stack.spec import SpecError, clause_to_english, formula_to_infix, parse_structured, write_slugsin
 from ltl_stack.spec.formula import And, Formula, Not, Var, evaluate, variables
 from ltl_stack.spec.model import SECTIONS, Clause, Spec
