@@ -7,6 +7,7 @@ package docstring for the steps and the faults.
 """
 from __future__ import annotations
 
+import threading
 import time
 from collections.abc import Callable, Mapping
 from typing import Any
@@ -45,7 +46,8 @@ class Negotiation:
     def __init__(self, star: Spec, classes: Classes, peer: str, *, incoming: Mapping[str, bool],
                  outputs: Mapping[str, bool], original: Spec | None = None, initiator: bool = True,
                  synthesis_options: Mapping[str, Any] | None = None, clock=time.monotonic,
-                 wall_clock=time.time, stage: Callable[[Spec, str], Any] | None = None) -> None:
+                 wall_clock=time.time, stage: Callable[[Spec, str], Any] | None = None,
+                 session: str | None = None) -> None:
         if peer not in classes.peers:
             raise ValueError(f"{classes.robot} has no peer {peer!r} (declared: {', '.join(classes.peers) or 'none'})")
         self.star = star
@@ -54,7 +56,9 @@ class Negotiation:
         self.me = classes.robot
         self.peer = classes.peers[peer]
         self.initiator = initiator
-        self.session = f"{self.me}->{peer}" if initiator else f"{peer}->{self.me}"
+        #: "<initiator>-><responder>", with "#<k>" after the initiator's k-th adoption (a pair may
+        #: negotiate again once what one of them runs has changed: ``sessions.Negotiator``)
+        self.session = session or (f"{self.me}->{peer}" if initiator else f"{peer}->{self.me}")
         self.incoming = {n: bool(incoming[n]) for n in star.inputs}
         self.outputs = {n: bool(outputs[n]) for n in star.outputs}
         self.synthesis_options = dict(synthesis_options or {})
@@ -82,6 +86,8 @@ class Negotiation:
         self.stage = stage
         self.staged: Any = None
         self._stage_error = ""
+        #: serializes ``receive``, ``fail`` and ``cancel`` (another thread may cancel an initiation)
+        self._lock = threading.RLock()
         #: how each received assumption is kept (``ownership.split_by_ownership``), once the offer is read
         self.ownership: Ownership | None = None
 
@@ -130,6 +136,19 @@ class Negotiation:
     # --- receiving ------------------------------------------------------------------------------------
     def receive(self, message: Message) -> None:
         """Take the peer's next message; a protocol fault ends the negotiation as FAILED."""
+        with self._lock:
+            self._receive(message)
+
+    def cancel(self, reason: str) -> bool:
+        """End a negotiation that has not ended (FAILED, nothing adopted), from any thread: our
+        initiation whose peer's offer we answer instead. False when it had already ended."""
+        with self._lock:
+            if self.phase is Phase.DONE:
+                return False
+            self.fail(reason)
+            return True
+
+    def _receive(self, message: Message) -> None:
         if self.phase is Phase.DONE:
             return
         try:
@@ -257,10 +276,11 @@ class Negotiation:
 
     def fail(self, reason: str) -> None:
         """A fault (timeout, peer gone, garbled text, protocol error): nothing is adopted."""
-        if self.phase is Phase.DONE:
-            return
-        self.adopted = None
-        self._end(Outcome.FAILED, reason)
+        with self._lock:
+            if self.phase is Phase.DONE:
+                return
+            self.adopted = None
+            self._end(Outcome.FAILED, reason)
 
     def _stage(self, spec: Spec, text: str) -> None:
         """Phase one of the adoption: phi* written aside before our realizable status 2 (a failure
