@@ -20,6 +20,10 @@ MAX_OFFER_CLAUSES = 200
 #: the sections an offer may hold (Alg. 4 line 3: assumptions to guarantee, goals to assume)
 OFFER_SECTIONS = ("[SYS_TRANS]", "[ENV_LIVENESS]")
 OFFER, STATUS, ABORT = "offer", "status", "abort"
+#: the commit protocol: the initiator's decision after both realizable statuses 2 (the responder's
+#: reply, also ``commit``, confirms its adoption), and a question about a session's outcome that
+#: either robot may ask again until it has the answer (reply ``outcome``, the state in ``reason``)
+COMMIT, OUTCOME = "commit", "outcome"
 #: how a status 2 says the adopted spec could not be written (two-phase adoption)
 WRITE_FAILED = "cannot write its adopted specification"
 #: the refusal of an offer that crossed ours (both robots started at once)
@@ -61,6 +65,7 @@ class Phase(Enum):
     OFFERED = "offered"               # our offer sent
     SYNTHESIZED = "synthesized"       # the peer's offer received, phi^nego synthesized (status 1 known)
     DECIDED = "decided"               # the peer's status 1 received, phi* known (status 2 known)
+    PREPARED = "prepared"             # responder: both statuses 2 realizable, phi* staged; waiting for the decision
     DONE = "done"
 
 
@@ -73,10 +78,13 @@ class Outcome(Enum):
     BOTH_ABORT = "4.8.3: neither robot can incorporate the other's specification; both abort"
     ABORT_LINE_20 = "Alg. 4 line 20: a specification after negotiation is unrealizable; both abort"
     FAILED = "failed (fault); nothing adopted"
+    #: the initiator decided and adopted; the responder has not confirmed its adoption yet (the
+    #: decision is sent again until it does; the responder, bound by its status 2, adopts on receipt)
+    UNCONFIRMED = "this robot adopted its negotiated specification; the peer has not confirmed its adoption yet"
 
     @property
     def adopts(self) -> bool:
-        return self in (Outcome.BOTH_ADOPT, Outcome.ADOPTED_PEERS, Outcome.KEPT_OWN)
+        return self in (Outcome.BOTH_ADOPT, Outcome.ADOPTED_PEERS, Outcome.KEPT_OWN, Outcome.UNCONFIRMED)
 
 
 @dataclass

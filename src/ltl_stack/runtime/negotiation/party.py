@@ -15,6 +15,7 @@ from typing import Any
 from ltl_stack.runtime.negotiation.classes import Classes, assumptions_about, rename
 from ltl_stack.runtime.negotiation.messages import (
     ABORT,
+    COMMIT,
     OFFER,
     STATUS,
     WRITE_FAILED,
@@ -86,6 +87,12 @@ class Negotiation:
         self.stage = stage
         self.staged: Any = None
         self._stage_error = ""
+        #: the case agreed (4.8.1/4.8.2) once both statuses 2 are realizable; ``outcome`` becomes it when
+        #: this robot adopted and knows the peer did (commit protocol)
+        self.agreed: Outcome | None = None
+        self._prepared: Adoption | None = None
+        #: the responder's reply to each (kind, round) it handled: a duplicate gets the same reply
+        self.answered: dict[tuple[str, int], Message] = {}
         #: serializes ``receive``, ``fail`` and ``cancel`` (another thread may cancel an initiation)
         self._lock = threading.RLock()
         #: how each received assumption is kept (``ownership.split_by_ownership``), once the offer is read
@@ -149,6 +156,9 @@ class Negotiation:
             return True
 
     def _receive(self, message: Message) -> None:
+        if message.kind == COMMIT and message.sender == self.peer.name and message.session == self.session:
+            self._on_commit()
+            return
         if self.phase is Phase.DONE:
             return
         try:
@@ -265,14 +275,42 @@ class Negotiation:
             self._end(Outcome.ABORT_LINE_20, f"phi* ({who}) is unrealizable (line 20)",
                       explain_spec=spec if strategy is None else None)
             return
-        self.adopted = Adoption(spec, text, strategy, incorporated)
+        adoption = Adoption(spec, text, strategy, incorporated)
         if incorporated and self._peer_status.get(1):
-            outcome = Outcome.BOTH_ADOPT
+            self.agreed = Outcome.BOTH_ADOPT
         elif incorporated:
-            outcome = Outcome.ADOPTED_PEERS
+            self.agreed = Outcome.ADOPTED_PEERS
         else:
-            outcome = Outcome.KEPT_OWN
-        self._end(outcome, "adopted " + ("phi^nego" if incorporated else "phi* with the new init"))
+            self.agreed = Outcome.KEPT_OWN
+        what = "phi^nego" if incorporated else "phi* with the new init"
+        if self.initiator:  # the decision: commit; we adopt, the peer is told (``commit_message``)
+            self.adopted = adoption
+            self._end(Outcome.UNCONFIRMED, f"adopted {what}; {self.peer.name} has not confirmed yet")
+        else:  # bound by our status 2: we adopt when the initiator's decision arrives
+            self._prepared = adoption
+            self.phase = Phase.PREPARED
+            self._note(f"prepared to adopt {what}: waiting for {self.peer.name}'s decision")
+
+    def _on_commit(self) -> None:
+        """The commit protocol: the initiator's decision (responder) or the responder's confirmation
+        (initiator). Repeated messages change nothing."""
+        if self.initiator:
+            if self.outcome is Outcome.UNCONFIRMED and self.agreed is not None:
+                self.outcome, self.reason = self.agreed, f"adopted; {self.peer.name} confirmed its adoption"
+                self._note(f"{self.agreed.value}: {self.reason}")
+        elif self.phase is Phase.PREPARED and self._prepared is not None:
+            self.adopted = self._prepared
+            self._end(self.agreed, f"adopted on {self.peer.name}'s decision")
+
+    def commit_message(self) -> Message:
+        """The initiator's decision (after both realizable statuses 2), or the responder's confirmation."""
+        return Message(COMMIT, self.me, self.session)
+
+    @property
+    def unresolved(self) -> bool:
+        """Whether this party still waits for the peer (the commit protocol): an initiator whose
+        adoption is not confirmed, a responder prepared without the decision."""
+        return self.outcome is Outcome.UNCONFIRMED or self.phase is Phase.PREPARED
 
     def fail(self, reason: str) -> None:
         """A fault (timeout, peer gone, garbled text, protocol error): nothing is adopted."""
@@ -368,6 +406,12 @@ class Negotiation:
 
 def answer(responder: Negotiation, message: Message) -> Message:
     """The responder's side of one exchange: take ``message``, return ours (an abort on a fault)."""
+    if message.kind == COMMIT:
+        responder.receive(message)
+        return responder.commit_message() if responder.adopted is not None else responder.abort_message()
+    key = (message.kind, message.round)
+    if key in responder.answered and message.kind != ABORT:
+        return responder.answered[key]  # a duplicated message: the same answer, nothing changes
     reply = None
     try:
         if message.kind == OFFER:
@@ -381,13 +425,16 @@ def answer(responder: Negotiation, message: Message) -> Message:
         if responder.outcome is not Outcome.FAILED:
             responder.fail(f"unexpected {message.kind} message")
         return responder.abort_message()
+    responder.answered[key] = reply
     return reply
 
 
 def drive(initiator: Negotiation, call: Callable[[Message], Message]) -> None:
     """The initiator's side: offer, status 1, status 2 (Alg. 4 lines 3-4, 10, 18), each sent with
     ``call(message) -> reply``. A transport error (``TimeoutError``, ``ConnectionError``, ``OSError``:
-    timeout, peer gone) is a fault; after a fault on our side the peer is told (best effort)."""
+    timeout, peer gone) is a fault; after a fault the peer is told (best effort: it may only have lost
+    its reply). After both realizable statuses 2 the initiator decides and sends ``commit``
+    (``confirm``): the commit protocol of docs/negotiation.md."""
     for make in (initiator.offer, lambda: initiator.status(1), lambda: initiator.status(2)):
         if initiator.done:
             break
@@ -399,13 +446,31 @@ def drive(initiator: Negotiation, call: Callable[[Message], Message]) -> None:
         try:
             reply = call(message)
         except (TimeoutError, ConnectionError, OSError) as err:
-            initiator.fail(f"{initiator.peer.name} did not answer: {err}")
-            return
+            initiator.fail(f"{initiator.peer.name} did not answer: {err}")  # (it is told below, best effort)
+            break
         initiator.receive(reply)
     if not initiator.done:
         initiator.fail("negotiation ended early")
+    if initiator.outcome is Outcome.UNCONFIRMED:  # tell the decision; a lost answer is asked again (``confirm``)
+        confirm(initiator, call)
+        return
     if initiator.outcome is Outcome.FAILED and not initiator.reason.startswith(f"{initiator.peer.name} aborted"):
         try:
             call(initiator.abort_message())
         except (TimeoutError, ConnectionError, OSError):
             pass
+
+
+def confirm(initiator: Negotiation, call: Callable[[Message], Message]) -> bool:
+    """Send the initiator's decision (commit) and take the responder's confirmation; True once
+    confirmed. A transport error or any other answer leaves it unconfirmed: sent again later."""
+    try:
+        reply = call(initiator.commit_message())
+    except (TimeoutError, ConnectionError, OSError) as err:
+        initiator._note(f"{initiator.peer.name} did not confirm: {err}")
+        return False
+    if reply.kind == COMMIT:
+        initiator.receive(reply)
+    else:
+        initiator._note(f"{initiator.peer.name} answered the decision with {reply.kind}: {reply.reason[:200]}")
+    return initiator.outcome is not Outcome.UNCONFIRMED

@@ -19,13 +19,16 @@ from ltl_stack.runtime.negotiation.classes import Classes, Peer
 from ltl_stack.runtime.negotiation.messages import (
     ABORT,
     BUSY,
+    COMMIT,
     OFFER,
+    OUTCOME,
     SIMULTANEOUS,
     Message,
     Outcome,
+    Phase,
     offer_refusal,
 )
-from ltl_stack.runtime.negotiation.party import Negotiation, answer, drive
+from ltl_stack.runtime.negotiation.party import Negotiation, answer, confirm, drive
 from ltl_stack.runtime.negotiation.staging import commit_adopted, discard_staged, stage_adopted, write_adopted
 from ltl_stack.spec.formula import evaluate
 from ltl_stack.spec.model import Clause, Spec
@@ -253,8 +256,14 @@ class Negotiator:
             self.current = n  # (a crossing offer takes over from our own, which the peer refuses)
             self.history.append(n)
             self.active[peer] = n
+        elif message.kind == OUTCOME:  # either robot may ask again, in any role
+            return Message(OUTCOME, me, message.session, reason=self.state_of(message.session, peer)), None
         else:
             n = self.active.get(peer)
+            if message.kind == COMMIT and (n is None or n.session != message.session):
+                done = self._session(message.session, peer)  # a repeated decision: confirm again
+                if done is not None and done.adopted is not None:
+                    return done.commit_message(), None
             if n is None or n.session != message.session:  # (a late message of an earlier session)
                 return self._refuse(message, f"no negotiation with {peer} in progress"
                                     + (f" in session {message.session[:60]}" if n is not None else ""))
@@ -264,9 +273,71 @@ class Negotiator:
         self._changed(n)
         return reply, n
 
+    def _session(self, session: str, peer: str) -> Negotiation | None:
+        """The latest negotiation named ``session`` with ``peer`` (either role), or None."""
+        with self.lock:
+            found = [n for n in self.history if n.session == session and n.peer.name == peer]
+        return found[-1] if found else None
+
+    def state_of(self, session: str, peer: str) -> str:
+        """What this robot knows of ``session`` (the answer to an ``outcome`` question): committed
+        (it adopted), aborted (it ended without adopting), prepared (responder waiting for the
+        decision), pending (still negotiating), unknown (no such session: nothing was adopted)."""
+        n = self._session(session, peer)
+        if n is None:
+            return "unknown"
+        if n.adopted is not None:
+            return "committed"
+        if n.phase is Phase.PREPARED:
+            return "prepared"
+        return "aborted" if n.done else "pending"
+
+    def settle(self, strategy: Any = None, controller: Any = None) -> int:
+        """The commit protocol after a lost message (call it periodically; the ROS endpoint does): an
+        initiator whose adoption is unconfirmed sends its decision again; a responder prepared without
+        the decision asks the initiator for the session's outcome and adopts (installed in
+        ``strategy``/``controller`` when given) or ends FAILED. Returns how many negotiations moved;
+        a peer that cannot be reached is asked again next time."""
+        moved = 0
+        with self.lock:
+            waiting = [n for n in self.history if n.unresolved]
+        for n in waiting:
+            if self.transport is None:
+                break
+            call = self.transport(n.peer)
+            if n.initiator:
+                if confirm(n, call):
+                    moved += 1
+                    self._changed(n)
+                continue
+            try:
+                reply = call(Message(OUTCOME, self.classes.robot, n.session))
+            except (TimeoutError, ConnectionError, OSError):
+                continue
+            if reply.kind != OUTCOME or reply.reason not in ("committed", "aborted", "unknown"):
+                continue
+            with self.lock:
+                if reply.reason == "committed":
+                    n.receive(Message(COMMIT, n.peer.name, n.session))
+                else:
+                    n.fail(f"{n.peer.name} did not adopt ({reply.reason}): nothing adopted")
+                self._end(n, hold=True)
+            self._changed(n)
+            moved += 1
+            if strategy is not None:
+                count_negotiation(strategy)
+            if n.adopted is not None and strategy is not None:
+                self._install(n, strategy, controller)
+            else:
+                if n.adopted is not None:
+                    self.commit(n)
+                self.release(n, installed=n.adopted is not None)
+        return moved
+
     def _end(self, n: Negotiation, hold: bool) -> None:
         """The responder's negotiation ``n`` ended (under ``lock``)."""
-        self.active.pop(n.peer.name, None)
+        if self.active.get(n.peer.name) is n:
+            self.active.pop(n.peer.name)
         if n.adopted is None:
             discard_staged(n.staged)
         if not (n.outcome is Outcome.FAILED and n._nego is None):
@@ -278,7 +349,7 @@ class Negotiator:
         """The responder's timeout: the initiator went silent mid-negotiation."""
         with self.lock:
             n = self.active.get(peer)
-            if n is None:
+            if n is None or n.phase is Phase.PREPARED:  # bound by our status 2: ask (``settle``), not fail
                 return None
             n.fail(reason)
             self._end(n, hold=False)
@@ -364,19 +435,25 @@ class Negotiator:
             return reply
         count_negotiation(strategy)
         if n.adopted is not None:
-            try:
-                written = self.commit(n)
-                with controller.lock:  # from the position the negotiation started at (its init)
-                    state = strategy.adopt(n.adopted.spec, n.adopted.text, n.adopted.strategy, n.incoming, n.outputs,
-                                           write=not written)
-                    installed = getattr(strategy, "on_installed", None)
-                    if installed is not None:  # the executor node: continue with the current readings, publish
-                        installed(state)
-                    else:
-                        controller.state = state
-            finally:
-                self.release(n, installed=True)
+            self._install(n, strategy, controller)
         elif n.outcome in (Outcome.BOTH_ABORT, Outcome.ABORT_LINE_20):
             with controller.lock:
                 strategy.abort(f"negotiation with {n.peer.name}: {n.outcome.value}")
         return reply
+
+    def _install(self, n: Negotiation, strategy: Any, controller: Any) -> None:
+        """The responder's adoption of ``n``: its staged file committed, its spec installed under the
+        controller's lock from the position the negotiation started at (its init); then the robot is
+        free for the next negotiation."""
+        try:
+            written = self.commit(n)
+            with controller.lock:
+                state = strategy.adopt(n.adopted.spec, n.adopted.text, n.adopted.strategy, n.incoming, n.outputs,
+                                       write=not written)
+                installed = getattr(strategy, "on_installed", None)
+                if installed is not None:  # the executor node: continue with the current readings, publish
+                    installed(state)
+                else:
+                    controller.state = state
+        finally:
+            self.release(n, installed=True)
