@@ -28,6 +28,7 @@ exchange (offer, status 1, status 2, or an abort). The protocol logic is ROS-fre
 from __future__ import annotations
 
 import json
+import os
 import threading
 import time
 import xmlrpc.client
@@ -89,18 +90,40 @@ def node_of(service: str) -> str:
     return rosgraph.names.namespace(service).rstrip("/") or "/"
 
 
+#: a test hook (never set in use): messages the transport drops, once each, to test the commit protocol
+#: on real nodes: comma-separated ``request|reply:KIND[:ROUND]`` (``reply:commit``: the confirmation of
+#: the decision is lost; ``reply:status:2``: the responder's status 2)
+TEST_DROP_VARIABLE = "LTL_STACK_TEST_DROP"
+
+
+def _test_drops() -> list[str]:
+    return [x.strip() for x in os.environ.get(TEST_DROP_VARIABLE, "").split(",") if x.strip()]
+
+
+def _dropped(drops: list[str], way: str, message: Message) -> bool:
+    for key in (f"{way}:{message.kind}:{message.round}", f"{way}:{message.kind}"):
+        if key in drops:
+            drops.remove(key)
+            return True
+    return False
+
+
 def service_transport(timeout: float = DEFAULT_TIMEOUT, auth: Authenticator | None = None,
                       ) -> Callable[[Peer], Callable[[Message], Message]]:
     """The initiator's transport: one ``Negotiate`` service call per message, bounded by ``timeout``
     (a service that does not appear, or a call that does not return, in time is a ``TimeoutError``;
     any other failure a ``ConnectionError``: both are faults of the negotiation). With ``auth`` each
     message is signed and a reply that is not signed by the peer for it is a ``ConnectionError``."""
+    drops = _test_drops()
+
     def transport(peer: Peer) -> Callable[[Message], Message]:
         name = service_of(peer)
 
         def call(message: Message) -> Message:
             if auth is not None:
                 message = auth.sign(message, peer.name)
+            if _dropped(drops, "request", message):
+                raise TimeoutError(f"{name}: request dropped ({TEST_DROP_VARIABLE})")
             result: dict[str, Any] = {}
 
             def work() -> None:
@@ -121,6 +144,8 @@ def service_transport(timeout: float = DEFAULT_TIMEOUT, auth: Authenticator | No
                     raise TimeoutError(f"{name}: service not available within {timeout:g} s")
                 raise ConnectionError(f"{name}: {error}")
             reply = from_ros(result["reply"])
+            if _dropped(drops, "reply", message):
+                raise TimeoutError(f"{name}: reply dropped ({TEST_DROP_VARIABLE})")
             if auth is not None:
                 refusal = auth.check(reply, reply_to=message.nonce, sender=peer.name)
                 if refusal is not None:
@@ -162,6 +187,9 @@ class NegotiationEndpoint:
         self.refusals = 0
         self.service = rospy.Service(service_name, Negotiate, self._on_request)
         self.expiry = rospy.Timer(rospy.Duration(max(timeout / 2.0, 0.1)), self._expire)
+        #: the commit protocol after a lost message: ask again (``Negotiator.settle``), in a timer thread
+        self.settling = rospy.Timer(rospy.Duration(max(timeout / 2.0, 0.5)),
+                                    lambda _event: negotiator.settle(strategy, controller))
         self.watch = RegistrationWatch(self.service, on_hijack=self._hijacked, timeout=min(timeout, 2.0))
         self.watch_timer = rospy.Timer(rospy.Duration(registration_period), lambda _event: self.watch.check())
         self._publish()

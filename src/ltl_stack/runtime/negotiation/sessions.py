@@ -317,6 +317,8 @@ class Negotiator:
             if reply.kind != OUTCOME or reply.reason not in ("committed", "aborted", "unknown"):
                 continue
             with self.lock:
+                if not n.unresolved:  # the decision arrived meanwhile (and was installed there)
+                    continue
                 if reply.reason == "committed":
                     n.receive(Message(COMMIT, n.peer.name, n.session))
                 else:
