@@ -36,14 +36,17 @@ for both robots (the transport decides who sends first; the initiator sends, the
 3. ``status(1)`` / ``receive(status 1)`` (lines 10-17): if phi^nego is realizable it becomes phi*;
    else if the peer's is, phi* is resynthesized with the new init (4.8.2); else both abort (4.8.3);
 4. ``status(2)`` / ``receive(status 2)`` (lines 18-21): phi* is adopted only when both phi* are
-   realizable; otherwise abort (line 20).
+   realizable; otherwise abort (line 20). With both realizable the responder is *prepared* (bound by
+   its status 2, not adopted) and the initiator decides: it adopts and sends ``commit``; the
+   responder adopts on it and confirms (commit protocol). Until the confirmation arrives the
+   initiator reports ``UNCONFIRMED``, and either robot asks again (``Negotiator.settle``).
 
 Faults — a message out of order, garbled spec text, a peer that sends ``abort``, a timeout or a
 vanished peer reported by the transport (``fail``) — end the negotiation as ``FAILED``: nothing is
 adopted (no half-adopted spec). The party that started it (its own spec is unrealizable, Alg. 3)
-then aborts with safe outputs; the responder keeps the controller it was running, which is still
-correct for its own spec. A party adopts only after it synthesized a realizable phi* *and* received
-the peer's realizable second status (``adopted`` is None otherwise).
+then goes to S.1; the responder keeps the controller it was running, which is still correct for its
+own spec. A robot is in one negotiation at a time (``sessions.Negotiator``), so each phi^nego is built
+on the spec it runs after every earlier adoption. Messages may be signed (``auth``).
 """
 
 from ltl_stack.runtime.negotiation.auth import Authenticator
