@@ -33,6 +33,7 @@ what an executor publishes.
 from __future__ import annotations
 
 import re
+import threading
 import time
 from collections import deque
 from collections.abc import Callable, Mapping
@@ -431,6 +432,8 @@ class ResilientStrategy:
         self.explanation: Explanation | None = None
         self.steps = 0
         self._pending: _Pending | None = None
+        #: held while negotiation reads or replaces the base spec (the executor's own lock replaces it)
+        self.lock: Any = threading.RLock()
         self._state: State | None = None
 
     # --- strategy interface ---------------------------------------------------------------------
@@ -526,6 +529,37 @@ class ResilientStrategy:
         state = self._install(Attempt(True, "negotiation", spec, text, strategy, 0.0), observation)
         self._event("adopted the specification negotiated with a collaborative robot (Alg. 4)")
         return state
+
+    # --- integrative negotiation (the interface ``runtime.negotiation.sessions.NegotiationHost``) ----
+    def negotiation_base(self) -> Spec:
+        """phi*_r (Alg. 4): the spec a negotiation starts from — the original, or the one adopted last."""
+        return self.characterizer.original
+
+    def rebase(self, spec: Spec) -> None:
+        """The initiator adopted ``spec`` (the negotiation hook returns it to run): it becomes the base
+        of later characterizations (EC sets start empty, Alg. 4 line 2)."""
+        old = self.characterizer
+        self.characterizer = Characterizer(spec, path=old.path, synthesis_options=old.synthesis_options)
+
+    @property
+    def spec_path(self) -> Path | None:
+        """Where the spec this robot runs is written (``--characterized-spec``), or None."""
+        return self.characterizer.path
+
+    def negotiation_held(self) -> None:
+        """One more negotiation held by this robot, whatever its outcome (``Counters.negotiations``)."""
+        with self.lock:
+            self.counters.negotiations += 1
+
+    @property
+    def aborted(self) -> bool:
+        return self.mode is Mode.ABORTED
+
+    def install_negotiated(self, spec: Spec, text: str, strategy: SymbolicStrategy, inputs: Mapping[str, bool],
+                           outputs: Mapping[str, bool], write: bool = True) -> State | None:
+        """The responder adopted ``spec`` (``adopt``, from the position the negotiation started at):
+        the state its controller continues from (None: handed to the controller already)."""
+        return self.adopt(spec, text, strategy, inputs, outputs, write=write)
 
     def safe_outputs(self) -> dict[str, bool]:
         """The outputs an aborted controller publishes: all false."""

@@ -378,12 +378,21 @@ def test_simultaneous_negotiation_resolves_as_negotiating_in_turn():
 
 
 class Held:
-    """A stand-in for the strategy the hook negotiates for."""
+    """A stand-in for the strategy the hook negotiates for (``sessions.NegotiationHost``)."""
 
     def __init__(self, spec):
-        from ltl_stack.runtime.characterize import Characterizer
+        import threading
 
-        self.characterizer = Characterizer(spec)
+        self.base, self.lock, self.spec_path, self.held = spec, threading.RLock(), None, 0
+
+    def negotiation_base(self):
+        return self.base
+
+    def rebase(self, spec):
+        self.base = spec
+
+    def negotiation_held(self):
+        self.held += 1
 
 
 def test_hook_by_cause_s1_unless_the_robots_negotiated_and_disagree():

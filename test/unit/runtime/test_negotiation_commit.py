@@ -19,18 +19,26 @@ CONFIRMED = (Outcome.BOTH_ADOPT, Outcome.ADOPTED_PEERS, Outcome.KEPT_OWN)
 
 
 class Party:
-    """What ``Negotiator.hook`` and ``serve`` need of a robot: its running spec (the characterizer's
-    base), a lock, a position, ``adopt``."""
+    """What ``Negotiator.hook`` and ``serve`` need of a robot (``sessions.NegotiationHost``) and of its
+    controller (a lock, a position)."""
 
     def __init__(self, spec) -> None:
         self.characterizer = Characterizer(spec)
         self.lock = threading.RLock()
         self.state = SimpleNamespace(inputs=dict.fromkeys(spec.inputs, True), outputs=dict.fromkeys(spec.outputs, False))
-        self.mode = None
-        self.counters = SimpleNamespace(negotiations=0)
+        self.aborted, self.spec_path, self.held = False, None, 0
 
-    def adopt(self, spec, text, strategy, inputs, outputs, write=True):
+    def negotiation_base(self):
+        return self.characterizer.original
+
+    def rebase(self, spec):
         self.characterizer = Characterizer(spec)
+
+    def negotiation_held(self):
+        self.held += 1
+
+    def install_negotiated(self, spec, text, strategy, inputs, outputs, write=True):
+        self.rebase(spec)
         return self.state
 
 

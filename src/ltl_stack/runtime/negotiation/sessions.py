@@ -6,13 +6,12 @@ responder). See the package docstring and docs/negotiation.md.
 """
 from __future__ import annotations
 
-import contextlib
 import random
 import threading
 import time
 from collections.abc import Callable, Mapping
 from pathlib import Path
-from typing import Any
+from typing import Any, Protocol
 
 from ltl_stack.runtime.characterize import NegotiationAbort
 from ltl_stack.runtime.negotiation.classes import Classes, Peer
@@ -34,13 +33,33 @@ from ltl_stack.spec.formula import evaluate
 from ltl_stack.spec.model import Clause, Spec
 
 
-def count_negotiation(strategy: Any) -> None:
-    """One more negotiation held by ``strategy``'s robot, whatever its outcome (``Counters.negotiations``,
-    published on ``~state``)."""
-    counters = getattr(strategy, "counters", None)
-    if counters is not None:
-        with getattr(strategy, "lock", None) or contextlib.nullcontext():
-            counters.negotiations += 1
+class NegotiationHost(Protocol):
+    """What negotiation needs of a robot's resilient strategy (``runtime.characterize.ResilientStrategy``
+    and the executor's ``BackgroundResilience`` implement it)."""
+
+    lock: Any
+
+    @property
+    def aborted(self) -> bool: ...
+
+    def negotiation_base(self) -> Spec: ...
+
+    def rebase(self, spec: Spec) -> None: ...
+
+    @property
+    def spec_path(self) -> Path | None: ...
+
+    def negotiation_held(self) -> None: ...
+
+    def install_negotiated(self, spec: Spec, text: str, strategy: Any, inputs: Mapping[str, bool],
+                           outputs: Mapping[str, bool], write: bool = True) -> Any: ...
+
+    def abort(self, reason: str = ...) -> None: ...
+
+
+def count_negotiation(strategy: NegotiationHost) -> None:
+    """One more negotiation held by ``strategy``'s robot (``Counters.negotiations``, on ``~state``)."""
+    strategy.negotiation_held()
 
 
 def violated_clauses(spec: Spec, current: Mapping[str, bool], incoming: Mapping[str, bool]) -> list[Clause]:
@@ -376,8 +395,8 @@ class Negotiator:
         current = {**observation.current_inputs, **observation.current_outputs}
         deadline = time.monotonic() + self.answer_wait
         while True:
-            with getattr(strategy, "lock", None) or contextlib.nullcontext():
-                star = strategy.characterizer.original
+            with strategy.lock:
+                star = strategy.negotiation_base()
             peer = self.choose(star, current, observation.incoming)
             if peer is None:
                 return None
@@ -399,12 +418,10 @@ class Negotiator:
         if adopted is None:
             return None
         try:
-            with getattr(strategy, "lock", None) or contextlib.nullcontext():  # the executor steps meanwhile
-                old = strategy.characterizer
-                strategy.characterizer = type(old)(adopted.spec, path=old.path,
-                                                   synthesis_options=old.synthesis_options)
-            if not self.commit(n) and old.path is not None:
-                write_adopted(adopted, old.path)
+            with strategy.lock:  # the executor steps meanwhile
+                strategy.rebase(adopted.spec)
+            if not self.commit(n) and strategy.spec_path is not None:
+                write_adopted(adopted, strategy.spec_path)
         finally:
             self.release(n, installed=True)
         return adopted.spec
@@ -424,13 +441,13 @@ class Negotiator:
             time.sleep(0.02)  # our controller starts once every input has reported (not under the lock)
         with controller.lock:
             state = controller.state
-            aborted = getattr(strategy, "mode", None) is not None and strategy.mode.value == "aborted"
+            aborted = strategy.aborted
             if state is None or aborted:
                 why = "has aborted" if aborted else "has not started"
                 return Message(ABORT, self.classes.robot, message.session, reason=f"{self.classes.robot} {why}")
             with self.lock:
                 epoch = self.epoch
-            star, inputs, outputs = strategy.characterizer.original, dict(state.inputs), dict(state.outputs)
+            star, inputs, outputs = strategy.negotiation_base(), dict(state.inputs), dict(state.outputs)
         with self.lock:
             reply, n = self.respond(message, star, inputs, outputs, epoch=epoch, hold=True)
         if n is None or not n.done:
@@ -450,12 +467,9 @@ class Negotiator:
         try:
             written = self.commit(n)
             with controller.lock:
-                state = strategy.adopt(n.adopted.spec, n.adopted.text, n.adopted.strategy, n.incoming, n.outputs,
-                                       write=not written)
-                installed = getattr(strategy, "on_installed", None)
-                if installed is not None:  # the executor node: continue with the current readings, publish
-                    installed(state)
-                else:
+                state = strategy.install_negotiated(n.adopted.spec, n.adopted.text, n.adopted.strategy, n.incoming,
+                                                    n.outputs, write=not written)
+                if state is not None:  # (the executor node continues with the current readings itself)
                     controller.state = state
         finally:
             self.release(n, installed=True)
