@@ -27,16 +27,14 @@ from ltl_stack.runtime.negotiation.messages import (
     offer_refusal,
 )
 from ltl_stack.runtime.negotiation.ownership import Ownership, split_by_ownership
-from ltl_stack.spec import SpecError, clause_to_english, formula_to_infix, parse_structured
+from ltl_stack.spec import SpecError, clause_to_english, parse_structured
 from ltl_stack.spec.formula import And, Not, Var, variables
 from ltl_stack.spec.model import SECTIONS, Clause, Spec
+from ltl_stack.spec.writer import Entry, write_spec_text
 from ltl_stack.synthesis import synthesize
 from ltl_stack.synthesis.explain import explain
 from ltl_stack.synthesis.explain_render import explanation_text
 from ltl_stack.synthesis.strategy import SymbolicStrategy
-
-HEADERS = {"env_init": "ENV_INIT", "sys_init": "SYS_INIT", "env_safety": "ENV_TRANS",
-           "sys_safety": "SYS_TRANS", "env_liveness": "ENV_LIVENESS", "sys_liveness": "SYS_LIVENESS"}
 
 
 class Negotiation:
@@ -106,14 +104,15 @@ class Negotiation:
         if self.phase is not Phase.NEW:
             raise ProtocolFault(f"offer requested in phase {self.phase.value}")
         table = {**{s: s for s in self.classes.global_sensors}, **self.peer.table}
-        lines = [f"# Alg. 4 line 3: {self.me}'s assumptions about {self.peer.name} (phi^t(r_env)_e) and goals "
-                 f"(phi^g_s), in {self.peer.name}'s names",
-                 f"# session {self.session}"]
+        header = [f"# Alg. 4 line 3: {self.me}'s assumptions about {self.peer.name} (phi^t(r_env)_e) and goals "
+                  f"(phi^g_s), in {self.peer.name}'s names",
+                  f"# session {self.session}"]
         english = []
         sections = (("sys_safety", assumptions_about(self.original, self.classes, self.peer.name), "assumption"),
                     ("env_liveness", list(self.star.sys_liveness), "goal"))
+        entries: dict[str, list[Entry]] = {}
         for section, clauses, what in sections:
-            lines.append(f"[{HEADERS[section]}]")
+            lines = entries.setdefault(section, [])
             for clause in clauses:
                 missing = sorted({v.name for v in variables(clause.formula) if v.name not in table})
                 if missing:
@@ -129,9 +128,9 @@ class Negotiation:
                     continue
                 renamed = rename(clause.formula, table)
                 lines.append(f"# {self.me} {clause.location}: {' '.join(clause.text.split())}")
-                lines.append(formula_to_infix(renamed))
+                lines.append(renamed)
                 english.append(f"{what} ({clause.location}): {clause_to_english(renamed, section)}")
-        text = "\n".join(lines) + "\n"
+        text = write_spec_text(entries, header=header)
         self.sent = english
         self._offer = Message(OFFER, self.me, self.session, 0, text, tuple(english))
         if self.phase is Phase.NEW:
@@ -375,32 +374,30 @@ class Negotiation:
     def _spec(self, base: Spec, extra: Mapping[str, list[Clause]], what: str) -> tuple[Spec, str]:
         """``base`` with init from the current position (lines 6-7), env safety phi^t_e of ``original``
         (line 2) and ``extra`` clauses appended, as structured spec text and parsed back from it."""
-        out = [f"# {self.me}: {what}, negotiated with {self.peer.name} (thesis §4.8, Alg. 4) "
-               f"at {time.strftime('%Y-%m-%d %H:%M:%S', time.localtime(self.wall_clock()))}",
-               f"# from {base.source}. It loads like any spec: synthesize FILE, controller_executor FILE.", "",
-               "[INPUT]", *base.inputs, "", "[OUTPUT]", *base.outputs, ""]
+        header = [f"# {self.me}: {what}, negotiated with {self.peer.name} (thesis §4.8, Alg. 4) "
+                  f"at {time.strftime('%Y-%m-%d %H:%M:%S', time.localtime(self.wall_clock()))}",
+                  f"# from {base.source}. It loads like any spec: synthesize FILE, controller_executor FILE.", ""]
+        sections: dict[str, list[Entry]] = {}
         for section in SECTIONS:
-            out.append(f"[{HEADERS[section]}]")
+            out = sections.setdefault(section, [])
             if section in ("env_init", "sys_init"):
                 names, values = ((base.inputs, self.incoming) if section == "env_init" else (base.outputs, self.outputs))
                 out.append(f"# Alg. 4 line {6 if section == 'env_init' else 7}: the current "
                            f"{'inputs' if section == 'env_init' else 'outputs'}")
                 literals = [Var(n) if values[n] else Not(Var(n)) for n in names]
-                out.append(formula_to_infix(literals[0] if len(literals) == 1 else And(tuple(literals))))
+                out.append(literals[0] if len(literals) == 1 else And(tuple(literals)))
             else:
                 clauses = self.original.env_safety if section == "env_safety" else base.section(section)
                 if section == "env_safety":
                     out.append("# Alg. 4 line 2: the original environment safety (no characterization disjuncts)")
                 for c in clauses:
                     out.append(f"# {c.location}: {' '.join(c.text.split())}")
-                    out.append(formula_to_infix(c.formula))
+                    out.append(c.formula)
                 for c in extra.get(section, []):
-                    origin = {"sys_safety": "assumption", "env_safety": "assumption no move of ours keeps, kept as "
-                              "an assumption (ownership, docs/negotiation.md)"}.get(section, "goal")
+                    origin = "assumption" if section == "sys_safety" else "goal"
                     out.append(f"# Alg. 4 line 5: {origin} of {self.peer.name} ({c.text.strip()})")
-                    out.append(formula_to_infix(c.formula))
-            out.append("")
-        text = "\n".join(out)
+                    out.append(c.formula)
+        text = write_spec_text(sections, header=header, inputs=base.inputs, outputs=base.outputs)
         return parse_structured(text, f"<{self.me} negotiated with {self.peer.name}>"), text
 
 
