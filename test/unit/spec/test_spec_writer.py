@@ -7,7 +7,7 @@ from ltl_stack.spec.writer import write_spec_text
 
 
 def test_written_text_reads_back_in_both_formats():
-    spec = parse_structured("[INPUT]\na\n[OUTPUT]\nb\n[ENV_TRANS]\na' -> !a\n[SYS_TRANS]\nb' -> a'\n", "s")
+    spec = parse_structured("[INPUT]\na\n[OUTPUT]\nb\n[ENV_TRANS]\na' -> !a\n[SYS_TRANS]\n!b' | a'\n", "s")
     sections = {"env_safety": ["# the assumption", spec.env_safety[0].formula],
                 "sys_safety": [spec.sys_safety[0].formula], "sys_liveness": []}
     text = write_spec_text(sections, header=["# header"], inputs=spec.inputs, outputs=spec.outputs)
