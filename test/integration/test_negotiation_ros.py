@@ -211,3 +211,26 @@ def test_a_lost_decision_is_asked_for_again(ros_master, tmp_path):
     wait_for(lambda: reports(q) and reports(p)[-1]["case"] == "BOTH_ADOPT", 60, "Q adopting on the decision")
     assert reports(q)[-1]["case"] == "BOTH_ADOPT"
     q.wait_output('"adopted": "Q"')
+
+
+OWN_P_MAP = ("negotiation:\n  robot: P\n  peers:\n    Q:\n      eap: {road_c_Q: road_c, dig_c_Q: dig_c, s_Q: s}\n"
+             "      shares: {}\n")
+OWN_Q_MAP = "negotiation:\n  robot: Q\n  peers:\n    P:\n      shares: {road_c: road_c_Q, dig_c: dig_c_Q, s: s_Q}\n"
+
+
+@pytest.mark.parametrize("assumption, cases, received", [
+    # over Q's completion sensors, whose rewrite onto activations would not keep it: kept as sent, 4.8.1
+    ("!(road_c_Q' & dig_c_Q')", ("BOTH_ADOPT", "BOTH_ADOPT"), "kept as sent"),
+    # over a sensor Q does not control: Q cannot guarantee it, 4.8.2 (never an adoption of it)
+    ("!s_Q'", ("ADOPTED_PEERS", "KEPT_OWN"), "kept as sent"),
+])
+def test_ownership_of_received_clauses_over_ros(ros_master, tmp_path, assumption, cases, received):
+    from test_negotiation_ownership import LAG, Q_TEXT, p_text
+
+    q = start(ros_master, tmp_path, "responder", "Q", Q_TEXT.format(env=LAG), OWN_Q_MAP)
+    q.wait_output('"ready"', timeout=60)
+    p = start(ros_master, tmp_path, "initiator", "P", p_text(assumption), OWN_P_MAP, "--peer", "Q", "--timeout", "20")
+    wait_for(lambda: reports(p) and reports(q), 60, "both reports")
+    rp, rq = reports(p)[-1], reports(q)[-1]
+    assert (rp["case"], rq["case"]) == cases, (rp, rq)
+    assert any(received in line for line in rq["received"]), rq["received"]
