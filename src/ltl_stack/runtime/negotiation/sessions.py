@@ -9,9 +9,9 @@ from __future__ import annotations
 import random
 import threading
 import time
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from pathlib import Path
-from typing import Any, Protocol
+from typing import Any, Callable, Protocol
 
 from ltl_stack.runtime.characterize import NegotiationAbort
 from ltl_stack.runtime.negotiation.classes import Classes, Peer
