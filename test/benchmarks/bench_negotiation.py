@@ -19,6 +19,11 @@ negotiation latency.
    negotiated" and the initiator's "resynthesized with negotiation"), and the same from the moment
    the initiator's monitor started characterizing (conflict detected after the 1 s threshold). Goal: median < 1 s.
 
+5. ``--signing``: signed vs unsigned messages (a fleet secret, ``runtime.negotiation.auth``), in the same
+   run, interleaved: Alg. 4 in process with every message signed and checked on both sides, and through
+   a real master with both nodes' mappings naming the secret. Medians and their ratio; figures go to
+   docs/benchmarks/negotiation_signing.md (the rest of the file is not rerun).
+
 Figures go to docs/benchmarks/negotiation.md.
 """
 from __future__ import annotations
@@ -95,6 +100,96 @@ def in_process(repeat: int) -> float:
     return statistics.median(times)
 
 
+def in_process_pair(signed: bool) -> float:
+    """One whole Alg. 4 negotiation in process (see ``in_process``), every message signed by its sender
+    and checked by its receiver when ``signed``: seconds."""
+    from ltl_stack.runtime.negotiation.auth import Authenticator
+
+    d_spec = load_spec(KITCHEN / "delivery_agent.structuredslugs")
+    a_spec = load_spec(KITCHEN / "kitchen_assistant.structuredslugs")
+    d_classes = classes_from_mapping(load_mapping(KITCHEN / "delivery_agent.yaml"))
+    a_classes = classes_from_mapping(load_mapping(KITCHEN / "kitchen_assistant.yaml"))
+    a_in = {**dict.fromkeys(a_spec.inputs, False), **A_IN}
+    secret = b"a fleet secret for the benchmark, 32+ bytes"
+    d_auth, a_auth = Authenticator("D", {"A": secret}), Authenticator("A", {"D": secret})
+    start = time.perf_counter()
+    d = Negotiation(d_spec, d_classes, "A", incoming=D_BLOCKED_IN, outputs=D_BLOCKED_OUT)
+    a = Negotiation(a_spec, a_classes, "D", incoming=a_in,
+                    outputs={**dict.fromkeys(a_spec.outputs, False), "prepArea": True}, initiator=False)
+
+    def call(message):
+        if not signed:
+            return answer(a, message)
+        message = d_auth.sign(message, "A")
+        assert a_auth.check(message) is None
+        reply = a_auth.sign(answer(a, message), "D", reply_to=message.nonce)
+        assert d_auth.check(reply, reply_to=message.nonce, sender="A") is None
+        return reply
+
+    drive(d, call)
+    elapsed = time.perf_counter() - start
+    assert d.outcome.name == a.outcome.name == "BOTH_ADOPT", (d.report(), a.report())
+    return elapsed
+
+
+def signing(repeat: int, skip_ros: bool) -> list[str]:
+    """Signed vs unsigned (module docstring, 5.): table rows."""
+    runs: dict[bool, list[float]] = {False: [], True: []}
+    for _ in range(repeat):
+        for signed in (False, True):  # interleaved: the machine's load falls on both alike
+            runs[signed].append(in_process_pair(signed))
+    rows = ["| what | unsigned median | signed median | signed / unsigned | runs |", "|---|---|---|---|---|"]
+
+    def row(what: str, values: dict[bool, list[float]]) -> str:
+        plain, signed = statistics.median(values[False]), statistics.median(values[True])
+        return (f"| {what} | {plain * 1000:.1f} ms | {signed * 1000:.1f} ms | {signed / plain:.2f} | "
+                f"{len(values[True])} each |")
+
+    rows.append(row("Alg. 4 in process, D–A (every message signed and checked on both sides)", runs))
+    if not skip_ros:
+        rows.append(row("through a real master: D starts → both running their new controllers",
+                        through_master_signing(repeat)))
+    return rows
+
+
+def through_master_signing(repeat: int) -> dict[bool, list[float]]:
+    found: dict[bool, list[float]] = {False: [], True: []}
+    with tempfile.TemporaryDirectory() as tmp:
+        key = Path(tmp) / "fleet.key"
+        key.write_bytes(b"a fleet secret for the benchmark, 32+ bytes")
+        key.chmod(0o600)
+        mappings = {}
+        for name in ("kitchen_assistant", "delivery_agent"):
+            text = (KITCHEN / f"{name}.yaml").read_text()
+            signed = Path(tmp) / f"{name}.yaml"
+            signed.write_text(text.replace("negotiation:\n", f"negotiation:\n  secret_file: {key}\n", 1))
+            mappings[name] = {False: KITCHEN / f"{name}.yaml", True: signed}
+        master = RosMaster(Path(tmp))
+        os.environ.update({k: master.env[k] for k in ("ROS_MASTER_URI", "ROS_IP", "ROS_LOG_DIR", "ROS_HOME")})
+        try:
+            for k in range(repeat):
+                for signed in (False, True):
+                    a = master.run([sys.executable, str(PARTY), "responder",
+                                    str(KITCHEN / "kitchen_assistant.structuredslugs"),
+                                    str(mappings["kitchen_assistant"][signed]), "--inputs", json.dumps(A_IN),
+                                    "__ns:=/kitchen/A"], name=f"A{k}{signed}")
+                    a.wait_output('"ready"', timeout=60)
+                    d = master.run([sys.executable, str(PARTY), "initiator",
+                                    str(KITCHEN / "delivery_agent.structuredslugs"),
+                                    str(mappings["delivery_agent"][signed]), "--peer", "A", "--inputs",
+                                    json.dumps(D_BLOCKED_IN), "--outputs", json.dumps(D_BLOCKED_OUT),
+                                    "__ns:=/kitchen/D"], name=f"D{k}{signed}")
+                    wait_for(lambda a=a, d=d: reports(a) and reports(d), 60, "both reports")
+                    rd, ra = reports(d)[-1], reports(a)[-1]
+                    assert rd["case"] == ra["case"] == "BOTH_ADOPT", (d.output(), a.output())
+                    found[signed].append(max(rd["finished"], ra["finished"]) - rd["started"])
+                    a.stop()
+                    d.stop()
+        finally:
+            master.shutdown()
+    return found
+
+
 def reports(proc) -> list[dict]:
     return [json.loads(x)["report"] for x in proc.output().splitlines() if x.startswith('{"report"')]
 
@@ -160,7 +255,17 @@ def main() -> int:
     parser.add_argument("--repeat", type=int, default=10)
     parser.add_argument("--executors", type=int, default=5, help="kitchen.launch runs (0: skip)")
     parser.add_argument("--skip-ros", action="store_true")
+    parser.add_argument("--signing", action="store_true", help="only signed vs unsigned (5.)")
     args = parser.parse_args()
+    if args.signing:
+        rows = signing(args.repeat, args.skip_ros)
+        text = "\n".join(["# Negotiation latency, signed vs unsigned messages", "",
+                          f"`python test/benchmarks/bench_negotiation.py --signing --repeat {args.repeat}` on "
+                          f"{platform.node()} ({os.cpu_count()} CPUs, shared with other work), "
+                          f"{time.strftime('%Y-%m-%d')}.", "", *rows, ""])
+        print(text)
+        (OUT.parent / "negotiation_signing.md").write_text(text)
+        return 0
     lines = ["# Integrative negotiation (thesis §4.8, §4.10.3-4.10.4): figures",
              "", f"`python test/benchmarks/bench_negotiation.py --repeat {args.repeat}` on {platform.node()} "
              f"({os.cpu_count()} CPUs, shared with other work), {time.strftime('%Y-%m-%d')}.", "",

@@ -20,7 +20,7 @@ from ltl_stack.ros.negotiation import NegotiationEndpoint
 from ltl_stack.runtime.characterize import ResilientStrategy
 from ltl_stack.runtime.controller import Controller
 from ltl_stack.runtime.mapping import load_mapping
-from ltl_stack.runtime.negotiation import Negotiator, classes_from_mapping
+from ltl_stack.runtime.negotiation import Negotiator, classes_authenticator, classes_from_mapping
 from ltl_stack.spec import load_spec
 from ltl_stack.srv import Negotiate
 
@@ -57,7 +57,8 @@ def main() -> int:
             if n.adopted is not None:
                 print(json.dumps({"adopted": classes.robot, "running": controller.current_outputs()}), flush=True)
 
-    NegotiationEndpoint(negotiator, strategy, controller, timeout=args.timeout, on_report=report)
+    NegotiationEndpoint(negotiator, strategy, controller, timeout=args.timeout, on_report=report,
+                        auth=classes_authenticator(classes))
     print(json.dumps({"ready": rospy.get_name()}), flush=True)
     if args.role == "initiator":
         outputs = {n: False for n in spec.outputs} | json.loads(args.outputs)

@@ -166,3 +166,71 @@ def test_an_unwritable_adopted_spec_on_either_side_fails_both(ros_master, tmp_pa
     assert '"adopted"' not in p.output() + q.output()
     assert not any(f for r in "PQ" if paths[r].parent.exists() for f in paths[r].parent.iterdir())
     assert q.running() and "Traceback" not in p.output() + q.output()
+
+
+def start_dropping(ros_master, tmp_path, drops: str):
+    """Q answers; P initiates with its transport dropping ``drops`` once (``LTL_STACK_TEST_DROP``)."""
+    q = start(ros_master, tmp_path, "responder", "Q", q_spec(), Q_MAP)
+    q.wait_output('"ready"', timeout=60)
+    ros_master.env["LTL_STACK_TEST_DROP"] = drops
+    try:
+        p = start(ros_master, tmp_path, "initiator", "P", p_spec(), P_MAP, "--peer", "Q", "--inputs",
+                  '{"x_Q": false}', "--timeout", "4")
+    finally:
+        del ros_master.env["LTL_STACK_TEST_DROP"]
+    return p, q
+
+
+def test_a_lost_confirmation_is_reported_truthfully_and_converges(ros_master, tmp_path):
+    """Commit protocol: P decided and adopted, Q adopted on the decision, Q's confirmation is lost. P
+    says so (not 4.8.1) and sends its decision again: then both reports say 4.8.1."""
+    p, q = start_dropping(ros_master, tmp_path, "reply:commit")
+    wait_for(lambda: reports(p) and reports(q), 60, "both reports")
+    assert reports(p)[0]["case"] == "UNCONFIRMED", reports(p)
+    assert reports(q)[0]["case"] == "BOTH_ADOPT", reports(q)
+    q.wait_output('"adopted": "Q"')
+    wait_for(lambda: reports(p)[-1]["case"] == "BOTH_ADOPT", 60, "P's decision confirmed")
+    assert "Traceback" not in p.output() + q.output()
+
+
+def test_a_lost_status_2_leaves_both_on_their_old_controllers(ros_master, tmp_path):
+    """Q is prepared (both statuses 2 realizable); its status 2 never reaches P: P decides not to adopt
+    and tells Q; neither adopts, both report FAILED."""
+    p, q = start_dropping(ros_master, tmp_path, "reply:status:2")
+    wait_for(lambda: reports(p) and reports(q), 60, "both reports")
+    assert reports(p)[0]["case"] == reports(q)[0]["case"] == "FAILED", (reports(p), reports(q))
+    assert '"adopted"' not in p.output() + q.output()
+
+
+def test_a_lost_decision_is_asked_for_again(ros_master, tmp_path):
+    """P's decision (commit) never reaches Q: Q stays prepared (its report has no outcome, it adopted
+    nothing) and asks P for the session's outcome; then Q adopts and P's decision is confirmed."""
+    p, q = start_dropping(ros_master, tmp_path, "request:commit")
+    wait_for(lambda: reports(p), 60, "P's report")
+    assert reports(p)[0]["case"] == "UNCONFIRMED", reports(p)
+    wait_for(lambda: reports(q) and reports(p)[-1]["case"] == "BOTH_ADOPT", 60, "Q adopting on the decision")
+    assert reports(q)[-1]["case"] == "BOTH_ADOPT"
+    q.wait_output('"adopted": "Q"')
+
+
+OWN_P_MAP = ("negotiation:\n  robot: P\n  peers:\n    Q:\n      eap: {road_c_Q: road_c, dig_c_Q: dig_c, s_Q: s}\n"
+             "      shares: {}\n")
+OWN_Q_MAP = "negotiation:\n  robot: Q\n  peers:\n    P:\n      shares: {road_c: road_c_Q, dig_c: dig_c_Q, s: s_Q}\n"
+
+
+@pytest.mark.parametrize("assumption, cases, received", [
+    # over Q's completion sensors, whose rewrite onto activations would not keep it: kept as sent, 4.8.1
+    ("!(road_c_Q' & dig_c_Q')", ("BOTH_ADOPT", "BOTH_ADOPT"), "kept as sent"),
+    # over a sensor Q does not control: Q cannot guarantee it, 4.8.2 (never an adoption of it)
+    ("!s_Q'", ("ADOPTED_PEERS", "KEPT_OWN"), "kept as sent"),
+])
+def test_ownership_of_received_clauses_over_ros(ros_master, tmp_path, assumption, cases, received):
+    from test_negotiation_ownership import LAG, Q_TEXT, p_text
+
+    q = start(ros_master, tmp_path, "responder", "Q", Q_TEXT.format(env=LAG), OWN_Q_MAP)
+    q.wait_output('"ready"', timeout=60)
+    p = start(ros_master, tmp_path, "initiator", "P", p_text(assumption), OWN_P_MAP, "--peer", "Q", "--timeout", "20")
+    wait_for(lambda: reports(p) and reports(q), 60, "both reports")
+    rp, rq = reports(p)[-1], reports(q)[-1]
+    assert (rp["case"], rq["case"]) == cases, (rp, rq)
+    assert any(received in line for line in rq["received"]), rq["received"]

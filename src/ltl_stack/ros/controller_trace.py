@@ -52,17 +52,19 @@ class ControllerTrace:
         self.changed = threading.Condition()
         self._start = rospy.get_time()
         self._sub = rospy.Subscriber(topic, ControllerState, self._on_state, queue_size=100)
-        self.negotiations: set[str] = set()
+        self.negotiations: set[tuple[str, str]] = set()
         resolved = rospy.resolve_name(topic)
         self._negotiation_sub = rospy.Subscriber(resolved.rsplit("/", 1)[0] + "/negotiations", String,
                                                  self._on_negotiations, queue_size=10)
 
     def _on_negotiations(self, msg) -> None:
-        """One block per negotiation that ended (the executor republishes every report each time)."""
+        """One block per negotiation that ended, and again when its outcome changes (an unconfirmed
+        adoption confirmed later); the executor republishes every report each time."""
         for report in json.loads(msg.data):
-            if report.get("outcome") is None or report["session"] in self.negotiations:
+            key = (report["session"], str(report.get("case")))
+            if report.get("outcome") is None or key in self.negotiations:
                 continue
-            self.negotiations.add(report["session"])
+            self.negotiations.add(key)
             if self.json_lines:
                 print(json.dumps({"event": "negotiation", **{k: report.get(k) for k in (
                     "peer", "session", "initiator", "case", "outcome", "reason", "sent", "received", "dropped")}}),

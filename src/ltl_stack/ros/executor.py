@@ -87,7 +87,7 @@ from ltl_stack.runtime.modes import (
     strategy_source,
     waiting_text,
 )
-from ltl_stack.runtime.negotiation import negotiation_classes
+from ltl_stack.runtime.negotiation import classes_authenticator, negotiation_classes
 from ltl_stack.runtime.node_params import split_param_args
 from ltl_stack.runtime.resilient_executor import BackgroundResilience, thread_runner
 from ltl_stack.srv import AddEnvLiveness, AddEnvLivenessResponse
@@ -718,19 +718,20 @@ def _run(args: argparse.Namespace, negotiate: Negotiate | None = None,
         strategy = build_strategy(spec, options, log=lambda text: rospy.loginfo("%s: %s", rospy.get_name(), text))
         controller = make_controller(strategy, options, init)
         classes = negotiation_classes(mapping, spec)
+        auth = classes_authenticator(classes) if classes is not None else None
     except UserError as err:
         rospy.logfatal("%s", err)
         rospy.signal_shutdown("bad configuration")
         return int(err.code)
     negotiator = None  # the mapping's negotiation: key (docs/negotiation.md), unless a hook is given
     if classes is not None and negotiate is None and setup is None:
-        negotiator = prepare_negotiation(classes, controller.strategy, options.negotiation_timeout)
+        negotiator = prepare_negotiation(classes, controller.strategy, options.negotiation_timeout, auth)
     node = ExecutorNode(controller, prepared, options, json_lines=args.json,
                         negotiate=negotiator.hook if negotiator is not None else negotiate)
     if setup is not None:
         setup(node)
     elif negotiator is not None:
-        NegotiationEndpoint(negotiator, node.resilient, controller, timeout=options.negotiation_timeout)
+        NegotiationEndpoint(negotiator, node.resilient, controller, timeout=options.negotiation_timeout, auth=auth)
     rospy.spin()
     return Exit.OK
 

@@ -14,13 +14,24 @@ exchange (offer, status 1, status 2, or an abort). The protocol logic is ROS-fre
   on ``/diagnostics``;
 * a peer's service is the ``service:`` of its mapping entry, else
   ``<parent namespace>/<peer>/controller_executor/negotiate`` (the executors of a scenario side by side,
-  e.g. ``/kitchen/D/…`` and ``/kitchen/A/…``).
+  e.g. ``/kitchen/D/…`` and ``/kitchen/A/…``);
+* with an ``Authenticator`` (the mapping's ``secret_file``, ``runtime.negotiation.auth``) every message
+  sent is signed and every message received is checked first: an unsigned, wrongly signed or replayed
+  request is refused in one WARN line before anything else reads it, a reply that fails the check is
+  a fault of the negotiation. Without one, one WARN line at start-up says negotiation is
+  unauthenticated;
+* ``RegistrationWatch``: every ``period`` seconds the endpoint asks the master who serves its
+  ``~negotiate`` (an XML-RPC call bounded by a timeout, in a timer thread, never under the
+  controller's lock); when another URI answers (someone called ``registerService`` over it) it
+  reports ERROR on ``/diagnostics`` and registers its own service again.
 """
 from __future__ import annotations
 
 import json
+import os
 import threading
 import time
+import xmlrpc.client
 from collections.abc import Callable
 from typing import Any
 
@@ -39,15 +50,18 @@ from ltl_stack.runtime.negotiation import (
     Peer,
     caller_refusal,
 )
+from ltl_stack.runtime.negotiation.auth import Authenticator
 from ltl_stack.srv import Negotiate, NegotiateRequest, NegotiateResponse
 
-FIELDS = ("kind", "sender", "session", "round", "text", "english", "realizable", "reason")
+FIELDS = ("kind", "sender", "session", "round", "text", "english", "realizable", "reason", "nonce", "mac")
 #: Default bound of one exchange (seconds); ~negotiation_timeout.
 DEFAULT_TIMEOUT = 5.0
 #: refused messages logged one by one before the log thins out to one in 1000
 LOGGED_REFUSALS = 10
 #: clauses sent/received logged per negotiation (the full lists are in ~negotiations)
 LOGGED_CLAUSES = 20
+#: how often the endpoint checks its ~negotiate registration at the master (seconds)
+REGISTRATION_PERIOD = 2.0
 
 
 def to_ros(message: Message, kind: type = NegotiateRequest) -> Any:
@@ -76,14 +90,40 @@ def node_of(service: str) -> str:
     return rosgraph.names.namespace(service).rstrip("/") or "/"
 
 
-def service_transport(timeout: float = DEFAULT_TIMEOUT) -> Callable[[Peer], Callable[[Message], Message]]:
+#: a test hook (never set in use): messages the transport drops, once each, to test the commit protocol
+#: on real nodes: comma-separated ``request|reply:KIND[:ROUND]`` (``reply:commit``: the confirmation of
+#: the decision is lost; ``reply:status:2``: the responder's status 2)
+TEST_DROP_VARIABLE = "LTL_STACK_TEST_DROP"
+
+
+def _test_drops() -> list[str]:
+    return [x.strip() for x in os.environ.get(TEST_DROP_VARIABLE, "").split(",") if x.strip()]
+
+
+def _dropped(drops: list[str], way: str, message: Message) -> bool:
+    for key in (f"{way}:{message.kind}:{message.round}", f"{way}:{message.kind}"):
+        if key in drops:
+            drops.remove(key)
+            return True
+    return False
+
+
+def service_transport(timeout: float = DEFAULT_TIMEOUT, auth: Authenticator | None = None,
+                      ) -> Callable[[Peer], Callable[[Message], Message]]:
     """The initiator's transport: one ``Negotiate`` service call per message, bounded by ``timeout``
     (a service that does not appear, or a call that does not return, in time is a ``TimeoutError``;
-    any other failure a ``ConnectionError``: both are faults of the negotiation)."""
+    any other failure a ``ConnectionError``: both are faults of the negotiation). With ``auth`` each
+    message is signed and a reply that is not signed by the peer for it is a ``ConnectionError``."""
+    drops = _test_drops()
+
     def transport(peer: Peer) -> Callable[[Message], Message]:
         name = service_of(peer)
 
         def call(message: Message) -> Message:
+            if auth is not None:
+                message = auth.sign(message, peer.name)
+            if _dropped(drops, "request", message):
+                raise TimeoutError(f"{name}: request dropped ({TEST_DROP_VARIABLE})")
             result: dict[str, Any] = {}
 
             def work() -> None:
@@ -103,7 +143,15 @@ def service_transport(timeout: float = DEFAULT_TIMEOUT) -> Callable[[Peer], Call
                 if isinstance(error, rospy.ROSException) and "timeout" in str(error).lower():
                     raise TimeoutError(f"{name}: service not available within {timeout:g} s")
                 raise ConnectionError(f"{name}: {error}")
-            return from_ros(result["reply"])
+            reply = from_ros(result["reply"])
+            if _dropped(drops, "reply", message):
+                raise TimeoutError(f"{name}: reply dropped ({TEST_DROP_VARIABLE})")
+            if auth is not None:
+                refusal = auth.check(reply, reply_to=message.nonce, sender=peer.name)
+                if refusal is not None:
+                    raise ConnectionError(f"{name}: reply refused: {refusal}"
+                                          + (f" ({reply.reason[:200]})" if reply.kind == "abort" else ""))
+            return reply
 
         return call
 
@@ -114,23 +162,36 @@ class NegotiationEndpoint:
     """The ROS side of one robot's negotiations (see the module docstring). Create after ``init_node``."""
 
     def __init__(self, negotiator: Negotiator, strategy: Any, controller: Any, *, timeout: float = DEFAULT_TIMEOUT,
-                 service_name: str = "~negotiate", on_report: Callable[[Negotiation], None] | None = None) -> None:
+                 service_name: str = "~negotiate", on_report: Callable[[Negotiation], None] | None = None,
+                 auth: Authenticator | None = None, registration_period: float = REGISTRATION_PERIOD) -> None:
         self.negotiator = negotiator
         self.strategy = strategy
         self.controller = controller
         self.timeout = timeout
         self.on_report = on_report
+        self.auth = auth
         self.name = rospy.get_name()
         self.pub = rospy.Publisher("~negotiations", String, queue_size=10, latch=True)
         self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=10)
         if negotiator.transport is None:
-            negotiator.transport = service_transport(timeout)
+            negotiator.transport = service_transport(timeout, auth)
+        if auth is None:
+            rospy.logwarn("%s: negotiation is unauthenticated (no secret_file in the mapping's negotiation: key): "
+                          "anyone who reaches this robot's ~negotiate can negotiate as a peer (docs/negotiation.md)",
+                          self.name)
+        #: the latest hijack of ~negotiate the watch repaired (for the diagnostics), or ""
+        self.hijack = ""
         negotiator.on_change = self._changed
         #: the node that serves each declared peer's negotiation: the only one that may speak for it
         self.peer_nodes = {name: node_of(service_of(peer)) for name, peer in negotiator.classes.peers.items()}
         self.refusals = 0
         self.service = rospy.Service(service_name, Negotiate, self._on_request)
         self.expiry = rospy.Timer(rospy.Duration(max(timeout / 2.0, 0.1)), self._expire)
+        #: the commit protocol after a lost message: ask again (``Negotiator.settle``), in a timer thread
+        self.settling = rospy.Timer(rospy.Duration(max(timeout / 2.0, 0.5)),
+                                    lambda _event: negotiator.settle(strategy, controller))
+        self.watch = RegistrationWatch(self.service, on_hijack=self._hijacked, timeout=min(timeout, 2.0))
+        self.watch_timer = rospy.Timer(rospy.Duration(registration_period), lambda _event: self.watch.check())
         self._publish()
 
     def service_of(self, peer: Peer) -> str:
@@ -145,16 +206,32 @@ class NegotiationEndpoint:
             message = from_ros(request)
         except (KeyError, TypeError, ValueError) as err:
             return to_ros(Message("abort", robot, "", reason=f"malformed request: {err}"[:200]), NegotiateResponse)
+        if self.auth is not None:  # first: a message without the secret reaches nothing else
+            refusal = self.auth.check(message)
+            if refusal is not None:
+                self._refused(refusal)
+                return to_ros(Message("abort", robot, message.session[:200], reason=f"refused: {refusal}"),
+                              NegotiateResponse)
         caller = (getattr(request, "_connection_header", None) or {}).get("callerid", "")
         refusal = caller_refusal(caller, message.sender[:100], self.peer_nodes)
         if refusal is not None:
             self._refused(refusal)
-            return to_ros(Message("abort", robot, message.session[:200], reason=f"refused: {refusal}"),
-                          NegotiateResponse)
+            return self._reply(Message("abort", robot, message.session[:200], reason=f"refused: {refusal}"), message)
         reply = self.negotiator.serve(message, self.strategy, self.controller, start_wait=self.timeout / 2)
         if reply.kind == "abort" and reply.reason.startswith("offer refused"):
             self._refused(f"{message.sender}: {reply.reason}")
+        return self._reply(reply, message)
+
+    def _reply(self, reply: Message, request: Message) -> NegotiateResponse:
+        """Our answer, signed for the request's sender and bound to the request (with a secret)."""
+        if self.auth is not None and request.sender in self.auth.secrets:
+            reply = self.auth.sign(reply, request.sender, reply_to=request.nonce)
         return to_ros(reply, NegotiateResponse)
+
+    def _hijacked(self, text: str) -> None:
+        rospy.logerr("%s: %s", self.name, text)
+        self.hijack = text
+        self._publish()
 
     def _refused(self, text: str) -> None:
         """A refused message: WARN, bounded (the first ``LOGGED_REFUSALS``, then one in 1000)."""
@@ -210,14 +287,59 @@ class NegotiationEndpoint:
                 values += [KeyValue("sent", s) for s in last.sent] + [KeyValue("received", r) for r in last.received]
             status = DiagnosticStatus(level=level, name=f"{self.name}: negotiation", message=text,
                                       hardware_id=self.name, values=values)
-            array = DiagnosticArray(status=[status])
+            registration = DiagnosticStatus(
+                level=DiagnosticStatus.ERROR if self.hijack else DiagnosticStatus.OK,
+                name=f"{self.name}: negotiate registration", hardware_id=self.name,
+                message=self.hijack or f"{self.service.resolved_name} registered to this node")
+            array = DiagnosticArray(status=[status, registration])
             array.header.stamp = rospy.Time.now()
             self.diag_pub.publish(array)
         except rospy.ROSException:
             pass  # shutting down
 
 
-def prepare_negotiation(classes: Classes, strategy: Any, timeout: float = DEFAULT_TIMEOUT) -> Negotiator | None:
+class RegistrationWatch:
+    """Checks that the master gives this node's URI for ``service`` (``lookupService``, an XML-RPC
+    call bounded by ``timeout``) and registers it again when it does not: someone's
+    ``registerService`` took it over (``on_hijack(text)`` is told, once per hijack). ``check`` runs in
+    a timer thread; an unreachable master is tried again at the next check."""
+
+    def __init__(self, service: Any, *, on_hijack: Callable[[str], None], timeout: float = 2.0) -> None:
+        self.service = service
+        self.on_hijack = on_hijack
+        self.timeout = timeout
+        self.hijacks = 0
+
+    def _master(self) -> xmlrpc.client.ServerProxy:
+        timeout = self.timeout
+
+        class Transport(xmlrpc.client.Transport):
+            def make_connection(self, host):  # noqa: ANN001, ANN202 - xmlrpc's own signature
+                connection = super().make_connection(host)
+                connection.timeout = timeout
+                return connection
+
+        return xmlrpc.client.ServerProxy(rosgraph.get_master_uri(), transport=Transport())
+
+    def check(self) -> bool:
+        """True when the master names our service (or cannot be asked now)."""
+        name, uri, node = self.service.resolved_name, self.service.uri, rospy.get_name()
+        try:
+            master = self._master()
+            code, _, found = master.lookupService(node, name)
+            if code == 1 and found == uri:
+                return True
+            self.hijacks += 1
+            master.registerService(node, name, uri, rospy.get_node_uri())
+        except (OSError, xmlrpc.client.Error):  # socket.timeout is an OSError
+            return True
+        self.on_hijack(f"~negotiate ({name}) was registered at the master by someone else ({found or 'nobody'}, "
+                       f"not {uri}); registered it again")
+        return False
+
+
+def prepare_negotiation(classes: Classes, strategy: Any, timeout: float = DEFAULT_TIMEOUT,
+                        auth: Authenticator | None = None) -> Negotiator | None:
     """The negotiator of a ``controller_executor`` whose mapping declares ``negotiation:``, made before
     the node starts stepping (its ``hook`` goes to ``ExecutorNode(negotiate=…)``, so a conflict at the
     first step already negotiates). Needs environment characterization (negotiation starts when it
@@ -227,7 +349,7 @@ def prepare_negotiation(classes: Classes, strategy: Any, timeout: float = DEFAUL
                       "(--characterize or --characterized-spec FILE): not negotiating", rospy.get_name(),
                       ", ".join(classes.peers) or "none")
         return None
-    negotiator = Negotiator(classes, transport=service_transport(timeout),
+    negotiator = Negotiator(classes, transport=service_transport(timeout, auth),
                             synthesis_options=strategy.characterizer.synthesis_options,
                             path=strategy.characterizer.path)
     rospy.loginfo("%s: negotiating as %s with %s (~negotiate, timeout %g s)", rospy.get_name(), classes.robot,
@@ -235,5 +357,5 @@ def prepare_negotiation(classes: Classes, strategy: Any, timeout: float = DEFAUL
     return negotiator
 
 
-__all__ = ["DEFAULT_TIMEOUT", "NegotiationEndpoint", "default_service", "from_ros", "prepare_negotiation",
+__all__ = ["DEFAULT_TIMEOUT", "NegotiationEndpoint", "RegistrationWatch", "default_service", "from_ros", "prepare_negotiation",
            "service_of", "service_transport", "to_ros"]

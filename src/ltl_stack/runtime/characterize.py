@@ -33,6 +33,7 @@ what an executor publishes.
 from __future__ import annotations
 
 import re
+import threading
 import time
 from collections import deque
 from collections.abc import Mapping
@@ -52,6 +53,7 @@ from ltl_stack.spec import (
 )
 from ltl_stack.spec.formula import And, Formula, Not, Or, Var, variables
 from ltl_stack.spec.model import SECTIONS, Clause, Spec
+from ltl_stack.spec.writer import write_spec_text
 from ltl_stack.synthesis import synthesize
 from ltl_stack.synthesis.errors import AssumptionViolation, SynthesisError
 from ltl_stack.synthesis.explain import Explanation, explain
@@ -64,8 +66,6 @@ HISTORY_KEPT = 1
 EVENTS_KEPT = 1000
 #: the characters ``str.splitlines`` breaks a line at
 LINE_BREAKS = "\n\r\x0b\x0c\x1c\x1d\x1e\x85\u2028\u2029"
-HEADERS = {"env_init": "ENV_INIT", "sys_init": "SYS_INIT", "env_safety": "ENV_TRANS",
-           "sys_safety": "SYS_TRANS", "env_liveness": "ENV_LIVENESS", "sys_liveness": "SYS_LIVENESS"}
 
 
 class Mode(Enum):
@@ -256,22 +256,22 @@ class Characterizer:
         spec = self.original
         slugsin = self.path is not None and self.path.suffix == ".slugsin"
         render = formula_to_slugsin if slugsin else formula_to_infix
-        out = ["# Specification rewritten at runtime by ltl_stack's environment characterization",
-               "# (thesis §4.7, Alg. 2" + (f"; variant {variant}" if variant else "") + f") from {spec.source}.",
-               "# It loads like any spec: synthesize FILE, controller_executor FILE.", ""]
+        header = ["# Specification rewritten at runtime by ltl_stack's environment characterization",
+                  "# (thesis §4.7, Alg. 2" + (f"; variant {variant}" if variant else "") + f") from {spec.source}.",
+                  "# It loads like any spec: synthesize FILE, controller_executor FILE.", ""]
         if any(var.bits for var in spec.integers):
-            out.append("# integers appear as their bits: " + ", ".join(
+            header.append("# integers appear as their bits: " + ", ".join(
                 f"{v.name}:{v.low}...{v.high} = {' '.join(v.bits)}" for v in spec.integers if v.bits))
-        out += ["[INPUT]", *spec.inputs, "", "[OUTPUT]", *spec.outputs, ""]
+        sections: dict[str, list[Any]] = {}
         for section in SECTIONS:
-            out.append(f"[{HEADERS[section]}]")
+            out: list[Any] = sections.setdefault(section, [])
             if section in ("env_init", "sys_init") and observation is not None:
                 names = spec.inputs if section == "env_init" else spec.outputs
                 values = observation.incoming if section == "env_init" else observation.current_outputs
                 what = "incoming inputs" if section == "env_init" else "current outputs"
                 out.append(f"# Alg. 2 line {2 if section == 'env_init' else 3}: the {what} observed at step "
                            f"{observation.step}")
-                out.append(render(_conjunction(_literals(values, names, False))))
+                out.append(_conjunction(_literals(values, names, False)))
             elif section == "env_safety" and variant is not None:
                 disjuncts = self.ec1 if variant == EC1 else self.ec2
                 original = [c.formula for c in spec.env_safety]
@@ -288,21 +288,20 @@ class Characterizer:
                     out += [f"#   {d.comment()}: {formula_to_infix(d.formula)}" for d in other]
                 base = _conjunction(original) if original else None
                 parts = ([base] if base is not None else []) + [d.formula for d in disjuncts]
-                out.append(render(parts[0] if len(parts) == 1 else Or(tuple(parts))))
+                out.append(parts[0] if len(parts) == 1 else Or(tuple(parts)))
             else:
                 for c in spec.section(section):
                     out.append(f"# {c.location}: {c.text}")
-                    out.append(render(c.formula))
+                    out.append(c.formula)
                 if section == "env_liveness":
                     for text, when in self.user_liveness:
                         out.append(f"# added by the user {time.strftime('%Y-%m-%d %H:%M:%S', time.localtime(when))}"
                                    " (Alg. 3 line 6)")
-                        out.append(render(self.check_liveness(text)))
+                        out.append(self.check_liveness(text))
                     for text in extra_liveness:
                         out.append("# added by the user now (Alg. 3 line 6)")
-                        out.append(render(self.check_liveness(text)))
-            out.append("")
-        return "\n".join(out)
+                        out.append(self.check_liveness(text))
+        return write_spec_text(sections, header=header, inputs=spec.inputs, outputs=spec.outputs, render=render)
 
     def parse(self, text: str) -> Spec:
         name = str(self.path) if self.path is not None else "<characterized spec>"
@@ -431,6 +430,8 @@ class ResilientStrategy:
         self.explanation: Explanation | None = None
         self.steps = 0
         self._pending: _Pending | None = None
+        #: held while negotiation reads or replaces the base spec (the executor's own lock replaces it)
+        self.lock: Any = threading.RLock()
         self._state: State | None = None
 
     # --- strategy interface ---------------------------------------------------------------------
@@ -526,6 +527,37 @@ class ResilientStrategy:
         state = self._install(Attempt(True, "negotiation", spec, text, strategy, 0.0), observation)
         self._event("adopted the specification negotiated with a collaborative robot (Alg. 4)")
         return state
+
+    # --- integrative negotiation (the interface ``runtime.negotiation.sessions.NegotiationHost``) ----
+    def negotiation_base(self) -> Spec:
+        """phi*_r (Alg. 4): the spec a negotiation starts from — the original, or the one adopted last."""
+        return self.characterizer.original
+
+    def rebase(self, spec: Spec) -> None:
+        """The initiator adopted ``spec`` (the negotiation hook returns it to run): it becomes the base
+        of later characterizations (EC sets start empty, Alg. 4 line 2)."""
+        old = self.characterizer
+        self.characterizer = Characterizer(spec, path=old.path, synthesis_options=old.synthesis_options)
+
+    @property
+    def spec_path(self) -> Path | None:
+        """Where the spec this robot runs is written (``--characterized-spec``), or None."""
+        return self.characterizer.path
+
+    def negotiation_held(self) -> None:
+        """One more negotiation held by this robot, whatever its outcome (``Counters.negotiations``)."""
+        with self.lock:
+            self.counters.negotiations += 1
+
+    @property
+    def aborted(self) -> bool:
+        return self.mode is Mode.ABORTED
+
+    def install_negotiated(self, spec: Spec, text: str, strategy: SymbolicStrategy, inputs: Mapping[str, bool],
+                           outputs: Mapping[str, bool], write: bool = True) -> State | None:
+        """The responder adopted ``spec`` (``adopt``, from the position the negotiation started at):
+        the state its controller continues from (None: handed to the controller already)."""
+        return self.adopt(spec, text, strategy, inputs, outputs, write=write)
 
     def safe_outputs(self) -> dict[str, bool]:
         """The outputs an aborted controller publishes: all false."""

@@ -400,6 +400,17 @@ class BackgroundResilience(ResilientStrategy):
                 self.on_changed()
             return state
 
+    def install_negotiated(self, spec: Any, text: str, strategy: SymbolicStrategy, inputs: Mapping[str, bool],
+                           outputs: Mapping[str, bool], write: bool = True) -> State | None:
+        """``ResilientStrategy.install_negotiated``; the state goes to ``on_installed`` (the node
+        continues with the current readings and publishes), when there is one."""
+        with self.lock:
+            state = self.adopt(spec, text, strategy, inputs, outputs, write=write)
+            if self.on_installed is None:
+                return state
+            self.on_installed(state)
+            return None
+
     def abort(self, reason: str = "aborted by the user") -> None:
         """Abort (Alg. 3 line 11); a running job's result is dropped."""
         with self.lock:

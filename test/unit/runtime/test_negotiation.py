@@ -162,9 +162,9 @@ def test_a_peer_that_stops_answering_leaves_both_without_adoption(delivered):
     assert b.adopted is None
 
 
-def test_a_lost_final_reply_leaves_the_initiator_safe():
-    """The responder adopted (it had everything); the reply never arrives: the initiator adopts
-    nothing (and, having an unrealizable spec, aborts)."""
+def test_a_lost_status_2_reply_leaves_both_on_their_old_controllers():
+    """The responder has both realizable statuses 2 (it is prepared); its reply never arrives: the
+    initiator decides not to adopt and says so (commit protocol): nobody adopts."""
     a, b = pair(p_spec(), q_spec())
     n = [0]
 
@@ -177,7 +177,7 @@ def test_a_lost_final_reply_leaves_the_initiator_safe():
 
     drive(a, call)
     assert a.adopted is None and a.outcome is Outcome.FAILED
-    assert b.outcome is Outcome.BOTH_ADOPT
+    assert b.adopted is None and b.outcome is Outcome.FAILED and "aborted" in b.reason
 
 
 @pytest.mark.parametrize("garbled", ["[SYS_TRANS]\nx' &&& (", "[SYS_TRANS]\nnot_a_proposition'",
@@ -378,12 +378,21 @@ def test_simultaneous_negotiation_resolves_as_negotiating_in_turn():
 
 
 class Held:
-    """A stand-in for the strategy the hook negotiates for."""
+    """A stand-in for the strategy the hook negotiates for (``sessions.NegotiationHost``)."""
 
     def __init__(self, spec):
-        from ltl_stack.runtime.characterize import Characterizer
+        import threading
 
-        self.characterizer = Characterizer(spec)
+        self.base, self.lock, self.spec_path, self.held = spec, threading.RLock(), None, 0
+
+    def negotiation_base(self):
+        return self.base
+
+    def rebase(self, spec):
+        self.base = spec
+
+    def negotiation_held(self):
+        self.held += 1
 
 
 def test_hook_by_cause_s1_unless_the_robots_negotiated_and_disagree():

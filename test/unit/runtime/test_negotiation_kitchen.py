@@ -101,15 +101,21 @@ def test_comparison_4_10_4():
 
 
 def test_received_clauses_keep_ownership():
-    """Issue 23 item 2: a received clause with a next-state output of ours is a guarantee as it is; one
-    over our completion sensors is kept through the activations; one over a sensor we do not
-    complete (a global sensor) is an assumption."""
-    from ltl_stack.runtime.negotiation import split_by_ownership
+    """A received clause with a next-state output of ours is a guarantee as it is; one over our
+    completion sensors goes onto the activations when our assumptions make the rewrite imply it
+    (a completion appears only where we were or headed); one over a sensor we do not complete (a
+    global sensor) stays as sent: a guarantee, which phi^nego's synthesis then decides."""
+    from ltl_stack.runtime.negotiation.ownership import split_by_ownership
     from ltl_stack.spec import parse_structured
 
     spec = parse_structured("[INPUT]\nroad_c\nkitchen_c\narrived\n\n[OUTPUT]\nroad\nkitchen\nopenDoor\n\n"
+                            "[ENV_TRANS]\nkitchen_c' -> (kitchen_c | kitchen)\n\n"
                             "[SYS_TRANS]\narrived' -> openDoor'\n!(kitchen_c')\nroad_c' -> !arrived'\n", "got")
-    guarantees, assumptions = split_by_ownership(list(spec.sys_safety), spec.inputs, spec.outputs)
-    assert [c.text.strip() for c in guarantees] == ["arrived' -> openDoor'", "!kitchen'"]
-    assert [c.text.strip() for c in assumptions] == ["road_c' -> !arrived'"]
-    assert [c.location for c in guarantees + assumptions] == ["got:12", "got:13", "got:14"]
+    position = dict.fromkeys(spec.inputs + spec.outputs, False)
+    owned = split_by_ownership(list(spec.sys_safety), spec, position)
+    assert [c.text.strip() for c in owned.by_move + owned.rewritten] == ["arrived' -> openDoor'", "!kitchen'"]
+    assert [c.text.strip() for c in owned.literal] == ["road_c' -> !arrived'"]
+    assert [c.location for c in owned.guarantees] == ["got:15", "got:16", "got:17"]
+    # from a position in the kitchen the rewrite does not keep "never in the kitchen": kept as sent
+    owned = split_by_ownership(list(spec.sys_safety), spec, {**position, "kitchen_c": True})
+    assert [c.text.strip() for c in owned.literal] == ["!(kitchen_c')", "road_c' -> !arrived'"]
