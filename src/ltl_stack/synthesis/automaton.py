@@ -31,8 +31,6 @@ DOT_LAYOUT_LIMIT = 100
 VERSION = 1
 
 
-@dataclass
-
 def goal_text(goal: int, goals: int | None = None) -> str:
     """A system goal as every display numbers it: from 1, as the thesis numbers the system liveness goals
     (``k/n`` when the number of goals ``n`` is known; "-" for none, before the first state). Machine-readable
@@ -41,6 +39,8 @@ def goal_text(goal: int, goals: int | None = None) -> str:
         return "-"
     return f"{goal + 1}/{goals}" if goals else str(goal + 1)
 
+
+@dataclass
 class AutomatonState:
     id: int
     inputs: dict[str, bool]

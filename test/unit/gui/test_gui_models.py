@@ -419,7 +419,50 @@ def test_mode_and_executor_name():
     assert executor_of("/clean_and_patrol/controller_executor/state") == "/clean_and_patrol/controller_executor"
     u = StateUpdate(3, 0, {}, {}, False)
     assert mode_text(u, "").startswith("paused") and "violated" in mode_text(u, "x")
-    assert "ready handshake" in mode_text(StateUpdate(-1, -1, {}, {}, True), "")
+    waiting = StateUpdate(-1, -1, {}, {}, True)
+    assert "waiting" not in mode_text(waiting, "")  # nothing said by the executor: nothing invented
+
+
+def test_before_the_first_state_the_status_is_the_executors_own():
+    """Issue 34: "waiting for every input to report" while the executor said every input had reported
+    and no initial state matched, or that it was paused. The text is the executor's /diagnostics."""
+    waiting, paused = StateUpdate(-1, -1, {}, {}, True), StateUpdate(-1, -1, {}, {}, False)
+    no_init = {"inputs": (0, "every input has reported"),
+               "controller": (2, "no initial state: no initial state matches person=1")}
+    assert mode_text(waiting, "", no_init) == "executor: no initial state: no initial state matches person=1"
+    silent = {"inputs": (1, "waiting for input(s) person, door"), "controller": (0, "waiting for every input to report")}
+    assert mode_text(waiting, "", silent) == "executor: waiting for input(s) person, door"
+    said_paused = {**silent, "controller": (0, "paused: every output is false")}
+    assert mode_text(paused, "", said_paused) == "executor: paused: every output is false"
+    assert "waiting" not in mode_text(paused, "", {})
+    assert mode_text(StateUpdate(-1, -1, {}, {}, False, mode="aborted"), "", silent).startswith("aborted")
+
+
+def test_goals_are_numbered_from_1_in_every_display():
+    """Issue 34: one state had "goal 3" in RViz and controller_trace --spec, "goal 2" in rqt and controller_trace."""
+    from ltl_stack.runtime.map_view import valuation_text
+    from ltl_stack.runtime.trace import TraceStep, describe
+    from ltl_stack.synthesis.automaton import goal_text
+
+    assert (goal_text(0), goal_text(2, 4), goal_text(-1)) == ("1", "3/4", "-")
+    step = TraceStep(time=0.0, state_id=7, goal=2, inputs={}, outputs={}, running=True)
+    assert " goal 3 " in describe(None, step) and " goal 3/4 " in describe(None, step, 4)
+    assert "goal 3/4" in valuation_text({}, {}, 7, 2, 4) and "goal 3 " in valuation_text({}, {}, 7, 2)
+    automaton = ControllerModel.synthesize(SIMPLE_SPEC).automaton
+    state = automaton.states[0]
+    assert f"{state.id} (goal {state.goal + 1})" in automaton.to_dot()
+    model = ControllerModel.indexed(str(SIMPLE_SPEC), automaton, ViewOptions())
+    assert f"{state.id} (goal {state.goal + 1})" in model.graph().to_dot()
+
+
+def test_rviz_text_says_paused_aborted_and_stale_modes():
+    """Issue 34: RViz showed a paused executor as "mode normal"."""
+    from ltl_stack.runtime.map_view import valuation_text
+
+    assert "mode paused" in valuation_text({}, {}, 1, 0, None, "normal", running=False)
+    assert "mode aborted" in valuation_text({}, {}, 1, 0, None, "aborted", running=False)
+    assert "mode stale inputs" in valuation_text({}, {}, 1, 0, None, "stale_inputs")
+    assert "mode recovering, paused" in valuation_text({}, {}, 1, 0, None, "recovering", running=False)
 
 
 def test_latest_hands_over_only_the_newest_value():
