@@ -554,8 +554,6 @@ class ControllerView(QWidget):
         self._drawn = set()
         self.state_label.setText("state: —")
         self.liveness_label.setText("")
-        self.mode_label.setText("mode: not attached")
-        self.mode_label.setStyleSheet("")
         self.resilience_label.setText("")
         self.strategy_label.setText("")
         self.strategy_label.setStyleSheet("")
@@ -571,6 +569,8 @@ class ControllerView(QWidget):
                 form.removeRow(0)
         self._lamps = {}
         self._set_alive(True)
+        self.mode_label.setText("mode: not attached")
+        self.mode_label.setStyleSheet("")
 
     def _banner(self, text: str) -> None:
         self.banner_label.setText(text)
