@@ -229,6 +229,13 @@ class MappingPanel(QWidget):
             path, _ = QFileDialog.getSaveFileName(self, "Save mapping", os.getcwd(), "YAML (*.yaml *.yml)")
             if not path:
                 return False
+        same_file = bool(self.doc.mapping_path) and os.path.abspath(path) == os.path.abspath(self.doc.mapping_path)
+        if same_file and self.doc.changed_on_disk() and not self.confirm(
+                "File changed on disk", f"{path} was changed on disk since it was loaded (by another editor or "
+                "tool). Overwrite those changes with the mapping shown here?"):
+            self._status(f"Not saved: {path} changed on disk since it was loaded; Load it again to see the "
+                         "changes.", error=True)
+            return False
         try:
             self.doc.save(path)
         except Exception as err:  # noqa: BLE001 - the spec named as output, a folder that cannot be written
