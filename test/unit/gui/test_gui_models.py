@@ -487,3 +487,61 @@ def test_latest_hands_over_only_the_newest_value():
         taken.append(v)
     assert taken and taken[-1] == 4999 and taken == sorted(taken)
     assert latest.put_count == 5000 and latest.take() is None
+
+
+def _comments(text: str) -> list[str]:
+    return [line.strip() for line in text.splitlines() if line.strip().startswith("#")]
+
+
+def test_saving_without_an_edit_writes_the_file_unchanged(tmp_path):
+    """Issue 34: Save with no edit dropped expected_feedback: (36 E1 conflicts afterwards) and every comment."""
+    out = tmp_path / "m.yaml"
+    out.write_text(CLEAN_MAPPING.read_text())
+    doc = MappingDocument.load(str(CLEAN_SPEC), str(out))
+    doc.save(str(out))
+    assert out.read_text() == CLEAN_MAPPING.read_text()
+    assert load_mapping(out).expected_feedback == load_mapping(CLEAN_MAPPING).expected_feedback
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.lists(st.tuples(st.sampled_from(["node", "topic", "add"]), st.integers(0, 40),
+                          st.sampled_from(["a", "/b/c", "rel_node", "object"])), min_size=1, max_size=8))
+def test_any_edit_keeps_every_comment_and_every_key_it_did_not_touch(edits):
+    doc = MappingDocument.load(str(CLEAN_SPEC), str(CLEAN_MAPPING))
+    keys = sorted(k for k in doc.rows if doc.rows[k])
+    for op, k, name in edits:
+        kind, prop = keys[k % len(keys)]
+        if op == "add" and kind == OUTPUT:
+            doc.add_row(prop)
+        elif op == "topic":
+            doc.set_topic(kind, prop, 0, name)
+        else:
+            doc.set_node(kind, prop, 0, name)
+    text = doc.text()
+    original = CLEAN_MAPPING.read_text()
+    assert _comments(text) == _comments(original)
+    back, before = parse_mapping(text, "x.yaml"), load_mapping(CLEAN_MAPPING)
+    assert (back.namespace, back.expected_feedback, back.negotiation) == (
+        before.namespace, before.expected_feedback, before.negotiation)
+    mine = doc.to_mapping()
+    for section, other, old in ((mine.inputs, back.inputs, before.inputs), (mine.outputs, back.outputs, before.outputs)):
+        assert {p: [(e.node, e.topic) for e in es] for p, es in section.items()} == \
+            {p: [(e.node, e.topic) for e in es] for p, es in other.items()}
+        for prop, entries in other.items():  # every key the panel does not edit, as loaded
+            loaded = old.get(prop, [])
+            for new, was in ((entries[i], loaded[i]) for i in range(min(len(entries), len(loaded)))):
+                assert (new.pkg, new.filename, new.parameters, new.type, new.args) == (
+                    was.pkg, was.filename, was.parameters, was.type, was.args)
+
+
+def test_a_file_changed_on_disk_since_it_was_loaded_is_noticed(tmp_path):
+    out = tmp_path / "m.yaml"
+    out.write_text(CLEAN_MAPPING.read_text())
+    doc = MappingDocument.load(str(CLEAN_SPEC), str(out))
+    assert not doc.changed_on_disk()
+    out.write_text(out.read_text() + "# edited in another editor\n")
+    assert doc.changed_on_disk()
+    doc.save(str(out))  # the document's own save is the new reference
+    assert not doc.changed_on_disk()
+    out.unlink()
+    assert doc.changed_on_disk()
