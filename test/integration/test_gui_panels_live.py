@@ -93,6 +93,45 @@ def test_mapping_panel_on_the_live_scenario(scenario, qtbot, tmp_path):
     assert panel.combo(INPUT, "object", 0, "node").currentText() == "/clean_and_patrol/object"
 
 
+def test_mapping_panel_save_keeps_what_it_did_not_edit_and_asks_about_changes_on_disk(scenario, qtbot, tmp_path):
+    """Issue 34: Save dropped expected_feedback: and every comment, and overwrote edits made on disk."""
+    mapping = tmp_path / "clean_and_patrol.yaml"
+    original = MAPPING.read_text()
+    mapping.write_text(original)
+    panel = MappingPanel()
+    qtbot.addWidget(panel)
+    asked = []
+    panel.confirm = lambda title, text: asked.append(title) or False  # the user answers No
+    panel.spec_line_edit.setText(str(SPEC))
+    panel.mapping_line_edit.setText(str(mapping))
+    panel.master_line_edit.setText(scenario.uri)
+    panel.load_push_button.click()
+    panel.refresh_push_button.click()
+    qtbot.waitUntil(lambda: panel.graph is not None, timeout=WAIT)
+    panel.save_push_button.click()
+    assert mapping.read_text() == original and asked == []  # no edit: the file as it was
+    combo = panel.combo(OUTPUT, "stop", 0, "node")
+    combo.setEditText("/clean_and_patrol/sim_robot")
+    panel.save_push_button.click()
+    saved = mapping.read_text()
+    assert [line for line in saved.splitlines() if line.lstrip().startswith("#")] == \
+        [line for line in original.splitlines() if line.lstrip().startswith("#")]
+    again, before = load_mapping(mapping), load_mapping(MAPPING)
+    assert again.expected_feedback == before.expected_feedback and again.namespace == before.namespace
+    assert again.outputs["stop"][0].node == "/clean_and_patrol/sim_robot"
+    assert saved.replace("'/clean_and_patrol/sim_robot'", "'stop'", 1) == original or \
+        saved.replace("/clean_and_patrol/sim_robot", "'stop'", 1) == original
+    # someone edits the file on disk; Save asks, and No leaves their edit alone
+    mapping.write_text(saved + "# added in another editor\n")
+    combo.setEditText("stop")
+    panel.save_push_button.click()
+    assert asked == ["File changed on disk"] and mapping.read_text().endswith("# added in another editor\n")
+    assert "changed on disk" in panel.status_label.text()
+    panel.confirm = lambda title, text: asked.append(title) or True  # Yes: overwrite
+    panel.save_push_button.click()
+    assert asked[-1] == "File changed on disk" and mapping.read_text() == original
+
+
 def test_analysis_panel_on_the_live_scenario(scenario, qtbot):
     panel = AnalysisPanel()
     qtbot.addWidget(panel)
