@@ -20,7 +20,7 @@ from collections import OrderedDict
 from typing import Any
 
 import rospy
-from python_qt_binding.QtCore import Qt, QTimer, Signal
+from python_qt_binding.QtCore import QSize, Qt, QTimer, Signal
 from python_qt_binding.QtWidgets import (
     QCheckBox,
     QFileDialog,
@@ -66,6 +66,7 @@ from ltl_stack.gui.widgets import (
     SpinBox,
     Task,
     collector_paused,
+    docked_hint,
     restore_controls,
     save_controls,
     show_status,
@@ -293,7 +294,7 @@ class ControllerView(QWidget):
         self.topic_combo_box = ComboBox()
         self.topic_combo_box.setObjectName("state_topic_combo_box")
         self.topic_combo_box.setEditable(True)
-        self.topic_combo_box.setMinimumWidth(320)
+        self.topic_combo_box.setMinimumWidth(220)
         self.topic_combo_box.lineEdit().setPlaceholderText("/<ns>/controller_executor/state")
         self.refresh_push_button = QPushButton("Refresh")
         self.refresh_push_button.setObjectName("refresh_topics_push_button")
@@ -327,17 +328,21 @@ class ControllerView(QWidget):
         grid.addWidget(QLabel("State topic"), 1, 0)
         grid.addWidget(self.topic_combo_box, 1, 1, 1, 4)
         grid.addWidget(self.refresh_push_button, 1, 5)
+        # two rows, so that two panels docked side by side fit a 1280 px screen
         options = QHBoxLayout()
         options.addWidget(self.robotics_check_box)
         options.addWidget(self.cooperative_check_box)
-        options.addWidget(QLabel("whole graph up to"))
-        options.addWidget(self.full_spin_box)
-        options.addWidget(QLabel("states, else radius"))
-        options.addWidget(self.radius_spin_box)
         options.addStretch(1)
         options.addWidget(self.attach_push_button)
         options.addWidget(self.cancel_push_button)
         grid.addLayout(options, 2, 0, 1, 6)
+        sizes = QHBoxLayout()
+        sizes.addWidget(QLabel("whole graph up to"))
+        sizes.addWidget(self.full_spin_box)
+        sizes.addWidget(QLabel("states, else radius"))
+        sizes.addWidget(self.radius_spin_box)
+        sizes.addStretch(1)
+        grid.addLayout(sizes, 3, 0, 1, 6)
 
         self.graph_view = GraphView()
         self.graph_view.setObjectName("automaton_graphics_view")
@@ -904,6 +909,9 @@ class ControllerView(QWidget):
 
     def _status(self, text: str, error: bool = False) -> None:
         show_status(self.status_label, text, error)
+
+    def sizeHint(self) -> QSize:  # noqa: N802 - Qt's name
+        return docked_hint(super().sizeHint())
 
     def save_settings(self, settings: Any) -> None:
         save_controls(self, settings)
