@@ -215,3 +215,42 @@ def test_the_executor_publishes_what_it_runs(executor, specs):
     assert (msg.spec_file, msg.spec_text, msg.strategy_generation) == (str(a), SPEC_A, 0)
     assert msg.spec_sha256 == hashlib.sha256(SPEC_A.encode()).hexdigest()
     assert msg.robotics_semantics and msg.cooperative and msg.started.to_sec() > 0
+
+
+def test_the_view_greys_when_the_master_goes_away(tmp_path, specs):
+    """The master dies, the executor lives on (its state and diagnostics still reach the view, peer to
+    peer): the view says that no master answers, greys itself and disables Pause. In a process of its
+    own, as rospy binds a process to one master."""
+    import json
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    from helpers import RosMaster
+
+    a, _ = specs
+    (tmp_path / "master").mkdir()
+    master = RosMaster(tmp_path / "master")
+    try:
+        ns = "/gm"
+        master.run(["rosrun", "ltl_stack", "controller_executor", str(a), f"__ns:={ns}"], name="executor_gm")
+        master.wait_for_publisher(f"{ns}/controller_executor/source", timeout=120)
+        helper = Path(__file__).with_name("gui_master_gone.py")
+        view = subprocess.Popen([sys.executable, str(helper), f"{ns}/controller_executor/state"], env=master.env,
+                                stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        try:
+            line = view.stdout.readline()
+            assert line.strip() == "attached", line + view.stderr.read()[-3000:]
+            master._master.stop()  # the master only: the executor keeps running
+            view.stdin.write("gone\n")
+            view.stdin.flush()
+            shown = json.loads(view.stdout.readline())
+            assert view.wait(60) == 0, shown
+        finally:
+            if view.poll() is None:
+                view.kill()
+                view.wait(30)
+        assert not shown["alive"] and not shown["pause_enabled"] and shown["opacity"] < 1.0, shown
+        assert "no ROS master answers" in shown["liveness"], shown
+    finally:
+        master.shutdown()

@@ -665,7 +665,10 @@ class ControllerView(QWidget):
         def failed(text: str) -> None:
             if self.link is link:
                 self._banner(f"The executor {what}; cannot draw it: {text}")
-        # the old automaton is not the running one any more: nothing is placed in it meanwhile
+        # the old automaton is not the running one any more: nothing is placed in it meanwhile; the last
+        # state is placed in the new one unless a newer one comes
+        if self.shown is not None and self.latest.peek() is self.shown:
+            self.latest.put(self.shown)
         self.model, self.shown, self._drawn = None, None, set()
         self.graph_view.show_message(f"the executor {what}: loading {source.spec.spec_file}…")
         self.state_label.setText("state: —")
