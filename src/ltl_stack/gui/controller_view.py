@@ -704,6 +704,16 @@ class ControllerView(QWidget):
 
     def show_update(self, update: StateUpdate) -> None:
         model = self.model
+        drawn = model.source.spec if model.source is not None else None
+        if drawn is not None and update.spec_file and (update.spec_file, update.generation) != (
+                drawn.spec_file, drawn.generation):
+            # a state of another strategy (a restarted executor, a new generation) before its ~source: it is
+            # not placed in this automaton
+            model.current = None
+            self.shown = update
+            self.state_label.setText(f"state: of {update.spec_file} (strategy {update.generation}), not drawn yet")
+            self._mark()
+            return
         current = model.follow(update)
         self.shown = update
         self.shown_count += 1
@@ -920,10 +930,10 @@ class ControllerView(QWidget):
         save_controls(self, settings)
 
     def restore_settings(self, settings: Any) -> None:
-        """The saved fields, then Attach again when they name a spec and a topic (a restored perspective
+        """The saved fields, then Attach again when they name a topic (a restored perspective
         shows the executor it showed; attaching is off the GUI thread and says so when there is no master)."""
         restore_controls(self, settings)
-        if self.spec_line_edit.text().strip() and self.topic_combo_box.currentText().strip():
+        if self.topic_combo_box.currentText().strip():
             self.attach()
 
     def shutdown(self) -> None:
