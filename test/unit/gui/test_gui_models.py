@@ -545,3 +545,48 @@ def test_a_file_changed_on_disk_since_it_was_loaded_is_noticed(tmp_path):
     assert not doc.changed_on_disk()
     out.unlink()
     assert doc.changed_on_disk()
+
+
+def _source(path, text, generation=0, started=1.0):
+    from ltl_stack.gui.controller_model import ExecutorSource
+    from ltl_stack.runtime.running_spec import RunningSpec, spec_digest
+
+    return ExecutorSource(RunningSpec(str(path), spec_digest(text), text, "", generation, True, True, 20000), started)
+
+
+def test_the_view_draws_the_executors_spec_and_warns_when_the_named_one_differs(tmp_path):
+    from ltl_stack.gui.controller_model import source_spec
+
+    running = tmp_path / "running.structuredslugs"
+    running.write_text(SIMPLE_SPEC.read_text())
+    same = _source(running, SIMPLE_SPEC.read_text())
+    assert source_spec(same, str(SIMPLE_SPEC)) == (str(running), "")  # same content: no banner
+    other = tmp_path / "other.structuredslugs"
+    other.write_text(SIMPLE_SPEC.read_text() + "\n[SYS_LIVENESS]\nmove\n")
+    path, banner = source_spec(same, str(other))
+    assert path == str(running) and str(running) in banner and str(other) in banner
+    # the executor's file is not readable here (another machine) or changed since: its text is drawn
+    gone = _source(tmp_path / "elsewhere" / "spec.structuredslugs", SIMPLE_SPEC.read_text())
+    path, banner = source_spec(gone, "")
+    assert path != gone.spec.spec_file and open(path).read() == SIMPLE_SPEC.read_text() and banner == ""
+    running.write_text("changed")
+    assert source_spec(same, "")[0] != str(running)
+    # a later strategy (characterized, adopted) differs from the named spec by design: no banner
+    assert source_spec(_source(other, other.read_text(), generation=2), str(SIMPLE_SPEC))[1] == ""
+    nothing = _source("", "", generation=1)
+    path, banner = source_spec(nothing, "")
+    assert path is None and "cannot read" in banner
+
+
+def test_liveness_says_why_the_executor_is_not_heard_from():
+    from ltl_stack.gui.controller_model import CONNECT_GRACE, STALE_AFTER, liveness
+
+    assert liveness(100.0, 99.0, 90.0, True, True, 0.0) == (True, "last state 10 s ago")
+    assert liveness(100.0, 99.0, None, True, True, 0.0) == (True, "no state yet")
+    alive, text = liveness(100.0, 99.0, 90.0, False, True, 0.0)
+    assert not alive and "no executor publishes" in text
+    assert liveness(1.0, 1.0, None, False, True, 1.0 - CONNECT_GRACE / 2)[0]  # just attached: connecting
+    alive, text = liveness(100.0, 100.0 - STALE_AFTER - 1, 90.0, True, True, 0.0)
+    assert not alive and "nothing from the executor" in text
+    alive, text = liveness(100.0, 99.0, 90.0, True, False, 0.0)
+    assert not alive and "no ROS master answers" in text
