@@ -254,3 +254,24 @@ def test_the_view_greys_when_the_master_goes_away(tmp_path, specs):
         assert "no ROS master answers" in shown["liveness"], shown
     finally:
         master.shutdown()
+
+
+def test_before_the_first_state_the_view_says_what_the_executor_says(qtbot, executor, specs):
+    """Issue 34: "waiting for every input to report (ready handshake)" whatever the executor said. The
+    executor names the input it waits for, and says when it is paused: the view shows its words."""
+    a, _ = specs
+    executor.set(person=False)  # door never reports
+    executor.start(a)
+    view = ControllerView()
+    qtbot.addWidget(view)
+    view.topic_combo_box.setEditText(executor.state)  # no spec named: the executor's own is drawn
+    view.attach_push_button.click()
+    qtbot.waitUntil(lambda: view.model is not None and view.shown is not None, timeout=WAIT)
+    assert view.model.spec_path == str(a) and view.shown.state_id < 0
+    qtbot.waitUntil(lambda: "waiting for input(s) door" in view.mode_label.text(), timeout=WAIT)
+    assert "ready handshake" not in view.mode_label.text()
+    qtbot.waitUntil(lambda: view.run_pause_push_button.isEnabled(), timeout=WAIT)
+    view.run_pause_push_button.click()  # pause through ~set_running
+    qtbot.waitUntil(lambda: "paused" in view.mode_label.text(), timeout=WAIT)
+    assert "waiting" not in view.mode_label.text(), view.mode_label.text()
+    view.shutdown()
