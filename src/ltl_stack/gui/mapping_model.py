@@ -111,8 +111,8 @@ class MappingDocument:
     extra: dict[tuple[str, str], list[NodeEntry]] = field(default_factory=dict)  # not in the spec: kept
     negotiation: Any = None  # the mapping's negotiation: section, not edited here: written back as loaded
     expected_feedback: list = field(default_factory=list)  # (output, input, line): written back as loaded
-    source_text: str = ""  # the mapping file's text as read (or last saved): what Save edits
-    source_digest: str = ""  # its SHA-256, to notice a file changed on disk meanwhile
+    source_text: str = ""  # the mapping file's text as loaded: what Save edits (rows point at its entries)
+    source_digest: str = ""  # SHA-256 of the text loaded or last saved, to notice a file changed on disk
 
     @classmethod
     def load(cls, spec_path: str, mapping_path: str | None = None) -> MappingDocument:
@@ -213,8 +213,8 @@ class MappingDocument:
         return format_mapping(self.to_mapping())
 
     def changed_on_disk(self, path: str | None = None) -> bool:
-        """True when the file at ``path`` (default: the loaded one) is not the text this document was
-        loaded from or last saved: someone edited it meanwhile. A file that is gone counts as changed."""
+        """True when the file at ``path`` (default: the loaded one) is not the text this document loaded
+        or last saved: someone edited it meanwhile. A file that is gone counts as changed."""
         path = path or self.mapping_path
         if not path or not self.source_digest:
             return False
@@ -230,11 +230,9 @@ class MappingDocument:
         text = self.text()
         write_output(path, text, "mapping")
         self.mapping_path = str(path)
-        self.source_text, self.source_digest = text, text_digest(text)
-        for rows in self.rows.values():  # the rows are now the file's entries, in order
-            kept = [r for r in rows if r.node or r.base]
-            for i, row in enumerate(kept):
-                row.origin = i
+        # the rows keep pointing at the loaded text's entries (``source_text`` is never replaced, so an Undo
+        # after a Save still edits the right entry); what is on disk now is what was written
+        self.source_digest = text_digest(text)
 
     def resolved_node(self, kind: str, node: str, graph: LiveGraph | None = None) -> str:
         """The global node name: relative node names live in the scenario namespace ``/<ns>``, where

@@ -590,3 +590,27 @@ def test_liveness_says_why_the_executor_is_not_heard_from():
     assert not alive and "nothing from the executor" in text
     alive, text = liveness(100.0, 99.0, 90.0, True, False, 0.0)
     assert not alive and "no ROS master answers" in text
+
+
+def test_undo_after_a_save_edits_the_right_entries(tmp_path):
+    """The rows keep pointing at the loaded file's entries: deleting a node, saving, then taking the
+    delete back writes each entry with its own keys again."""
+    import copy
+
+    out = tmp_path / "m.yaml"
+    out.write_text(CLEAN_MAPPING.read_text())
+    doc = MappingDocument.load(str(CLEAN_SPEC), str(out))
+    doc.add_row("stop")
+    doc.set_node(OUTPUT, "stop", 1, "/brake")
+    doc.save(str(out))
+    before = copy.deepcopy(doc.rows)
+    doc.delete_row(OUTPUT, "stop", 0)
+    doc.save(str(out))
+    assert [e.node for e in load_mapping(out).outputs["stop"]] == ["/brake"]
+    doc.rows = before  # Undo
+    doc.save(str(out))
+    again, original = load_mapping(out).outputs["stop"], load_mapping(CLEAN_MAPPING).outputs["stop"][0]
+    assert [e.node for e in again] == ["stop", "/brake"]
+    assert (again[0].pkg, again[0].filename, again[0].parameters) == (original.pkg, original.filename,
+                                                                      original.parameters)
+    assert again[1].pkg is None and again[1].parameters == {}
