@@ -13,7 +13,7 @@ from __future__ import annotations
 import os
 from typing import Any
 
-from python_qt_binding.QtCore import QItemSelection, QItemSelectionModel, Qt
+from python_qt_binding.QtCore import QItemSelection, QItemSelectionModel, QSize, Qt
 from python_qt_binding.QtGui import QColor
 from python_qt_binding.QtWidgets import (
     QAbstractItemView,
@@ -55,6 +55,7 @@ from ltl_stack.gui.widgets import (
     RowsModel,
     Task,
     collector_paused,
+    docked_hint,
     line_edit,
     restore_controls,
     save_controls,
@@ -496,6 +497,9 @@ class AnalysisPanel(QWidget):
     def closeEvent(self, event) -> None:  # noqa: N802 - Qt's name
         self.shutdown()
         super().closeEvent(event)
+
+    def sizeHint(self) -> QSize:  # noqa: N802 - Qt's name
+        return docked_hint(super().sizeHint())
 
     def save_settings(self, settings: Any) -> None:
         save_controls(self, settings)

@@ -12,6 +12,8 @@ less often than states arrive never falls behind: it skips to the newest.
 """
 from __future__ import annotations
 
+import os
+import tempfile
 import threading
 from collections import deque
 from collections.abc import Callable, Iterable, Iterator, Mapping
@@ -19,9 +21,10 @@ from dataclasses import dataclass, field
 
 from ltl_stack.errors import Exit, UserError
 from ltl_stack.gui.dotgraph import DotGraph
+from ltl_stack.runtime.running_spec import RunningSpec, read_spec
 from ltl_stack.spec import load_spec
 from ltl_stack.synthesis import Automaton, synthesize
-from ltl_stack.synthesis.automaton import AutomatonState
+from ltl_stack.synthesis.automaton import AutomatonState, goal_text
 
 CURRENT_COLOR = "#ff9a00"
 GOAL_COLOR = "#3a7bd5"
@@ -75,6 +78,7 @@ class ControllerModel:
     current: int | None = None
     last: StateUpdate | None = None
     generation: int = 0  # the executor's strategy generation this automaton is of
+    source: ExecutorSource | None = None  # what the executor said it runs (None: it did not say)
     _pred: dict[int, list[int]] = field(default_factory=dict)
     _edges: int | None = None
 
@@ -198,9 +202,9 @@ class ControllerModel:
             total = len(s.successors) + len(self.predecessors(sid)) - s.successors.count(sid)
             cut = total - degree[sid]
             more = f"\n(+{cut} edges)" if cut > 0 else ""
-            g.add_node(sid, f"{sid} (goal {s.goal})\n{outs}{more}", shape="box",
+            g.add_node(sid, f"{sid} (goal {goal_text(s.goal)})\n{outs}{more}", shape="box",
                        color=INITIAL_COLOR if sid in initial else "black",
-                       tooltip=f"state {sid}, goal {s.goal}; inputs: "
+                       tooltip=f"state {sid}, goal {goal_text(s.goal)}; inputs: "
                                + (", ".join(n for n in a.inputs if s.inputs[n]) or "-") + f"; outputs: {outs}")
         for sid, t in edges:
             g.add_edge(sid, t, ", ".join(n for n in a.inputs if a.states[t].inputs[n]) or "-")
@@ -220,6 +224,78 @@ class ControllerModel:
             return [(n, False) for n in a.inputs], [(n, False) for n in a.outputs]
         return [(n, bool(u.inputs.get(n, False))) for n in a.inputs], \
             [(n, bool(u.outputs.get(n, False))) for n in a.outputs]
+
+
+@dataclass(frozen=True)
+class ExecutorSource:
+    """One ``~source`` message (``ltl_stack/ControllerSource``): what the executor runs, since when."""
+
+    spec: RunningSpec
+    started: float  # the node's start time (seconds): another value is another run of the executor
+
+    @property
+    def key(self) -> tuple:
+        return (self.started, *self.spec.key)
+
+    def options(self, view: ViewOptions) -> ViewOptions:
+        """The view's options with the executor's synthesis options."""
+        return ViewOptions(self.spec.robotics_semantics, self.spec.cooperative, view.full_limit, view.radius)
+
+
+def source_spec(source: ExecutorSource, named: str = "") -> tuple[str | None, str]:
+    """Which file to synthesize to draw what ``source``'s executor runs, and a warning for a red banner
+    ("" when none): the executor's own file when it is readable here with the content the executor
+    runs; else its text, written to a file of the same suffix in the temporary folder; None when
+    neither is available. ``named`` is the spec the user named: a different content is warned about,
+    naming both files (for the start-up strategy; a later one is the characterized or adopted spec)."""
+    spec = source.spec
+    path: str | None = None
+    text, digest = read_spec(spec.spec_file)
+    if text and (not spec.spec_sha256 or digest == spec.spec_sha256):
+        path = spec.spec_file
+    elif spec.spec_text:
+        suffix = os.path.splitext(spec.spec_file)[1] or ".structuredslugs"
+        path = os.path.join(tempfile.gettempdir(), f"ltl_stack_view_{spec.spec_sha256[:16]}{suffix}")
+        if read_spec(path)[1] != spec.spec_sha256:
+            with open(path, "w", encoding="utf-8") as f:
+                f.write(spec.spec_text)
+    if path is None:
+        return None, (f"The executor runs {spec.spec_file or 'a strategy written to no file'}, which this view "
+                      "cannot read: no picture of the running strategy.")
+    warning = ""
+    if named and spec.generation == 0:
+        named_digest = read_spec(named)[1]
+        if named_digest != spec.spec_sha256:
+            warning = (f"The executor runs {spec.spec_file}, not {named} (named here"
+                       f"{'' if named_digest else ', unreadable'}; their contents differ): drawing the "
+                       "executor's spec.")
+    if spec.strategy_file:
+        warning = (warning + " " if warning else "") + (
+            f"The executor runs a saved strategy ({spec.strategy_file}); the picture is synthesized from its "
+            "spec and its ids may differ.")
+    return path, warning
+
+
+#: Seconds without any message of the executor (its /diagnostics come every second) before the view
+#: says it is gone; and the grace after attaching before a missing publisher counts.
+STALE_AFTER = 5.0
+CONNECT_GRACE = 3.0
+
+
+def liveness(now: float, heard: float, state_heard: float | None, connected: bool, master_ok: bool,
+             since: float) -> tuple[bool, str]:
+    """(alive, text) of an attached executor: ``heard`` the time of its last message of any kind (state,
+    source or its /diagnostics, which come every second), ``state_heard`` of its last ``~state`` (None:
+    none yet), ``connected`` whether its ``~state`` publisher is connected, ``since`` when the view
+    attached (all ``time.monotonic()``)."""
+    text = "no state yet" if state_heard is None else f"last state {max(0.0, now - state_heard):.0f} s ago"
+    if not master_ok:
+        return False, f"no ROS master answers; {text}"
+    if not connected and now - since > CONNECT_GRACE:
+        return False, f"no executor publishes its state topic; {text}"
+    if now - heard > STALE_AFTER:
+        return False, f"nothing from the executor for {now - heard:.0f} s; {text}"
+    return True, text
 
 
 MODES = {  # the executor's ~state mode -> (what it means, colour)
@@ -249,15 +325,31 @@ def resilience_text(update: StateUpdate | None) -> str:
             f"negotiations {update.negotiations}")
 
 
-def mode_text(update: StateUpdate | None, violation: str) -> str:
+def mode_text(update: StateUpdate | None, violation: str, statuses: Mapping[str, tuple[int, str]] | None = None) -> str:
     """The controller's mode: waiting, running, paused, the executor's resilience mode, or holding
-    after an assumption violation."""
+    after an assumption violation. Before the first state, what the executor's own /diagnostics say
+    (``statuses``: its "controller" and "inputs" statuses, level and message)."""
+    statuses = statuses or {}
     if update is None:
         return "no state received yet"
     if update.state_id < 0:
-        return "waiting for every input to report (ready handshake)"
+        controller = statuses.get("controller")
+        inputs = statuses.get("inputs")
+        if update.mode == "aborted":
+            return MODES["aborted"][0]
+        if controller is not None and (controller[0] >= 2 or not update.running):
+            return "executor: " + controller[1]
+        if not update.running:
+            return "paused (every output false)"
+        if inputs is not None and inputs[1] != "every input has reported":
+            return "executor: " + inputs[1]
+        if controller is not None:
+            return "executor: " + controller[1]
+        return "no state yet (the executor has not reported why)"
     if update.mode in MODES and update.mode != "normal":
         return MODES[update.mode][0] + ("" if update.running else " (paused)")
+    if update.mode and update.mode not in MODES:  # a mode this view does not know: as the executor says it
+        return update.mode.replace("_", " ") + ("" if update.running else " (paused)")
     if violation:
         return "environment assumption violated: " + ("running, " if update.running else "paused, ") + \
             "waiting for admissible inputs"
@@ -278,6 +370,11 @@ class Latest:
         with self._lock:
             self._value, self._fresh = value, True
             self.put_count += 1
+
+    def peek(self):
+        """The newest value, taken or not (None before the first)."""
+        with self._lock:
+            return self._value
 
     def take(self):
         """The newest value if it was not taken yet, else None."""

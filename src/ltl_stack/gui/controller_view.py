@@ -20,11 +20,12 @@ from collections import OrderedDict
 from typing import Any
 
 import rospy
-from python_qt_binding.QtCore import Qt, QTimer, Signal
+from python_qt_binding.QtCore import QSize, Qt, QTimer, Signal
 from python_qt_binding.QtWidgets import (
     QCheckBox,
     QFileDialog,
     QFormLayout,
+    QGraphicsOpacityEffect,
     QGridLayout,
     QGroupBox,
     QHBoxLayout,
@@ -39,20 +40,24 @@ from python_qt_binding.QtWidgets import (
     QWidget,
 )
 
+from ltl_stack.errors import UserError
 from ltl_stack.gui.controller_model import (
     CURRENT_COLOR,
     DEFAULT_FULL_LIMIT,
     DEFAULT_RADIUS,
     GOAL_COLOR,
     ControllerModel,
+    ExecutorSource,
     Latest,
     StateUpdate,
     ViewOptions,
     executor_of,
+    liveness,
     mode_color,
     mode_text,
     options_from_params,
     resilience_text,
+    source_spec,
 )
 from ltl_stack.gui.dotgraph import sketch_layout
 from ltl_stack.gui.widgets import (
@@ -61,17 +66,26 @@ from ltl_stack.gui.widgets import (
     SpinBox,
     Task,
     collector_paused,
+    docked_hint,
     restore_controls,
     save_controls,
     show_status,
     status_row,
 )
 from ltl_stack.gui.worker_process import WorkerProcess, controller_model
+from ltl_stack.runtime.running_spec import RunningSpec
+from ltl_stack.synthesis.automaton import goal_text
 
 STATE_TYPE = "ltl_stack/ControllerState"
 REFRESH_MS = 30
 LAYOUT_CACHE = 64  # laid-out neighbourhoods kept
-LAMP_ON, LAMP_OFF = "#34c759", "#d0d0d0"
+LAMP_ON, LAMP_OFF, LAMP_STALE = "#34c759", "#d0d0d0", "#a8a8a8"
+#: how long Attach waits for the executor's latched ~source (what it runs) before using the spec named here
+SOURCE_WAIT = 5.0
+MASTER_PROBE_PERIOD = 2.0
+LIVENESS_PERIOD = 0.5  # seconds between two looks at the executor's liveness
+VIOLATION_STATUS = "environment assumptions"  # the executor's /diagnostics status of violations
+LEVELS = {0: "OK", 1: "WARN", 2: "ERROR", 3: "STALE"}
 
 
 def require_master() -> str:
@@ -128,28 +142,79 @@ def update_of(msg: Any) -> StateUpdate:
                        generation=int(getattr(msg, "strategy_generation", 0)))
 
 
+def source_of(msg: Any) -> ExecutorSource:
+    """A ``ControllerSource`` message (``~source``) as the view needs it."""
+    return ExecutorSource(RunningSpec(
+        spec_file=str(msg.spec_file), spec_sha256=str(msg.spec_sha256), spec_text=str(msg.spec_text),
+        strategy_file=str(msg.strategy_file), generation=int(msg.strategy_generation),
+        robotics_semantics=bool(msg.robotics_semantics), cooperative=bool(msg.cooperative),
+        max_explicit_states=int(msg.max_explicit_states)), msg.started.to_sec())
+
+
 class RosLink:
-    """Subscribers of one executor's ``~state`` and of ``/diagnostics``, and its ``~set_running``."""
+    """Subscribers of one executor's ``~state``, ``~source`` and of ``/diagnostics``, its ``~set_running``,
+    and what tells whether it is alive: the time of its last message (``heard``; its statuses come every
+    second), whether its ``~state`` publisher is connected and whether the master answers (asked every
+    ``MASTER_PROBE_PERIOD`` seconds on a thread of its own)."""
 
     def __init__(self, state_topic: str, on_state, on_diagnostic):
         from diagnostic_msgs.msg import DiagnosticArray
 
-        from ltl_stack.msg import ControllerState
+        from ltl_stack.msg import ControllerSource, ControllerState
+        from ltl_stack.ros.master import master_uri
 
         require_master()
         ensure_node()
         self.state_topic = state_topic
         self.executor = executor_of(state_topic)
         self._on_diagnostic = on_diagnostic
-        self.state_sub = rospy.Subscriber(state_topic, ControllerState, lambda m: on_state(update_of(m)),
-                                          queue_size=1000, tcp_nodelay=True)
+        self.created = self.heard = time.monotonic()
+        self.state_heard: float | None = None
+        self.master_ok = True
+        self.source = Latest()  # the newest ~source (ExecutorSource)
+        self._source_came = threading.Event()
+        self._closed = threading.Event()
+        self._uri = master_uri(None)
+
+        def state(msg: Any) -> None:
+            self.heard = self.state_heard = time.monotonic()
+            on_state(update_of(msg))
+        self.state_sub = rospy.Subscriber(state_topic, ControllerState, state, queue_size=1000, tcp_nodelay=True)
+        self.source_sub = rospy.Subscriber(f"{self.executor}/source", ControllerSource, self._source, queue_size=10)
         self.diag_sub = rospy.Subscriber("/diagnostics", DiagnosticArray, self._diagnostics, queue_size=100)
+        threading.Thread(target=self._probe_master, name="ltl_stack_gui_master_probe", daemon=True).start()
+
+    def _source(self, msg: Any) -> None:
+        self.heard = time.monotonic()
+        self.source.put(source_of(msg))
+        self._source_came.set()
+
+    def wait_source(self, timeout: float) -> ExecutorSource | None:
+        """The executor's ``~source`` (latched), waiting up to ``timeout`` s; None from an executor that
+        does not publish one."""
+        self._source_came.wait(timeout)
+        return self.source.peek()
+
+    def _probe_master(self) -> None:
+        from ltl_stack.ros.master import master_online
+
+        while not self._closed.wait(MASTER_PROBE_PERIOD):
+            self.master_ok = master_online(self._uri)
+
+    def alive(self) -> tuple[bool, str]:
+        """(alive, text) as ``controller_model.liveness`` tells."""
+        return liveness(time.monotonic(), self.heard, self.state_heard, self.state_sub.get_num_connections() > 0,
+                        self.master_ok, self.created)
 
     def _diagnostics(self, msg: Any) -> None:
+        prefix = f"{self.executor}: "
         for status in msg.status:
-            if status.hardware_id == self.executor and "environment assumptions" in status.name:
-                self._on_diagnostic(int(ord(status.level) if isinstance(status.level, bytes) else status.level),
-                                    status.message)
+            if status.hardware_id != self.executor:
+                continue
+            self.heard = time.monotonic()
+            level = int(ord(status.level) if isinstance(status.level, bytes) else status.level)
+            what = status.name[len(prefix):] if status.name.startswith(prefix) else status.name
+            self._on_diagnostic(level, status.message, what)
 
     def params(self) -> dict[str, object]:
         """The executor's private parameters that change the synthesis, where it has them."""
@@ -169,14 +234,16 @@ class RosLink:
         return reply.message
 
     def close(self) -> None:
+        self._closed.set()
         self.state_sub.unregister()
+        self.source_sub.unregister()
         self.diag_sub.unregister()
 
 
 class ControllerView(QWidget):
     """The view; ``model`` is the attached automaton, ``shown`` the last update drawn."""
 
-    diagnostic = Signal(int, str)
+    diagnostic = Signal(int, str, str)  # level, message, the status' concern ("mode", "environment assumptions", …)
 
     def __init__(self, parent: QWidget | None = None, link_factory=RosLink, list_topics=state_topics):
         super().__init__(parent)
@@ -190,6 +257,10 @@ class ControllerView(QWidget):
         self.lag: list[float] = []  # seconds from a message's stamp to its display, while recording
         self.record_lag = False
         self.violation = ""
+        self.statuses: dict[str, tuple[int, str]] = {}  # the executor's /diagnostics: concern -> (level, message)
+        self.alive = True  # the attached executor is heard from (``controller_model.liveness``)
+        self._liveness_at = 0.0
+        self._pending_source: ExecutorSource | None = None
         self.task: Task | None = None
         self.refresh_task: Task | None = None
         self.reload_task: Task | None = None
@@ -223,7 +294,7 @@ class ControllerView(QWidget):
         self.topic_combo_box = ComboBox()
         self.topic_combo_box.setObjectName("state_topic_combo_box")
         self.topic_combo_box.setEditable(True)
-        self.topic_combo_box.setMinimumWidth(320)
+        self.topic_combo_box.setMinimumWidth(220)
         self.topic_combo_box.lineEdit().setPlaceholderText("/<ns>/controller_executor/state")
         self.refresh_push_button = QPushButton("Refresh")
         self.refresh_push_button.setObjectName("refresh_topics_push_button")
@@ -257,17 +328,21 @@ class ControllerView(QWidget):
         grid.addWidget(QLabel("State topic"), 1, 0)
         grid.addWidget(self.topic_combo_box, 1, 1, 1, 4)
         grid.addWidget(self.refresh_push_button, 1, 5)
+        # two rows, so that two panels docked side by side fit a 1280 px screen
         options = QHBoxLayout()
         options.addWidget(self.robotics_check_box)
         options.addWidget(self.cooperative_check_box)
-        options.addWidget(QLabel("whole graph up to"))
-        options.addWidget(self.full_spin_box)
-        options.addWidget(QLabel("states, else radius"))
-        options.addWidget(self.radius_spin_box)
         options.addStretch(1)
         options.addWidget(self.attach_push_button)
         options.addWidget(self.cancel_push_button)
         grid.addLayout(options, 2, 0, 1, 6)
+        sizes = QHBoxLayout()
+        sizes.addWidget(QLabel("whole graph up to"))
+        sizes.addWidget(self.full_spin_box)
+        sizes.addWidget(QLabel("states, else radius"))
+        sizes.addWidget(self.radius_spin_box)
+        sizes.addStretch(1)
+        grid.addLayout(sizes, 3, 0, 1, 6)
 
         self.graph_view = GraphView()
         self.graph_view.setObjectName("automaton_graphics_view")
@@ -277,6 +352,12 @@ class ControllerView(QWidget):
         self.state_label = QLabel("state: —")
         self.state_label.setObjectName("state_label")
         self.state_label.setStyleSheet("font-size: 15px; font-weight: bold;")
+        self.liveness_label = QLabel("")
+        self.liveness_label.setObjectName("liveness_label")
+        self.liveness_label.setWordWrap(True)
+        self.liveness_label.setToolTip("when the executor last published its state; the picture, lamps and Pause "
+                                       "are greyed while the executor is not heard from (no publisher, no master, "
+                                       "or no message for a few seconds)")
         self.mode_label = QLabel("mode: not attached")
         self.mode_label.setObjectName("mode_label")
         self.mode_label.setWordWrap(True)
@@ -307,6 +388,7 @@ class ControllerView(QWidget):
                                              "Structured English), as the executor reports them on ~state")
         self.violated_list_widget.setMaximumHeight(90)
         side_layout.addWidget(self.state_label)
+        side_layout.addWidget(self.liveness_label)
         side_layout.addWidget(self.mode_label)
         side_layout.addWidget(self.resilience_label)
         side_layout.addWidget(self.strategy_label)
@@ -333,8 +415,17 @@ class ControllerView(QWidget):
         middle.setSizes([1000, 380])
 
         bottom, self.progress_bar, self.status_label = status_row("Name the spec and the executor's state topic, then Attach.")
+        self.banner_label = QLabel("")
+        self.banner_label.setObjectName("source_banner_label")
+        self.banner_label.setWordWrap(True)
+        self.banner_label.setStyleSheet("color: white; background: #c00000; padding: 4px; font-weight: bold;")
+        self.banner_label.hide()
+        self.graph_opacity = QGraphicsOpacityEffect(self.graph_view)
+        self.graph_opacity.setOpacity(1.0)
+        self.graph_view.setGraphicsEffect(self.graph_opacity)
         layout = QVBoxLayout(self)
         layout.addLayout(grid)
+        layout.addWidget(self.banner_label)
         layout.addWidget(middle, 1)
         layout.addLayout(bottom)
 
@@ -388,25 +479,42 @@ class ControllerView(QWidget):
                            self.full_spin_box.value(), self.radius_spin_box.value())
 
     def attach(self) -> bool:
-        """Subscribe to the state topic, read the executor's options, synthesize (off the GUI thread)."""
+        """Subscribe to the state topic, learn what the executor runs (its latched ``~source``: spec,
+        generation, options; else the spec named here and its parameters), synthesize off the GUI thread.
+        Whatever was shown of an earlier executor is cleared first."""
         if self.task is not None and self.task.running:
             return False
         spec, topic = self.spec_line_edit.text().strip(), self.topic_combo_box.currentText().strip()
-        if not spec or not topic:
-            self._status("Name the spec and the executor's state topic.", error=True)
+        if not topic:
+            self._status("Name the executor's state topic (and, for an executor that does not say what it runs, "
+                         "its spec).", error=True)
             return False
         self.detach()
+        self._clear()
         wanted = self.options()
-        factory, latest, diagnostic, worker = self._link_factory, self.latest, self.diagnostic, self.worker
+        factory, latest, worker = self._link_factory, self.latest, self.worker
+        diagnose = self._diagnose
 
         def work(progress):  # every master call here, off the GUI thread
             progress(f"connecting to {topic}")
-            link = factory(topic, latest.put, diagnostic.emit)
+            link = factory(topic, latest.put, diagnose)
             try:
-                options = options_from_params(link.params(), wanted)
-                model = controller_model(worker, spec, options, progress)
+                source = link.wait_source(SOURCE_WAIT) if hasattr(link, "wait_source") else None
+                if source is not None:
+                    path, warning = source_spec(source, spec)
+                    if path is None:
+                        raise UserError(warning)
+                    options = source.options(wanted)
+                else:
+                    if not spec:
+                        raise UserError(f"{executor_of(topic)} does not say what it runs (no ~source): name its spec")
+                    path, warning, options = spec, "", options_from_params(link.params(), wanted)
+                model = controller_model(worker, path, options, progress)
+                model.source = source
+                if source is not None:
+                    model.generation = source.spec.generation
                 progress(f"attached to {topic}")  # raises Cancelled when Cancel came meanwhile
-                return link, model
+                return link, model, warning
             except BaseException:
                 link.close()
                 raise
@@ -417,9 +525,10 @@ class ControllerView(QWidget):
         self.task = Task(collector_paused(work), self, discard=discard)
         self.task.progress.connect(self._status)
         self.task.finished.connect(self._on_attached)
-        self.task.failed.connect(lambda text: (self._busy(False), self._status(f"Cannot attach: {text}", error=True)))
+        self.task.failed.connect(lambda text: (self._busy(False), self._clear(),
+                                               self._status(f"Cannot attach: {text}", error=True)))
         self._busy(True)
-        self._status(f"Attaching to {topic}; synthesizing {spec}…")
+        self._status(f"Attaching to {topic}…")
         self.task.start()
         return True
 
@@ -431,6 +540,7 @@ class ControllerView(QWidget):
         if self.worker is not None:
             self.worker.kill()
         self._busy(False)
+        self._clear()
         self._status("Cancelled: not attached.")
         return True
 
@@ -439,29 +549,74 @@ class ControllerView(QWidget):
             threading.Thread(target=self.link.close, name="ltl_stack_gui_detach", daemon=True).start()
             self.link = None
         self.model, self.shown, self._drawn = None, None, set()
+        self._pending_source = None
+
+    def _clear(self) -> None:
+        """Forget what was shown of an executor: picture, state, mode, lamps, counters, strategy, violations."""
+        self.shown, self.violation, self.statuses = None, "", {}
+        self.latest.take()
+        self.graph_view.show_message("")
+        self._drawn = set()
+        self.state_label.setText("state: —")
+        self.liveness_label.setText("")
+        self.resilience_label.setText("")
+        self.strategy_label.setText("")
+        self.strategy_label.setStyleSheet("")
+        self.violated_list_widget.clear()
+        self.violation_text.setPlainText("")
+        self.banner_label.hide()
+        self.banner_label.setText("")
+        self.run_pause_push_button.setEnabled(False)
+        self.run_pause_push_button.setText("Pause")
+        for box in (self.inputs_box, self.outputs_box):
+            form = box.layout()
+            while form.rowCount():
+                form.removeRow(0)
+        self._lamps = {}
+        self._set_alive(True)
+        self.mode_label.setText("mode: not attached")
+        self.mode_label.setStyleSheet("")
+
+    def _banner(self, text: str) -> None:
+        self.banner_label.setText(text)
+        self.banner_label.setVisible(bool(text))
 
     def _on_attached(self, done: tuple) -> None:
-        self.link, model = done
+        self.link, model, warning = done
+        self._banner(warning)
         self._on_model(model)
 
     def _on_model(self, model: ControllerModel) -> None:
         self._busy(False)
         self.model = model
         keep_out_of_gc()
+        self._drawn = set()
         self.robotics_check_box.setChecked(model.options.robotics_semantics)
         self.cooperative_check_box.setChecked(model.options.cooperative)
         self._fill_lamps()
-        self.run_pause_push_button.setEnabled(True)
+        self.run_pause_push_button.setEnabled(self.alive)
         how = "whole" if model.whole else f"neighbourhood of the current state (radius {model.options.radius})"
-        self._status(f"{len(model.automaton)} states, {model.automaton.goals} goals; drawing the {how}. "
-                     f"Ids as in synthesize --dot/--strategy-json (robotics semantics {model.options.robotics_semantics}, "
-                     f"cooperative {model.options.cooperative}).")
+        whose = "the executor's spec" if model.source is not None else "the spec named here"
+        self._status(f"{model.spec_path} ({whose}): {len(model.automaton)} states, {model.automaton.goals} goals; "
+                     f"drawing the {how}. Ids as in synthesize --dot/--strategy-json (robotics semantics "
+                     f"{model.options.robotics_semantics}, cooperative {model.options.cooperative}).")
+        if model.generation:
+            self.strategy_label.setText(f"strategy {model.generation}: {model.spec_path} ({len(model.automaton)} states)")
+            self.strategy_label.setStyleSheet("")
         self.shown = None
         self._relayout(None)  # the latched state that arrived meanwhile is still in ``latest``
 
     # --- following --------------------------------------------------------------------------------------
     def tick(self) -> None:
-        """Show the newest state (GUI timer); everything older that arrived meanwhile is skipped."""
+        """Show the newest state (GUI timer); everything older that arrived meanwhile is skipped. Follow
+        what the executor says it runs (a restart, a new strategy) and show whether it is alive."""
+        if self.link is None:
+            return
+        now = time.monotonic()
+        if now - self._liveness_at >= LIVENESS_PERIOD:
+            self._liveness_at = now
+            self._show_liveness()
+        self._follow_source()
         if self.model is None:
             return
         update = self.latest.take()
@@ -469,19 +624,107 @@ class ControllerView(QWidget):
             return
         self.show_update(update)
 
+    def _follow_source(self) -> None:
+        """A ``~source`` other than the drawn one (the executor restarted, perhaps with another spec, or
+        put a new strategy in place): stop placing states in the old automaton and load the new one."""
+        source = getattr(self.link, "source", None)
+        fresh = source.take() if source is not None else None
+        if fresh is not None:
+            self._pending_source = fresh
+        pending = self._pending_source
+        if pending is None or (self.reload_task is not None and self.reload_task.running):
+            return
+        self._pending_source = None
+        drawn = self.model.source if self.model is not None else None
+        if drawn is not None and drawn.key == pending.key:
+            return
+        restarted = drawn is not None and drawn.started != pending.started
+        self._load_source(pending, restarted)
+
+    def _load_source(self, source: ExecutorSource, restarted: bool) -> None:
+        named = self.spec_line_edit.text().strip()
+        options = source.options(self.options())
+        worker, link = self.worker, self.link
+        what = "restarted" if restarted else f"runs strategy {source.spec.generation}"
+
+        def work(progress):
+            path, warning = source_spec(source, named)
+            if path is None:
+                raise UserError(warning)
+            model = controller_model(worker, path, options, progress)
+            model.source, model.generation = source, source.spec.generation
+            return model, warning
+
+        def loaded(done: tuple) -> None:
+            if self.link is not link:
+                return  # detached or attached elsewhere meanwhile
+            model, warning = done
+            self._banner(warning)
+            self._on_model(model)
+
+        def failed(text: str) -> None:
+            if self.link is link:
+                self._banner(f"The executor {what}; cannot draw it: {text}")
+        # the old automaton is not the running one any more: nothing is placed in it meanwhile; the last
+        # state is placed in the new one unless a newer one comes
+        if self.shown is not None and self.latest.peek() is self.shown:
+            self.latest.put(self.shown)
+        self.model, self.shown, self._drawn = None, None, set()
+        self.graph_view.show_message(f"the executor {what}: loading {source.spec.spec_file}…")
+        self.state_label.setText("state: —")
+        self.strategy_label.setText(f"strategy {source.spec.generation}: loading {source.spec.spec_file}…"
+                                    if source.spec.generation else "")
+        self.strategy_label.setStyleSheet("")
+        self._status(f"The executor {what}: loading {source.spec.spec_file or 'its spec'}…")
+        self.reload_task = Task(collector_paused(work), self)
+        self.reload_task.finished.connect(loaded)
+        self.reload_task.failed.connect(failed)
+        self.reload_task.start()
+
+    def _show_liveness(self) -> None:
+        alive_of = getattr(self.link, "alive", None)
+        if alive_of is None:
+            return
+        alive, text = alive_of()
+        if self.liveness_label.text() != text:
+            self.liveness_label.setText(text)
+        if alive != self.alive:
+            self._set_alive(alive)
+
+    def _set_alive(self, alive: bool) -> None:
+        """Grey the picture and the lamps and disable Pause while the executor is not heard from."""
+        self.alive = alive
+        self.graph_opacity.setOpacity(1.0 if alive else 0.3)
+        self.liveness_label.setStyleSheet("" if alive else "color: white; background: #707070; padding: 2px;")
+        self.run_pause_push_button.setEnabled(alive and self.model is not None)
+        for lamp in self._lamps.values():
+            lamp.setProperty("lit", None)  # repainted by _set_lamps
+        self._set_lamps()
+        self._show_mode(self.shown)
+
     def show_update(self, update: StateUpdate) -> None:
         model = self.model
+        drawn = model.source.spec if model.source is not None else None
+        if drawn is not None and update.spec_file and (update.spec_file, update.generation) != (
+                drawn.spec_file, drawn.generation):
+            # a state of another strategy (a restarted executor, a new generation) before its ~source: it is
+            # not placed in this automaton
+            model.current = None
+            self.shown = update
+            self.state_label.setText(f"state: of {update.spec_file} (strategy {update.generation}), not drawn yet")
+            self._mark()
+            return
         current = model.follow(update)
         self.shown = update
         self.shown_count += 1
         if self.record_lag and update.stamp:
             self.lag.append(time.time() - update.stamp)
         if current is None:
-            text = "waiting for the inputs" if update.state_id < 0 else \
+            text = "not started" if update.state_id < 0 else \
                 f"not in the automaton (executor's id {update.state_id})"
             self.state_label.setText(f"state: {text}")
         else:
-            self.state_label.setText(f"state {current} (goal {update.goal})")
+            self.state_label.setText(f"state {current} (goal {goal_text(update.goal, model.automaton.goals)})")
         self._show_mode(update)
         self.resilience_label.setText(resilience_text(update))
         clauses = list(update.violated_clauses)
@@ -490,16 +733,19 @@ class ControllerView(QWidget):
             self.violated_list_widget.addItems(clauses)
         self.run_pause_push_button.setText("Pause" if update.running else "Run")
         self._set_lamps()
-        if update.generation != model.generation:
-            self._reload(update)
+        if update.generation != model.generation and model.source is None:
+            self._reload(update)  # an executor without ~source: its ~state names the new spec
         if model.needs_new_layout(self._drawn, current):
             self._relayout(current)
         else:
             self._mark()
 
     def _show_mode(self, update: StateUpdate | None) -> None:
-        self.mode_label.setText("mode: " + mode_text(update, self.violation))
+        text = "mode: " + mode_text(update, self.violation, self.statuses)
         color = mode_color(update)
+        if not self.alive and self.link is not None:
+            text, color = f"{text} (as last heard: the executor is not heard from)", "#707070"
+        self.mode_label.setText(text)
         style = f"color: white; background: {color}; padding: 2px;" if color else ""
         if self.mode_label.styleSheet() != style:  # setting it re-polishes the label, even when the same
             self.mode_label.setStyleSheet(style)
@@ -623,27 +869,42 @@ class ControllerView(QWidget):
         for title, pairs in (("Inputs", ins), ("Outputs", outs)):
             for name, value in pairs:
                 lamp = self._lamps.get((title, name))
-                if lamp is not None and lamp.property("lit") is not bool(value):  # a style sheet costs a re-polish
-                    lamp.setProperty("lit", bool(value))
-                    lamp.setStyleSheet(f"background: {LAMP_ON if value else LAMP_OFF}; border-radius: 7px;")
-                    lamp.setToolTip(f"{name}: {'true' if value else 'false'}")
+                lit = bool(value) if self.alive else "stale"
+                if lamp is not None and lamp.property("lit") != lit:  # a style sheet costs a re-polish
+                    lamp.setProperty("lit", lit)
+                    color = LAMP_STALE if not self.alive else LAMP_ON if value else LAMP_OFF
+                    lamp.setStyleSheet(f"background: {color}; border-radius: 7px;")
+                    lamp.setToolTip(f"{name}: {'true' if value else 'false'}"
+                                    + ("" if self.alive else " (last heard; the executor is not heard from)"))
 
     def lamp_values(self) -> dict[str, bool]:
         """What the lamps show (for tests): name -> lit."""
         return {name: LAMP_ON in lamp.styleSheet() for (_t, name), lamp in self._lamps.items()}
 
-    def _on_diagnostic(self, level: int, message: str) -> None:
-        if level >= 2:
-            self.violation = message
-            self.violation_text.setPlainText(message)
-        elif self.violation:
-            self.violation = ""
-            self.violation_text.setPlainText(self.violation_text.toPlainText() + f"\n(cleared: {message})")
-        self._show_mode(self.shown)
+    def _diagnose(self, level: int, message: str, what: str = VIOLATION_STATUS) -> None:
+        """The ROS link's diagnostics callback (any thread): one status of the executor."""
+        self.diagnostic.emit(int(level), str(message), str(what))
+
+    def _on_diagnostic(self, level: int, message: str, what: str = VIOLATION_STATUS) -> None:
+        """One /diagnostics status of the attached executor: kept for the status texts; a violation, at
+        any level (a recovered one is a WARN), is shown until the next one, with "cleared" when the
+        inputs are admissible again."""
+        known = self.statuses.get(what)
+        self.statuses[what] = (level, message)
+        if what == VIOLATION_STATUS:
+            if level >= 1:
+                if message != self.violation:
+                    self.violation = message
+                    self.violation_text.setPlainText(f"[{LEVELS.get(level, level)}] {message}")
+            elif self.violation:
+                self.violation = ""
+                self.violation_text.setPlainText(self.violation_text.toPlainText() + f"\n(cleared: {message})")
+        if known != (level, message):
+            self._show_mode(self.shown)
 
     # --- run / pause ------------------------------------------------------------------------------------
     def toggle_running(self) -> None:
-        if self.link is None:
+        if self.link is None or not self.alive:
             return
         running = not (self.shown.running if self.shown is not None else True)
         link = self.link
@@ -662,14 +923,17 @@ class ControllerView(QWidget):
     def _status(self, text: str, error: bool = False) -> None:
         show_status(self.status_label, text, error)
 
+    def sizeHint(self) -> QSize:  # noqa: N802 - Qt's name
+        return docked_hint(super().sizeHint())
+
     def save_settings(self, settings: Any) -> None:
         save_controls(self, settings)
 
     def restore_settings(self, settings: Any) -> None:
-        """The saved fields, then Attach again when they name a spec and a topic (a restored perspective
+        """The saved fields, then Attach again when they name a topic (a restored perspective
         shows the executor it showed; attaching is off the GUI thread and says so when there is no master)."""
         restore_controls(self, settings)
-        if self.spec_line_edit.text().strip() and self.topic_combo_box.currentText().strip():
+        if self.topic_combo_box.currentText().strip():
             self.attach()
 
     def shutdown(self) -> None:

@@ -1,8 +1,10 @@
 """What the mapping panel edits and checks (thesis §3.6.1.1, Fig. 3.5), without Qt or ROS.
 
 A ``MappingDocument`` holds the spec's propositions and, per proposition, the node rows being edited
-(an input has one row, an output one row per node). A row keeps the ``NodeEntry`` it was loaded from,
-so saving writes back its ``pkg``, ``filename``, ``parameters``, ``type`` and ``args`` untouched.
+(an input has one row, an output one row per node). Saving a loaded file changes only the edited rows
+in its text (``runtime.mapping_edit``, a round-trip YAML writer): comments, ``expected_feedback:``,
+``negotiation:`` and every entry's other keys come back as they were; a file changed on disk since it
+was read is noticed (``changed_on_disk``) so the panel asks before overwriting it.
 ``validate`` joins ``runtime.mapping.check_mapping`` with what only the live graph can tell: a node
 that is not on the master, an input topic with more than one publisher, a topic that is not a
 ``std_msgs/Bool``. ``LiveGraph`` is the master's graph as the drop-downs need it (from a snapshot).
@@ -15,19 +17,23 @@ from typing import Any
 
 from ltl_stack.analysis.snapshot import Snapshot
 from ltl_stack.cli import check_outputs, write_output
+from ltl_stack.errors import InputError
+from ltl_stack.inputs import read_text
 from ltl_stack.runtime.launch import generate_launch
 from ltl_stack.runtime.mapping import (
     INPUT,
     OUTPUT,
     Mapping,
+    MappingError,
     NodeEntry,
     check_mapping,
     default_topic,
     format_mapping,
-    load_mapping,
+    parse_mapping,
     resolve_name,
     resolve_node_name,
 )
+from ltl_stack.runtime.mapping_edit import EditedRow, rows_text, text_digest
 from ltl_stack.spec import load_spec
 
 PROPOSITION_TYPE = "std_msgs/Bool"
@@ -41,6 +47,7 @@ class Row:
     node: str = ""
     topic: str = ""
     base: NodeEntry | None = None
+    origin: int | None = None  # index of the file's entry it was loaded from (None: a new row)
 
 
 @dataclass(frozen=True)
@@ -103,6 +110,9 @@ class MappingDocument:
     rows: dict[tuple[str, str], list[Row]] = field(default_factory=dict)
     extra: dict[tuple[str, str], list[NodeEntry]] = field(default_factory=dict)  # not in the spec: kept
     negotiation: Any = None  # the mapping's negotiation: section, not edited here: written back as loaded
+    expected_feedback: list = field(default_factory=list)  # (output, input, line): written back as loaded
+    source_text: str = ""  # the mapping file's text as loaded: what Save edits (rows point at its entries)
+    source_digest: str = ""  # SHA-256 of the text loaded or last saved, to notice a file changed on disk
 
     @classmethod
     def load(cls, spec_path: str, mapping_path: str | None = None) -> MappingDocument:
@@ -117,20 +127,23 @@ class MappingDocument:
         for prop in doc.outputs:
             doc.rows[(OUTPUT, prop)] = []
         if mapping_path:
-            doc.merge(load_mapping(mapping_path))
+            text = read_mapping_text(str(mapping_path))
+            doc.merge(parse_mapping(text, str(mapping_path)))
             doc.mapping_path = str(mapping_path)
+            doc.source_text, doc.source_digest = text, text_digest(text)
         return doc
 
     def merge(self, mapping: Mapping) -> None:
         """Take the mapping's entries: rows for the spec's propositions, ``extra`` for the others."""
         self.namespace = mapping.namespace
         self.negotiation = mapping.negotiation
+        self.expected_feedback = list(mapping.expected_feedback)
         for kind, section in ((INPUT, mapping.inputs), (OUTPUT, mapping.outputs)):
             for prop, entries in section.items():
                 if (kind, prop) not in self.rows:
                     self.extra[(kind, prop)] = list(entries)
                     continue
-                rows = [Row(e.node or "", e.topic or "", e) for e in entries]
+                rows = [Row(e.node or "", e.topic or "", e, i) for i, e in enumerate(entries)]
                 if kind == INPUT and not rows:
                     rows = [Row()]
                 self.rows[(kind, prop)] = rows
@@ -168,7 +181,7 @@ class MappingDocument:
     def to_mapping(self, file: str | None = None) -> Mapping:
         """The mapping as edited, in spec order, entries not in the spec after them (as loaded)."""
         mapping = Mapping(file=file or self.mapping_path or "<mapping panel>", namespace=self.namespace,
-                          negotiation=self.negotiation)
+                          negotiation=self.negotiation, expected_feedback=list(self.expected_feedback))
         for kind in (INPUT, OUTPUT):
             target = mapping.inputs if kind == INPUT else mapping.outputs
             for prop in self.propositions(kind):
@@ -188,15 +201,38 @@ class MappingDocument:
         return NodeEntry(proposition=prop, kind=kind, node=node, topic=topic)
 
     def text(self) -> str:
-        """The YAML ``save`` writes (``runtime.mapping.format_mapping``; comments are not kept)."""
+        """The YAML ``save`` writes: the loaded file with the edited rows changed and everything else as
+        it was (``runtime.mapping_edit.rows_text``); a new mapping, or a file the round-trip writer cannot
+        take, as ``runtime.mapping.format_mapping`` writes it (comments are then lost)."""
+        if self.source_text:
+            rows = {key: [EditedRow(r.node, r.topic, r.origin) for r in rows if r.node or r.base]
+                    for key, rows in self.rows.items()}
+            kept = rows_text(self.source_text, rows)
+            if kept is not None:
+                return kept
         return format_mapping(self.to_mapping())
+
+    def changed_on_disk(self, path: str | None = None) -> bool:
+        """True when the file at ``path`` (default: the loaded one) is not the text this document loaded
+        or last saved: someone edited it meanwhile. A file that is gone counts as changed."""
+        path = path or self.mapping_path
+        if not path or not self.source_digest:
+            return False
+        try:
+            return text_digest(read_mapping_text(path)) != self.source_digest
+        except MappingError:
+            return True
 
     def save(self, path: str) -> None:
         """Write atomically (nothing half-written on failure). Raises ``UserError`` when ``path`` is the
         spec, ``OutputError`` when it cannot be written."""
         check_outputs([self.spec_path], [path])
-        write_output(path, self.text(), "mapping")
+        text = self.text()
+        write_output(path, text, "mapping")
         self.mapping_path = str(path)
+        # the rows keep pointing at the loaded text's entries (``source_text`` is never replaced, so an Undo
+        # after a Save still edits the right entry); what is on disk now is what was written
+        self.source_digest = text_digest(text)
 
     def resolved_node(self, kind: str, node: str, graph: LiveGraph | None = None) -> str:
         """The global node name: relative node names live in the scenario namespace ``/<ns>``, where
@@ -269,6 +305,14 @@ class MappingDocument:
             found.append(Finding(ERROR, kind, prop, f"{kind} {prop!r}: topic {topic} has type {type_}, "
                                  f"a proposition topic must be {PROPOSITION_TYPE}", i))
         return found
+
+
+def read_mapping_text(path: str) -> str:
+    """A mapping file's text; ``MappingError`` (file, line, message) when it cannot be read."""
+    try:
+        return read_text(path, "mapping file")
+    except InputError as err:  # missing, a folder, binary, not UTF-8
+        raise MappingError(path, err.line, err.message) from None
 
 
 def launch_file(doc: MappingDocument, out: str) -> list[str]:

@@ -5,7 +5,7 @@ and topics" reads the live master; each input gets a node drop-down and a topic 
 what that node publishes; each output a ``+`` to add node rows (topic drop-down: what the node
 subscribes) and a Delete per row. Findings of ``MappingDocument.validate`` are listed and marked on
 the rows as the user edits. Save writes the YAML atomically, keeping what the loaded file said
-about ``pkg``/``filename``/``parameters``; "Generate launch file" runs the existing generator.
+about ``pkg``/``filename``/``parameters``; "Generate launch" runs the existing generator.
 All logic is in ``mapping_model``; this is the view.
 """
 from __future__ import annotations
@@ -14,7 +14,7 @@ import copy
 import os
 from typing import Any
 
-from python_qt_binding.QtCore import Qt, QTimer
+from python_qt_binding.QtCore import QSize, Qt, QTimer
 from python_qt_binding.QtGui import QColor
 from python_qt_binding.QtWidgets import (
     QComboBox,
@@ -40,6 +40,7 @@ from ltl_stack.gui.widgets import (
     ComboBox,
     Task,
     ask,
+    docked_hint,
     error_text,
     line_edit,
     restore_controls,
@@ -98,9 +99,12 @@ class MappingPanel(QWidget):
                 top.addWidget(button, r, 2)
         buttons = QHBoxLayout()
         self.load_push_button = self._button("load_push_button", "Load")
-        self.refresh_push_button = self._button("refresh_graph_push_button", "Refresh nodes and topics")
+        # short labels: two panels docked side by side fit a 1280 px screen
+        self.refresh_push_button = self._button("refresh_graph_push_button", "Refresh")
+        self.refresh_push_button.setToolTip("read the master's nodes and topics (off the GUI thread)")
         self.save_push_button = self._button("save_push_button", "Save")
-        self.generate_push_button = self._button("generate_launch_push_button", "Generate launch file")
+        self.generate_push_button = self._button("generate_launch_push_button", "Generate launch")
+        self.generate_push_button.setToolTip("save the mapping, then write the launch file that starts its nodes")
         self.undo_push_button = self._button("undo_push_button", "Undo")
         self.undo_push_button.setToolTip("undo the last edit (a node or topic typed or picked, a + or a Delete)")
         self.undo_push_button.setEnabled(False)
@@ -229,6 +233,13 @@ class MappingPanel(QWidget):
             path, _ = QFileDialog.getSaveFileName(self, "Save mapping", os.getcwd(), "YAML (*.yaml *.yml)")
             if not path:
                 return False
+        same_file = bool(self.doc.mapping_path) and os.path.abspath(path) == os.path.abspath(self.doc.mapping_path)
+        if same_file and self.doc.changed_on_disk() and not self.confirm(
+                "File changed on disk", f"{path} was changed on disk since it was loaded (by another editor or "
+                "tool). Overwrite those changes with the mapping shown here?"):
+            self._status(f"Not saved: {path} changed on disk since it was loaded; Load it again to see the "
+                         "changes.", error=True)
+            return False
         try:
             self.doc.save(path)
         except Exception as err:  # noqa: BLE001 - the spec named as output, a folder that cannot be written
@@ -446,6 +457,9 @@ class MappingPanel(QWidget):
         event.accept()
 
     # --- settings (rqt's save_settings / restore_settings) -----------------------------------------
+    def sizeHint(self) -> QSize:  # noqa: N802 - Qt's name
+        return docked_hint(super().sizeHint())
+
     def save_settings(self, settings: Any) -> None:
         save_controls(self, settings)
 

@@ -116,6 +116,16 @@ def line_edit(name: str, placeholder: str) -> QLineEdit:
     return edit
 
 
+#: The width a panel asks for (its size hint): two panels docked side by side in rqt, with their frames,
+#: fit a 1280 px screen (a wider hint made rqt's window 1353-1510 px wide); a panel may be made wider.
+DOCKED_WIDTH = 600
+
+
+def docked_hint(hint: QSize) -> QSize:
+    """A panel's size hint, at most ``DOCKED_WIDTH`` wide."""
+    return QSize(min(hint.width(), DOCKED_WIDTH), hint.height())
+
+
 def status_row(text: str) -> tuple[QHBoxLayout, QProgressBar, QLabel]:
     """A panel's bottom row: a busy indicator (hidden until work runs) and the status line."""
     progress = QProgressBar()

@@ -50,7 +50,7 @@ from std_srvs.srv import SetBool, SetBoolResponse, Trigger, TriggerResponse
 
 from ltl_stack import cli
 from ltl_stack.errors import Exit, UserError
-from ltl_stack.msg import ControllerState, PropositionValuation
+from ltl_stack.msg import ControllerSource, ControllerState, PropositionValuation
 from ltl_stack.ros.master import init_node, timed_proxy
 from ltl_stack.ros.master_watch import MasterWatch
 from ltl_stack.ros.negotiation import NegotiationEndpoint, prepare_negotiation
@@ -90,6 +90,7 @@ from ltl_stack.runtime.modes import (
 from ltl_stack.runtime.negotiation import classes_authenticator, negotiation_classes
 from ltl_stack.runtime.node_params import split_param_args
 from ltl_stack.runtime.resilient_executor import BackgroundResilience, thread_runner
+from ltl_stack.runtime.running_spec import RunningSpec, running_spec
 from ltl_stack.srv import AddEnvLiveness, AddEnvLivenessResponse
 from ltl_stack.synthesis.recovery import StepResult
 
@@ -266,6 +267,10 @@ class ExecutorNode:
                                 for prop, topics in prepared.output_topics.items()}
         self.state_pub = rospy.Publisher("~state", ControllerState, queue_size=10, latch=True)
         self.valuation_pub = rospy.Publisher("~valuation", PropositionValuation, queue_size=10, latch=True)
+        #: what this node runs (latched; again with each new strategy): viewers draw it and see restarts
+        self.source_pub = rospy.Publisher("~source", ControllerSource, queue_size=10, latch=True)
+        self._started_stamp = rospy.Time.now()
+        self._source_key: tuple | None = None
         self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=10)
         self.confirmer = ViolationConfirmer(options.violation_grace, self._confirm_violation) \
             if options.violation_grace > 0 else None
@@ -608,8 +613,22 @@ class ExecutorNode:
         msg.negotiations, msg.resyntheses_negotiated = counters.negotiations, counters.negotiated
         msg.violated_clauses = self._violated_clauses()
         msg.spec_file, msg.strategy_generation = strategy_source(self.prepared.spec_path, self.resilient)
+        if (msg.spec_file, msg.strategy_generation) != self._source_key:
+            self._publish_source(running_spec(self.prepared.spec_path, self.resilient, self.options), stamp)
         self.state_pub.publish(msg)
         self.valuation_pub.publish(valuation_to_msg({**inputs, **update.outputs}, stamp))
+
+    def _publish_source(self, source: RunningSpec, stamp: Any) -> None:
+        """``~source``: the spec, generation and options of the running strategy (under the lock)."""
+        msg = ControllerSource()
+        msg.header.stamp = stamp
+        msg.started = self._started_stamp
+        msg.spec_file, msg.spec_sha256, msg.spec_text = source.spec_file, source.spec_sha256, source.spec_text
+        msg.strategy_file, msg.strategy_generation = source.strategy_file, source.generation
+        msg.robotics_semantics, msg.cooperative = source.robotics_semantics, source.cooperative
+        msg.max_explicit_states = source.max_explicit_states
+        self.source_pub.publish(msg)
+        self._source_key = (source.spec_file, source.generation)
 
     def _report_step(self, update: Update) -> None:
         text, event = step_report(update)

@@ -117,7 +117,8 @@ class MapMarkers:
         xs, ys = [p[0] for p in points], [p[1] for p in points]
         text.pose.position.x = (min(xs) + max(xs)) / 2
         text.pose.position.y = max(ys) + 0.45 + TEXT_ROW * self.config["text_row"]
-        text.text = (valuation_text(inputs, outputs, state.state_id, state.goal_index, None, state.mode)
+        text.text = (valuation_text(inputs, outputs, state.state_id, state.goal_index, None, state.mode,
+                                    bool(state.running))
                      if state is not None else "waiting for the controller's state")
         if self.config["label"]:
             text.text = f"{self.config['label']}: {text.text}"

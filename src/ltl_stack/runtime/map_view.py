@@ -13,6 +13,7 @@ from shapely.ops import triangulate
 
 from ltl_stack.runtime.regions import RegionMap
 from ltl_stack.spec.region_map import Point
+from ltl_stack.synthesis.automaton import goal_text
 
 Color = Tuple[float, float, float, float]
 
@@ -62,14 +63,22 @@ def region_shapes(regions: RegionMap, current: str | None, heading: set[str]) ->
 
 
 def valuation_text(inputs: Mapping[str, bool], outputs: Mapping[str, bool], state: int, goal: int,
-                   goals: int | None = None, mode: str = "normal") -> str:
-    """The controller's state in a few lines: state, goal (counted from 1, as controller_trace does),
-    mode, the true inputs and outputs."""
+                   goals: int | None = None, mode: str = "normal", running: bool = True) -> str:
+    """The controller's state in a few lines: state, goal (counted from 1, as every display does:
+    ``synthesis.automaton.goal_text``), mode (the executor's: recovering, stale inputs, aborted, …; paused
+    when it is not running), the true inputs and outputs."""
     true_inputs = ", ".join(p for p, v in inputs.items() if v) or "-"
     true_outputs = ", ".join(p for p, v in outputs.items() if v) or "-"
-    goal_text = f"{goal + 1}/{goals}" if goals else str(goal + 1)
-    return (f"state {state}  goal {goal_text}  mode {mode or 'normal'}\n"
+    return (f"state {state}  goal {goal_text(goal, goals)}  mode {mode_label(mode, running)}\n"
             f"sensing: {true_inputs}\ndoing: {true_outputs}")
+
+
+def mode_label(mode: str, running: bool = True) -> str:
+    """The executor's ``~state`` mode in words ("normal" when it reports none), "paused" when not running."""
+    words = (mode or "normal").replace("_", " ")
+    if running:
+        return words
+    return "paused" if words == "normal" else f"{words}, paused"
 
 
 def region_from_inputs(regions: RegionMap, inputs: Mapping[str, bool], suffix: str = "_rc") -> str | None:

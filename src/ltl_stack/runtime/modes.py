@@ -36,6 +36,7 @@ from ltl_stack.spec import SpecError
 from ltl_stack.spec.english import clause_to_english
 from ltl_stack.spec.model import Clause
 from ltl_stack.spec.valuation import format_valuation
+from ltl_stack.synthesis.automaton import goal_text
 from ltl_stack.synthesis.errors import AssumptionViolation
 from ltl_stack.synthesis.explain_render import clause_line, explanation_text
 from ltl_stack.synthesis.game import Game, prime_name
@@ -371,7 +372,7 @@ def readings_key(readings: Mapping[str, bool]) -> tuple:
 def step_report(update: Update) -> tuple[str, dict[str, Any]]:
     """The log line and the ``--json`` event of a step (or of the initial state)."""
     state = update.state
-    text = (f"{'initial' if update.started else 'step to'} state {state.id} (goal {state.goal}): inputs "
+    text = (f"{'initial' if update.started else 'step to'} state {state.id} (goal {goal_text(state.goal)}): inputs "
             f"{format_valuation(state.inputs)} -> outputs {format_valuation(update.outputs)}")
     return text, {"event": "start" if update.started else "step", "state": state.id, "goal": state.goal,
                   "inputs": dict(state.inputs), "outputs": update.outputs}
@@ -585,7 +586,7 @@ class NodeReports:
             state = Status(OK, "controller", "waiting for every input to report")
         else:
             s = controller.state
-            state = Status(OK, "controller", f"running: state {s.id}, goal {s.goal}",
+            state = Status(OK, "controller", f"running: state {s.id}, goal {goal_text(s.goal)}",
                            [("state", str(s.id)), ("goal", str(s.goal))], quiet=True)
         return [inputs, state]
 

@@ -8,6 +8,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
+from ltl_stack.synthesis.automaton import goal_text
+
 
 @dataclass(frozen=True)
 class TraceStep:
@@ -45,7 +47,7 @@ def changes(previous: TraceStep | None, current: TraceStep) -> list[str]:
 
 def describe(previous: TraceStep | None, current: TraceStep, goals: int | None = None) -> str:
     """One line: time, state, goal, what is sensed, what is done, what changed."""
-    goal = f"{current.goal + 1}/{goals}" if goals else str(current.goal)
+    goal = goal_text(current.goal, goals)
     sensing = ", ".join(current.true_inputs()) or "-"
     doing = ", ".join(current.true_outputs()) or "-"
     line = f"[{current.time:7.2f}s] state {current.state_id:<8d} goal {goal:<5s} sensing: {sensing:<32s} doing: {doing}"

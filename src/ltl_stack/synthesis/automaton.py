@@ -31,6 +31,15 @@ DOT_LAYOUT_LIMIT = 100
 VERSION = 1
 
 
+def goal_text(goal: int, goals: int | None = None) -> str:
+    """A system goal as every display numbers it: from 1, as the thesis numbers the system liveness goals
+    (``k/n`` when the number of goals ``n`` is known; "-" for none, before the first state). Machine-readable
+    outputs (``goal_index`` on ``~state``, JSON) keep the index from 0."""
+    if goal < 0:
+        return "-"
+    return f"{goal + 1}/{goals}" if goals else str(goal + 1)
+
+
 @dataclass
 class AutomatonState:
     id: int
@@ -168,7 +177,7 @@ class Automaton:
         for s in self.states:
             outs = ", ".join(n for n in self.outputs if s.outputs[n]) or "-"
             style = ", peripheries=2" if s.id in initial else ""
-            lines.append(f'  s{s.id} [label="{s.id} (goal {s.goal})\\n{_esc(outs)}"{style}];')
+            lines.append(f'  s{s.id} [label="{s.id} (goal {goal_text(s.goal)})\\n{_esc(outs)}"{style}];')
         by_id = {s.id: s for s in self.states}
         for s in self.states:
             recovery = set(s.recovery)

@@ -419,7 +419,50 @@ def test_mode_and_executor_name():
     assert executor_of("/clean_and_patrol/controller_executor/state") == "/clean_and_patrol/controller_executor"
     u = StateUpdate(3, 0, {}, {}, False)
     assert mode_text(u, "").startswith("paused") and "violated" in mode_text(u, "x")
-    assert "ready handshake" in mode_text(StateUpdate(-1, -1, {}, {}, True), "")
+    waiting = StateUpdate(-1, -1, {}, {}, True)
+    assert "waiting" not in mode_text(waiting, "")  # nothing said by the executor: nothing invented
+
+
+def test_before_the_first_state_the_status_is_the_executors_own():
+    """Issue 34: "waiting for every input to report" while the executor said every input had reported
+    and no initial state matched, or that it was paused. The text is the executor's /diagnostics."""
+    waiting, paused = StateUpdate(-1, -1, {}, {}, True), StateUpdate(-1, -1, {}, {}, False)
+    no_init = {"inputs": (0, "every input has reported"),
+               "controller": (2, "no initial state: no initial state matches person=1")}
+    assert mode_text(waiting, "", no_init) == "executor: no initial state: no initial state matches person=1"
+    silent = {"inputs": (1, "waiting for input(s) person, door"), "controller": (0, "waiting for every input to report")}
+    assert mode_text(waiting, "", silent) == "executor: waiting for input(s) person, door"
+    said_paused = {**silent, "controller": (0, "paused: every output is false")}
+    assert mode_text(paused, "", said_paused) == "executor: paused: every output is false"
+    assert "waiting" not in mode_text(paused, "", {})
+    assert mode_text(StateUpdate(-1, -1, {}, {}, False, mode="aborted"), "", silent).startswith("aborted")
+
+
+def test_goals_are_numbered_from_1_in_every_display():
+    """Issue 34: one state had "goal 3" in RViz and controller_trace --spec, "goal 2" in rqt and controller_trace."""
+    from ltl_stack.runtime.map_view import valuation_text
+    from ltl_stack.runtime.trace import TraceStep, describe
+    from ltl_stack.synthesis.automaton import goal_text
+
+    assert (goal_text(0), goal_text(2, 4), goal_text(-1)) == ("1", "3/4", "-")
+    step = TraceStep(time=0.0, state_id=7, goal=2, inputs={}, outputs={}, running=True)
+    assert " goal 3 " in describe(None, step) and " goal 3/4 " in describe(None, step, 4)
+    assert "goal 3/4" in valuation_text({}, {}, 7, 2, 4) and "goal 3 " in valuation_text({}, {}, 7, 2)
+    automaton = ControllerModel.synthesize(SIMPLE_SPEC).automaton
+    state = automaton.states[0]
+    assert f"{state.id} (goal {state.goal + 1})" in automaton.to_dot()
+    model = ControllerModel.indexed(str(SIMPLE_SPEC), automaton, ViewOptions())
+    assert f"{state.id} (goal {state.goal + 1})" in model.graph().to_dot()
+
+
+def test_rviz_text_says_paused_aborted_and_stale_modes():
+    """Issue 34: RViz showed a paused executor as "mode normal"."""
+    from ltl_stack.runtime.map_view import valuation_text
+
+    assert "mode paused" in valuation_text({}, {}, 1, 0, None, "normal", running=False)
+    assert "mode aborted" in valuation_text({}, {}, 1, 0, None, "aborted", running=False)
+    assert "mode stale inputs" in valuation_text({}, {}, 1, 0, None, "stale_inputs")
+    assert "mode recovering, paused" in valuation_text({}, {}, 1, 0, None, "recovering", running=False)
 
 
 def test_latest_hands_over_only_the_newest_value():
@@ -444,3 +487,130 @@ def test_latest_hands_over_only_the_newest_value():
         taken.append(v)
     assert taken and taken[-1] == 4999 and taken == sorted(taken)
     assert latest.put_count == 5000 and latest.take() is None
+
+
+def _comments(text: str) -> list[str]:
+    return [line.strip() for line in text.splitlines() if line.strip().startswith("#")]
+
+
+def test_saving_without_an_edit_writes_the_file_unchanged(tmp_path):
+    """Issue 34: Save with no edit dropped expected_feedback: (36 E1 conflicts afterwards) and every comment."""
+    out = tmp_path / "m.yaml"
+    out.write_text(CLEAN_MAPPING.read_text())
+    doc = MappingDocument.load(str(CLEAN_SPEC), str(out))
+    doc.save(str(out))
+    assert out.read_text() == CLEAN_MAPPING.read_text()
+    assert load_mapping(out).expected_feedback == load_mapping(CLEAN_MAPPING).expected_feedback
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.lists(st.tuples(st.sampled_from(["node", "topic", "add"]), st.integers(0, 40),
+                          st.sampled_from(["a", "/b/c", "rel_node", "object"])), min_size=1, max_size=8))
+def test_any_edit_keeps_every_comment_and_every_key_it_did_not_touch(edits):
+    doc = MappingDocument.load(str(CLEAN_SPEC), str(CLEAN_MAPPING))
+    keys = sorted(k for k in doc.rows if doc.rows[k])
+    for op, k, name in edits:
+        kind, prop = keys[k % len(keys)]
+        if op == "add" and kind == OUTPUT:
+            doc.add_row(prop)
+        elif op == "topic":
+            doc.set_topic(kind, prop, 0, name)
+        else:
+            doc.set_node(kind, prop, 0, name)
+    text = doc.text()
+    original = CLEAN_MAPPING.read_text()
+    assert _comments(text) == _comments(original)
+    back, before = parse_mapping(text, "x.yaml"), load_mapping(CLEAN_MAPPING)
+    assert (back.namespace, back.expected_feedback, back.negotiation) == (
+        before.namespace, before.expected_feedback, before.negotiation)
+    mine = doc.to_mapping()
+    for section, other, old in ((mine.inputs, back.inputs, before.inputs), (mine.outputs, back.outputs, before.outputs)):
+        assert {p: [(e.node, e.topic) for e in es] for p, es in section.items()} == \
+            {p: [(e.node, e.topic) for e in es] for p, es in other.items()}
+        for prop, entries in other.items():  # every key the panel does not edit, as loaded
+            loaded = old.get(prop, [])
+            for new, was in ((entries[i], loaded[i]) for i in range(min(len(entries), len(loaded)))):
+                assert (new.pkg, new.filename, new.parameters, new.type, new.args) == (
+                    was.pkg, was.filename, was.parameters, was.type, was.args)
+
+
+def test_a_file_changed_on_disk_since_it_was_loaded_is_noticed(tmp_path):
+    out = tmp_path / "m.yaml"
+    out.write_text(CLEAN_MAPPING.read_text())
+    doc = MappingDocument.load(str(CLEAN_SPEC), str(out))
+    assert not doc.changed_on_disk()
+    out.write_text(out.read_text() + "# edited in another editor\n")
+    assert doc.changed_on_disk()
+    doc.save(str(out))  # the document's own save is the new reference
+    assert not doc.changed_on_disk()
+    out.unlink()
+    assert doc.changed_on_disk()
+
+
+def _source(path, text, generation=0, started=1.0):
+    from ltl_stack.gui.controller_model import ExecutorSource
+    from ltl_stack.runtime.running_spec import RunningSpec, spec_digest
+
+    return ExecutorSource(RunningSpec(str(path), spec_digest(text), text, "", generation, True, True, 20000), started)
+
+
+def test_the_view_draws_the_executors_spec_and_warns_when_the_named_one_differs(tmp_path):
+    from ltl_stack.gui.controller_model import source_spec
+
+    running = tmp_path / "running.structuredslugs"
+    running.write_text(SIMPLE_SPEC.read_text())
+    same = _source(running, SIMPLE_SPEC.read_text())
+    assert source_spec(same, str(SIMPLE_SPEC)) == (str(running), "")  # same content: no banner
+    other = tmp_path / "other.structuredslugs"
+    other.write_text(SIMPLE_SPEC.read_text() + "\n[SYS_LIVENESS]\nmove\n")
+    path, banner = source_spec(same, str(other))
+    assert path == str(running) and str(running) in banner and str(other) in banner
+    # the executor's file is not readable here (another machine) or changed since: its text is drawn
+    gone = _source(tmp_path / "elsewhere" / "spec.structuredslugs", SIMPLE_SPEC.read_text())
+    path, banner = source_spec(gone, "")
+    assert path != gone.spec.spec_file and open(path).read() == SIMPLE_SPEC.read_text() and banner == ""
+    running.write_text("changed")
+    assert source_spec(same, "")[0] != str(running)
+    # a later strategy (characterized, adopted) differs from the named spec by design: no banner
+    assert source_spec(_source(other, other.read_text(), generation=2), str(SIMPLE_SPEC))[1] == ""
+    nothing = _source("", "", generation=1)
+    path, banner = source_spec(nothing, "")
+    assert path is None and "cannot read" in banner
+
+
+def test_liveness_says_why_the_executor_is_not_heard_from():
+    from ltl_stack.gui.controller_model import CONNECT_GRACE, STALE_AFTER, liveness
+
+    assert liveness(100.0, 99.0, 90.0, True, True, 0.0) == (True, "last state 10 s ago")
+    assert liveness(100.0, 99.0, None, True, True, 0.0) == (True, "no state yet")
+    alive, text = liveness(100.0, 99.0, 90.0, False, True, 0.0)
+    assert not alive and "no executor publishes" in text
+    assert liveness(1.0, 1.0, None, False, True, 1.0 - CONNECT_GRACE / 2)[0]  # just attached: connecting
+    alive, text = liveness(100.0, 100.0 - STALE_AFTER - 1, 90.0, True, True, 0.0)
+    assert not alive and "nothing from the executor" in text
+    alive, text = liveness(100.0, 99.0, 90.0, True, False, 0.0)
+    assert not alive and "no ROS master answers" in text
+
+
+def test_undo_after_a_save_edits_the_right_entries(tmp_path):
+    """The rows keep pointing at the loaded file's entries: deleting a node, saving, then taking the
+    delete back writes each entry with its own keys again."""
+    import copy
+
+    out = tmp_path / "m.yaml"
+    out.write_text(CLEAN_MAPPING.read_text())
+    doc = MappingDocument.load(str(CLEAN_SPEC), str(out))
+    doc.add_row("stop")
+    doc.set_node(OUTPUT, "stop", 1, "/brake")
+    doc.save(str(out))
+    before = copy.deepcopy(doc.rows)
+    doc.delete_row(OUTPUT, "stop", 0)
+    doc.save(str(out))
+    assert [e.node for e in load_mapping(out).outputs["stop"]] == ["/brake"]
+    doc.rows = before  # Undo
+    doc.save(str(out))
+    again, original = load_mapping(out).outputs["stop"], load_mapping(CLEAN_MAPPING).outputs["stop"][0]
+    assert [e.node for e in again] == ["stop", "/brake"]
+    assert (again[0].pkg, again[0].filename, again[0].parameters) == (original.pkg, original.filename,
+                                                                      original.parameters)
+    assert again[1].pkg is None and again[1].parameters == {}

@@ -831,3 +831,31 @@ def test_closing_the_mapping_panel_with_unsaved_edits_asks(mapping_panel):
     assert not panel.close() and panel.isVisible()
     panel.confirm = lambda title, text: True
     assert panel.close()
+
+
+@pytest.mark.parametrize("pair", [("mapping_panel", "controller_view"), ("analysis_panel", "controller_view"),
+                                  ("mapping_panel", "analysis_panel")])
+def test_two_panels_docked_side_by_side_fit_a_1280_px_screen(qtbot, pair):
+    """Issue 34: two panels docked side by side made rqt's window 1353-1510 px wide. Docked as rqt docks
+    plugins (a QDockWidget each in a QMainWindow), the window opens and can be made at most 1280 px wide."""
+    from python_qt_binding.QtCore import Qt
+    from python_qt_binding.QtWidgets import QDockWidget, QMainWindow
+
+    from ltl_stack.gui.standalone import make_panel
+
+    window = QMainWindow()
+    qtbot.addWidget(window)
+    panels = []
+    for name, area in ((pair[0], Qt.LeftDockWidgetArea), (pair[1], Qt.RightDockWidgetArea)):
+        panel = make_panel(name)
+        dock = QDockWidget(name, window)
+        dock.setWidget(panel)
+        window.addDockWidget(area, dock)
+        panels.append(panel)
+    window.show()
+    qtbot.waitExposed(window)
+    assert window.minimumSizeHint().width() <= 1280, window.minimumSizeHint()
+    assert window.sizeHint().width() <= 1280 and window.width() <= 1280, (window.sizeHint(), window.width())
+    for panel in panels:
+        if hasattr(panel, "shutdown"):
+            panel.shutdown()

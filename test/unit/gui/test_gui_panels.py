@@ -247,7 +247,7 @@ def test_controller_view_follows_states_and_pauses(qtbot):
         link.put(StateUpdate(sid + 1000, s.goal, s.inputs, s.outputs, True))
         qtbot.waitUntil(lambda sid=sid: view.model.current == sid and view.current_node_id() is not None,
                         timeout=WAIT)
-        assert view.state_label.text() == f"state {sid} (goal {s.goal})"
+        assert view.state_label.text() == f"state {sid} (goal {s.goal + 1}/{view.model.automaton.goals})"
         lit = view.lamp_values()
         assert all(lit[n] == s.outputs[n] for n in a.outputs) and all(lit[n] == s.inputs[n] for n in a.inputs)
     assert view.graph_view._marks, "the current state is not highlighted"
@@ -257,7 +257,7 @@ def test_controller_view_follows_states_and_pauses(qtbot):
     link.put(StateUpdate(1, s.goal, s.inputs, {n: False for n in a.outputs}, False))
     qtbot.waitUntil(lambda: view.run_pause_push_button.text() == "Run", timeout=WAIT)
     assert "paused" in view.mode_label.text() or "not in the automaton" in view.state_label.text()
-    view.diagnostic.emit(2, "environment assumption violated by inputs ...")
+    link.on_diagnostic(2, "environment assumption violated by inputs ...")
     qtbot.waitUntil(lambda: "violated" in view.mode_label.text(), timeout=WAIT)
     view.shutdown()
 

@@ -97,11 +97,11 @@ def test_health_before_the_inputs_paused_and_running():
         "stepping until every input has reported once — is each input proposition node running?")
     update = controller.report_many({"person": False, "door": True})
     inputs, state = reports.health(waited=12.0)
-    assert inputs.quiet and state.quiet and state.message == f"running: state {update.state.id}, goal 0"
+    assert inputs.quiet and state.quiet and state.message == f"running: state {update.state.id}, goal 1"
     assert reports.silent_inputs(12.0) is None
     controller.set_running(False)
     assert reports.health(12.0)[1].message == "paused: every output is false"
-    assert step_report(update)[0].startswith(f"initial state {update.state.id} (goal 0): inputs ")
+    assert step_report(update)[0].startswith(f"initial state {update.state.id} (goal 1): inputs ")
 
 
 def test_a_second_publisher_is_warned_about_once():
