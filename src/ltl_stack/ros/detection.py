@@ -48,7 +48,7 @@ def message_fields(type_name: str) -> dict[str, str] | None:
     cls = roslib.message.get_message_class("std_msgs/Header" if type_name == "Header" else type_name)
     if cls is None:
         raise LookupError(f"unknown message type {type_name}")
-    return dict(zip(cls.__slots__, cls._slot_types))
+    return {name: cls._slot_types[i] for i, name in enumerate(cls.__slots__)}
 
 
 def field_type(type_name: str, steps: Sequence[str | int]) -> str:
