@@ -180,6 +180,11 @@ class PropositionPublisher:
         return changed
 
     def _tick(self, _event: Any) -> None:
+        self.republish()
+
+    def republish(self) -> None:
+        """Publish the value again (the periodic republication; a node with many propositions
+        makes them with ``rate=0`` and calls this from one timer of its own)."""
         with self._lock:
             if self._value is not None:
                 self._pub.publish(self._bool(data=self._value))

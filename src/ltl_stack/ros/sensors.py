@@ -113,8 +113,11 @@ class RegionSensor(InputPropositionNode):
                                      x_trans=config["x_trans"], y_trans=config["y_trans"],
                                      flip_y=config["flip_y"])
             self.region = regions.find(config["region"])
+            self.regions = regions
         except RegionsError as error:
             raise NodeConfigError(f"{rospy.get_name()}: {error}") from None
+        for warning in regions.warnings:
+            rospy.logwarn("%s: %s", rospy.get_name(), warning)
         self.cls = message_class(config["pose_type"]) if config["pose_type"] else None
         super().__init__(config)
 
@@ -134,7 +137,8 @@ class RegionSensor(InputPropositionNode):
 
     def _on_pose(self, msg: Any) -> None:
         x, y = pose_xy(msg)
-        self.set_value(self.region.contains(x, y))
+        # in a region nested in this one the robot is in the nested one (as every map reader says)
+        self.set_value(self.region.contains(x, y) and self.regions.region_at(x, y) == self.region.name)
 
 
 def threshold_sensor_main() -> None:

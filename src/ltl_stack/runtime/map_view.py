@@ -11,7 +11,7 @@ from shapely.geometry import Polygon
 from shapely.ops import triangulate
 
 from ltl_stack.runtime.regions import RegionMap
-from ltl_stack.spec.region_map import Point
+from ltl_stack.spec.region_map import BOUNDARY, Point
 
 Color = tuple[float, float, float, float]
 
@@ -72,8 +72,15 @@ def valuation_text(inputs: Mapping[str, bool], outputs: Mapping[str, bool], stat
 
 
 def region_from_inputs(regions: RegionMap, inputs: Mapping[str, bool], suffix: str = "_rc") -> str | None:
-    """The region whose ``R<suffix>`` input is true (the first one), when the spec has such inputs."""
-    for name in regions.names():
-        if inputs.get(name + suffix):
+    """The region whose ``R<suffix>`` input is true (the first such input), when the spec has such
+    inputs. Work in the number of inputs, not of regions (a map may hold thousands)."""
+    for key, value in inputs.items():
+        name = key[:-len(suffix)] if suffix and key.endswith(suffix) else None
+        if value and name and name in regions.regions and name != BOUNDARY:
             return name
     return None
+
+
+def heading_regions(regions: RegionMap, outputs: Mapping[str, bool]) -> set[str]:
+    """The regions the controller heads for: true outputs named as a region."""
+    return {name for name, value in outputs.items() if value and name in regions.regions and name != BOUNDARY}
