@@ -48,10 +48,11 @@ def region_shapes(regions: RegionMap, current: str | None, heading: set[str]) ->
     """Outline, fill and name of every region (the boundary only outlined); the fill's colour says
     whether the robot is in it (``current``), heads for it (``heading``) or neither."""
     shapes = []
+    places = set(regions.names())
     for name in regions.names(include_boundary=True):
         region = regions.regions[name]
         shapes.append(Shape("outline", name, OUTLINE, tuple([*region.polygon, region.polygon[0]])))
-        if name not in regions.names():
+        if name not in places:
             continue
         color = CURRENT if name == current else HEADING if name in heading else IDLE
         polygon = Polygon(region.polygon, region.holes)
