@@ -285,7 +285,7 @@ def test_check_run_names_the_step_and_clause_of_an_injected_violation(clean_and_
                       capture_output=True, text=True, timeout=300)
     assert done.returncode == Exit.NEGATIVE, done.stdout + done.stderr
     lines = done.stdout.splitlines()
-    step = len(distinct_steps(trace_steps(kept))) - 1  # the changed state, numbered as check_run does
+    step = len(distinct_steps(trace_steps([(0.0, m) for m in kept]))) - 1  # the changed state, numbered as check_run does
     into = f"step {step - 1} -> {step} "
     assert any(line.startswith(into) and "assumption broken" in line
                and "clean_and_patrol.structuredslugs:40: (topLane_rc' & !rightLane_rc'" in line for line in lines), lines

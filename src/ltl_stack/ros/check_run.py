@@ -7,7 +7,11 @@ is needed: the bag is read from the file.
 """
 from __future__ import annotations
 
+import struct
 import sys
+from collections.abc import Iterable, Iterator
+from contextlib import contextmanager
+from dataclasses import replace
 from pathlib import Path
 
 from ltl_stack import cli
@@ -17,40 +21,93 @@ from ltl_stack.runtime.trace import TraceStep
 STATE_TYPE = "ltl_stack/ControllerState"
 
 
-def read_states(bag_path: str, topic: str | None = None, namespace: str | None = None) -> tuple[str, list]:
-    """(topic, messages) of the ControllerState topic in the bag: ``topic``, else the executor's of the
-    scenario ``namespace``, else the only ControllerState topic the bag holds. InputError otherwise."""
+#: what rosbag and genpy raise on a corrupt or truncated bag, besides their own exceptions (the
+#: chunk and record parsers index, unpack, decompress and decode whatever the file holds)
+CORRUPT = (OSError, ValueError, KeyError, IndexError, TypeError, AttributeError, EOFError, OverflowError,
+           struct.error, UnicodeError, MemoryError)
+
+
+@contextmanager
+def open_states(bag_path: str, topic: str | None = None, namespace: str | None = None,
+                from_start: bool = False) -> Iterator:
+    """``with open_states(...) as (topic, messages)``: the ControllerState topic of the bag (``topic``,
+    else the executor's of the scenario ``namespace``, else the only ControllerState topic it holds)
+    and an iterator over ``(record time, message)``, read from the file as it is consumed (memory
+    does not grow with the bag). InputError naming the bag otherwise, and for a bag that turns out to
+    be corrupt while it is read: one line, never a traceback. ``from_start``: the run begins with the
+    controller's first state, from the executor's latched ``~initial_state`` when the bag holds it (a
+    recorder that connected after the first burst of ``~state`` missed it there)."""
+    import genpy
     import rosbag
 
+    bag_errors = (rosbag.ROSBagException, rosbag.ROSBagFormatException, genpy.DeserializationError, *CORRUPT)
     path = Path(bag_path)
     if not path.is_file():
         raise InputError(bag_path, "no such bag file" if not path.exists() else "not a file")
     try:
-        with rosbag.Bag(bag_path) as bag:
-            topics = bag.get_type_and_topic_info().topics
-            states = sorted(t for t, info in topics.items() if info.msg_type == STATE_TYPE)
-            wanted = topic or (f"/{namespace.strip('/')}/controller_executor/state" if namespace else None)
-            if wanted is not None and wanted not in states and topic is None and len(states) == 1:
-                wanted = states[0]
-            if wanted is None:
-                if len(states) != 1:
-                    raise InputError(bag_path, f"holds {len(states)} {STATE_TYPE} topics ({', '.join(states) or 'none'}):"
-                                     " name one with --topic")
-                wanted = states[0]
-            if wanted not in states:
-                raise InputError(bag_path, f"no {STATE_TYPE} messages on {wanted} (it has: {', '.join(states) or 'none'})")
-            return wanted, [msg for _, msg, _ in bag.read_messages(topics=[wanted])]
-    except (rosbag.ROSBagException, rosbag.ROSBagFormatException, OSError, ValueError) as error:
+        bag = rosbag.Bag(bag_path)
+    except bag_errors as error:
         raise InputError(bag_path, f"cannot read the bag: {error}") from None
+    try:
+        try:
+            topics = bag.get_type_and_topic_info().topics
+        except bag_errors as error:
+            raise InputError(bag_path, f"cannot read the bag: {error}") from None
+        states = sorted(t for t, info in topics.items() if info.msg_type == STATE_TYPE)
+        wanted = topic or (f"/{namespace.strip('/')}/controller_executor/state" if namespace else None)
+        if wanted is not None and wanted not in states and topic is None and len(states) == 1:
+            wanted = states[0]
+        if wanted is None:
+            if len(states) != 1:
+                raise InputError(bag_path, f"holds {len(states)} {STATE_TYPE} topics ({', '.join(states) or 'none'}):"
+                                 " name one with --topic")
+            wanted = states[0]
+        if wanted not in states:
+            raise InputError(bag_path, f"no {STATE_TYPE} messages on {wanted} (it has: {', '.join(states) or 'none'})")
+
+        initial = wanted.rsplit("/", 1)[0] + "/initial_state"
+
+        def messages() -> Iterator:
+            try:
+                if from_start and initial in topics and topics[initial].msg_type == STATE_TYPE:
+                    for _, msg, when in bag.read_messages(topics=[initial]):
+                        yield when.to_sec(), msg
+                        break  # the first start of the controller the bag saw
+                for _, msg, when in bag.read_messages(topics=[wanted]):
+                    yield when.to_sec(), msg
+            except bag_errors as error:
+                raise InputError(bag_path, f"cannot read the bag: {error}") from None
+
+        yield wanted, messages()
+    finally:
+        try:
+            bag.close()
+        except bag_errors:
+            pass  # a bag that could not be read may not close cleanly either: the error was reported
 
 
-def trace_steps(messages: list) -> list[TraceStep]:
-    """The messages as ``TraceStep`` values, timed from the first."""
+def read_states(bag_path: str, topic: str | None = None, namespace: str | None = None) -> tuple[str, list]:
+    """(topic, messages) of the ControllerState topic in the bag, all in memory (``open_states`` streams)."""
+    with open_states(bag_path, topic, namespace) as (found, messages):
+        return found, [msg for _, msg in messages]
+
+
+def trace_steps(records: Iterable, source: str = "the bag") -> Iterator[TraceStep]:
+    """The recorded ``(record time, message)`` pairs as ``TraceStep`` values, timed from the first by
+    the record time (a bag's record times never go back, while replayed header stamps may), one at a
+    time; a message that cannot be read is InputError naming its place."""
     from ltl_stack.ros.controller_trace import step_of
 
-    messages = [m for m in messages if m.state_id >= 0]
-    start = messages[0].header.stamp.to_sec() if messages else 0.0
-    return [step_of(m, start) for m in messages]
+    start = None
+    for index, (when, msg) in enumerate(records):
+        if msg.state_id < 0:
+            continue
+        start = when if start is None else start
+        try:
+            step = step_of(msg, msg.header.stamp.to_sec())
+        except (ValueError, TypeError) as error:
+            raise InputError(source, f"ControllerState #{index + 1} cannot be read: {error}") from None
+        yield replace(step, time=max(0.0, when - start))
 
 
 def build_parser() -> cli.ToolParser:
@@ -85,14 +142,13 @@ def _check(args) -> int:
 
     spec = load_spec(args.spec)
     namespace = load_mapping(args.mapping).scenario_namespace()
-    topic, messages = read_states(args.bag, args.topic, namespace)
-    steps = trace_steps(messages)
-    if not steps:
+    with open_states(args.bag, args.topic, namespace, args.from_start) as (topic, messages):
+        try:
+            report = check_run(spec, trace_steps(messages, args.bag), args.from_start)
+        except ValueError as error:
+            raise UserError(f"{args.bag}: {error}") from None
+    if not report.steps:
         raise InputError(args.bag, f"no controller state on {topic}")
-    try:
-        report = check_run(spec, steps, args.from_start)
-    except ValueError as error:
-        raise UserError(f"{args.bag}: {error}") from None
     if args.json:
         cli.print_json({"bag": args.bag, "topic": topic, **report.to_dict()})
     else:
