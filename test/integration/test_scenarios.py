@@ -259,6 +259,33 @@ def test_check_run_on_the_demo_bag_finds_every_assumption_and_guarantee_held(cle
     assert len(report["goals"]) == 6 and all(g["reached"] >= 2 for g in report["goals"]), report["goals"]
 
 
+def test_check_run_from_the_start_of_the_demo_bag_holds_and_counts_every_goal_the_trace_met(
+        clean_and_patrol_run, demo_bag):
+    """The demo records the controller's first state (the executor latches it on ~initial_state) and
+    every state settling passed through: --from-start holds on a correct run, and each goal the goal
+    index moved past was met in a recorded state (the executor published only the settled state
+    before: "goal 1 reached 0 time(s)" on a run whose goal index went 1 -> 2 -> 3 -> 4)."""
+    import rosbag
+
+    done = run_script(["rosrun", "ltl_stack", "check_run", str(SPEC), str(MAPPING), str(demo_bag), "--json",
+                       "--from-start"], capture_output=True, text=True, timeout=300)
+    assert done.returncode == Exit.OK, done.stdout + done.stderr
+    report = json.loads(done.stdout)
+    assert report["initial_checked"] and report["ok"], report["violations"]
+    passed_over = [0] * len(report["goals"])
+    with rosbag.Bag(str(demo_bag)) as bag:
+        goals = [m.goal_index for _, m, _ in bag.read_messages(topics=["/clean_and_patrol/controller_executor/state"])
+                 if m.state_id >= 0]
+    for index in range(1, len(goals)):
+        k, after = goals[index - 1], goals[index]
+        while k != after:  # every goal from the one pursued up to the next one pursued was met
+            passed_over[k] += 1
+            k = (k + 1) % len(passed_over)
+    assert sum(passed_over) >= 8, goals  # two cycles through the four lanes at least
+    reached = [g["reached"] for g in report["goals"]]
+    assert all(reached[k] >= passed_over[k] for k in range(len(reached))), (reached, passed_over)
+
+
 def test_check_run_names_the_step_and_clause_of_an_injected_violation(clean_and_patrol_run, demo_bag, tmp_path):
     import rosbag
 
