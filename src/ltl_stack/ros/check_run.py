@@ -7,10 +7,12 @@ is needed: the bag is read from the file.
 """
 from __future__ import annotations
 
+import contextlib
+import io
+import logging
 import struct
 import sys
 from collections.abc import Iterable, Iterator
-from contextlib import contextmanager
 from dataclasses import replace
 from pathlib import Path
 
@@ -27,7 +29,7 @@ CORRUPT = (OSError, ValueError, KeyError, IndexError, TypeError, AttributeError,
            struct.error, UnicodeError, MemoryError)
 
 
-@contextmanager
+@contextlib.contextmanager
 def open_states(bag_path: str, topic: str | None = None, namespace: str | None = None,
                 from_start: bool = False) -> Iterator:
     """``with open_states(...) as (topic, messages)``: the ControllerState topic of the bag (``topic``,
@@ -47,12 +49,12 @@ def open_states(bag_path: str, topic: str | None = None, namespace: str | None =
     try:
         bag = rosbag.Bag(bag_path)
     except bag_errors as error:
-        raise InputError(bag_path, f"cannot read the bag: {error}") from None
+        raise InputError(bag_path, f"cannot read the bag: {_why(error)}") from None
     try:
         try:
             topics = bag.get_type_and_topic_info().topics
         except bag_errors as error:
-            raise InputError(bag_path, f"cannot read the bag: {error}") from None
+            raise InputError(bag_path, f"cannot read the bag: {_why(error)}") from None
         states = sorted(t for t, info in topics.items() if info.msg_type == STATE_TYPE)
         wanted = topic or (f"/{namespace.strip('/')}/controller_executor/state" if namespace else None)
         if wanted is not None and wanted not in states and topic is None and len(states) == 1:
@@ -68,15 +70,18 @@ def open_states(bag_path: str, topic: str | None = None, namespace: str | None =
         initial = wanted.rsplit("/", 1)[0] + "/initial_state"
 
         def messages() -> Iterator:
+            quiet = _DecodingNotice()
+            logging.getLogger("rosout").addFilter(quiet)  # genpy's line about a string it could not decode
             try:
                 if from_start and initial in topics and topics[initial].msg_type == STATE_TYPE:
-                    for _, msg, when in bag.read_messages(topics=[initial]):
-                        yield when.to_sec(), msg
+                    for when, msg in _quietly(bag_path, bag.read_messages(topics=[initial])):
+                        yield when, msg
                         break  # the first start of the controller the bag saw
-                for _, msg, when in bag.read_messages(topics=[wanted]):
-                    yield when.to_sec(), msg
+                yield from _quietly(bag_path, bag.read_messages(topics=[wanted]))
             except bag_errors as error:
-                raise InputError(bag_path, f"cannot read the bag: {error}") from None
+                raise InputError(bag_path, f"cannot read the bag (corrupt or truncated): {_why(error)}") from None
+            finally:
+                logging.getLogger("rosout").removeFilter(quiet)
 
         yield wanted, messages()
     finally:
@@ -84,6 +89,37 @@ def open_states(bag_path: str, topic: str | None = None, namespace: str | None =
             bag.close()
         except bag_errors:
             pass  # a bag that could not be read may not close cleanly either: the error was reported
+
+
+def _quietly(bag_path: str, records: Iterator) -> Iterator:
+    """``(record time, message)`` of rosbag's records; what rosbag prints on stderr about a corrupt
+    message definition becomes the one error line."""
+    while True:
+        noise = io.StringIO()
+        with contextlib.redirect_stderr(noise):
+            try:
+                _, msg, when = next(records)
+            except StopIteration:
+                return
+        if "invalid message definition" in noise.getvalue():
+            raise InputError(bag_path, f"cannot read the bag (corrupt): the bag's definition of {STATE_TYPE} is "
+                             "not valid")
+        yield when.to_sec(), msg
+
+
+class _DecodingNotice(logging.Filter):
+    """Drops genpy's "Characters replaced when decoding" line: a corrupt string in a bag is read with
+    replacement characters (and a proposition name that no longer matches is reported in one line)."""
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        return not str(record.msg).startswith("Characters replaced when decoding")
+
+
+def _why(error: BaseException) -> str:
+    """An exception as words: a KeyError's text is only the missing key."""
+    if isinstance(error, KeyError):
+        return f"a record refers to {error} which the bag does not define"
+    return str(error) or type(error).__name__
 
 
 def read_states(bag_path: str, topic: str | None = None, namespace: str | None = None) -> tuple[str, list]:
@@ -100,13 +136,13 @@ def trace_steps(records: Iterable, source: str = "the bag") -> Iterator[TraceSte
 
     start = None
     for index, (when, msg) in enumerate(records):
-        if msg.state_id < 0:
-            continue
-        start = when if start is None else start
         try:
+            if msg.state_id < 0:
+                continue
             step = step_of(msg, msg.header.stamp.to_sec())
-        except (ValueError, TypeError) as error:
+        except (ValueError, TypeError, AttributeError) as error:
             raise InputError(source, f"ControllerState #{index + 1} cannot be read: {error}") from None
+        start = when if start is None else start
         yield replace(step, time=max(0.0, when - start))
 
 
