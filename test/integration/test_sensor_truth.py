@@ -133,3 +133,22 @@ def test_map_markers_survive_a_controller_state_they_cannot_read(ros, tmp_path):
     last = markers.wait_last(lambda m: "state 7" in m.markers[-1].text, what="the next good state")
     assert node.running() and "Traceback" not in node.output()
     assert [m.text for m in last.markers if m.ns == "highlight" and m.action == m.ADD] == ["hall"]
+
+
+def test_a_threshold_sensor_whose_field_cannot_be_read_publishes_its_stale_value(ros):
+    """``data[3] > 1``: true on [0, 0, 0, 5]; then a shorter array and a NaN are no readings: false
+    (~stale_value), not the last value."""
+    from std_msgs.msg import Bool, Float64MultiArray
+
+    seen = ros.record(ros.topic("inputs/far"), Bool)
+    ros.run("topic_threshold_sensor", f"_topic:={ros.topic('ranges')}", "_type:=std_msgs/Float64MultiArray",
+            "_field:=data[3]", "_comparison:=gt", "_threshold:=1.0", f"proposition:={ros.topic('inputs/far')}")
+    seen.wait_last(lambda b: b.data is False, what="false before any reading")
+    ros.publish(ros.topic("ranges"), Float64MultiArray(data=[0.0, 0.0, 0.0, 5.0]))
+    seen.wait_last(lambda b: b.data is True, what="5 > 1")
+    ros.publish(ros.topic("ranges"), Float64MultiArray(data=[0.0]))
+    seen.wait_last(lambda b: b.data is False, what="no element 3: the stale value")
+    ros.publish(ros.topic("ranges"), Float64MultiArray(data=[0.0, 0.0, 0.0, 5.0]))
+    seen.wait_last(lambda b: b.data is True, what="5 > 1 again")
+    ros.publish(ros.topic("ranges"), Float64MultiArray(data=[0.0, 0.0, 0.0, float("nan")]))
+    seen.wait_last(lambda b: b.data is False, what="NaN: the stale value")

@@ -55,7 +55,8 @@ def open_states(bag_path: str, topic: str | None = None, namespace: str | None =
             topics = bag.get_type_and_topic_info().topics
         except bag_errors as error:
             raise InputError(bag_path, f"cannot read the bag: {_why(error)}") from None
-        states = sorted(t for t, info in topics.items() if info.msg_type == STATE_TYPE)
+        states = sorted(t for t, info in topics.items()  # the latched first state is not a run of its own
+                        if info.msg_type == STATE_TYPE and not t.endswith("/initial_state"))
         wanted = topic or (f"/{namespace.strip('/')}/controller_executor/state" if namespace else None)
         if wanted is not None and wanted not in states and topic is None and len(states) == 1:
             wanted = states[0]

@@ -9,6 +9,7 @@ The field access, comparison and pose extraction are ROS-free (``ltl_stack.runti
 """
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import rospy
@@ -71,7 +72,10 @@ class TopicThresholdSensor(TopicMessageSensor):
             raise NodeConfigError(f"{rospy.get_name()}: parameter ~field {self.field!r}: {error}") from None
 
     def value(self, msg: Any) -> bool:
-        return self.comparator.update(float(extract_field(msg, self.steps)))
+        reading = float(extract_field(msg, self.steps))
+        if math.isnan(reading):  # not a reading: the proposition takes ~stale_value, not the last value
+            raise ValueError("the field is NaN")
+        return self.comparator.update(reading)
 
     def what(self) -> str:
         return f"field {self.config['field']!r} of {self.config['topic']}"
