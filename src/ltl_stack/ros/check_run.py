@@ -30,15 +30,16 @@ CORRUPT = (OSError, ValueError, KeyError, IndexError, TypeError, AttributeError,
 
 
 @contextlib.contextmanager
-def open_states(bag_path: str, topic: str | None = None, namespace: str | None = None,
-                from_start: bool = False) -> Iterator:
+def open_states(bag_path: str, topic: str | None = None, namespace: str | None = None) -> Iterator:
     """``with open_states(...) as (topic, messages)``: the ControllerState topic of the bag (``topic``,
     else the executor's of the scenario ``namespace``, else the only ControllerState topic it holds)
     and an iterator over ``(record time, message)``, read from the file as it is consumed (memory
     does not grow with the bag). InputError naming the bag otherwise, and for a bag that turns out to
-    be corrupt while it is read: one line, never a traceback. ``from_start``: the run begins with the
-    controller's first state, from the executor's latched ``~initial_state`` when the bag holds it (a
-    recorder that connected after the first burst of ``~state`` missed it there)."""
+    be corrupt while it is read: one line, never a traceback. When the bag holds the executor's
+    latched ``~initial_state`` from the same burst (same stamp) as the first recorded ``~state``, the
+    run begins with it: a recorder that connected during the first burst of ``~state`` (the initial
+    state and its settling steps, published at once) missed its start there. A bag begun later keeps
+    its first recorded state (the initial state's stamp is older)."""
     import genpy
     import rosbag
 
@@ -74,11 +75,13 @@ def open_states(bag_path: str, topic: str | None = None, namespace: str | None =
             quiet = _DecodingNotice()
             logging.getLogger("rosout").addFilter(quiet)  # genpy's line about a string it could not decode
             try:
-                if from_start and initial in topics and topics[initial].msg_type == STATE_TYPE:
-                    for when, msg in _quietly(bag_path, bag.read_messages(topics=[initial])):
-                        yield when, msg
-                        break  # the first start of the controller the bag saw
-                yield from _quietly(bag_path, bag.read_messages(topics=[wanted]))
+                start = None
+                if initial in topics and topics[initial].msg_type == STATE_TYPE:
+                    start = next(_quietly(bag_path, bag.read_messages(topics=[initial])), None)
+                for index, (when, msg) in enumerate(_quietly(bag_path, bag.read_messages(topics=[wanted]))):
+                    if index == 0 and start is not None and start[1].header.stamp == msg.header.stamp:
+                        yield when, start[1]  # the first burst's first state, which the recorder missed
+                    yield when, msg
             except bag_errors as error:
                 raise InputError(bag_path, f"cannot read the bag (corrupt or truncated): {_why(error)}") from None
             finally:
@@ -179,7 +182,7 @@ def _check(args) -> int:
 
     spec = load_spec(args.spec)
     namespace = load_mapping(args.mapping).scenario_namespace()
-    with open_states(args.bag, args.topic, namespace, args.from_start) as (topic, messages):
+    with open_states(args.bag, args.topic, namespace) as (topic, messages):
         try:
             report = check_run(spec, trace_steps(messages, args.bag), args.from_start)
         except ValueError as error:
