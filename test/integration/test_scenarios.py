@@ -327,8 +327,13 @@ def test_controller_trace_replays_the_bag(clean_and_patrol_run, demo_bag):
     assert done.returncode == Exit.OK, done.stderr
     replayed = [json.loads(line) for line in done.stdout.splitlines()]
     live = _states(clean_and_patrol_run)
-    # the demo's trace and the bag hold the same states (the replay stops at the second cycle's end)
-    assert [s["state"] for s in replayed] == [s["state"] for s in live][:len(replayed)], (replayed, live)
+    # the demo's trace and the bag hold the same states (the replay stops at the second cycle's end); the
+    # bag begins with the initial state (~initial_state), which the live trace misses when it connects
+    # during the executor's first burst (the initial state and its settling steps, published at once)
+    ids = [s["state"] for s in replayed]
+    if len(ids) > 1 and ids[1] == live[0]["state"] and ids[0] != live[0]["state"]:
+        ids = ids[1:]
+    assert ids == [s["state"] for s in live][:len(ids)], (replayed, live)
     assert len(replayed) >= 10
 
 
