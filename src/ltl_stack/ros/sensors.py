@@ -141,8 +141,11 @@ class RegionSensor(InputPropositionNode):
 
     def _on_pose(self, msg: Any) -> None:
         x, y = pose_xy(msg)
-        # in a region nested in this one the robot is in the nested one (as every map reader says)
-        self.set_value(self.region.contains(x, y) and self.regions.region_at(x, y) == self.region.name)
+        inside = self.region.contains(x, y)
+        if inside and self.region.name in self.regions.names() and self.region.name not in self.regions.obstacles:
+            # in a region nested in this one the robot is in the nested one (as every map reader says)
+            inside = self.regions.region_at(x, y) == self.region.name
+        self.set_value(inside)
 
 
 def threshold_sensor_main() -> None:
