@@ -152,3 +152,20 @@ def test_a_threshold_sensor_whose_field_cannot_be_read_publishes_its_stale_value
     seen.wait_last(lambda b: b.data is True, what="5 > 1 again")
     ros.publish(ros.topic("ranges"), Float64MultiArray(data=[0.0, 0.0, 0.0, float("nan")]))
     seen.wait_last(lambda b: b.data is False, what="NaN: the stale value")
+
+
+def test_region_sensor_of_a_room_is_false_at_the_desk_inside_it(ros, tmp_path):
+    from geometry_msgs.msg import PoseStamped
+    from std_msgs.msg import Bool
+
+    path = map_file(tmp_path, ROOM, DESK, HALL)
+    room = ros.record(ros.topic("inputs/room_rc"), Bool)
+    ros.run("region_sensor", f"_regions_file:={path}", "_region:=room", f"_pose_topic:={ros.topic('pose')}",
+            "_pose_type:=geometry_msgs/PoseStamped", f"proposition:={ros.topic('inputs/room_rc')}")
+    pose = PoseStamped()
+    pose.pose.position.x, pose.pose.position.y, pose.pose.orientation.w = 1.0, 1.0, 1.0
+    ros.publish(ros.topic("pose"), pose)
+    room.wait_last(lambda b: b.data is True, what="in the room")
+    pose.pose.position.x, pose.pose.position.y = 5.0, 5.0
+    ros.publish(ros.topic("pose"), pose)
+    room.wait_last(lambda b: b.data is False, what="at the desk: in the desk, not the room")
