@@ -3,7 +3,7 @@ the spec: per step whether the environment assumptions held (which clause broke,
 system guarantee held, how often each goal was reached (``ltl_stack.runtime.run_check``). No master
 is needed: the bag is read from the file.
 
-``read_states`` is also what ``controller_trace --bag`` replays.
+``open_states`` and ``trace_steps`` are also what ``controller_trace --bag`` replays.
 """
 from __future__ import annotations
 
@@ -124,12 +124,6 @@ def _why(error: BaseException) -> str:
     if isinstance(error, KeyError):
         return f"a record refers to {error} which the bag does not define"
     return str(error) or type(error).__name__
-
-
-def read_states(bag_path: str, topic: str | None = None, namespace: str | None = None) -> tuple[str, list]:
-    """(topic, messages) of the ControllerState topic in the bag, all in memory (``open_states`` streams)."""
-    with open_states(bag_path, topic, namespace) as (found, messages):
-        return found, [msg for _, msg in messages]
 
 
 def trace_steps(records: Iterable, source: str = "the bag") -> Iterator[TraceStep]:
