@@ -509,7 +509,7 @@ class ExecutorNode:
         readings = self.controller.readings
         inputs = {p: readings.get(p, False) for p in self.controller.inputs}
         for index, state in enumerate(update.passed):
-            outputs = {p: bool(state.outputs.get(p, False)) for p in self.controller.outputs}
+            outputs = {p: bool(state.outputs[p]) if p in state.outputs else False for p in self.controller.outputs}
             msg = self._state_msg(state, inputs, outputs, stamp)
             if update.started and index == 0:
                 self.initial_pub.publish(msg)
