@@ -84,7 +84,7 @@ def check_field_path(sample: Any, steps: list[str | int], type_name: str = "the 
     value = sample
     for position, step in enumerate(steps):
         if isinstance(step, int):
-            if not isinstance(value, list | tuple | bytes):
+            if not isinstance(value, (list, tuple, bytes)):
                 raise LookupError(f"{type_name} field {field_path_text(steps[:position])} is not an array")
             if not value:
                 return
@@ -96,7 +96,7 @@ def check_field_path(sample: Any, steps: list[str | int], type_name: str = "the 
             raise LookupError(f"{type_name} has no field {field_path_text(steps[:position + 1])} "
                               f"(fields there: {known})")
         value = getattr(value, step)
-    if isinstance(value, bool | int | float):
+    if isinstance(value, (bool, int, float)):
         return
     raise LookupError(f"{type_name} field {field_path_text(steps)} is a {type(value).__name__}, not a number")
 
