@@ -286,6 +286,34 @@ def test_check_run_from_the_start_of_the_demo_bag_holds_and_counts_every_goal_th
     assert all(reached[k] >= passed_over[k] for k in range(len(reached))), (reached, passed_over)
 
 
+def test_every_stretch_of_the_demo_bag_checks_clean(clean_and_patrol_run, demo_bag):
+    """A recording started and stopped by hand at any two points of a correct run holds every
+    assumption and guarantee, and counts in each goal what the whole run counts between those points
+    (random cut points, hypothesis; the bag's states read once)."""
+    from hypothesis import given, settings
+    from hypothesis import strategies as st
+
+    from ltl_stack.ros.check_run import open_states, trace_steps
+    from ltl_stack.runtime.run_check import check_run, distinct_steps
+    from ltl_stack.spec import load_spec
+
+    spec = load_spec(SPEC)
+    with open_states(str(demo_bag), None, "clean_and_patrol") as (_, messages):
+        run = distinct_steps(trace_steps(messages))
+    assert len(run) >= 15, len(run)
+
+    @settings(max_examples=30, deadline=None)
+    @given(st.integers(0, len(run) - 1), st.integers(1, len(run)))
+    def stretch(start, length):
+        part = run[start:start + length]
+        report = check_run(spec, part)
+        assert report.ok and report.steps == len(part), [v.describe() for v in report.violations]
+        whole = check_run(spec, run)
+        assert all(p <= w for (_, p), (_, w) in zip(report.goals, whole.goals)), (report.goals, whole.goals)
+
+    stretch()
+
+
 def test_check_run_names_the_step_and_clause_of_an_injected_violation(clean_and_patrol_run, demo_bag, tmp_path):
     import rosbag
 

@@ -44,8 +44,8 @@ from ltl_stack.runtime.regions import RegionMap
 MAP_MARKERS = NodeSpec(
     name="map_markers",
     kind="view",
-    description="RViz markers (visualization_msgs/MarkerArray on markers): the region map, the robot's "
-                "region, the regions the controller heads for and its proposition values.",
+    description="RViz markers (visualization_msgs/MarkerArray): the region map once on region_markers; on "
+                "markers the robot's region, the regions the controller heads for and its proposition values.",
     params=[
         *MAP_PARAMS,
         Param("frame_id", "map", "frame the regions are drawn in", ros_name=True),
