@@ -205,6 +205,7 @@ def test_map_markers_colour_the_robots_region_and_show_the_propositions(ros):
     from ltl_stack.runtime.map_view import CURRENT, HEADING
 
     markers = ros.record(ros.topic("markers"), MarkerArray)
+    regions = ros.record(ros.topic("region_markers"), MarkerArray)
     ros.run("map_markers", f"_regions_file:={REGIONS}", f"__ns:={ros.ns}")
     markers.wait_last(lambda m: "waiting for the controller" in m.markers[-1].text, what="markers before a state")
     state = ControllerState(state_id=37, goal_index=4, running=True, mode="normal")
@@ -212,10 +213,13 @@ def test_map_markers_colour_the_robots_region_and_show_the_propositions(ros):
     state.outputs = valuation_to_msg({"holdingObject": True, "rightGround": True})
     ros.publish(ros.topic("controller_executor/state"), state)
     last = markers.wait_last(lambda m: "sensing: bottomLane_rc" in m.markers[-1].text, what="the state shown")
-    fills = {m.id: m for m in last.markers if m.ns == "fill"}
-    labels = {m.id: m.text for m in last.markers if m.ns == "label"}
-    colour = {labels[i + 1]: (m.color.r, m.color.g, m.color.b, m.color.a) for i, m in fills.items()}
+    colour = {m.text: (m.color.r, m.color.g, m.color.b, m.color.a) for m in last.markers
+              if m.ns == "highlight" and m.action == m.ADD}
     assert colour["bottomLane"] == pytest.approx(CURRENT) and colour["rightGround"] == pytest.approx(HEADING)
+    assert set(colour) == {"bottomLane", "rightGround"}, colour  # the others are the static map's grey
+    static = regions.wait_last(lambda m: True, what="the static map")
+    labels = {m.text for m in static.markers if m.ns == "label"}
+    assert labels == set(MAP.names()), labels
     assert "doing: holdingObject, rightGround" in last.markers[-1].text
     assert all(m.header.frame_id == "map" for m in last.markers)
 
@@ -268,7 +272,6 @@ def test_map_markers_of_a_second_robot_show_only_its_labelled_text_on_its_own_ro
     a = second.wait_last(lambda m: m.markers[-1].text.startswith("A: waiting"), what="A's labelled text")
     assert len(a.markers) == 1 and a.markers[0].ns == "controller"  # no regions drawn twice
     assert a.markers[0].pose.position.y == pytest.approx(d.markers[-1].pose.position.y + 1.0)
-    fills = {m.id: m for m in d.markers if m.ns == "fill"}
-    labels = {m.id: m.text for m in d.markers if m.ns == "label"}
-    colour = {labels[i + 1]: (m.color.r, m.color.g, m.color.b, m.color.a) for i, m in fills.items()}
+    colour = {m.text: (m.color.r, m.color.g, m.color.b, m.color.a) for m in d.markers
+              if m.ns == "highlight" and m.action == m.ADD}
     assert colour["bottomLane"] == pytest.approx(CURRENT)  # the region from its <region>_c input

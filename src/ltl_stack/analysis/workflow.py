@@ -28,11 +28,13 @@ from ltl_stack.errors import UserError
 from ltl_stack.inputs import read_text
 from ltl_stack.runtime.mapping import (
     INPUT,
+    OUTPUT,
     Mapping,
     MappingIssue,
     check_mapping,
     load_mapping,
     misfit,
+    resolve_topics,
 )
 from ltl_stack.spec import formula_to_slugsin, load_spec, write_slugsin
 from ltl_stack.spec.english_reader import ENGLISH_SUFFIXES, has_section_headers, parse_english
@@ -43,13 +45,16 @@ from ltl_stack.synthesis.explain import explain
 from ltl_stack.synthesis.explain_render import explanation_dict, explanation_text
 
 MAPPING, MISSING_NODE, UNMAPPED, PUBLISHERS = "mapping", "missing node", "unmapped", "several publishers"
+TOPIC_TYPE = "topic type"
+#: the type of every proposition topic: the executor subscribes and publishes std_msgs/Bool
+PROPOSITION_TYPE = "std_msgs/Bool"
 
 
 @dataclass(frozen=True)
 class Problem:
     """Something the user must know before trusting the findings; ``text`` is the line shown."""
 
-    kind: str  # MAPPING, MISSING_NODE, UNMAPPED or PUBLISHERS
+    kind: str  # MAPPING, MISSING_NODE, UNMAPPED, PUBLISHERS or TOPIC_TYPE
     severity: str  # "error" or "warning"
     text: str
     proposition: str = ""
@@ -89,8 +94,9 @@ def run_checks(spec: Spec, mapping: Mapping, snapshot: Snapshot, *, robots: Sequ
 def problems(analysis: Analysis, mapping: Mapping, issues: Sequence[MappingIssue],
              snapshot: Snapshot) -> list[Problem]:
     """Every reason the findings may be incomplete or the run wrong: ``check_mapping``'s warnings, mapped
-    nodes not in the graph, propositions with no node, and input topics that another node publishes
-    too (an input topic has exactly one publisher, thesis §3.5.1)."""
+    nodes not in the graph, propositions with no node, input topics that another node publishes
+    too (an input topic has exactly one publisher, thesis §3.5.1), and proposition topics whose type
+    on the graph is not ``std_msgs/Bool`` (the executor could not read or drive them)."""
     found = [Problem(MAPPING, i.severity, str(i), i.proposition) for i in issues]
     for m in analysis.missing:
         found.append(Problem(MISSING_NODE, "warning", f"{m.kind} {m.proposition}: node {m.node} (mapping line "
@@ -101,6 +107,24 @@ def problems(analysis: Analysis, mapping: Mapping, issues: Sequence[MappingIssue
     for f in analysis.p1:  # P1 (thesis 3.5.1): the same finding the report lists, as a problem to fix first
         found.append(Problem(PUBLISHERS, "error", f"{INPUT} {f.input}: topic {f.topic} is also published by "
                              f"{', '.join(f.others)}; an input topic takes exactly one node (thesis 3.5.1)", f.input))
+    found += wrong_types(analysis, mapping, snapshot)
+    return found
+
+
+def wrong_types(analysis: Analysis, mapping: Mapping, snapshot: Snapshot) -> list[Problem]:
+    """Mapped proposition topics the graph carries with another type than ``PROPOSITION_TYPE``: the
+    executor's subscriber (input) or publisher (output) would never connect to them."""
+    in_topics, out_topics = resolve_topics(mapping, analysis.inputs, analysis.outputs, analysis.namespace)
+    found = []
+    for kind, topics in ((INPUT, {p: [t] for p, t in in_topics.items()}), (OUTPUT, out_topics)):
+        for prop, names in topics.items():
+            if prop in analysis.unmapped:
+                continue
+            for topic in names:
+                known = snapshot.topics.get(topic)
+                if known is not None and known.type and known.type != PROPOSITION_TYPE:
+                    found.append(Problem(TOPIC_TYPE, "error", f"{kind} {prop}: topic {topic} has type {known.type} "
+                                         f"on the graph; a proposition topic must be {PROPOSITION_TYPE}", prop))
     return found
 
 

@@ -3,11 +3,17 @@ the spec: per step whether the environment assumptions held (which clause broke,
 system guarantee held, how often each goal was reached (``ltl_stack.runtime.run_check``). No master
 is needed: the bag is read from the file.
 
-``read_states`` is also what ``controller_trace --bag`` replays.
+``open_states`` and ``trace_steps`` are also what ``controller_trace --bag`` replays.
 """
 from __future__ import annotations
 
+import contextlib
+import io
+import logging
+import struct
 import sys
+from collections.abc import Iterable, Iterator
+from dataclasses import replace
 from pathlib import Path
 
 from ltl_stack import cli
@@ -17,40 +23,125 @@ from ltl_stack.runtime.trace import TraceStep
 STATE_TYPE = "ltl_stack/ControllerState"
 
 
-def read_states(bag_path: str, topic: str | None = None, namespace: str | None = None) -> tuple[str, list]:
-    """(topic, messages) of the ControllerState topic in the bag: ``topic``, else the executor's of the
-    scenario ``namespace``, else the only ControllerState topic the bag holds. InputError otherwise."""
+#: what rosbag and genpy raise on a corrupt or truncated bag, besides their own exceptions (the
+#: chunk and record parsers index, unpack, decompress and decode whatever the file holds)
+CORRUPT = (OSError, ValueError, KeyError, IndexError, TypeError, AttributeError, EOFError, OverflowError,
+           struct.error, UnicodeError, MemoryError)
+
+
+@contextlib.contextmanager
+def open_states(bag_path: str, topic: str | None = None, namespace: str | None = None) -> Iterator:
+    """``with open_states(...) as (topic, messages)``: the ControllerState topic of the bag (``topic``,
+    else the executor's of the scenario ``namespace``, else the only ControllerState topic it holds)
+    and an iterator over ``(record time, message)``, read from the file as it is consumed (memory
+    does not grow with the bag). InputError naming the bag otherwise, and for a bag that turns out to
+    be corrupt while it is read: one line, never a traceback. When the bag holds the executor's
+    latched ``~initial_state`` from the same burst (same stamp) as the first recorded ``~state``, the
+    run begins with it: a recorder that connected during the first burst of ``~state`` (the initial
+    state and its settling steps, published at once) missed its start there. A bag begun later keeps
+    its first recorded state (the initial state's stamp is older)."""
+    import genpy
     import rosbag
 
+    bag_errors = (rosbag.ROSBagException, rosbag.ROSBagFormatException, genpy.DeserializationError, *CORRUPT)
     path = Path(bag_path)
     if not path.is_file():
         raise InputError(bag_path, "no such bag file" if not path.exists() else "not a file")
     try:
-        with rosbag.Bag(bag_path) as bag:
+        bag = rosbag.Bag(bag_path)
+    except bag_errors as error:
+        raise InputError(bag_path, f"cannot read the bag: {_why(error)}") from None
+    try:
+        try:
             topics = bag.get_type_and_topic_info().topics
-            states = sorted(t for t, info in topics.items() if info.msg_type == STATE_TYPE)
-            wanted = topic or (f"/{namespace.strip('/')}/controller_executor/state" if namespace else None)
-            if wanted is not None and wanted not in states and topic is None and len(states) == 1:
-                wanted = states[0]
-            if wanted is None:
-                if len(states) != 1:
-                    raise InputError(bag_path, f"holds {len(states)} {STATE_TYPE} topics ({', '.join(states) or 'none'}):"
-                                     " name one with --topic")
-                wanted = states[0]
-            if wanted not in states:
-                raise InputError(bag_path, f"no {STATE_TYPE} messages on {wanted} (it has: {', '.join(states) or 'none'})")
-            return wanted, [msg for _, msg, _ in bag.read_messages(topics=[wanted])]
-    except (rosbag.ROSBagException, rosbag.ROSBagFormatException, OSError, ValueError) as error:
-        raise InputError(bag_path, f"cannot read the bag: {error}") from None
+        except bag_errors as error:
+            raise InputError(bag_path, f"cannot read the bag: {_why(error)}") from None
+        states = sorted(t for t, info in topics.items()  # the latched first state is not a run of its own
+                        if info.msg_type == STATE_TYPE and not t.endswith("/initial_state"))
+        wanted = topic or (f"/{namespace.strip('/')}/controller_executor/state" if namespace else None)
+        if wanted is not None and wanted not in states and topic is None and len(states) == 1:
+            wanted = states[0]
+        if wanted is None:
+            if len(states) != 1:
+                raise InputError(bag_path, f"holds {len(states)} {STATE_TYPE} topics ({', '.join(states) or 'none'}):"
+                                 " name one with --topic")
+            wanted = states[0]
+        if wanted not in states:
+            raise InputError(bag_path, f"no {STATE_TYPE} messages on {wanted} (it has: {', '.join(states) or 'none'})")
+
+        initial = wanted.rsplit("/", 1)[0] + "/initial_state"
+
+        def messages() -> Iterator:
+            quiet = _DecodingNotice()
+            logging.getLogger("rosout").addFilter(quiet)  # genpy's line about a string it could not decode
+            try:
+                start = None
+                if initial in topics and topics[initial].msg_type == STATE_TYPE:
+                    start = next(_quietly(bag_path, bag.read_messages(topics=[initial])), None)
+                for index, (when, msg) in enumerate(_quietly(bag_path, bag.read_messages(topics=[wanted]))):
+                    if index == 0 and start is not None and start[1].header.stamp == msg.header.stamp:
+                        yield when, start[1]  # the first burst's first state, which the recorder missed
+                    yield when, msg
+            except bag_errors as error:
+                raise InputError(bag_path, f"cannot read the bag (corrupt or truncated): {_why(error)}") from None
+            finally:
+                logging.getLogger("rosout").removeFilter(quiet)
+
+        yield wanted, messages()
+    finally:
+        try:
+            bag.close()
+        except bag_errors:
+            pass  # a bag that could not be read may not close cleanly either: the error was reported
 
 
-def trace_steps(messages: list) -> list[TraceStep]:
-    """The messages as ``TraceStep`` values, timed from the first."""
+def _quietly(bag_path: str, records: Iterator) -> Iterator:
+    """``(record time, message)`` of rosbag's records; what rosbag prints on stderr about a corrupt
+    message definition becomes the one error line."""
+    while True:
+        noise = io.StringIO()
+        with contextlib.redirect_stderr(noise):
+            try:
+                _, msg, when = next(records)
+            except StopIteration:
+                return
+        if "invalid message definition" in noise.getvalue():
+            raise InputError(bag_path, f"cannot read the bag (corrupt): the bag's definition of {STATE_TYPE} is "
+                             "not valid")
+        yield when.to_sec(), msg
+
+
+class _DecodingNotice(logging.Filter):
+    """Drops genpy's "Characters replaced when decoding" line: a corrupt string in a bag is read with
+    replacement characters (and a proposition name that no longer matches is reported in one line)."""
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        return not str(record.msg).startswith("Characters replaced when decoding")
+
+
+def _why(error: BaseException) -> str:
+    """An exception as words: a KeyError's text is only the missing key."""
+    if isinstance(error, KeyError):
+        return f"a record refers to {error} which the bag does not define"
+    return str(error) or type(error).__name__
+
+
+def trace_steps(records: Iterable, source: str = "the bag") -> Iterator[TraceStep]:
+    """The recorded ``(record time, message)`` pairs as ``TraceStep`` values, timed from the first by
+    the record time (a bag's record times never go back, while replayed header stamps may), one at a
+    time; a message that cannot be read is InputError naming its place."""
     from ltl_stack.ros.controller_trace import step_of
 
-    messages = [m for m in messages if m.state_id >= 0]
-    start = messages[0].header.stamp.to_sec() if messages else 0.0
-    return [step_of(m, start) for m in messages]
+    start = None
+    for index, (when, msg) in enumerate(records):
+        try:
+            if msg.state_id < 0:
+                continue
+            step = step_of(msg, msg.header.stamp.to_sec())
+        except (ValueError, TypeError, AttributeError) as error:
+            raise InputError(source, f"ControllerState #{index + 1} cannot be read: {error}") from None
+        start = when if start is None else start
+        yield replace(step, time=max(0.0, when - start))
 
 
 def build_parser() -> cli.ToolParser:
@@ -85,14 +176,13 @@ def _check(args) -> int:
 
     spec = load_spec(args.spec)
     namespace = load_mapping(args.mapping).scenario_namespace()
-    topic, messages = read_states(args.bag, args.topic, namespace)
-    steps = trace_steps(messages)
-    if not steps:
+    with open_states(args.bag, args.topic, namespace) as (topic, messages):
+        try:
+            report = check_run(spec, trace_steps(messages, args.bag), args.from_start)
+        except ValueError as error:
+            raise UserError(f"{args.bag}: {error}") from None
+    if not report.steps:
         raise InputError(args.bag, f"no controller state on {topic}")
-    try:
-        report = check_run(spec, steps, args.from_start)
-    except ValueError as error:
-        raise UserError(f"{args.bag}: {error}") from None
     if args.json:
         cli.print_json({"bag": args.bag, "topic": topic, **report.to_dict()})
     else:

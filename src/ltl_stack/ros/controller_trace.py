@@ -180,13 +180,17 @@ def _trace(args) -> int:
 def replay_bag(args, goals: int | None) -> int:
     """Print the states recorded in ``args.bag`` as a live trace would; with ``--cycles``, exit 1 when
     the recording holds fewer goal cycles."""
-    from ltl_stack.ros.check_run import read_states, trace_steps
+    from ltl_stack.ros.check_run import open_states, trace_steps
 
     topic = None if args.topic == "controller_executor/state" else "/" + args.topic.lstrip("/")
-    _, messages = read_states(args.bag, topic)
+    with open_states(args.bag, topic) as (_, messages):
+        return _replay(args, goals, trace_steps(messages, args.bag))
+
+
+def _replay(args, goals: int | None, steps) -> int:
     cycles = GoalCycles(goals) if goals else None
     previous = None
-    for step in trace_steps(messages):
+    for step in steps:
         if previous is not None and (previous.state_id, previous.running) == (step.state_id, step.running):
             continue
         cycle_done = cycles.update(step.goal) if cycles else False

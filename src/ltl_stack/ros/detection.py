@@ -3,10 +3,11 @@
 For detections: "tag 7 closer than 1.5 m" on an AprilTag-style array is
 ``_type:=ltl_stack/TagDetectionArray _array:=detections _conditions:="['id == 7', 'pose.position within 1.5']"``.
 The conditions and their evaluation are ROS-free (``ltl_stack.runtime.predicate``); here the fields are
-checked against the message type at start-up (or once the master reports the topic's type).
+checked against the message definition at start-up (or once the master reports the topic's type):\na field the type lacks, ``within`` on a Pose or ``contains`` on a number is one [FATAL] line naming the\nfield and its type, exit 2.
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
 import roslib.message
@@ -20,7 +21,9 @@ from ltl_stack.ros.proposition_node import (
     TopicMessageSensor,
     run_node,
 )
+from ltl_stack.runtime import predicate
 from ltl_stack.runtime.predicate import OPS, MessagePredicate
+from ltl_stack.runtime.sensing import field_path_text as _path
 
 TOPIC_PREDICATE_SENSOR = NodeSpec(
     name="topic_predicate_sensor",
@@ -38,38 +41,33 @@ TOPIC_PREDICATE_SENSOR = NodeSpec(
 )
 
 
-def element_class(cls: type, steps: tuple) -> type | None:
-    """The class of the elements of the array field ``steps`` of message class ``cls`` (None when the
-    path holds an index and the class cannot be told); LookupError naming a missing field."""
-    current = cls
+def message_fields(type_name: str) -> dict[str, str] | None:
+    """The field types of message type ``type_name`` by field name (None for a primitive or array)."""
+    if type_name.endswith("]") or "/" not in type_name and type_name != "Header":
+        return None
+    cls = roslib.message.get_message_class("std_msgs/Header" if type_name == "Header" else type_name)
+    if cls is None:
+        raise LookupError(f"unknown message type {type_name}")
+    return {name: cls._slot_types[i] for i, name in enumerate(cls.__slots__)}
+
+
+def field_type(type_name: str, steps: Sequence[str | int]) -> str:
+    """The ROS type of the field ``steps`` of message type ``type_name`` (``int32``, ``float64[]``,
+    ``geometry_msgs/Point``); LookupError naming the first step the definition lacks."""
+    current = type_name
     for position, step in enumerate(steps):
+        here = _path(list(steps[:position + 1]))
         if isinstance(step, int):
-            return None
-        slots = list(getattr(current, "__slots__", ()))
-        if step not in slots:
-            raise LookupError(f"{cls._type} has no field {'.'.join(map(str, steps[:position + 1]))} "
-                              f"(fields there: {', '.join(slots) or 'none'})")
-        slot_type = current._slot_types[slots.index(step)]
-        base = slot_type.split("[", 1)[0]
-        if position == len(steps) - 1:
-            if "[" not in slot_type:
-                raise LookupError(f"{cls._type} field {'.'.join(map(str, steps))} is not an array")
-            return roslib.message.get_message_class(base) if "/" in base else None
-        current = roslib.message.get_message_class(base if "/" in base else "std_msgs/Header")
+            if not predicate.is_array(current):
+                raise LookupError(f"{type_name} field {_path(list(steps[:position]))} is a {current}, not an array")
+            current = predicate.element_type(current)
+            continue
+        fields = message_fields(current)
+        if fields is None or step not in fields:
+            known = ", ".join(fields or ()) or "none"
+            raise LookupError(f"{type_name} has no field {here} (fields there: {known})")
+        current = fields[step]
     return current
-
-
-def check_fields(sample: Any, steps: tuple, type_name: str) -> None:
-    """LookupError naming the first named field of ``steps`` that ``sample`` lacks."""
-    value = sample
-    for position, step in enumerate(steps):
-        if isinstance(step, int):
-            return
-        slots = getattr(value, "__slots__", None)
-        if slots is not None and step not in slots:
-            raise LookupError(f"{type_name} has no field {'.'.join(map(str, steps[:position + 1]))} "
-                              f"(fields there: {', '.join(slots)})")
-        value = getattr(value, step)
 
 
 class TopicPredicateSensor(TopicMessageSensor):
@@ -81,11 +79,20 @@ class TopicPredicateSensor(TopicMessageSensor):
         super().__init__(config)
 
     def check(self, cls: type) -> None:
+        """Every condition against the message definition: its field exists and has a type its
+        operator can read (one error naming the field and its type)."""
         try:
-            element = element_class(cls, self.predicate.array) if self.predicate.array else cls
-            if element is not None:
-                for condition in self.predicate.conditions:
-                    check_fields(element(), condition.steps, element._type)
+            element = cls._type
+            if self.predicate.array:
+                array = field_type(cls._type, self.predicate.array)
+                if not predicate.is_array(array):
+                    raise LookupError(f"{cls._type} field {_path(list(self.predicate.array))} is a {array}, not an array")
+                element = predicate.element_type(array)
+            for condition in self.predicate.conditions:
+                found = field_type(element, condition.steps)
+                error = condition.type_error(found, message_fields(found))
+                if error:
+                    raise LookupError(f"{element}: {error}")
         except LookupError as error:
             raise NodeConfigError(f"{rospy.get_name()}: parameter ~array/~conditions: {error}") from None
 

@@ -266,6 +266,9 @@ class ExecutorNode:
                                        for t in topics]
                                 for prop, topics in prepared.output_topics.items()}
         self.state_pub = rospy.Publisher("~state", ControllerState, queue_size=10, latch=True)
+        # the controller's first state, latched for good: a recorder that connects after the first
+        # burst of ~state (the initial state and its settling) still gets it (check_run --from-start)
+        self.initial_pub = rospy.Publisher("~initial_state", ControllerState, queue_size=1, latch=True)
         self.valuation_pub = rospy.Publisher("~valuation", PropositionValuation, queue_size=10, latch=True)
         #: what this node runs (latched; again with each new strategy): viewers draw it and see restarts
         self.source_pub = rospy.Publisher("~source", ControllerSource, queue_size=10, latch=True)
@@ -592,16 +595,33 @@ class ExecutorNode:
             self._update_mode()
 
     def _publish_state(self, update: Update) -> None:
+        """``~state``: each state settling went through (its own outputs, which were never sent to
+        the output topics: a record of the run then holds every state, and check_run counts the
+        goals met there), then the state reached; ``~valuation``: the reached one."""
         stamp = rospy.Time.now()
+        if strategy_source(self.prepared.spec_path, self.resilient) != self._source_key:
+            self._publish_source(running_spec(self.prepared.spec_path, self.resilient, self.options), stamp)
         readings = self.controller.readings
         inputs = {p: readings.get(p, False) for p in self.controller.inputs}
+        for index, state in enumerate(update.passed):
+            outputs = {p: bool(state.outputs[p]) if p in state.outputs else False for p in self.controller.outputs}
+            msg = self._state_msg(state, inputs, outputs, stamp)
+            if update.started and index == 0:
+                self.initial_pub.publish(msg)
+            self.state_pub.publish(msg)
+        msg = self._state_msg(update.state, inputs, update.outputs, stamp)
+        if update.started and not update.passed:
+            self.initial_pub.publish(msg)
+        self.state_pub.publish(msg)
+        self.valuation_pub.publish(valuation_to_msg({**inputs, **update.outputs}, stamp))
+
+    def _state_msg(self, state: Any, inputs: dict[str, bool], outputs: dict[str, bool], stamp: Any) -> Any:
         msg = ControllerState()
         msg.header.stamp = stamp
-        state = update.state
         msg.state_id = state.id if state is not None else -1
         msg.goal_index = state.goal if state is not None else -1
         msg.inputs = valuation_to_msg(inputs, stamp)
-        msg.outputs = valuation_to_msg(update.outputs, stamp)
+        msg.outputs = valuation_to_msg(outputs, stamp)
         msg.running = self.controller.running
         counters = self._counters()
         msg.mode = self._current_mode()
@@ -613,10 +633,7 @@ class ExecutorNode:
         msg.negotiations, msg.resyntheses_negotiated = counters.negotiations, counters.negotiated
         msg.violated_clauses = self._violated_clauses()
         msg.spec_file, msg.strategy_generation = strategy_source(self.prepared.spec_path, self.resilient)
-        if (msg.spec_file, msg.strategy_generation) != self._source_key:
-            self._publish_source(running_spec(self.prepared.spec_path, self.resilient, self.options), stamp)
-        self.state_pub.publish(msg)
-        self.valuation_pub.publish(valuation_to_msg({**inputs, **update.outputs}, stamp))
+        return msg
 
     def _publish_source(self, source: RunningSpec, stamp: Any) -> None:
         """``~source``: the spec, generation and options of the running strategy (under the lock)."""

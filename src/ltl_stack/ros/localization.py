@@ -88,9 +88,15 @@ class RegionLocalization:
                                          config["hysteresis"])
         except (RegionsError, ValueError) as error:
             raise NodeConfigError(f"{rospy.get_name()}: {error}") from None
+        regions = self.tracker.shapes
+        for warning in self.tracker.warnings:
+            rospy.logwarn("%s: %s", rospy.get_name(), warning)
+        # one timer republishes every region's proposition (not a timer thread per region)
         self.outputs = {name: PropositionPublisher(rospy.resolve_name(config["prefix"] + name + config["suffix"]),
-                                                   rate=config["rate"], initial=config["init_value"])
-                        for name in self.tracker.shapes}
+                                                   rate=0.0, initial=config["init_value"])
+                        for name in regions}
+        self._timer = rospy.Timer(rospy.Duration(1.0 / config["rate"]), self._republish) if config["rate"] > 0 \
+            else None
         self.region_pub = rospy.Publisher(config["region_topic"], String, queue_size=1, latch=True) \
             if config["region_topic"] else None
         # every region proposition at once (keys: their topics): the executor takes a region change
@@ -114,6 +120,10 @@ class RegionLocalization:
         if self.region_pub is not None:
             self.region_pub.publish(String(data=region))
 
+    def _republish(self, _event: Any) -> None:
+        for output in self.outputs.values():
+            output.republish()
+
     def spin(self) -> None:
         if self.config["source"] == "tf":
             self._spin_tf()
@@ -123,8 +133,8 @@ class RegionLocalization:
                 return
             rospy.Subscriber(self.config["pose_topic"], cls, self._on_pose, queue_size=10)
             rospy.spin()
-        for output in self.outputs.values():
-            output.close()
+        if self._timer is not None:
+            self._timer.shutdown()
 
     def _on_pose(self, msg: Any) -> None:
         try:

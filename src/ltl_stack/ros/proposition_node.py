@@ -188,6 +188,11 @@ class PropositionPublisher:
         return changed
 
     def _tick(self, _event: Any) -> None:
+        self.republish()
+
+    def republish(self) -> None:
+        """Publish the value again (the periodic republication; a node with many propositions
+        makes them with ``rate=0`` and calls this from one timer of its own)."""
         with self._lock:
             if self._value is not None:
                 self._pub.publish(self._bool(data=self._value))
@@ -299,13 +304,20 @@ class TopicMessageSensor(InputPropositionNode):
         super().spin()
 
     def _on_msg(self, msg: Any) -> None:
+        """A message whose value cannot be read (an index past the end of its array) says nothing
+        about the proposition: it takes ``~stale_value``, as when sensing stops, never keeps the last
+        value (one error line per run of such messages)."""
         try:
             value = self.value(msg)
         except (LookupError, TypeError, ValueError) as error:
             if not self._warned:
-                rospy.logerr("%s: %s: %s", rospy.get_name(), self.what(), error)
+                rospy.logerr("%s: %s: %s (publishing ~stale_value %s until a message can be read)",
+                             rospy.get_name(), self.what(), error, bool(self.config["stale_value"]))
                 self._warned = True
+            with self._sensing_lock:
+                self.output.set(bool(self.config["stale_value"]))
             return
+        self._warned = False
         self.set_value(value)
 
 

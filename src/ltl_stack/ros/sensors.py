@@ -9,6 +9,7 @@ The field access, comparison and pose extraction are ROS-free (``ltl_stack.runti
 """
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import rospy
@@ -71,7 +72,10 @@ class TopicThresholdSensor(TopicMessageSensor):
             raise NodeConfigError(f"{rospy.get_name()}: parameter ~field {self.field!r}: {error}") from None
 
     def value(self, msg: Any) -> bool:
-        return self.comparator.update(float(extract_field(msg, self.steps)))
+        reading = float(extract_field(msg, self.steps))
+        if math.isnan(reading):  # not a reading: the proposition takes ~stale_value, not the last value
+            raise ValueError("the field is NaN")
+        return self.comparator.update(reading)
 
     def what(self) -> str:
         return f"field {self.config['field']!r} of {self.config['topic']}"
@@ -113,8 +117,11 @@ class RegionSensor(InputPropositionNode):
                                      x_trans=config["x_trans"], y_trans=config["y_trans"],
                                      flip_y=config["flip_y"])
             self.region = regions.find(config["region"])
+            self.regions = regions
         except RegionsError as error:
             raise NodeConfigError(f"{rospy.get_name()}: {error}") from None
+        for warning in regions.warnings:
+            rospy.logwarn("%s: %s", rospy.get_name(), warning)
         self.cls = message_class(config["pose_type"]) if config["pose_type"] else None
         super().__init__(config)
 
@@ -134,7 +141,11 @@ class RegionSensor(InputPropositionNode):
 
     def _on_pose(self, msg: Any) -> None:
         x, y = pose_xy(msg)
-        self.set_value(self.region.contains(x, y))
+        inside = self.region.contains(x, y)
+        if inside and self.region.name in self.regions.names() and self.region.name not in self.regions.obstacles:
+            # in a region nested in this one the robot is in the nested one (as every map reader says)
+            inside = self.regions.region_at(x, y) == self.region.name
+        self.set_value(inside)
 
 
 def threshold_sensor_main() -> None:

@@ -10,7 +10,9 @@ strategy at once; a repeated reading does nothing.
   next region, start the next action). Event driven, nothing would change the inputs to trigger
   that move, so the controller keeps stepping with unchanged readings — moves the environment's
   "nothing happened" allows — until the state stops changing, at most ``settle_steps`` times.
-  Only the final state's outputs are published: the intermediate ones took no time.
+  Only the final state's outputs are published: the intermediate ones took no time. The states
+  passed on the way are in the Update (``passed``), so that a record of the run (the executor's
+  ``~state``) holds every state the strategy went through, and the goals met there count.
 * Ready handshake: nothing is stepped before every input has reported once (``missing_inputs``).
 * Pause: while paused every output is false and nothing is stepped; on resume the strategy steps
   from its last state with the current readings.
@@ -115,6 +117,8 @@ class Update:
     unkeepable: list = field(default_factory=list)
     #: the inputs unknown now (stale), in spec order
     unknown: list = field(default_factory=list)
+    #: the states settling went through before ``state``, in order (their outputs were not published)
+    passed: tuple = ()
 
 
 class Controller:
@@ -305,8 +309,7 @@ class Controller:
                 self.init_error = str(err)
                 return self._result(error=self.init_error)
             self.init_error = None
-            self._settle(readings)
-            return self._result(stepped=True, started=True)
+            return self._result(stepped=True, started=True, passed=self._settle(readings))
         if not force and self.violation is None and readings == _valuation(self.state.inputs, self.inputs):
             return self._result()
         try:
@@ -318,23 +321,26 @@ class Controller:
                 return self._result(violation=violation)
             self.violation = None
             self.state = recovered
-            self._settle(readings)
-            return self._result(stepped=True, violation=violation, recovered=True)
+            passed = self._settle(readings)
+            return self._result(stepped=True, violation=violation, recovered=True, passed=passed)
         self.violation = None
         self.state = new_state
-        self._settle(readings)
-        return self._result(stepped=True)
+        return self._result(stepped=True, passed=self._settle(readings))
 
-    def _settle(self, readings: dict[str, bool]) -> None:
-        """Step with unchanged readings while the state changes (at most ``settle_steps`` times)."""
+    def _settle(self, readings: dict[str, bool]) -> tuple:
+        """Step with unchanged readings while the state changes (at most ``settle_steps`` times);
+        return the states left on the way."""
+        passed = []
         for _ in range(self.settle_steps):
             try:
                 following = self.strategy.step(self.state, readings)
             except AssumptionViolation:
-                return  # the environment may not stay still here: wait for it to move
+                break  # the environment may not stay still here: wait for it to move
             if type(following) is type(self.state) and following.id == self.state.id:
-                return  # (a recovered state may be symbolic, its ids another numbering)
+                break  # (a recovered state may be symbolic, its ids another numbering)
+            passed.append(self.state)
             self.state = following
+        return tuple(passed)
 
     def _result(self, **kwargs: Any) -> Update:
         outputs = self._outputs_from(self._moves[1])

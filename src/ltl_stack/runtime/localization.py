@@ -16,6 +16,7 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+from shapely import STRtree
 from shapely.geometry import Point as ShapelyPoint
 from shapely.geometry import Polygon
 
@@ -59,7 +60,9 @@ class RegionTracker:
     ``names`` are the regions tracked (default: every region but the boundary and the obstacles).
     Before the first position no region is current; after it, exactly one always is: a position in
     no region (a gap between polygons, a localization jump out of the map) keeps the region it was
-    in, and a first position outside every region takes the nearest one.
+    in, and a first position outside every region takes the nearest one. Where regions overlap the
+    smallest one holding the position is current (a nested region is reported inside the one around
+    it), as ``RegionMap.region_at`` and the map validation (``check_regions``) say.
     """
 
     def __init__(self, regions: RegionMap, names: Sequence[str] = (), hysteresis: float = 0.1) -> None:
@@ -74,6 +77,22 @@ class RegionTracker:
             self.shapes[region.name] = Polygon(region.polygon, region.holes).buffer(0)
         self.hysteresis = float(hysteresis)
         self.current: str | None = None
+        #: the map's warnings (nested regions), for the node to log
+        self.warnings = list(regions.warnings)
+        #: for each region, the smaller regions overlapping it (nested ones): entering one of them by
+        #: more than the hysteresis leaves it (an R-tree finds them once, so an update stays cheap)
+        self.smaller: dict[str, list[str]] = {name: [] for name in self.shapes}
+        names = list(self.shapes)
+        if len(names) > 1:
+            shapes = [self.shapes[n] for n in names]
+            big, small = STRtree(shapes).query(shapes, predicate="overlaps")
+            for k, i in enumerate(big):
+                if shapes[int(small[k])].area < shapes[int(i)].area:
+                    self.smaller[names[int(i)]].append(names[int(small[k])])
+            big, small = STRtree(shapes).query(shapes, predicate="contains")
+            for k, i in enumerate(big):
+                if int(i) != int(small[k]):
+                    self.smaller[names[int(i)]].append(names[int(small[k])])
 
     def update(self, x: float, y: float) -> str | None:
         """Take a position; return the current region (None only before a finite position came)."""
@@ -81,10 +100,14 @@ class RegionTracker:
             return self.current
         point = ShapelyPoint(x, y)
         if self.current is not None and self.shapes[self.current].distance(point) <= self.hysteresis:
+            deeper = [name for name in self.smaller[self.current] if self.shapes[name].covers(point)
+                      and self.shapes[name].boundary.distance(point) >= self.hysteresis]
+            if deeper:
+                self.current = min(deeper, key=lambda name: self.shapes[name].area)
             return self.current
         inside = [name for name, shape in self.shapes.items() if shape.covers(point)]
-        if inside:
-            self.current = inside[0]
+        if inside:  # nested or overlapping regions: the smallest holding the point (as RegionMap.region_at)
+            self.current = min(inside, key=lambda name: self.shapes[name].area)
         elif self.current is None:
             self.current = min(self.shapes, key=lambda name: self.shapes[name].distance(point))
         return self.current

@@ -12,7 +12,7 @@ from shapely.geometry import Polygon
 from shapely.ops import triangulate
 
 from ltl_stack.runtime.regions import RegionMap
-from ltl_stack.spec.region_map import Point
+from ltl_stack.spec.region_map import BOUNDARY, Point
 from ltl_stack.synthesis.automaton import goal_text
 
 Color = Tuple[float, float, float, float]
@@ -50,10 +50,11 @@ def region_shapes(regions: RegionMap, current: str | None, heading: set[str]) ->
     """Outline, fill and name of every region (the boundary only outlined); the fill's colour says
     whether the robot is in it (``current``), heads for it (``heading``) or neither."""
     shapes = []
+    places = set(regions.names())
     for name in regions.names(include_boundary=True):
         region = regions.regions[name]
         shapes.append(Shape("outline", name, OUTLINE, tuple([*region.polygon, region.polygon[0]])))
-        if name not in regions.names():
+        if name not in places:
             continue
         color = CURRENT if name == current else HEADING if name in heading else IDLE
         polygon = Polygon(region.polygon, region.holes)
@@ -82,8 +83,15 @@ def mode_label(mode: str, running: bool = True) -> str:
 
 
 def region_from_inputs(regions: RegionMap, inputs: Mapping[str, bool], suffix: str = "_rc") -> str | None:
-    """The region whose ``R<suffix>`` input is true (the first one), when the spec has such inputs."""
-    for name in regions.names():
-        if inputs.get(name + suffix):
+    """The region whose ``R<suffix>`` input is true (the first such input), when the spec has such
+    inputs. Work in the number of inputs, not of regions (a map may hold thousands)."""
+    for key, value in inputs.items():
+        name = key[:-len(suffix)] if suffix and key.endswith(suffix) else None
+        if value and name and name in regions.regions and name != BOUNDARY:
             return name
     return None
+
+
+def heading_regions(regions: RegionMap, outputs: Mapping[str, bool]) -> set[str]:
+    """The regions the controller heads for: true outputs named as a region."""
+    return {name for name, value in outputs.items() if value and name in regions.regions and name != BOUNDARY}

@@ -9,6 +9,10 @@ Structured English front end uses for the topology): the ``Regions:`` section's 
 File coordinates are drawing pixels; ``RegionMap.load`` maps them to world metres with
 ``world = scale * file + (x_trans, y_trans)``, with y negated first when ``flip_y`` is set (the
 drawing's y axis points down).
+
+Every map is validated by ``ltl_stack.spec.region_map.check_regions`` (duplicate names, zero area and
+self-crossing outlines refused, nesting reported in ``RegionMap.warnings``); where regions overlap the
+smallest one holding a point is the region there (``region_at``).
 """
 from __future__ import annotations
 
@@ -64,6 +68,10 @@ class Region:
     def contains(self, x: float, y: float) -> bool:
         return point_in_polygon(x, y, self.polygon) and not any(
             point_in_polygon(x, y, hole) for hole in self.holes)
+
+    def area(self) -> float:
+        """Area of the outer polygon minus the holes."""
+        return abs(polygon_area(self.polygon)) - sum(abs(polygon_area(hole)) for hole in self.holes)
 
     def centroid(self) -> Point:
         """Area centroid of the outer polygon (vertex mean for degenerate polygons)."""
@@ -123,6 +131,8 @@ class RegionMap:
     regions: dict[str, Region]
     obstacles: list[str] = field(default_factory=list)
     source: str = "<regions>"
+    #: what a user should hear about the map (nested regions), one line each
+    warnings: list[str] = field(default_factory=list)
 
     @classmethod
     def load(cls, path: str | Path, scale: float = 1.0, x_trans: float = 0.0, y_trans: float = 0.0,
@@ -147,7 +157,7 @@ class RegionMap:
 
         regions = {r.name: Region(r.name, [world(*p) for p in r.outline], [[world(*p) for p in hole] for hole in r.holes])
                    for r in content.regions}
-        return cls(regions=regions, obstacles=content.obstacles, source=source)
+        return cls(regions=regions, obstacles=content.obstacles, source=source, warnings=content.warnings)
 
     def names(self, include_boundary: bool = False) -> list[str]:
         return [n for n in self.regions if include_boundary or n != BOUNDARY]
@@ -165,12 +175,13 @@ class RegionMap:
         raise RegionsError(f"{self.source}: no region named {name!r} (known: {known})")
 
     def region_at(self, x: float, y: float, skip: Iterable[str] = ()) -> str | None:
-        """Name of the first non-obstacle region (other than the boundary) that contains (x, y)."""
+        """Name of the smallest non-obstacle region (other than the boundary) that contains (x, y): a
+        region nested in another is the region inside it (``check_regions``)."""
         skipped = {BOUNDARY, *self.obstacles, *skip}
-        for name, region in self.regions.items():
-            if name not in skipped and region.contains(x, y):
-                return name
-        return None
+        holding = [name for name, region in self.regions.items() if name not in skipped and region.contains(x, y)]
+        if len(holding) < 2:
+            return holding[0] if holding else None
+        return min(holding, key=lambda name: self.regions[name].area())
 
     def route(self, start: Point, target: str, margin: float = 0.15) -> list[Point]:
         """Waypoints from ``start`` to a point well inside region ``target``.

@@ -12,7 +12,7 @@ left out of the transitions they take part in.
 """
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 
 from ltl_stack.runtime.trace import TraceStep
@@ -85,14 +85,19 @@ def clause_name(clause: Clause) -> str:
     return f"{clause.location}: {clause.text}" if clause.text else clause.location
 
 
-def distinct_steps(steps: Sequence[TraceStep]) -> list[TraceStep]:
+def distinct_steps(steps: Iterable[TraceStep]) -> list[TraceStep]:
     """The steps with a new state: ``~state`` is also republished unchanged."""
-    out: list[TraceStep] = []
+    return list(iter_distinct(steps))
+
+
+def iter_distinct(steps: Iterable[TraceStep]) -> Iterator[TraceStep]:
+    """``distinct_steps`` one at a time (a long recording is never held in memory)."""
+    last = None
     for step in steps:
-        if out and _key(out[-1]) == _key(step):
-            continue
-        out.append(step)
-    return out
+        key = _key(step)
+        if key != last:
+            last = key
+            yield step
 
 
 def _key(step: TraceStep) -> tuple:
@@ -106,39 +111,49 @@ def _holds(clause: Clause, current: dict[str, bool], nxt: dict[str, bool] | None
         return None  # mentions a proposition the run does not carry (or a next value at the last step)
 
 
-def check_run(spec: Spec, steps: Sequence[TraceStep], from_start: bool = False) -> RunReport:
+def check_run(spec: Spec, steps: Iterable[TraceStep], from_start: bool = False) -> RunReport:
     """Check the run ``steps`` against ``spec`` (see the module doc); the initial conditions only with
-    ``from_start``. ValueError when a step lacks a proposition of the spec (the recording belongs to
-    another controller)."""
-    run = distinct_steps(steps)
+    ``from_start``. One pass over the steps, holding two at a time. ValueError when a step lacks a
+    proposition of the spec (the recording belongs to another controller)."""
     names = set(spec.propositions)
-    for index, step in enumerate(run):
+    report = RunReport(steps=0, transitions=0)
+    counts = [0] * len(spec.sys_liveness)
+    previous: TraceStep | None = None
+    for step in iter_distinct(steps):
         missing = names - set(step.inputs) - set(step.outputs)
         if missing:
-            raise ValueError(f"state {index} of the run has no value for {', '.join(sorted(missing))}: "
+            raise ValueError(f"state {report.steps} of the run has no value for {', '.join(sorted(missing))}: "
                              "is it a run of this spec?")
-    report = RunReport(steps=len(run), transitions=0, initial_checked=from_start and bool(run))
-    if not run:
-        return report
-    first = {**run[0].inputs, **run[0].outputs}
-    for section, kind in (("env_init", "assumption"), ("sys_init", "guarantee")) if from_start else ():
-        for clause in spec.section(section):
-            if _holds(clause, first, first) is False:
-                report.violations.append(Violation(kind, section, 0, run[0].time, clause_name(clause)))
-    counts = [0] * len(spec.sys_liveness)
-    for index, step in enumerate(run):
-        current = {**step.inputs, **step.outputs}
-        nxt = None
-        if index + 1 < len(run) and step.running and run[index + 1].running:
-            nxt = {**run[index + 1].inputs, **run[index + 1].outputs}
-            report.transitions += 1
-            for section, kind in (("env_safety", "assumption"), ("sys_safety", "guarantee")):
+        if previous is None and from_start:
+            report.initial_checked = True
+            first = {**step.inputs, **step.outputs}
+            for section, kind in (("env_init", "assumption"), ("sys_init", "guarantee")):
                 for clause in spec.section(section):
-                    if _holds(clause, current, nxt) is False:
-                        report.violations.append(Violation(kind, section, index, run[index + 1].time,
-                                                           clause_name(clause)))
-        for goal, clause in enumerate(spec.sys_liveness):
-            if step.running and _holds(clause, current, nxt):
-                counts[goal] += 1
-    report.goals = [(clause_name(c), n) for c, n in zip(spec.sys_liveness, counts)]
+                    if _holds(clause, first, first) is False:
+                        report.violations.append(Violation(kind, section, 0, step.time, clause_name(clause)))
+        if previous is not None:
+            _check_step(spec, report, counts, report.steps - 1, previous, step)
+        previous = step
+        report.steps += 1
+    if previous is not None:
+        _check_step(spec, report, counts, report.steps - 1, previous, None)
+    report.goals = [(clause_name(c), counts[i]) for i, c in enumerate(spec.sys_liveness)]
     return report
+
+
+def _check_step(spec: Spec, report: RunReport, counts: list[int], index: int, step: TraceStep,
+                following: TraceStep | None) -> None:
+    """The transition from ``step`` (number ``index``) to ``following`` (both running), and the goals
+    that hold at ``step``."""
+    current = {**step.inputs, **step.outputs}
+    nxt = None
+    if following is not None and step.running and following.running:
+        nxt = {**following.inputs, **following.outputs}
+        report.transitions += 1
+        for section, kind in (("env_safety", "assumption"), ("sys_safety", "guarantee")):
+            for clause in spec.section(section):
+                if _holds(clause, current, nxt) is False:
+                    report.violations.append(Violation(kind, section, index, following.time, clause_name(clause)))
+    for goal, clause in enumerate(spec.sys_liveness):
+        if step.running and _holds(clause, current, nxt):
+            counts[goal] += 1

@@ -85,7 +85,7 @@ def check_field_path(sample: Any, steps: list[str | int], type_name: str = "the 
     for position, step in enumerate(steps):
         if isinstance(step, int):
             if not isinstance(value, (list, tuple, bytes)):
-                raise LookupError(f"{type_name} field {_path(steps[:position])} is not an array")
+                raise LookupError(f"{type_name} field {field_path_text(steps[:position])} is not an array")
             if not value:
                 return
             value = value[0]
@@ -93,14 +93,16 @@ def check_field_path(sample: Any, steps: list[str | int], type_name: str = "the 
         slots = getattr(value, "__slots__", None)
         if (slots is not None and step not in slots) or not hasattr(value, step):
             known = ", ".join(getattr(value, "__slots__", ())) or "none"
-            raise LookupError(f"{type_name} has no field {_path(steps[:position + 1])} (fields there: {known})")
+            raise LookupError(f"{type_name} has no field {field_path_text(steps[:position + 1])} "
+                              f"(fields there: {known})")
         value = getattr(value, step)
     if isinstance(value, (bool, int, float)):
         return
-    raise LookupError(f"{type_name} field {_path(steps)} is a {type(value).__name__}, not a number")
+    raise LookupError(f"{type_name} field {field_path_text(steps)} is a {type(value).__name__}, not a number")
 
 
-def _path(steps: list[str | int]) -> str:
+def field_path_text(steps: list[str | int]) -> str:
+    """``pose.position.x``, ``ranges[3]`` from parsed steps."""
     text = ""
     for step in steps:
         text += f"[{step}]" if isinstance(step, int) else (f".{step}" if text else step)

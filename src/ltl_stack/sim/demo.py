@@ -23,6 +23,7 @@ import os
 import re
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 import xmlrpc.client
@@ -195,7 +196,44 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Launch the scenario and follow its trace; ``Exit.NEGATIVE`` when it did not finish in time."""
+    """Launch the scenario and follow its trace; ``Exit.NEGATIVE`` when it did not finish in time.
+    With ``--bag`` the path is checked before anything starts and the bag after the run: a run whose
+    recording was not written is an error, whatever the run did."""
+    bag = bag_path(args.bag) if args.bag else None
+    started = time.time()
+    code = _run(args)
+    if bag is not None:
+        written = bag.is_file() and bag.stat().st_mtime >= started - 1 and bag.stat().st_size > 0
+        if not written:
+            raise UserError(f"--bag {args.bag}: rosbag record did not write the bag (see the launch log)")
+    return code
+
+
+def bag_path(bag: str) -> Path:
+    """The bag to record to; UserError before the run when it cannot be written there: no folder, a
+    folder that cannot be written, something that is not a regular file (a FIFO, a device, a folder:
+    rosbag would replace it), a file that cannot be written, a name not ending in .bag."""
+    path = Path(bag).absolute()
+    if path.suffix != ".bag":
+        raise UserError(f"--bag {bag}: the file name must end in .bag (rosbag record adds it otherwise)")
+    if not path.parent.is_dir():
+        raise UserError(f"--bag {bag}: no folder {path.parent}")
+    if os.path.lexists(path) and not path.is_file():
+        raise UserError(f"--bag {bag}: exists and is not a regular file (rosbag record would replace it)")
+    if path.is_symlink():
+        raise UserError(f"--bag {bag}: is a symbolic link (rosbag record would replace it)")
+    try:  # try it: permissions, a read-only file system, /proc (root passes every access() check)
+        with tempfile.NamedTemporaryFile(dir=path.parent, prefix=".ltl_stack_probe_", suffix=".bag"):
+            pass
+        if path.exists():
+            with open(path, "ab"):
+                pass
+    except OSError as error:
+        raise UserError(f"--bag {bag}: cannot be written there ({error.strerror or error})") from None
+    return path
+
+
+def _run(args: argparse.Namespace) -> int:
     scenario = SCENARIOS[args.scenario]
     config = package_dir() / "config" / (scenario.config or scenario.namespace)
     spec_files = sorted(config.glob("*.structuredslugs")) + sorted(config.glob("*.slugsin"))
@@ -310,13 +348,10 @@ def _record(ros: RosSession, namespace: str, propositions: list[str], bag: str, 
     """Start ``rosbag record`` of the scenario's states, propositions, odometry and tf, and wait until it
     has subscribed to the executor's ~state (before the launch: the recording holds the controller's
     first state). The session stops it with SIGINT, which closes the bag."""
-    path = Path(bag).resolve()
-    if not path.parent.is_dir():
-        raise UserError(f"--bag {bag}: no folder {path.parent}")
-    if path.suffix != ".bag":
-        raise UserError(f"--bag {bag}: the file name must end in .bag (rosbag record adds it otherwise)")
+    path = bag_path(bag)
     state = f"/{namespace}/controller_executor/state"
-    topics = [state, *(f"/{namespace}/{kind}/{p}" for kind in ("inputs", "outputs") for p in propositions),
+    topics = [state, f"/{namespace}/controller_executor/initial_state",
+              *(f"/{namespace}/{kind}/{p}" for kind in ("inputs", "outputs") for p in propositions),
               *(f"/{namespace}/{t}" for t in ("odom", "tf", "tf_static", "localized_region")), "/diagnostics"]
     recorder = ros.start(["rosbag", "record", "--quiet", "-O", str(path), "__name:=demo_record", *topics],
                          stdout=subprocess.DEVNULL)

@@ -95,6 +95,8 @@ class RegionOutline:
     name: str
     outline: list[Point]
     holes: list[list[Point]] = field(default_factory=list)
+    #: the line of the file it was read from (the Regions header's line for the JSON format)
+    line: int = 0
 
 
 @dataclass
@@ -105,6 +107,8 @@ class RegionFile:
     obstacles: list[str]
     sections: dict[str, tuple[int, list[str]]]
     regions_line: int
+    #: what ``check_regions`` says a user should hear (nested regions), one line each
+    warnings: list[str] = field(default_factory=list)
 
 
 def read_region_file(text: str, file: str) -> RegionFile:
@@ -121,7 +125,7 @@ def read_region_file(text: str, file: str) -> RegionFile:
     if first and not first.lstrip().startswith(("[", "{")):  # LTLMoP's older, tab-separated format
         regions = [_old_region(line, number, file) for number, line in enumerate(lines, start=start + 1)
                    if line.strip()]
-        return RegionFile(regions, obstacles, sections, start)
+        return RegionFile(regions, obstacles, sections, start, check_regions(regions, obstacles, file))
     try:
         items = parse_json("\n".join(lines), file)
     except InputError as error:
@@ -130,7 +134,60 @@ def read_region_file(text: str, file: str) -> RegionFile:
     if not isinstance(items, list):
         raise SpecError(file, start + 1, 0, "the Regions section must be a JSON list of regions")
     regions = [_region(item, index, file, start) for index, item in enumerate(items)]
-    return RegionFile(regions, obstacles, sections, start)
+    return RegionFile(regions, obstacles, sections, start, check_regions(regions, obstacles, file))
+
+
+def check_regions(regions: list[RegionOutline], obstacles: list[str], file: str) -> list[str]:
+    """The one validation of a map's regions, shared by every reader (the specification reader, the
+    localization and sensing nodes, map_markers, the simulator), so that a map means the same everywhere.
+
+    Refused (``SpecError`` naming file, line and region): two regions of one name (one would be lost),
+    a region of zero area (it can never be the robot's), an outline that crosses itself (a bow-tie:
+    which of its lobes is inside is not defined; LTLMoP's back-and-forth "spike" vertices, which
+    enclose no area, are not crossings and are accepted). Accepted with a warning: a region that lies
+    inside another (nesting). Where regions overlap, the smallest one holding a point is the region
+    there, everywhere (``RegionMap.region_at``, ``RegionTracker``): a nested region is reported inside
+    the one around it. Bounded work: shapely's vectorised predicates and an R-tree (n log n)."""
+    import numpy
+    import shapely
+    from shapely.geometry import Polygon
+    seen: dict[str, RegionOutline] = {}
+    for region in regions:
+        if region.name in seen:
+            raise SpecError(file, region.line, 1, f"region {region.name!r} appears twice in the Regions section "
+                                                  "(one of its outlines would be lost)")
+        seen[region.name] = region
+    shapes = [Polygon(r.outline) for r in regions]
+    valid = shapely.is_valid(shapes) if shapes else numpy.zeros(0, dtype=bool)
+    for index, region in enumerate(regions):
+        shape, ok = shapes[index], bool(valid[index])
+        signed = abs(_shoelace(region.outline))
+        area = signed if ok else shapely.make_valid(shape).area
+        minx, miny, maxx, maxy = shape.bounds
+        extent = max(maxx - minx, maxy - miny)
+        if area <= 1e-9 * extent * extent or area == 0.0:
+            raise SpecError(file, region.line, 1, f"region {region.name!r} has zero area (its vertices lie on "
+                                                  "one line): it can never hold the robot")
+        if not ok and abs(area - signed) > 1e-6 * area:
+            raise SpecError(file, region.line, 1, f"region {region.name!r}: its outline crosses itself (a "
+                                                  "bow-tie); draw it as two regions or reorder its vertices")
+    places = [i for i, r in enumerate(regions) if not is_boundary(r.name) and r.name not in set(obstacles)]
+    if len(places) < 2:
+        return []
+    solid = [shapely.make_valid(shapes[i]) if not valid[i] else shapes[i] for i in places]
+    outer, inner = shapely.STRtree(solid).query(solid, predicate="contains")
+    pairs = sorted((int(a), int(inner[k])) for k, a in enumerate(outer) if a != inner[k])
+    return [f"{file}: region {regions[places[b]].name} lies inside region {regions[places[a]].name}: there the "
+            f"robot is in {regions[places[b]].name} (the smallest region holding a point is the region there)"
+            for a, b in pairs]
+
+
+def _shoelace(points: list[Point]) -> float:
+    total = 0.0
+    for i, (x1, y1) in enumerate(points):
+        x2, y2 = points[(i + 1) % len(points)]
+        total += x1 * y2 - x2 * y1
+    return total / 2.0
 
 
 def _old_region(line: str, number: int, file: str) -> RegionOutline:
@@ -157,7 +214,7 @@ def _old_region(line: str, number: int, file: str) -> RegionOutline:
     outline = [(ox + x, oy + y) for x, y in raw]
     if len(outline) < 3:
         raise SpecError(file, number, 1, f"region {name!r} has fewer than 3 vertices")
-    return RegionOutline(name, outline)
+    return RegionOutline(name, outline, line=number)
 
 
 def _region(item: object, index: int, file: str, line: int) -> RegionOutline:
@@ -183,7 +240,7 @@ def _region(item: object, index: int, file: str, line: int) -> RegionOutline:
         raise SpecError(file, line, 0, f"region {name!r}: a coordinate is not a finite number")
     if len(outline) < 3:
         raise SpecError(file, line, 0, f"region {name!r} has fewer than 3 vertices")
-    return RegionOutline(name, outline, holes)
+    return RegionOutline(name, outline, holes, line)
 
 
 def is_boundary(name: str) -> bool:
@@ -223,8 +280,6 @@ def parse_region_map(text: str, file: str, decompose: bool = False,
         if not _NAME.match(name):
             raise SpecError(file, start, 1, f"region name {name!r} is not a proposition name "
                                             "(letters, digits and '_', not starting with a digit)")
-        if name in outlines:
-            raise SpecError(file, start, 1, f"region {name!r} appears twice in the Regions section")
         vertices += len(region.outline)
         if vertices > MAX_VERTICES or len(names) >= MAX_REGIONS:
             raise SpecError(file, start, 1, f"the map is too large for a specification (more than "
@@ -265,7 +320,7 @@ def parse_region_map(text: str, file: str, decompose: bool = False,
             adjacent[b].add(a)
     warnings = [f"{file}: region {n} touches no other region (the robot can never leave or reach it)"
                 for n in names if not adjacent[n] and len(names) > 1]
-    return RegionTopology(names, adjacent, file, warnings)
+    return RegionTopology(names, adjacent, file, [*content.warnings, *warnings])
 
 
 def _overlapping(names: list[str], outlines: dict[str, list[Point]]) -> bool:
