@@ -44,13 +44,21 @@ def read_states(bag_path: str, topic: str | None = None, namespace: str | None =
         raise InputError(bag_path, f"cannot read the bag: {error}") from None
 
 
-def trace_steps(messages: list) -> list[TraceStep]:
-    """The messages as ``TraceStep`` values, timed from the first."""
+def trace_steps(messages: list, bag_path: str = "<bag>", topic: str = "") -> list[TraceStep]:
+    """The messages as ``TraceStep`` values, timed from the first; a message that cannot be read
+    is an ``InputError`` naming the bag, the topic and the message's number (from 1)."""
     from ltl_stack.ros.controller_trace import step_of
+    from ltl_stack.ros.valuation import MalformedValuation
 
-    messages = [m for m in messages if m.state_id >= 0]
-    start = messages[0].header.stamp.to_sec() if messages else 0.0
-    return [step_of(m, start) for m in messages]
+    numbered = [(i, m) for i, m in enumerate(messages, 1) if m.state_id >= 0]
+    start = numbered[0][1].header.stamp.to_sec() if numbered else 0.0
+    steps = []
+    for number, msg in numbered:
+        try:
+            steps.append(step_of(msg, start))
+        except MalformedValuation as err:
+            raise InputError(bag_path, f"{topic + ': ' if topic else ''}message {number}: {err}") from None
+    return steps
 
 
 def build_parser() -> cli.ToolParser:
@@ -86,7 +94,7 @@ def _check(args) -> int:
     spec = load_spec(args.spec)
     namespace = load_mapping(args.mapping).scenario_namespace()
     topic, messages = read_states(args.bag, args.topic, namespace)
-    steps = trace_steps(messages)
+    steps = trace_steps(messages, args.bag, topic)
     if not steps:
         raise InputError(args.bag, f"no controller state on {topic}")
     try:

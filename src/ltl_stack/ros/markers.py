@@ -19,7 +19,7 @@ from std_msgs.msg import ColorRGBA, String
 from ltl_stack.msg import ControllerState
 from ltl_stack.ros.localization import MAP_PARAMS, load_map
 from ltl_stack.ros.proposition_node import NodeSpec, Param, run_node
-from ltl_stack.ros.valuation import msg_to_valuation
+from ltl_stack.ros.valuation import MalformedValuation, state_valuations
 from ltl_stack.runtime.map_view import region_from_inputs, region_shapes, valuation_text
 from ltl_stack.runtime.node_params import Bound
 from ltl_stack.runtime.regions import RegionMap
@@ -87,8 +87,13 @@ class MapMarkers:
     def markers(self) -> Any:
         with self.lock:
             state, localized = self.state, self.localized
-        inputs = msg_to_valuation(state.inputs) if state is not None else {}
-        outputs = msg_to_valuation(state.outputs) if state is not None else {}
+        inputs, outputs = {}, {}
+        if state is not None:
+            try:
+                inputs, outputs = state_valuations(state)
+            except MalformedValuation as err:  # drawn as if no state had come
+                rospy.logwarn_throttle(60, "%s: %s: skipping a state message that cannot be read: %s",
+                                       rospy.get_name(), self.config["state_topic"], err)
         current = localized or region_from_inputs(self.regions, inputs, self.config["region_suffix"])
         heading = {name for name in self.regions.names() if outputs.get(name)}
         array = self.MarkerArray()
