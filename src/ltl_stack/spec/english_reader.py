@@ -229,12 +229,20 @@ def _declare(decl: Declarations, m: re.Match, number: int, body: str, file: str,
 
 
 def _names(rest: str, column: int) -> list[tuple[str, int]]:
+    """The names of a declaration line; ``and`` joins two of them (``a, b and c``), anywhere else it
+    is kept as a name (and then refused as a word of the sentences: ``Sensors: and``)."""
+    found = [(m.group(), column + m.start()) for m in re.finditer(r"[^\s,]+", rest)]
     out = []
-    for m in re.finditer(r"[^\s,]+", rest):
-        if m.group().lower() == "and":
+    for i, (word, col) in enumerate(found):
+        joins = 0 < i < len(found) - 1 and found[i - 1][0].lower() != "and" and found[i + 1][0].lower() != "and"
+        if word.lower() == "and" and joins:
             continue
-        out.append((m.group(), column + m.start()))
+        out.append((word, col))
     return out
+
+
+def _article(word: str) -> str:
+    return ("an " if word[:1] in "aeiou" else "a ") + word
 
 
 _KIND_WORD = {"sensors": "sensor", "actions": "action", "completion_actions": "action with completion",
@@ -329,6 +337,8 @@ class _Phrase:
     negated: bool
     length: int
     text: str
+    #: ``sensing`` / ``sensed``: the name right after it must be an input
+    sensing: bool = False
 
 
 def _phrase_table() -> dict[tuple[str, ...], tuple[bool, bool, bool]]:
@@ -356,6 +366,7 @@ def _phrase_table() -> dict[tuple[str, ...], tuple[bool, bool, bool]]:
 
 
 PHRASES = _phrase_table()
+_SENSING = ("sensing", "sensed", "sense")
 _LONGEST_PHRASE = max(len(k) for k in PHRASES)
 _PHRASE_STARTS = frozenset(k[0] for k in PHRASES)
 _BINARY = {"and": 2, "or": 1}
@@ -866,6 +877,8 @@ class _Sentence:
                 elif t.kind == "(":
                     ops.append(("(", t))
                 elif t.kind == "word" and t.low not in KEYWORDS - {"true", "false"}:
+                    if ops and ops[-1][0] == "phrase" and previous is toks[i - 1] and ops[-1][2] is not t:
+                        self._check_kind(t, ops[-1][1])
                     values.append(self._atom(t, phrases[-1] if phrases else None, mode, only, completion))
                     expect = False
                 elif t.low in ("you", "the", "robot", "it"):
@@ -1030,7 +1043,8 @@ class _Sentence:
             key = tuple(t.low for t in toks[i:i + length])
             meaning = PHRASES.get(key)
             if meaning is not None:
-                return _Phrase(*meaning, length, " ".join(t.text for t in toks[i:i + length]))
+                return _Phrase(*meaning, length, " ".join(t.text for t in toks[i:i + length]),
+                               any(w in _SENSING for w in key))
         return None
 
     def _atom(self, t: _Token, phrase: _Phrase | None, mode: str, only: str | None, completion: bool) -> Formula:
@@ -1060,6 +1074,20 @@ class _Sentence:
                                            "region or an action declared under 'Actions with completion:'")
             name = done
         return Var(name, self._primed(name, phrase, mode))
+
+    def _check_kind(self, t: _Token, phrase: _Phrase) -> None:
+        """The name right after ``you are sensing`` / ``you sensed`` must be an input (a sensor or a
+        completion): the robot senses only those. Names joined after it by and/or are read as the
+        thesis' own sentences write them (``you are sensing object or sawObject``, a memory
+        proposition) and not checked. ``do <sensor>`` stays LTLMoP's form of an assumption
+        (``if you are in r1 then do not person``)."""
+        kind = self.decl.kind_of.get(t.text)
+        if kind is None or t.low in ("true", "false"):
+            return
+        sensor = t.text in self.decl.inputs
+        if phrase.sensing and not sensor:
+            raise self.error(t.column, f"'{t.text}' is {_article(_KIND_WORD.get(kind, kind))}, not a sensor: "
+                                       f"'{phrase.text}' needs a sensor ({', '.join(self.decl.sensors) or 'none declared'})")
 
     def _primed(self, name: str, phrase: _Phrase | None, mode: str) -> bool:
         """When a name is read (LTLMoP's ``parseEnglishToLTL``, see docs/spec_formats.md):
