@@ -65,7 +65,10 @@ class ToolParser(argparse.ArgumentParser):
 
 
 def error(prog: str, message: str, stream: TextIO | None = None) -> None:
-    """Print the one error line of a tool."""
+    """Print the one error line of a tool (a message that starts with the tool's name, as a node's
+    ``[FATAL]`` line does, does not repeat it)."""
+    if message.startswith(f"{prog}: "):
+        message = message[len(prog) + 2:]
     print(f"{prog}: error: {message}", file=stream or sys.stderr, flush=True)
 
 

@@ -82,6 +82,9 @@ _LIMIT = 10.0 ** MAX_DIGITS
 #: the smallest positive rate, duration or scale (ROS' clock counts nanoseconds)
 SMALLEST = 1e-9
 _LONG_INTEGER = re.compile(rf"^\s*[+-]?\d{{{MAX_DIGITS + 1},}}\s*$")
+#: the largest integer XML-RPC (ROS' parameter server) carries
+_XMLRPC_INT = 2 ** 31 - 1
+_INNER_INTEGER = re.compile(r"(?<![\w.+-])[+-]?\d{10,}(?![\w.])")
 _PARAM_ARG = re.compile(r"^_(?P<name>[^:=]+):=(?P<value>.*)$", re.DOTALL)
 
 
@@ -105,6 +108,11 @@ def split_param_args(argv: Sequence[str]) -> tuple[list[str], str | None]:
             digits = len(m["value"].strip().lstrip("+-"))
             message = message or (f"parameter ~{m['name']} must be a number of at most {MAX_DIGITS} digits, "
                                   f"got one of {digits} digits")
+            continue
+        inner = next((n for n in _INNER_INTEGER.findall(m["value"]) if abs(int(n[:40])) > _XMLRPC_INT), None) if m else None
+        if inner is not None:  # in a list or dict: rospy's XML-RPC call to the master fails on it
+            message = message or (f"parameter ~{m['name']}: {shown(inner)} is beyond a ROS parameter's integers "
+                                  f"(at most {_XMLRPC_INT} in size)")
             continue
         kept.append(arg)
     return kept, message
@@ -169,8 +177,9 @@ def _convert(param: Param, want: type | None, value: Any, node: str) -> Any:
     elif want is str:
         if isinstance(value, str):
             return value
-        if isinstance(value, int | float) and not isinstance(value, bool):
-            return str(value)
+        if isinstance(value, int | float) and not isinstance(value, bool):  # a path or name typed as a number
+            raise _fail(param, node, f"must be a string, got the number {shown(value)} (quote it to mean the text: "
+                                     f"_{param.name}:=\"'{shown(value)}'\")")
     elif want is list:
         if isinstance(value, list | tuple):
             return list(value)
