@@ -94,6 +94,25 @@ def shown(value: Any) -> str:
     return text if len(text) <= 40 else text[:36] + "…"
 
 
+#: nesting of a ``_name:=value`` list or dict (rospy reads it as YAML, recursively: 1,000 levels
+#: end in RecursionError)
+MAX_PARAM_DEPTH = 100
+
+
+def _depth(text: str) -> int:
+    """The deepest bracket nesting of ``text`` (quotes not skipped: an over-estimate is refused)."""
+    if text.count("[") + text.count("{") <= MAX_PARAM_DEPTH:
+        return 0
+    depth = deepest = 0
+    for ch in text:
+        if ch in "[{":
+            depth += 1
+            deepest = max(deepest, depth)
+        elif ch in "]}":
+            depth -= 1
+    return deepest
+
+
 def split_param_args(argv: Sequence[str]) -> tuple[list[str], str | None]:
     """``argv`` without its ``_name:=value`` items whose value is an integer of more than
     ``MAX_DIGITS`` digits, and the message for the first such item (None when there is none).
@@ -108,6 +127,9 @@ def split_param_args(argv: Sequence[str]) -> tuple[list[str], str | None]:
             digits = len(m["value"].strip().lstrip("+-"))
             message = message or (f"parameter ~{m['name']} must be a number of at most {MAX_DIGITS} digits, "
                                   f"got one of {digits} digits")
+            continue
+        if m and _depth(m["value"]) > MAX_PARAM_DEPTH:  # rospy's YAML reading recurses per level
+            message = message or f"parameter ~{m['name']} is nested more than {MAX_PARAM_DEPTH} levels deep"
             continue
         inner = next((n for n in _INNER_INTEGER.findall(m["value"]) if abs(int(n[:40])) > _XMLRPC_INT), None) if m else None
         if inner is not None:  # in a list or dict: rospy's XML-RPC call to the master fails on it
