@@ -85,6 +85,8 @@ _LONG_INTEGER = re.compile(rf"^\s*[+-]?\d{{{MAX_DIGITS + 1},}}\s*$")
 #: the largest integer XML-RPC (ROS' parameter server) carries
 _XMLRPC_INT = 2 ** 31 - 1
 _INNER_INTEGER = re.compile(r"(?<![\w.+-])[+-]?\d{10,}(?![\w.])")
+#: what Python makes of bytes of a command line that are not UTF-8 (``\xff`` -> ``\udcff``)
+_NOT_UTF8 = re.compile("[\udc80-\udcff]")
 _PARAM_ARG = re.compile(r"^_(?P<name>[^:=]+):=(?P<value>.*)$", re.DOTALL)
 
 
@@ -122,6 +124,9 @@ def split_param_args(argv: Sequence[str]) -> tuple[list[str], str | None]:
     without them and then reports the message as its one ``[FATAL]`` line."""
     kept, message = [], None
     for arg in argv:
+        if ":=" in arg and _NOT_UTF8.search(arg):  # ROS names and parameters travel as UTF-8 (XML-RPC)
+            message = message or f"argument {shown(arg)} is not UTF-8 text (ROS names and parameters are)"
+            continue
         m = _PARAM_ARG.match(arg)
         if m and _LONG_INTEGER.match(m["value"]):
             digits = len(m["value"].strip().lstrip("+-"))
