@@ -54,6 +54,9 @@ from ltl_stack.spec.ops import Pending, settle
 from ltl_stack.spec.region_map import RegionTopology, complete_topology, parse_region_map
 
 ENGLISH_SUFFIXES = (".spec", ".english")
+#: sentences ``all G`` / ``each G`` may make in one spec, one per member (100 sentences ``visit all G``
+#: over a group of 2,000 regions made 200,000 goals: minutes before synthesis printed anything)
+MAX_REPEATED = 10_000
 
 # Words of the sentences; a proposition may not be called one of these.
 KEYWORDS = frozenset("""
@@ -97,6 +100,8 @@ class Declarations:
     regions_are_places: bool = False
     #: ``group X is a, b`` (and its singular, as LTLMoP allows): the members, by group name
     groups: dict[str, list[str]] = field(default_factory=dict)
+    #: sentences made so far by repeating one per group member (``visit all rooms``)
+    repeated: int = 0
     #: propositions a project lists but disables (``name, 0``), with their kind
     disabled: dict[str, str] = field(default_factory=dict)
     #: a region name that stands for several pieces of the map (LTLMoP's decomposition when regions
@@ -480,6 +485,12 @@ class _Sentence:
             finally:
                 self.tokens = toks
         out: list[tuple[str, Formula]] = []
+        self.decl.repeated += len(members)
+        if self.decl.repeated > MAX_REPEATED:
+            raise self.error(column, f"'{toks[at].text} {toks[at + 1].text}' repeats this sentence for each of "
+                                     f"{len(members)} members: with the sentences before it, more than "
+                                     f"{MAX_REPEATED:,} (the most a spec may make this way; a goal per member "
+                                     "makes synthesis slow long before)")
         try:
             for member in members:
                 self.tokens = toks[:at] + [_Token("word", member, column)] + toks[at + 2:]

@@ -13,6 +13,7 @@ import ast
 import io
 import re
 import tokenize
+from itertools import islice
 
 from ltl_stack.errors import InputError
 
@@ -94,13 +95,13 @@ def python2_parse_text(text: str, filename: str) -> tuple[str, list[int]]:
                 raise Python2Unsupported(filename, "the exec statement", tok.start[0])
             if tok.string == "print" and following is not None and not (
                     following.type == tokenize.OP and following.string in ("(", "=", ".", "[")):
-                end = next(t for t in tokens[i:] if t.type in (tokenize.NEWLINE, tokenize.ENDMARKER)
+                end = next(t for t in islice(tokens, i, None) if t.type in (tokenize.NEWLINE, tokenize.ENDMARKER)
                            or (t.type == tokenize.OP and t.string == ";"))
                 _blank(lines, tok.start, end.start, "pass")
             if tok.string in ("except", "raise"):
                 statement = tok.string
         elif statement and depth == 0 and tok.type == tokenize.OP and tok.string == ",":
-            end = next(t for t in tokens[i:] if t.type in (tokenize.NEWLINE, tokenize.ENDMARKER)
+            end = next(t for t in islice(tokens, i, None) if t.type in (tokenize.NEWLINE, tokenize.ENDMARKER)
                        or (t.type == tokenize.OP and t.string == ":" and statement == "except"))
             _blank(lines, tok.start, end.start)
             statement = None
