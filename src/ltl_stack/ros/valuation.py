@@ -29,7 +29,7 @@ def msg_to_valuation(msg: PropositionValuation, what: str = "PropositionValuatio
     (a message of another publisher than ours: every reader refuses it in one line)."""
     if len(msg.keys) != len(msg.values):
         raise MalformedValuation(f"{what} has {len(msg.keys)} keys but {len(msg.values)} values")
-    return dict(zip(msg.keys, (bool(v) for v in msg.values), strict=True))
+    return dict(zip(msg.keys, (bool(v) for v in msg.values)))
 
 
 def state_valuations(msg) -> tuple[dict[str, bool], dict[str, bool]]:

@@ -50,7 +50,7 @@ class Condition:
             if "invalid YAML" not in str(err):  # nested too deep, too many aliases, too long a number
                 raise ValueError(f"condition {shown(text)}: {err}") from None
             value = raw
-        if op in VECTOR_OPS and not (isinstance(value, int | float) and math.isfinite(value) and value >= 0):
+        if op in VECTOR_OPS and not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
             raise ValueError(f"condition {text!r}: {op} needs a finite distance >= 0")
         return cls(str(text), tuple(parse_field_path(field)), op, value)
 

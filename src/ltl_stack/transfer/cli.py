@@ -13,8 +13,9 @@ import os
 import re
 import sys
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from pathlib import Path
+from typing import Callable, List, Tuple
 
 import yaml
 
@@ -32,7 +33,7 @@ from .transfer import TransferOptions, transfer_program
 TRANSFER = "ros_code_transfer"
 MINE = "mine_channels"
 #: a function listing the (name, type) channels of the running master, e.g. ``ros.live_channels``
-LiveLister = Callable[[], list[tuple[str, str]]]
+LiveLister = Callable[[], List[Tuple[str, str]]]
 
 
 def make_asker(stream_in=None, stream_out=None):

@@ -69,7 +69,7 @@ class VelocityLimits:
 def _number(value, file: str, where: str) -> float | None:
     if value is None or (isinstance(value, str) and value.strip().lower() in ("none", "null", "")):
         return None
-    if isinstance(value, bool) or not isinstance(value, int | float):
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise TransferError(f"expected a number or None, got {value!r}", file, where)
     if not math.isfinite(value):  # .nan / .inf: a written program would name nan or inf
         raise TransferError(f"expected a finite number or None, got {value!r}", file, where)
