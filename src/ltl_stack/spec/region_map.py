@@ -436,7 +436,7 @@ def _collinear_candidates(shapes: list, tolerance: float) -> set[tuple[int, int]
     angle_step, offset_step = 1e-6, 1e3 * tolerance
     for index, shape in enumerate(shapes):
         for ring in _rings(shape):
-            for (x0, y0), (x1, y1) in zip(ring[:-1], ring[1:]):  # noqa: B905
+            for (x0, y0), (x1, y1) in zip(ring[:-1], ring[1:]):
                 dx, dy = x1 - x0, y1 - y0
                 length = math.hypot(dx, dy)
                 if length <= tolerance:
