@@ -196,6 +196,53 @@ def run_script(args: Sequence[str], **kwargs) -> subprocess.CompletedProcess:
     return subprocess.run(direct_script(args, kwargs.get("env") or os.environ), **kwargs)
 
 
+def folder_files(folder: Path) -> dict[str, bytes | str]:
+    """Every entry of ``folder`` and its bytes, to check that a refused call changed nothing."""
+    return {p.name: p.read_bytes() if p.is_file() else "not a regular file" for p in sorted(folder.iterdir())}
+
+
+def run_case(master: RosMaster, folder: Path, command: list[str], files: Mapping[str, bytes | None],
+             env: Mapping[str, str] | None = None) -> tuple[subprocess.CompletedProcess, dict]:
+    """One row of a bad-input table: write ``files`` into ``folder`` (``None``: a FIFO, never read),
+    run ``rosrun ltl_stack COMMAND`` there (``{d}`` in an argument is the folder) against ``master``;
+    (the finished process, the folder's files before it ran)."""
+    for name, data in files.items():
+        if data is None:
+            os.mkfifo(folder / name)
+        else:
+            (folder / name).write_bytes(data)
+    before = folder_files(folder)
+    args = [a.replace("{d}", str(folder)) for a in command]
+    env = dict(master.env, **(env or {}))
+    done = subprocess.run(direct_script(["rosrun", "ltl_stack", *args], env), env=env, capture_output=True,
+                          text=True, errors="surrogateescape", timeout=300, cwd=folder)
+    return done, before
+
+
+def assert_one_error_line(done: subprocess.CompletedProcess, tool: str, code: int, message: str) -> None:
+    """A tool refused its input: exit ``code``, exactly one ``<tool>: error:`` line holding ``message``
+    (the tool's name not repeated), every stderr line the tool's own, no traceback."""
+    assert done.returncode == code, (done.returncode, done.stdout[-1000:], done.stderr[-2000:])
+    errors = [line for line in (done.stdout + done.stderr).splitlines() if "error:" in line.lower()]
+    assert len(errors) == 1, done.stderr[-2000:]
+    # no continuation line: every line is the tool's own (progress, or the one error)
+    assert all(line.startswith(f"{tool}: ") for line in done.stderr.splitlines()), done.stderr[-2000:]
+    assert errors[0].startswith(f"{tool}: error: ") and errors[0].count("error:") == 1, errors
+    assert not errors[0].startswith(f"{tool}: error: {tool}: "), errors
+    assert message in errors[0], errors
+    assert "Traceback" not in done.stderr + done.stdout, done.stderr[-3000:]
+
+
+def assert_one_fatal_line(done: subprocess.CompletedProcess, message: str) -> None:
+    """A node refused its parameters or files: exit 2, exactly one ``[FATAL]`` line holding
+    ``message``, no traceback."""
+    assert done.returncode == 2, (done.returncode, done.stdout[-1000:], done.stderr[-2000:])
+    out = done.stdout + done.stderr
+    fatal = [line for line in out.splitlines() if "[FATAL]" in line]
+    assert len(fatal) == 1 and message in fatal[0], out[-2000:]
+    assert "Traceback" not in out, out[-3000:]
+
+
 class RosMaster:
     """A real rosmaster on a free loopback port, and the processes started against it.
 

@@ -13,6 +13,7 @@ Conventions (the README's "Tools" section describes them to users):
 from __future__ import annotations
 
 import argparse
+import codecs
 import errno
 import gc
 import json
@@ -65,7 +66,10 @@ class ToolParser(argparse.ArgumentParser):
 
 
 def error(prog: str, message: str, stream: TextIO | None = None) -> None:
-    """Print the one error line of a tool."""
+    """Print the one error line of a tool (a message that starts with the tool's name, as a node's
+    ``[FATAL]`` line does, does not repeat it)."""
+    if message.startswith(f"{prog}: "):
+        message = message[len(prog) + 2:]
     print(f"{prog}: error: {message}", file=stream or sys.stderr, flush=True)
 
 
@@ -135,6 +139,31 @@ def _output_failed(prog: str, err: OSError, stream: TextIO) -> int:
     return int(Exit.WRITE_FAILED)
 
 
+def _path_bytes(err: UnicodeError) -> tuple[str | bytes, int]:
+    """Encoding error handler of a tool's stdout: a file name given on the command line that is not
+    UTF-8 (``\xff`` arrives as ``\udcff``) is written back as its own bytes, anything else the
+    encoding cannot write as a backslash escape."""
+    if isinstance(err, UnicodeEncodeError):
+        part = err.object[err.start:err.end]
+        if all("\udc80" <= c <= "\udcff" for c in part):
+            return bytes(ord(c) - 0xDC00 for c in part), err.end
+    return codecs.backslashreplace_errors(err)
+
+
+codecs.register_error("ltl_stack_path", _path_bytes)
+
+
+def _print_any_path(stream: TextIO) -> None:
+    """Let ``stream`` print any text: with ``PYTHONIOENCODING=utf-8`` or a UTF-8 locale stdout is
+    strict, and printing a non-UTF-8 file name given as an argument ended in UnicodeEncodeError."""
+    reconfigure = getattr(stream, "reconfigure", None)
+    if reconfigure is not None:
+        try:
+            reconfigure(errors="ltl_stack_path")
+        except (ValueError, OSError):
+            pass
+
+
 def run(prog: str, body: Callable[[], int | None]) -> int:
     """Run a tool's body and turn every ``UserError`` into its one line and exit code.
 
@@ -143,6 +172,7 @@ def run(prog: str, body: Callable[[], int | None]) -> int:
     failure shows only as the buffered output is flushed at the end.
     """
     stdout = sys.stdout
+    _print_any_path(stdout)
     sys.stdout = _CheckedStdout(stdout)
     try:
         code = body()

@@ -8,12 +8,21 @@ file (and line), exit 2. No file is created or changed.
 """
 from __future__ import annotations
 
-import os
 import subprocess
-from pathlib import Path
 
 import pytest
-from helpers import REPO_ROOT, RosMaster, closed_port, direct_script, run_script, wait_for
+from helpers import (
+    REPO_ROOT,
+    RosMaster,
+    assert_one_error_line,
+    assert_one_fatal_line,
+    closed_port,
+    direct_script,
+    folder_files,
+    run_case,
+    run_script,
+    wait_for,
+)
 
 from ltl_stack.errors import Exit
 
@@ -190,37 +199,12 @@ def master(tmp_path_factory):
         ros.shutdown()
 
 
-def _files(folder: Path) -> dict[str, bytes | str]:
-    return {p.name: p.read_bytes() if p.is_file() else "not a regular file" for p in sorted(folder.iterdir())}
-
-
-def _run(master: RosMaster, folder: Path, command: list[str], files: dict[str, bytes | None]) -> tuple:
-    for name, data in files.items():
-        if data is None:  # a FIFO (never read: reading it would block)
-            os.mkfifo(folder / name)
-        else:
-            (folder / name).write_bytes(data)
-    before = _files(folder)
-    args = [a.format(d=folder) for a in command]
-    done = subprocess.run(direct_script(["rosrun", "ltl_stack", *args], master.env), env=master.env, capture_output=True, text=True,
-                          timeout=300, cwd=folder)
-    return done, before
-
-
 @pytest.mark.parametrize("case", list(TOOLS))
 def test_tool_bad_input_one_error_and_exit_code(master, tmp_path, case):
     command, files, code, message = TOOLS[case]
-    done, before = _run(master, tmp_path, command, files)
-    tool = command[0]
-    assert done.returncode == code, (done.returncode, done.stdout[-1000:], done.stderr[-2000:])
-    errors = [line for line in (done.stdout + done.stderr).splitlines() if "error:" in line.lower()]
-    assert len(errors) == 1, done.stderr[-2000:]
-    # no continuation line: every line is the tool's own (progress, or the one error)
-    assert all(line.startswith(f"{tool}: ") for line in done.stderr.splitlines()), done.stderr[-2000:]
-    assert errors[0].startswith(f"{tool}: error: ") and errors[0].count("error:") == 1, errors
-    assert message.format(d=tmp_path) in errors[0], errors
-    assert "Traceback" not in done.stderr + done.stdout, done.stderr[-3000:]
-    assert _files(tmp_path) == before
+    done, before = run_case(master, tmp_path, command, files)
+    assert_one_error_line(done, command[0], code, message.format(d=tmp_path))
+    assert folder_files(tmp_path) == before
 
 
 @pytest.mark.parametrize("case", list(NODES))
@@ -228,13 +212,9 @@ def test_node_bad_parameter_or_file_one_fatal_and_exit_2(master, tmp_path, case)
     command, files, message = NODES[case]
     # a node name of its own: the master keeps private parameters (_x:=…) after the node is gone
     name = f"__name:=case{list(NODES).index(case)}"
-    done, before = _run(master, tmp_path, [*command, name], files)
-    assert done.returncode == Exit.BAD_INPUT, (done.returncode, done.stdout[-1000:], done.stderr[-2000:])
-    out = done.stdout + done.stderr
-    fatal = [line for line in out.splitlines() if "[FATAL]" in line]
-    assert len(fatal) == 1 and message.format(d=tmp_path) in fatal[0], out[-2000:]
-    assert "Traceback" not in out, out[-3000:]
-    assert _files(tmp_path) == before
+    done, before = run_case(master, tmp_path, [*command, name], files)
+    assert_one_fatal_line(done, message.format(d=tmp_path))
+    assert folder_files(tmp_path) == before
 
 
 @pytest.mark.parametrize("tool", ["timed_proposition_server", "scripted_environment", "set_propositions",

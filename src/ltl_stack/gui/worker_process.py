@@ -62,9 +62,7 @@ class WorkerProcess:
 
     def _start(self) -> subprocess.Popen:
         if self._proc is None or self._proc.poll() is not None:
-            env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in sys.path if p))  # as this process finds ltl_stack
-            self._proc = subprocess.Popen([sys.executable, "-m", "ltl_stack.gui.worker_process"],
-                                          stdin=subprocess.PIPE, stdout=subprocess.PIPE, env=env)
+            self._proc = subprocess.Popen(child_command(), stdin=subprocess.PIPE, stdout=subprocess.PIPE)
             self._finalizer = weakref.finalize(self, _end, self._proc)  # also when the panel is just dropped
         return self._proc
 
@@ -86,15 +84,11 @@ class WorkerProcess:
     @staticmethod
     def _parts(stream: BinaryIO, progress: Callable[[str], None]) -> Iterator[tuple]:
         while True:
-            try:
-                message = pickle.load(stream)
-            except EOFError:
-                raise WorkFailed("the worker process ended unexpectedly", Exit.NEGATIVE) from None
-            kind = message[0]
+            kind, message = _reply(stream)
             if kind == "progress":
                 progress(message[1])
             elif kind == "error":
-                raise WorkFailed(message[1], Exit(message[2]))
+                raise WorkFailed(message[1], _exit_code(message[2]))
             elif kind == "done":
                 return
             else:
@@ -113,6 +107,57 @@ class WorkerProcess:
         proc, self._proc = self._proc, None
         if proc is not None:
             _end(proc)
+
+
+def child_command() -> list[str]:
+    """The child's command line: ``python -I`` (no ``PYTHON*`` variables, no user site, and not the
+    current folder on ``sys.path``, where a ``pickle.py`` of the user's would be imported) with this
+    process's absolute ``sys.path`` entries put first explicitly, so it finds ltl_stack and ROS as
+    this process does. A relative entry (``''``: the current folder) is left out."""
+    cwd = os.path.realpath(os.getcwd())
+    paths = [p for p in sys.path if p and os.path.isabs(p) and os.path.realpath(p) != cwd]
+    package_root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    if package_root not in paths:  # a fallback after the paths this process found ltl_stack through
+        paths.append(package_root)
+    boot = (f"import sys; sys.path[:0] = {paths!r}; sys.path[:] = [p for p in sys.path if p]; "
+            "from ltl_stack.gui.worker_process import main; main()")
+    return [sys.executable, "-I", "-c", boot]
+
+
+#: what a reply may be: its kind and the types of what follows it (parts are checked by their reader)
+_REPLY_SHAPES = {"progress": (str,), "error": (str, int), "done": ()}
+
+
+def _reply(stream: BinaryIO) -> tuple[str, tuple]:
+    """One reply of the child, checked: ``WorkFailed`` (one line) when the child ended or wrote
+    something that is not a reply (garbage on its stdout: a module of ours printing there, or a
+    broken child), instead of a raw exception reaching the panel."""
+    try:
+        message = pickle.load(stream)
+    except EOFError:
+        raise WorkFailed("the worker process ended unexpectedly", Exit.NEGATIVE) from None
+    except Exception as err:  # noqa: BLE001 - any unreadable bytes: pickle raises many kinds
+        raise WorkFailed(f"the worker process sent an unreadable reply ({type(err).__name__})", Exit.NEGATIVE) from None
+    if not isinstance(message, tuple) or not message or not isinstance(message[0], str):
+        raise WorkFailed(f"the worker process sent a malformed reply ({_shown(message)})", Exit.NEGATIVE)
+    shape = _REPLY_SHAPES.get(message[0])
+    if shape is not None and (len(message) != len(shape) + 1
+                              or not all(isinstance(message[i + 1], kind) for i, kind in enumerate(shape))):
+        raise WorkFailed(f"the worker process sent a malformed {message[0]!r} reply ({_shown(message)})",
+                         Exit.NEGATIVE)
+    return message[0], message
+
+
+def _exit_code(code: int) -> Exit:
+    try:
+        return Exit(code)
+    except ValueError:
+        return Exit.NEGATIVE
+
+
+def _shown(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:56] + "…"
 
 
 def analysis_view(worker: WorkerProcess | None, request: dict[str, Any],
@@ -162,6 +207,9 @@ def _serve(requests: BinaryIO, replies: BinaryIO) -> None:
             job, arguments = pickle.load(requests)
         except EOFError:
             return
+        if job not in JOBS:
+            send(("error", f"unknown job {job!r}", int(Exit.NEGATIVE)))
+            continue
         gc.disable()  # neither job makes reference cycles; a full collection only costs time
         try:
             for part in JOBS[job](arguments, lambda text: send(("progress", text))):

@@ -36,10 +36,15 @@ from ltl_stack.ros.proposition_node import (
     message_class,
     run_node,
 )
+from ltl_stack.runtime.node_params import shown
 from ltl_stack.runtime.sensing import check_field_path, extract_field, parse_field_path
 
 #: Result field that says "completed" for the action types ltl_stack knows.
 DEFAULT_RESULT_FIELDS = {"ltl_stack/Proposition": "completed", "ltl_stack/Navigate": "reached"}
+#: failed goals of one activation that are each reported; after them, one line every REPORT_PERIOD s
+#: (a server that aborts at once would otherwise fill the log at 1/~retry_delay lines a second)
+WARN_FAILURES = 3
+REPORT_PERIOD = 60.0
 #: actionlib_msgs/GoalStatus values, for log lines.
 STATE_NAMES = {0: "PENDING", 1: "ACTIVE", 2: "PREEMPTED", 3: "SUCCEEDED", 4: "ABORTED", 5: "REJECTED",
                6: "PREEMPTING", 7: "RECALLING", 8: "RECALLED", 9: "LOST"}
@@ -115,12 +120,15 @@ class ActionProposition(OutputPropositionNode):
         self.done: deque = deque()
         self.in_flight = False
         self.retry_at: float | None = None
+        self.failures = 0  # goals of this activation that ended without success
+        self.reported_at = 0.0  # when failures were last reported (after the first WARN_FAILURES)
         super().__init__(config)
 
     # Hooks of the output base (called under its lock).
     def on_rising(self) -> None:
         self.generation += 1
         self.retry_at = None
+        self.failures = 0
         self.completion.set(False)
         self._send_if_ready()
 
@@ -158,7 +166,8 @@ class ActionProposition(OutputPropositionNode):
         generation = self.generation
         self.in_flight = True
         self.retry_at = None
-        rospy.loginfo("%s: sending a goal to %s", rospy.get_name(), self.config["action"])
+        if self.failures < WARN_FAILURES:
+            rospy.loginfo("%s: sending a goal to %s", rospy.get_name(), self.config["action"])
         # actionlib calls done_cb holding its own lock; queue the result and handle it in while_true
         # (under the node's lock), so the two locks are never taken in opposite orders.
         self.client.send_goal(self.goal, done_cb=lambda state, result: self.done.append(
@@ -173,10 +182,16 @@ class ActionProposition(OutputPropositionNode):
             self.completion.set(True)
             return
         delay = self.config["retry_delay"]
-        rospy.logwarn("%s: goal on %s ended %s (%s)%s", rospy.get_name(), self.config["action"],
-                      STATE_NAMES.get(state, str(state)), text,
-                      f"; retrying in {delay:.1f} s" if delay >= 0 else "")
-        self.retry_at = time.monotonic() + delay if delay >= 0 else float("inf")
+        self.failures += 1
+        now = time.monotonic()
+        if self.failures <= WARN_FAILURES or now - self.reported_at >= REPORT_PERIOD:
+            self.reported_at = now
+            more = (f" (goal {self.failures} of this activation; from now on one line every "
+                    f"{REPORT_PERIOD:g} s)" if self.failures >= WARN_FAILURES else "")
+            rospy.logwarn("%s: goal on %s ended %s (%s)%s%s", rospy.get_name(), self.config["action"],
+                          STATE_NAMES.get(state, str(state)), shown(text),
+                          f"; retrying in {delay:.1f} s" if delay >= 0 else "", more)
+        self.retry_at = now + delay if delay >= 0 else float("inf")
 
     def _result_ok(self, result: Any) -> bool:
         if not self.result_steps:

@@ -126,10 +126,11 @@ def _why(error: BaseException) -> str:
     return str(error) or type(error).__name__
 
 
-def trace_steps(records: Iterable, source: str = "the bag") -> Iterator[TraceStep]:
+def trace_steps(records: Iterable, source: str = "the bag", topic: str = "") -> Iterator[TraceStep]:
     """The recorded ``(record time, message)`` pairs as ``TraceStep`` values, timed from the first by
     the record time (a bag's record times never go back, while replayed header stamps may), one at a
-    time; a message that cannot be read is InputError naming its place."""
+    time; a message that cannot be read is an ``InputError`` naming the bag, the topic and the
+    message's number (from 1)."""
     from ltl_stack.ros.controller_trace import step_of
 
     start = None
@@ -138,8 +139,8 @@ def trace_steps(records: Iterable, source: str = "the bag") -> Iterator[TraceSte
             if msg.state_id < 0:
                 continue
             step = step_of(msg, msg.header.stamp.to_sec())
-        except (ValueError, TypeError, AttributeError) as error:
-            raise InputError(source, f"ControllerState #{index + 1} cannot be read: {error}") from None
+        except (ValueError, TypeError, AttributeError) as error:  # MalformedValuation among them
+            raise InputError(source, f"{topic + ': ' if topic else ''}message {index + 1}: {error}") from None
         start = when if start is None else start
         yield replace(step, time=max(0.0, when - start))
 
@@ -178,7 +179,7 @@ def _check(args) -> int:
     namespace = load_mapping(args.mapping).scenario_namespace()
     with open_states(args.bag, args.topic, namespace) as (topic, messages):
         try:
-            report = check_run(spec, trace_steps(messages, args.bag), args.from_start)
+            report = check_run(spec, trace_steps(messages, args.bag, topic), args.from_start)
         except ValueError as error:
             raise UserError(f"{args.bag}: {error}") from None
     if not report.steps:

@@ -22,7 +22,7 @@ from ltl_stack import cli
 from ltl_stack.errors import Exit, UserError
 from ltl_stack.msg import ControllerState
 from ltl_stack.ros.master import init_node, master_uri, ros_name, wait_for_master
-from ltl_stack.ros.valuation import msg_to_valuation
+from ltl_stack.ros.valuation import MalformedValuation, state_valuations
 from ltl_stack.runtime.negotiation import report_lines
 from ltl_stack.runtime.trace import GoalCycles, TraceStep, describe
 from ltl_stack.spec import load_spec
@@ -32,10 +32,11 @@ MASTER_WAIT = 10.0
 
 
 def step_of(msg, start: float) -> TraceStep:
-    """A ``TraceStep`` of a ControllerState message, timed from ``start`` (seconds)."""
+    """A ``TraceStep`` of a ControllerState message, timed from ``start`` (seconds);
+    ``MalformedValuation`` when its inputs or outputs cannot be read."""
+    inputs, outputs = state_valuations(msg)
     return TraceStep(time=msg.header.stamp.to_sec() - start, state_id=msg.state_id, goal=msg.goal_index,
-                     inputs=msg_to_valuation(msg.inputs), outputs=msg_to_valuation(msg.outputs),
-                     running=msg.running)
+                     inputs=inputs, outputs=outputs, running=msg.running)
 
 
 class ControllerTrace:
@@ -53,6 +54,8 @@ class ControllerTrace:
         self._start = rospy.get_time()
         self._sub = rospy.Subscriber(topic, ControllerState, self._on_state, queue_size=100)
         self.negotiations: set[tuple[str, str]] = set()
+        self.malformed = 0  # state messages that could not be read (skipped, the first one reported)
+        self._topic = topic
         resolved = rospy.resolve_name(topic)
         self._negotiation_sub = rospy.Subscriber(resolved.rsplit("/", 1)[0] + "/negotiations", String,
                                                  self._on_negotiations, queue_size=10)
@@ -80,7 +83,13 @@ class ControllerTrace:
         self._resilience(msg)
         if msg.state_id < 0:
             return
-        step = step_of(msg, self._start)
+        try:
+            step = step_of(msg, self._start)
+        except MalformedValuation as err:
+            self.malformed += 1
+            if self.malformed == 1:
+                cli.warn("controller_trace", f"{self._topic}: skipping a state message that cannot be read: {err}")
+            return
         previous = self.steps[-1] if self.steps else None
         if previous is not None and (previous.state_id, previous.running) == (step.state_id, step.running):
             return
@@ -183,8 +192,8 @@ def replay_bag(args, goals: int | None) -> int:
     from ltl_stack.ros.check_run import open_states, trace_steps
 
     topic = None if args.topic == "controller_executor/state" else "/" + args.topic.lstrip("/")
-    with open_states(args.bag, topic) as (_, messages):
-        return _replay(args, goals, trace_steps(messages, args.bag))
+    with open_states(args.bag, topic) as (topic, messages):
+        return _replay(args, goals, trace_steps(messages, args.bag, topic))
 
 
 def _replay(args, goals: int | None, steps) -> int:

@@ -29,7 +29,7 @@ from std_msgs.msg import ColorRGBA, String
 from ltl_stack.msg import ControllerState
 from ltl_stack.ros.localization import MAP_PARAMS, load_map
 from ltl_stack.ros.proposition_node import NodeSpec, Param, run_node
-from ltl_stack.ros.valuation import msg_to_valuation
+from ltl_stack.ros.valuation import state_valuations
 from ltl_stack.runtime.map_view import (
     CURRENT,
     HEADING,
@@ -85,9 +85,9 @@ class StateView:
 
 
 def state_view(msg: Any) -> StateView:
-    """ValueError/TypeError when the message cannot be read."""
-    return StateView(int(msg.state_id), int(msg.goal_index), str(msg.mode), msg_to_valuation(msg.inputs),
-                     msg_to_valuation(msg.outputs), bool(msg.running))
+    """ValueError (``MalformedValuation`` among them)/TypeError when the message cannot be read."""
+    inputs, outputs = state_valuations(msg)
+    return StateView(int(msg.state_id), int(msg.goal_index), str(msg.mode), inputs, outputs, bool(msg.running))
 
 
 class MarkerBuilder:

@@ -21,6 +21,8 @@ The ROS-free parts live in the runtime layer: parameters and their checks in
 """
 from __future__ import annotations
 
+import io
+import struct
 import sys
 import threading
 import time
@@ -47,6 +49,7 @@ from ltl_stack.runtime.node_params import (
     coerce_param,
     describe_params,
     params_help,
+    shown,
     split_param_args,
 )
 
@@ -115,9 +118,16 @@ def fill_message(cls: type, fields: dict[str, Any], what: str = "message") -> An
     msg = cls()
     try:
         genpy.message.fill_message_args(msg, [fields])
-    except (genpy.MessageException, ValueError, TypeError, KeyError, AttributeError) as error:
-        raise NodeConfigError(f"{what} {fields!r} does not fit {cls._type}: {error}") from None
+        msg.serialize(io.BytesIO())  # a field of the wrong type ({data: notabool}) fails here, not at publish
+    except (genpy.MessageException, genpy.SerializationError, ValueError, TypeError, KeyError, AttributeError,
+            struct.error) as error:
+        raise NodeConfigError(f"{what} {shown(fields)} does not fit {cls._type}: {_first_line(error)}") from None
     return msg
+
+
+def _first_line(error: Exception) -> str:
+    text = str(error).strip().splitlines()
+    return text[0] if text else type(error).__name__
 
 
 def wait_for_topic_class(topic: str, poll: float = 0.2) -> type | None:

@@ -19,8 +19,21 @@ def valuation_to_msg(valuation: Mapping[str, bool], stamp: rospy.Time | None = N
     return msg
 
 
-def msg_to_valuation(msg: PropositionValuation) -> dict[str, bool]:
-    """The dict of a message; ValueError when its parallel arrays disagree in length."""
+class MalformedValuation(ValueError):
+    """A valuation message that cannot be read (its parallel arrays disagree in length); the text
+    says which and how, in one line."""
+
+
+def msg_to_valuation(msg: PropositionValuation, what: str = "PropositionValuation") -> dict[str, bool]:
+    """The dict of a message; ``MalformedValuation`` when its parallel arrays disagree in length
+    (a message of another publisher than ours: every reader refuses it in one line)."""
     if len(msg.keys) != len(msg.values):
-        raise ValueError(f"PropositionValuation has {len(msg.keys)} keys but {len(msg.values)} values")
+        raise MalformedValuation(f"{what} has {len(msg.keys)} keys but {len(msg.values)} values")
     return dict(zip(msg.keys, (bool(v) for v in msg.values)))
+
+
+def state_valuations(msg) -> tuple[dict[str, bool], dict[str, bool]]:
+    """(inputs, outputs) of a ``ControllerState``: the one decoding of every reader of ``~state``
+    (controller_trace, check_run, controller_trace --bag, map_markers, story_environment);
+    ``MalformedValuation`` naming the field otherwise."""
+    return msg_to_valuation(msg.inputs, "inputs"), msg_to_valuation(msg.outputs, "outputs")

@@ -27,7 +27,9 @@ controller characterizes at the first violation.
 """
 from __future__ import annotations
 
+import os
 import posixpath
+import tempfile
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -226,6 +228,26 @@ def check_characterized_spec(options: Options, inputs: list[str | None]) -> None
             cli.check_outputs(inputs, [options.characterized_spec])
         except UserError as err:
             raise ExecutorError(f"{NODE_NAME}: {_label(options, 'characterized_spec')}: {err}") from None
+        refusal = folder_refusal(options.characterized_spec)
+        if refusal:
+            raise ExecutorError(f"{NODE_NAME}: {_label(options, 'characterized_spec')} "
+                                f"{options.characterized_spec!r}: {refusal}")
+
+
+def folder_refusal(path: str) -> str | None:
+    """Why no file can be written next to ``path`` (its folder is read-only, ``/proc``, full …), or
+    None: a file is created there and removed again, so the first resynthesis does not find out."""
+    folder = os.path.dirname(os.path.abspath(path))
+    try:
+        fd, probe = tempfile.mkstemp(prefix=".ltl_stack_probe.", dir=folder)
+    except OSError as err:
+        return f"cannot write in its folder {folder}: {err.strerror or err}"
+    os.close(fd)
+    try:
+        os.unlink(probe)
+    except OSError:
+        pass
+    return None
 
 
 @dataclass

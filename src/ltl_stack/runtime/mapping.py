@@ -178,6 +178,8 @@ def parse_mapping(text: str, file: str = "<string>") -> Mapping:
         mapping.namespace = ns
     if "negotiation" in top:
         mapping.negotiation, mapping.negotiation_line = data["negotiation"], top["negotiation"][0]
+        if mapping.negotiation is not None:
+            _check_negotiation(mapping)
     if "expected_feedback" in top:
         mapping.expected_feedback = _expected_feedback(file, *top["expected_feedback"], data["expected_feedback"])
     for kind, key in ((INPUT, "inputs"), (OUTPUT, "outputs")):
@@ -268,6 +270,18 @@ def _entry(file: str, kind: str, prop: str, value: Any, node: yaml.Node) -> Node
                      filename=text("filename"), parameters={str(k): v for k, v in parameters.items()},
                      type=text("type"), args=text("args") or "", line=line,
                      freshness=float(freshness) if freshness is not None else None)
+
+
+def _check_negotiation(mapping: Mapping) -> None:
+    """The ``negotiation:`` section has the shape ``runtime.negotiation`` reads (robot:, peers: …),
+    checked when the file is read, so every reader of mappings (the executor's ``--check``,
+    ``generate_launch``, the mapping panel) refuses a wrong one, not only a running executor."""
+    from ltl_stack.runtime.negotiation import NegotiationError, classes_from_data
+
+    try:
+        classes_from_data(mapping.negotiation, mapping.file, mapping.negotiation_line)
+    except NegotiationError as err:
+        raise MappingError(err.file, err.line, err.message) from None
 
 
 def _line(node: yaml.Node) -> int:

@@ -82,6 +82,11 @@ _LIMIT = 10.0 ** MAX_DIGITS
 #: the smallest positive rate, duration or scale (ROS' clock counts nanoseconds)
 SMALLEST = 1e-9
 _LONG_INTEGER = re.compile(rf"^\s*[+-]?\d{{{MAX_DIGITS + 1},}}\s*$")
+#: the largest integer XML-RPC (ROS' parameter server) carries
+_XMLRPC_INT = 2 ** 31 - 1
+_INNER_INTEGER = re.compile(r"(?<![\w.+-])[+-]?\d{10,}(?![\w.])")
+#: what Python makes of bytes of a command line that are not UTF-8 (``\xff`` -> ``\udcff``)
+_NOT_UTF8 = re.compile("[\udc80-\udcff]")
 _PARAM_ARG = re.compile(r"^_(?P<name>[^:=]+):=(?P<value>.*)$", re.DOTALL)
 
 
@@ -89,6 +94,25 @@ def shown(value: Any) -> str:
     """``repr`` of a value for a message, cut short (a 5000-digit number is not repeated)."""
     text = repr(value)
     return text if len(text) <= 40 else text[:36] + "…"
+
+
+#: nesting of a ``_name:=value`` list or dict (rospy reads it as YAML, recursively: 1,000 levels
+#: end in RecursionError)
+MAX_PARAM_DEPTH = 100
+
+
+def _depth(text: str) -> int:
+    """The deepest bracket nesting of ``text`` (quotes not skipped: an over-estimate is refused)."""
+    if text.count("[") + text.count("{") <= MAX_PARAM_DEPTH:
+        return 0
+    depth = deepest = 0
+    for ch in text:
+        if ch in "[{":
+            depth += 1
+            deepest = max(deepest, depth)
+        elif ch in "]}":
+            depth -= 1
+    return deepest
 
 
 def split_param_args(argv: Sequence[str]) -> tuple[list[str], str | None]:
@@ -100,11 +124,22 @@ def split_param_args(argv: Sequence[str]) -> tuple[list[str], str | None]:
     without them and then reports the message as its one ``[FATAL]`` line."""
     kept, message = [], None
     for arg in argv:
+        if ":=" in arg and _NOT_UTF8.search(arg):  # ROS names and parameters travel as UTF-8 (XML-RPC)
+            message = message or f"argument {shown(arg)} is not UTF-8 text (ROS names and parameters are)"
+            continue
         m = _PARAM_ARG.match(arg)
         if m and _LONG_INTEGER.match(m["value"]):
             digits = len(m["value"].strip().lstrip("+-"))
             message = message or (f"parameter ~{m['name']} must be a number of at most {MAX_DIGITS} digits, "
                                   f"got one of {digits} digits")
+            continue
+        if m and _depth(m["value"]) > MAX_PARAM_DEPTH:  # rospy's YAML reading recurses per level
+            message = message or f"parameter ~{m['name']} is nested more than {MAX_PARAM_DEPTH} levels deep"
+            continue
+        inner = next((n for n in _INNER_INTEGER.findall(m["value"]) if abs(int(n[:40])) > _XMLRPC_INT), None) if m else None
+        if inner is not None:  # in a list or dict: rospy's XML-RPC call to the master fails on it
+            message = message or (f"parameter ~{m['name']}: {shown(inner)} is beyond a ROS parameter's integers "
+                                  f"(at most {_XMLRPC_INT} in size)")
             continue
         kept.append(arg)
     return kept, message
@@ -169,8 +204,9 @@ def _convert(param: Param, want: type | None, value: Any, node: str) -> Any:
     elif want is str:
         if isinstance(value, str):
             return value
-        if isinstance(value, (int, float)) and not isinstance(value, bool):
-            return str(value)
+        if isinstance(value, (int, float)) and not isinstance(value, bool):  # a path or name typed as a number
+            raise _fail(param, node, f"must be a string, got the number {shown(value)} (quote it to mean the text: "
+                                     f"_{param.name}:=\"'{shown(value)}'\")")
     elif want is list:
         if isinstance(value, (list, tuple)):
             return list(value)

@@ -25,8 +25,9 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-import yaml
-
+from ltl_stack.errors import InputError
+from ltl_stack.inputs import parse_yaml
+from ltl_stack.runtime.node_params import shown
 from ltl_stack.runtime.sensing import COMPARISONS, extract_field, parse_field_path
 
 #: Operators beyond the comparisons.
@@ -69,11 +70,13 @@ class Condition:
         """ValueError naming the condition when it is not ``<field> <op> <value>``."""
         parts = str(text).split(None, 2)
         if len(parts) != 3 or parts[1] not in OPS:
-            raise ValueError(f"condition {text!r} is not '<field> <op> <value>' with op one of {' '.join(OPS)}")
+            raise ValueError(f"condition {shown(text)} is not '<field> <op> <value>' with op one of {' '.join(OPS)}")
         field, op, raw = parts
         try:
-            value = yaml.safe_load(raw)
-        except yaml.YAMLError:
+            value = parse_yaml(raw, "its value")
+        except InputError as err:
+            if "invalid YAML" not in str(err):  # nested too deep, too many aliases, too long a number
+                raise ValueError(f"condition {shown(text)}: {err}") from None
             value = raw
         if op in VECTOR_OPS and not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
             raise ValueError(f"condition {text!r}: {op} needs a finite distance >= 0")

@@ -448,12 +448,15 @@ class StoryFollower:
             self.complete.set()
 
     def _on_state(self, msg) -> None:
-        from ltl_stack.ros.valuation import msg_to_valuation
+        from ltl_stack.ros.valuation import MalformedValuation, msg_to_valuation
 
+        try:
+            inputs = msg_to_valuation(msg.inputs, "inputs")
+        except MalformedValuation:  # not our executor's message: nothing to tell
+            return
         with self.lock:
             self.states += 1
             self.last_stamp = msg.header.stamp
-            inputs = msg_to_valuation(msg.inputs)
             at = region_of(inputs, self.regions, "_c")
             if at is not None and at != self.at:
                 self.at = at

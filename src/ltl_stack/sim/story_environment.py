@@ -22,7 +22,7 @@ from std_msgs.msg import Bool, String
 
 from ltl_stack.msg import ControllerState
 from ltl_stack.ros.proposition_node import NodeConfigError, NodeSpec, Param, run_node
-from ltl_stack.ros.valuation import msg_to_valuation
+from ltl_stack.ros.valuation import MalformedValuation, state_valuations
 from ltl_stack.runtime.node_params import Bound
 from ltl_stack.runtime.story import StoryError, StoryPlayer, load_story, region_of
 from ltl_stack.spec import SpecError, load_spec
@@ -92,8 +92,11 @@ class StoryEnvironment:
                 self.published[name] = value
 
     def _on_state(self, msg: ControllerState) -> None:
-        inputs = msg_to_valuation(msg.inputs)
-        outputs = msg_to_valuation(msg.outputs)
+        try:
+            inputs, outputs = state_valuations(msg)
+        except MalformedValuation as err:
+            rospy.logwarn_throttle(60, "%s: skipping a controller state that cannot be read: %s", rospy.get_name(), err)
+            return
         mode = getattr(msg, "mode", "")
         with self.lock:
             pulses = self.player.pending_pulses()

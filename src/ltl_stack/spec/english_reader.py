@@ -54,6 +54,9 @@ from ltl_stack.spec.ops import Pending, settle
 from ltl_stack.spec.region_map import RegionTopology, complete_topology, parse_region_map
 
 ENGLISH_SUFFIXES = (".spec", ".english")
+#: sentences ``all G`` / ``each G`` may make in one spec, one per member (100 sentences ``visit all G``
+#: over a group of 2,000 regions made 200,000 goals: minutes before synthesis printed anything)
+MAX_REPEATED = 10_000
 
 # Words of the sentences; a proposition may not be called one of these.
 KEYWORDS = frozenset("""
@@ -97,6 +100,8 @@ class Declarations:
     regions_are_places: bool = False
     #: ``group X is a, b`` (and its singular, as LTLMoP allows): the members, by group name
     groups: dict[str, list[str]] = field(default_factory=dict)
+    #: sentences made so far by repeating one per group member (``visit all rooms``)
+    repeated: int = 0
     #: propositions a project lists but disables (``name, 0``), with their kind
     disabled: dict[str, str] = field(default_factory=dict)
     #: a region name that stands for several pieces of the map (LTLMoP's decomposition when regions
@@ -229,12 +234,20 @@ def _declare(decl: Declarations, m: re.Match, number: int, body: str, file: str,
 
 
 def _names(rest: str, column: int) -> list[tuple[str, int]]:
+    """The names of a declaration line; ``and`` joins two of them (``a, b and c``), anywhere else it
+    is kept as a name (and then refused as a word of the sentences: ``Sensors: and``)."""
+    found = [(m.group(), column + m.start()) for m in re.finditer(r"[^\s,]+", rest)]
     out = []
-    for m in re.finditer(r"[^\s,]+", rest):
-        if m.group().lower() == "and":
+    for i, (word, col) in enumerate(found):
+        joins = 0 < i < len(found) - 1 and found[i - 1][0].lower() != "and" and found[i + 1][0].lower() != "and"
+        if word.lower() == "and" and joins:
             continue
-        out.append((m.group(), column + m.start()))
+        out.append((word, col))
     return out
+
+
+def _article(word: str) -> str:
+    return ("an " if word[:1] in "aeiou" else "a ") + word
 
 
 _KIND_WORD = {"sensors": "sensor", "actions": "action", "completion_actions": "action with completion",
@@ -329,6 +342,8 @@ class _Phrase:
     negated: bool
     length: int
     text: str
+    #: ``sensing`` / ``sensed``: the name right after it must be an input
+    sensing: bool = False
 
 
 def _phrase_table() -> dict[tuple[str, ...], tuple[bool, bool, bool]]:
@@ -356,6 +371,7 @@ def _phrase_table() -> dict[tuple[str, ...], tuple[bool, bool, bool]]:
 
 
 PHRASES = _phrase_table()
+_SENSING = ("sensing", "sensed", "sense")
 _LONGEST_PHRASE = max(len(k) for k in PHRASES)
 _PHRASE_STARTS = frozenset(k[0] for k in PHRASES)
 _BINARY = {"and": 2, "or": 1}
@@ -469,6 +485,12 @@ class _Sentence:
             finally:
                 self.tokens = toks
         out: list[tuple[str, Formula]] = []
+        self.decl.repeated += len(members)
+        if self.decl.repeated > MAX_REPEATED:
+            raise self.error(column, f"'{toks[at].text} {toks[at + 1].text}' repeats this sentence for each of "
+                                     f"{len(members)} members: with the sentences before it, more than "
+                                     f"{MAX_REPEATED:,} (the most a spec may make this way; a goal per member "
+                                     "makes synthesis slow long before)")
         try:
             for member in members:
                 self.tokens = toks[:at] + [_Token("word", member, column)] + toks[at + 2:]
@@ -866,6 +888,8 @@ class _Sentence:
                 elif t.kind == "(":
                     ops.append(("(", t))
                 elif t.kind == "word" and t.low not in KEYWORDS - {"true", "false"}:
+                    if ops and ops[-1][0] == "phrase" and previous is toks[i - 1] and ops[-1][2] is not t:
+                        self._check_kind(t, ops[-1][1])
                     values.append(self._atom(t, phrases[-1] if phrases else None, mode, only, completion))
                     expect = False
                 elif t.low in ("you", "the", "robot", "it"):
@@ -1030,7 +1054,8 @@ class _Sentence:
             key = tuple(t.low for t in toks[i:i + length])
             meaning = PHRASES.get(key)
             if meaning is not None:
-                return _Phrase(*meaning, length, " ".join(t.text for t in toks[i:i + length]))
+                return _Phrase(*meaning, length, " ".join(t.text for t in toks[i:i + length]),
+                               any(w in _SENSING for w in key))
         return None
 
     def _atom(self, t: _Token, phrase: _Phrase | None, mode: str, only: str | None, completion: bool) -> Formula:
@@ -1060,6 +1085,20 @@ class _Sentence:
                                            "region or an action declared under 'Actions with completion:'")
             name = done
         return Var(name, self._primed(name, phrase, mode))
+
+    def _check_kind(self, t: _Token, phrase: _Phrase) -> None:
+        """The name right after ``you are sensing`` / ``you sensed`` must be an input (a sensor or a
+        completion): the robot senses only those. Names joined after it by and/or are read as the
+        thesis' own sentences write them (``you are sensing object or sawObject``, a memory
+        proposition) and not checked. ``do <sensor>`` stays LTLMoP's form of an assumption
+        (``if you are in r1 then do not person``)."""
+        kind = self.decl.kind_of.get(t.text)
+        if kind is None or t.low in ("true", "false"):
+            return
+        sensor = t.text in self.decl.inputs
+        if phrase.sensing and not sensor:
+            raise self.error(t.column, f"'{t.text}' is {_article(_KIND_WORD.get(kind, kind))}, not a sensor: "
+                                       f"'{phrase.text}' needs a sensor ({', '.join(self.decl.sensors) or 'none declared'})")
 
     def _primed(self, name: str, phrase: _Phrase | None, mode: str) -> bool:
         """When a name is read (LTLMoP's ``parseEnglishToLTL``, see docs/spec_formats.md):

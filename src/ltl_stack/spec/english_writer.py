@@ -146,8 +146,8 @@ class _Writer:
         if len(shapes) != 1:
             return None
         kind, past = shapes.pop()
-        if kind == "plain":
-            kind = "sensor" if "sensor" in kinds else "robot"
+        if kind == "plain":  # the phrase of the first name (the reader checks the name right after it)
+            kind = kinds[0]
         return ("and" if isinstance(node, And) else "or"), kind, past, [self._atom(a)[0] for a in node.args]
 
     def expression(self, f: Formula, mode: str, bare: bool = False) -> str:

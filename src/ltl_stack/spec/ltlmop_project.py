@@ -85,7 +85,7 @@ def read_project(text: str, file: str, base_dir: Path) -> EnglishSpec:
     spec_lines = parts.get("SPECIFICATION", {}).get("Spec", [])
     derived: dict[str, tuple] = {}
     if options["decompose"] and parser == "structured":
-        spec_lines = [(n, _derived_areas(s, derived)) for n, s in spec_lines]
+        spec_lines = [(n, _derived_areas(s, derived, file, n)) for n, s in spec_lines]
     region_file = [(n, e) for n, e in settings.get("RegionFile", []) if e.strip() and e.strip() != "None"]
     if region_file:
         _read_map(decl, region_file[0], base_dir, file, options["decompose"], derived)
@@ -145,14 +145,22 @@ NEAR_DISTANCE = 50
 _BETWEEN = re.compile(r"\bbetween (\w+) and (\w+)", re.IGNORECASE)
 _WITHIN = re.compile(r"\bwithin (\d+) (?:from|of) (\w+)", re.IGNORECASE)
 _NEAR = re.compile(r"\bnear (\w+)", re.IGNORECASE)
+#: digits of the distance N of ``within N of R`` (map units; a longer number is a typing mistake, and
+#: one of more than 4300 digits is more than Python converts)
+MAX_DISTANCE_DIGITS = 9
 
 
-def _derived_areas(sentence: str, derived: dict[str, tuple]) -> str:
+def _derived_areas(sentence: str, derived: dict[str, tuple], file: str = "<string>", line: int = 0) -> str:
     """Name the areas LTLMoP computes from the map (``between A and B``, ``within N of R``, ``near R``)
     as one word each, ``between_A_and_B`` …, and note their geometry in ``derived`` (as LTLMoP's
-    ``parseLP`` collects them before it decomposes the map)."""
+    ``parseLP`` collects them before it decomposes the map). A distance of more than
+    ``MAX_DISTANCE_DIGITS`` digits is a ``SpecError`` at ``file:line``."""
     if sentence.lstrip().startswith("#"):
         return sentence
+    for m in _WITHIN.finditer(sentence):
+        if len(m[1].lstrip("0")) > MAX_DISTANCE_DIGITS:
+            raise SpecError(file, line, m.start(1) + 1, f"'within N of {m[2]}': N has {len(m[1])} digits "
+                                                        f"(at most {MAX_DISTANCE_DIGITS})")
 
     def between(m: re.Match) -> str:
         name = f"between_{m[1]}_and_{m[2]}"

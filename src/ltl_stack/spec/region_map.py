@@ -286,6 +286,7 @@ def parse_region_map(text: str, file: str, decompose: bool = False,
                                             f"{MAX_REGIONS} regions or {MAX_VERTICES} vertices)")
         names.append(name)
         outlines[name] = region.outline
+    holes: dict[str, list[list[Point]]] = {}  # of the free space's pieces (the regions inside it)
     transitions = sections.get("Transitions")
     listed = [(n, line) for n, line in enumerate(transitions[1], start=transitions[0] + 1)
               if line.strip() and not line.lstrip().startswith("#")] if transitions else []
@@ -293,12 +294,13 @@ def parse_region_map(text: str, file: str, decompose: bool = False,
         return _overlay(file, boundary, names, outlines, derived or {}, start, blocked)
     if decompose and boundary is not None:
         pieces = _free_space(boundary, [r for r in content.regions if r is not boundary])
-        for k, piece in enumerate(pieces, start=1):
+        for k, (piece, piece_holes) in enumerate(pieces, start=1):
             name = FREE_SPACE if len(pieces) == 1 else f"{FREE_SPACE}_{k}"
             while name in outlines:
                 name += "_"
             names.append(name)
             outlines[name] = piece
+            holes[name] = piece_holes
     adjacent: dict[str, set[str]] = {n: set() for n in names}
     if listed and not decompose:
         for number, line in listed:
@@ -315,7 +317,7 @@ def parse_region_map(text: str, file: str, decompose: bool = False,
                 adjacent[a].add(b)
                 adjacent[b].add(a)
     else:
-        for a, b in _touching(names, outlines):
+        for a, b in _touching(names, outlines, holes):
             adjacent[a].add(b)
             adjacent[b].add(a)
     warnings = [f"{file}: region {n} touches no other region (the robot can never leave or reach it)"
@@ -324,15 +326,40 @@ def parse_region_map(text: str, file: str, decompose: bool = False,
 
 
 def _overlapping(names: list[str], outlines: dict[str, list[Point]]) -> bool:
-    import shapely
     shapes = [_polygon(outlines[n]) for n in names]
-    tree = shapely.STRtree(shapes)
-    for i, shape in enumerate(shapes):
+    if not _may_overlap(shapes):
+        return False
+    for i, j in _box_candidates(shapes):
+        shape = shapes[i]
         scale = max(shape.bounds[2] - shape.bounds[0], shape.bounds[3] - shape.bounds[1], 1e-9)
-        for j in tree.query(shape):
-            if int(j) > i and shape.intersection(shapes[int(j)]).area > 1e-6 * scale * scale:
-                return True
+        if shape.intersection(shapes[j]).area > 1e-6 * scale * scale:
+            return True
     return False
+
+
+def _may_overlap(shapes: list) -> bool:
+    """False when no two shapes share area: their union (GEOS' cascaded union, about n log n) is as
+    large as their areas together. Only then are pairs looked at one by one (``_box_candidates``:
+    a pie's thin slices all meet at its centre and their boxes all overlap, n squared pairs)."""
+    import shapely
+    if len(shapes) < 2:
+        return False
+    total = sum(shape.area for shape in shapes)
+    bounds = shapely.total_bounds(shapes)
+    extent = max(bounds[2] - bounds[0], bounds[3] - bounds[1], 1e-9)
+    return total - shapely.union_all(shapes).area > 1e-9 * extent * extent + 1e-9 * total
+
+
+def _box_candidates(shapes: list, grow: float = 0.0) -> list[tuple[int, int]]:
+    """Pairs ``i < j`` whose boxes (grown by ``grow``) meet, from an R-tree."""
+    import shapely
+    tree = shapely.STRtree(shapes)
+    pairs = []
+    for i, shape in enumerate(shapes):
+        for j in tree.query(shape.buffer(grow) if grow else shape):
+            if int(j) > i:
+                pairs.append((i, int(j)))
+    return pairs
 
 
 def _overlay(file: str, boundary: RegionOutline, names: list[str], outlines: dict[str, list[Point]],
@@ -408,8 +435,10 @@ def _polygon(points: list[Point], holes: list[list[Point]] | None = None) -> Pol
     return polygon if polygon.is_valid else polygon.buffer(0)  # self-touching outlines: the area they enclose
 
 
-def _free_space(boundary: RegionOutline, others: list[RegionOutline]) -> list[list[Point]]:
-    """The outlines of the pieces of the boundary that no other region covers (LTLMoP's ``others``)."""
+def _free_space(boundary: RegionOutline, others: list[RegionOutline]) -> list[tuple[list[Point], list[list[Point]]]]:
+    """The outlines and holes of the pieces of the boundary that no other region covers (LTLMoP's
+    ``others``): with its holes a piece shares area with no region, and touches the ones on its
+    border (edge to edge), not every region inside it."""
     from shapely.geometry import Polygon
     from shapely.ops import unary_union
     covered = unary_union([_polygon(r.outline, r.holes) for r in others]) if others else None
@@ -419,13 +448,18 @@ def _free_space(boundary: RegionOutline, others: list[RegionOutline]) -> list[li
     scale = max(space.bounds[2] - space.bounds[0], space.bounds[3] - space.bounds[1], 1e-9) if not space.is_empty \
         else 1.0
     pieces = [g for g in getattr(space, "geoms", [space]) if isinstance(g, Polygon) and g.area > 1e-9 * scale * scale]
-    return [[(float(x), float(y)) for x, y in list(p.exterior.coords)[:-1]] for p in pieces]
+    def ring(coords) -> list[Point]:
+        return [(float(x), float(y)) for x, y in list(coords)[:-1]]
+    return [(ring(p.exterior.coords), [ring(h.coords) for h in p.interiors]) for p in pieces]
 
 
-def _touching(names: list[str], outlines: dict[str, list[Point]]) -> list[tuple[str, str]]:
-    """Pairs of regions whose outlines share a stretch of border of positive length (shapely; an
-    R-tree finds the candidates, so a map of n regions costs about n log n, not n squared)."""
-    return _touching_shapes(names, {n: _polygon(outlines[n]) for n in names})
+def _touching(names: list[str], outlines: dict[str, list[Point]],
+              holes: dict[str, list[list[Point]]] | None = None) -> list[tuple[str, str]]:
+    """Pairs of regions whose outlines share a stretch of border of positive length (shapely; the
+    candidates are edges on one line, ``_collinear_candidates``, so a map of n regions costs about
+    n log n, not n squared)."""
+    holes = holes or {}
+    return _touching_shapes(names, {n: _polygon(outlines[n], holes.get(n)) for n in names})
 
 
 def _touching_shapes(names: list[str], polygons: dict[str, object]) -> list[tuple[str, str]]:
@@ -435,17 +469,64 @@ def _touching_shapes(names: list[str], polygons: dict[str, object]) -> list[tupl
     shapes = [polygons[n] for n in names]
     bounds = shapely.total_bounds(shapes)
     tolerance = 1e-6 * max(bounds[2] - bounds[0], bounds[3] - bounds[1], 1e-9)
-    tree = shapely.STRtree(shapes)
+    candidates = _collinear_candidates(shapes, tolerance)
+    if _may_overlap(shapes):  # shapes that share area touch without a common edge
+        candidates |= set(_box_candidates(shapes, tolerance))
     pairs = []
-    for i, shape in enumerate(shapes):
-        for j in tree.query(shape.buffer(tolerance)):
-            j = int(j)
-            if j <= i:
-                continue
-            shared = shape.boundary.intersection(shapes[j].boundary)
-            if shared.length > tolerance or shape.intersection(shapes[j]).area > tolerance * tolerance:
-                pairs.append((names[i], names[j]))
+    for i, j in sorted(candidates):
+        shape = shapes[i]
+        shared = shape.boundary.intersection(shapes[j].boundary)
+        if shared.length > tolerance or shape.intersection(shapes[j]).area > tolerance * tolerance:
+            pairs.append((names[i], names[j]))
     return pairs
+
+
+def _collinear_candidates(shapes: list, tolerance: float) -> set[tuple[int, int]]:
+    """Pairs ``i < j`` of shapes with edges on (nearly) one line whose spans overlap by more than
+    ``tolerance``: the only way two outlines share a stretch of border. Edges are grouped by their
+    line (direction and distance from the origin, on two grids half a cell apart, so lines closer
+    than half a cell share a cell) and each group is swept in order along its line: about E log E
+    for E edges, where an R-tree of whole outlines is n squared for a pie of thin slices."""
+    cells: dict[tuple[int, int, int], list[tuple[float, float, int]]] = {}
+    angle_step, offset_step = 1e-6, 1e3 * tolerance
+    for index, shape in enumerate(shapes):
+        for ring in _rings(shape):
+            for (x0, y0), (x1, y1) in zip(ring[:-1], ring[1:]):
+                dx, dy = x1 - x0, y1 - y0
+                length = math.hypot(dx, dy)
+                if length <= tolerance:
+                    continue
+                ux, uy = dx / length, dy / length
+                if ux < 0 or (ux == 0 and uy < 0):
+                    ux, uy = -ux, -uy
+                angle, offset = math.atan2(uy, ux) / angle_step, (x0 * uy - y0 * ux) / offset_step
+                t0, t1 = sorted((x0 * ux + y0 * uy, x1 * ux + y1 * uy))
+                for grid in range(4):
+                    shift_a, shift_o = 0.5 * (grid & 1), 0.5 * (grid >> 1)
+                    key = (grid, math.floor(angle + shift_a), math.floor(offset + shift_o))
+                    cells.setdefault(key, []).append((t0, t1, index))
+    pairs: set[tuple[int, int]] = set()
+    for spans in cells.values():
+        if len(spans) < 2:
+            continue
+        spans.sort()
+        active: list[tuple[float, int]] = []  # (end, shape) of the spans that may still overlap
+        for t0, t1, index in spans:
+            active = [(end, other) for end, other in active if end - t0 > tolerance]
+            for _end, other in active:
+                if other != index:
+                    pairs.add((min(index, other), max(index, other)))
+            active.append((t1, index))
+    return pairs
+
+
+def _rings(shape) -> list[list[Point]]:
+    """The outer and inner rings of a polygon or of each part of a multi-polygon."""
+    rings = []
+    for part in _parts(shape):
+        rings.append(list(part.exterior.coords))
+        rings.extend(list(hole.coords) for hole in part.interiors)
+    return rings
 
 
 def _sections(text: str) -> dict[str, tuple[int, list[str]]]:

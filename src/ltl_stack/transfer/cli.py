@@ -7,8 +7,10 @@ only after every check, and never over an input. The live master listing (A.2) i
 """
 from __future__ import annotations
 
+import argparse
 import json
 import os
+import re
 import sys
 import time
 from collections.abc import Sequence
@@ -84,6 +86,18 @@ def answering(answers: dict[str, int], fallback: Asker | None, used: set[str], s
     return ask
 
 
+_ROBOT_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,99}$")
+
+
+def robot_name(text: str) -> str:
+    """Option type of ``--from``/``--to``: a robot's name as its files are named (letters, digits,
+    ``_ . -``); a pattern (``'*'``) or a path is a usage error, not a search of the robots folder."""
+    if not _ROBOT_NAME.match(text):
+        shown = text if len(text) <= 24 else text[:20] + "…"
+        raise argparse.ArgumentTypeError(f"{shown!r} is not a robot name (letters, digits, '_', '.' and '-')")
+    return text
+
+
 def build_parser() -> ToolParser:
     parser = ToolParser(
         TRANSFER, "Transfer a ROS Python program written for one robot to another (thesis chapter 2): "
@@ -92,10 +106,10 @@ def build_parser() -> ToolParser:
         epilog="1: the target program was written; the report lists what could not be resolved.\n"
                "Nothing is written on any other non-zero code.")
     parser.add_argument("source", help="the source robot's Python program")
-    parser.add_argument("--from", dest="source_robot", required=True,
+    parser.add_argument("--from", dest="source_robot", required=True, type=robot_name,
                         help=f"source robot name; '{UNKNOWN}' when the program was written for no known robot "
                              "(channels are chosen for the target alone, nothing is scaled)")
-    parser.add_argument("--to", dest="target_robot", required=True, help="target robot name")
+    parser.add_argument("--to", dest="target_robot", required=True, type=robot_name, help="target robot name")
     parser.add_argument("--robots", default=str(SHIPPED_ROBOTS),
                         help="robots folder (see docs/code_transfer.md; default: the profiles shipped in the package, "
                              "limits, drive and channel statistics of the thesis' mobile robots)")

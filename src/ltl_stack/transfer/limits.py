@@ -6,6 +6,7 @@ and 2.2 (commands < 0, against the lower limits), so asymmetric limits and deadb
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -70,6 +71,8 @@ def _number(value, file: str, where: str) -> float | None:
         return None
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise TransferError(f"expected a number or None, got {value!r}", file, where)
+    if not math.isfinite(value):  # .nan / .inf: a written program would name nan or inf
+        raise TransferError(f"expected a finite number or None, got {value!r}", file, where)
     return float(value)
 
 

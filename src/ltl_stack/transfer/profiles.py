@@ -86,7 +86,10 @@ def _urdf_robot_name(path: Path) -> str | None:
             match = _ROBOT_NAME.search(f.read(8192))
     except OSError:
         return None
-    return match.group(1).decode() if match else None
+    try:
+        return match.group(1).decode() if match else None
+    except UnicodeDecodeError:  # not this robot's file: a robot is named in ASCII on the command line
+        return None
 
 
 def _find_by_convention(folder: Path, name: str, suffix: str, by_robot_name: bool = False) -> Path | None:

@@ -51,6 +51,13 @@ def _blank(lines: list[str], start: tuple[int, int], end: tuple[int, int], keep:
         lines[row - 1] = line[:a] + fill + line[b:]
 
 
+def _from(tokens: list, start: int):
+    """``tokens[start:]`` one by one without copying or skipping through the list (``islice`` walks
+    from the beginning: a print statement per line made the transfer quadratic)."""
+    for index in range(start, len(tokens)):
+        yield tokens[index]
+
+
 def python2_parse_text(text: str, filename: str) -> tuple[str, list[int]]:
     """Text Python 3's parser reads, with the same positions as the Python 2 program (after the
     indentation shifts returned beside it); InputError naming the line for what it cannot read."""
@@ -94,13 +101,13 @@ def python2_parse_text(text: str, filename: str) -> tuple[str, list[int]]:
                 raise Python2Unsupported(filename, "the exec statement", tok.start[0])
             if tok.string == "print" and following is not None and not (
                     following.type == tokenize.OP and following.string in ("(", "=", ".", "[")):
-                end = next(t for t in tokens[i:] if t.type in (tokenize.NEWLINE, tokenize.ENDMARKER)
+                end = next(t for t in _from(tokens, i) if t.type in (tokenize.NEWLINE, tokenize.ENDMARKER)
                            or (t.type == tokenize.OP and t.string == ";"))
                 _blank(lines, tok.start, end.start, "pass")
             if tok.string in ("except", "raise"):
                 statement = tok.string
         elif statement and depth == 0 and tok.type == tokenize.OP and tok.string == ",":
-            end = next(t for t in tokens[i:] if t.type in (tokenize.NEWLINE, tokenize.ENDMARKER)
+            end = next(t for t in _from(tokens, i) if t.type in (tokenize.NEWLINE, tokenize.ENDMARKER)
                        or (t.type == tokenize.OP and t.string == ":" and statement == "except"))
             _blank(lines, tok.start, end.start)
             statement = None
