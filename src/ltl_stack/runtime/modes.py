@@ -68,7 +68,7 @@ def nearest_safe_outputs(game: Game, position: Mapping[str, bool], inputs: Mappi
     bdd = game.bdd
     assign = game.assignment({p: bool(position[p]) for p in game.variables},
                              {p: bool(inputs[p]) for p in game.inputs})
-    allowed = bdd.let(assign, game.sys_trans)  # over the next outputs
+    allowed = game.sys_rel.restrict(assign)  # over the next outputs
     wanted = {p: bool(wanted[p]) for p in game.outputs}
     if bdd.let({prime_name(p): v for p, v in wanted.items()}, allowed) == bdd.true:
         return Guarded(wanted)

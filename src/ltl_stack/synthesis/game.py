@@ -47,6 +47,7 @@ from ltl_stack.spec.formula import And, Const, Formula, Iff, Implies, Not, Or, V
 from ltl_stack.spec.model import SECTIONS, Clause, Spec
 from ltl_stack.synthesis.errors import MemoryLimitReached
 from ltl_stack.synthesis.options import LOOSE_UP_TO, MANAGER_ESTIMATE, NO_DEADLINE, Deadline, memory_cap
+from ltl_stack.synthesis.relation import Relation
 
 # dd imports networkx for one thing only, its ``to_nx`` graph export, which ltl_stack never calls;
 # importing networkx costs ~90 ms, as much as the rest of a ``synthesize`` run on a small spec.
@@ -155,13 +156,17 @@ class Game:
     """The BDD game of a ``Spec``. Build one per spec; all BDDs share ``self.bdd``."""
 
     def __init__(self, spec: Spec, *, bdd=None, interleave: bool | None = None,
-                 fused: bool = True, max_memory: int | None = None, deadline: Deadline = NO_DEADLINE) -> None:
+                 fused: bool = True, max_memory: int | None = None, deadline: Deadline = NO_DEADLINE,
+                 partition: bool = True) -> None:
         """``interleave=None`` chooses the variable order (see ``_conjoin``): interleaved unless the
         safety conjunctions are much smaller with all current variables before all next ones.
         ``True``/``False`` force one order and ``fused=False`` quantifies after conjoining; those
         exist to measure the techniques. ``max_memory`` caps the manager (``options.memory_cap``;
         a manager passed as ``bdd`` keeps its own settings); ``deadline`` bounds the time of this
-        and every later computation on the game."""
+        and every later computation on the game. ``partition=False`` keeps each safety section as
+        one BDD conjoined in file order (the monolithic engine, to measure partitioning and to test
+        against)."""
+        self.partition = partition
         self.max_memory = memory_cap(max_memory)
         self.deadline = deadline
         # the rival order of the race is sifted freely and built clause by clause; with thousands of
@@ -202,6 +207,7 @@ class Game:
         self._setup(spec, bdd, interleave)
         self.fused = fused
         self._race = race
+        self._alive = None
         self.true = self.bdd.true
         self.false = self.bdd.false
 
@@ -210,8 +216,11 @@ class Game:
         }
         self.env_init = self._conjoin("env_init")
         self.sys_init = self._conjoin("sys_init")
-        self.env_trans = self._conjoin("env_safety")
-        self.sys_trans = self._conjoin("sys_safety")
+        #: rho_e and rho_s as partitioned relations (``relation.Relation``), scheduled for the
+        #: quantification each one gets in ``cpre_sys``: rho_e over the next inputs, rho_s over the
+        #: next outputs; ``env_trans``/``sys_trans`` are their single BDDs, built only on demand
+        self.env_rel = self._relation("env_safety", self.inputs_next)
+        self.sys_rel = self._relation("sys_safety", self.outputs_next)
         self.env_goals = [u for _, u in self._clauses["env_liveness"]] or [self.true]
         self.sys_goals = [u for _, u in self._clauses["sys_liveness"]] or [self.true]
         nxt = set(self.variables_next)
@@ -219,9 +228,19 @@ class Game:
         self.liveness_has_next = any(nxt & self.bdd.support(u) for u in self.env_goals + self.sys_goals)
         #: live BDD nodes once the game is built (the fixpoint's reordering policy starts from it)
         self.nodes = len(self.bdd)
-        env_support = self.bdd.support(self.env_trans)
         # slugs forbids primed outputs in env safety; if a spec has them, use the general cpre.
-        self._env_sees_outputs_next = any(v in env_support for v in self.outputs_next)
+        self._env_sees_outputs_next = any(v in self.env_rel.support for v in self.outputs_next)
+
+    @property
+    def env_trans(self):
+        """rho_e as one BDD (built on first use from ``env_rel``; the engine's fixpoints, strategy,
+        recovery and stepping use ``env_rel`` and never need it)."""
+        return self.env_rel.conjunction()
+
+    @property
+    def sys_trans(self):
+        """rho_s as one BDD (built on first use from ``sys_rel``)."""
+        return self.sys_rel.conjunction()
 
     # --- variables -------------------------------------------------------------------------
     def _declare(self) -> None:
@@ -363,6 +382,27 @@ class Game:
             self.bdd.configure(reordering=False)
         return acc
 
+    def _relation(self, section: str, quantified: list[str]) -> Relation:
+        """A safety section as a ``Relation``: clusters of scheduled clauses (see ``relation.py``),
+        built with dynamic reordering once a cluster grows past half ``REORDER_THRESHOLD``, as
+        ``_conjoin`` does. With ``partition`` off (to measure it): one cluster, the file order."""
+        clauses = [u for _, u in self._clauses[section]]
+        if not self.partition:
+            return Relation(self.bdd, [self._conjoin(section)], check=self.deadline.check)
+        reordering = []
+
+        def grown(nodes: int) -> None:
+            if self.may_reorder and not reordering and nodes > REORDER_THRESHOLD // 2:
+                self.bdd.configure(reordering=True)
+                reordering.append(True)
+
+        try:
+            return Relation.from_clauses(self.bdd, clauses, quantified, check=self.deadline.check,
+                                         grown=grown)
+        finally:
+            if reordering:
+                self.bdd.configure(reordering=False)
+
     def clauses(self, section: str) -> list[tuple[Clause, object]]:
         """``(Clause, BDD)`` for each clause of ``section`` (one of ``SECTIONS``)."""
         if section not in self._clauses:
@@ -391,34 +431,66 @@ class Game:
         return bad
 
     # --- predecessor operators ----------------------------------------------------------------
-    def cpre_sys(self, target, sys_trans=None):
+    def cpre_sys(self, target, sys_rel: Relation | None = None):
         """Positions where, for every admissible next input, some next output satisfies
         ``sys_trans & target`` (``target`` over current and next variables).
 
-        ``sys_trans`` defaults to the spec's; the cooperative strategy passes a restricted one.
+        ``sys_rel`` defaults to the spec's; the cooperative game passes a restricted one. Both
+        quantifications go cluster by cluster (``Relation.exist_and`` over the next outputs, then
+        ``Relation.forall_implies`` over the next inputs): ``env_trans`` is never built here.
         """
-        trans = self.sys_trans if sys_trans is None else sys_trans
+        trans = self.sys_rel if sys_rel is None else sys_rel
         bdd = self.bdd
         if self._env_sees_outputs_next:
-            u = bdd.exist(self.outputs_next, ~self.env_trans | (trans & target))
+            u = bdd.exist(self.outputs_next, ~self.env_trans | trans.conjoin(target))
             return bdd.forall(self.inputs_next, u)
-        if BACKEND == "cudd" and self.fused:
-            moves = _backend.and_exists(trans, target, self.outputs_next)
-            return _backend.or_forall(~self.env_trans, moves, self.inputs_next)
-        moves = bdd.exist(self.outputs_next, trans & target)
-        return bdd.forall(self.inputs_next, ~self.env_trans | moves)
+        if not self.fused:
+            moves = bdd.exist(self.outputs_next, trans.conjoin(target))
+            return bdd.forall(self.inputs_next, ~self.env_trans | moves)
+        moves = trans.exist_and(target, self.outputs_next)
+        return self.env_rel.forall_implies(moves, self.inputs_next)
 
     def cpre_env(self, target):
         """Positions from which the environment can force ``target``: some admissible next input
         such that every next output allowed by ``sys_trans`` satisfies ``target``."""
-        bdd = self.bdd
-        forced = bdd.forall(self.outputs_next, ~self.sys_trans | target)
-        return bdd.exist(self.inputs_next, self.env_trans & forced)
+        forced = self.sys_rel.forall_implies(target, self.outputs_next)
+        return self.env_rel.exist_and(forced, self.inputs_next)
+
+    def alive(self):
+        """Positions with an admissible next input (``exists next. env_trans``; computed once)."""
+        if self._alive is None:
+            self._alive = self.env_rel.exist_and(self.true, self.variables_next)
+        return self._alive
+
+    def joint_rel(self, sys_rel: Relation | None = None) -> Relation:
+        """``env_trans & sys_trans`` (``sys_rel`` if given) as one relation: both players' clusters."""
+        trans = self.sys_rel if sys_rel is None else sys_rel
+        return Relation(self.bdd, self.env_rel.parts + trans.parts, check=self.deadline.check)
+
+    def set_safety(self, section: str, clauses: list) -> None:
+        """Replace rho_e (``section="env_safety"``) or rho_s (``"sys_safety"``) by the conjunction of
+        ``clauses`` (BDDs of this manager): the sub-game variants of ``explain`` use it on copies."""
+        if section == "env_safety":
+            self.env_rel = Relation.from_clauses(self.bdd, clauses, self.inputs_next, check=self.deadline.check)
+            self._alive = None
+            self._env_sees_outputs_next = any(v in self.env_rel.support for v in self.outputs_next)
+        elif section == "sys_safety":
+            self.sys_rel = Relation.from_clauses(self.bdd, clauses, self.outputs_next, check=self.deadline.check)
+        else:
+            raise ValueError(f"not a safety section: {section!r}")
+
+    def deadlock_free_sys_rel(self) -> Relation:
+        """``sys_rel`` restricted to next positions that still have an admissible next input."""
+        return self.sys_rel.with_part(self.prime(self.alive()))
 
     def deadlock_free_sys_trans(self):
-        """``sys_trans`` restricted to next positions that still have an admissible next input."""
-        alive = self.bdd.exist(self.variables_next, self.env_trans)
-        return self.sys_trans & self.prime(alive)
+        """``deadlock_free_sys_rel`` as one BDD."""
+        return self.deadlock_free_sys_rel().conjunction()
+
+    def admissible(self, values: Mapping[str, bool]):
+        """``env_trans`` restricted to a valuation (current variables, maybe next inputs): false
+        when the inputs break rho_e, else a BDD over what ``values`` leaves open."""
+        return self.env_rel.restrict(values)
 
     # --- counting ----------------------------------------------------------------------------
     def count(self, u, *, next_too: bool = False) -> int:
