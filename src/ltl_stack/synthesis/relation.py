@@ -86,11 +86,13 @@ class Relation:
 
     @classmethod
     def from_clauses(cls, bdd, clauses: Sequence, quantified: Iterable[str], *, check=None,
-                     limit: int = CLUSTER_NODES, grown=None) -> Relation:
+                     limit: int | None = None, grown=None) -> Relation:
         """The conjunction of ``clauses`` (BDDs), scheduled for quantifying ``quantified`` (see
-        ``schedule``) and clustered up to ``limit`` nodes per cluster. ``grown(nodes)``, when given,
+        ``schedule``) and clustered up to ``limit`` (default ``CLUSTER_NODES``) nodes per cluster;
+        when the conjunction in the file's order never passes ``limit`` it is the one cluster. ``grown(nodes)``, when given,
         sees the size of each intermediate cluster (``Game`` switches reordering on with it)."""
         check = check or (lambda: None)
+        limit = CLUSTER_NODES if limit is None else limit
         clauses = [u for u in clauses if u != bdd.true]
         whole = bdd.true  # a relation that stays small in the file's order is kept as one BDD
         for u in clauses:
