@@ -40,12 +40,14 @@ from __future__ import annotations
 
 import operator
 import sys
+import warnings
 from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 
 from ltl_stack.spec.formula import And, Const, Formula, Iff, Implies, Not, Or, Var, Xor
 from ltl_stack.spec.model import SECTIONS, Clause, Spec
 from ltl_stack.synthesis.errors import MemoryLimitReached
+from ltl_stack.synthesis import order_cache
 from ltl_stack.synthesis.options import LOOSE_UP_TO, MANAGER_ESTIMATE, NO_DEADLINE, Deadline, memory_cap
 from ltl_stack.synthesis.relation import Relation
 
@@ -157,7 +159,7 @@ class Game:
 
     def __init__(self, spec: Spec, *, bdd=None, interleave: bool | None = None,
                  fused: bool = True, max_memory: int | None = None, deadline: Deadline = NO_DEADLINE,
-                 partition: bool = True) -> None:
+                 partition: bool = True, reuse_order: bool = True) -> None:
         """``interleave=None`` chooses the variable order (see ``_conjoin``): interleaved unless the
         safety conjunctions are much smaller with all current variables before all next ones.
         ``True``/``False`` force one order and ``fused=False`` quantifies after conjoining; those
@@ -165,8 +167,13 @@ class Game:
         a manager passed as ``bdd`` keeps its own settings); ``deadline`` bounds the time of this
         and every later computation on the game. ``partition=False`` keeps each safety section as
         one BDD conjoined in file order (the monolithic engine, to measure partitioning and to test
-        against)."""
+        against). ``reuse_order`` starts a fresh manager in the order saved for this spec (or for
+        one with the same propositions) by an earlier run (``order_cache``; see ``keep_order``)."""
         self.partition = partition
+        self.reuse_order = reuse_order and bdd is None
+        #: "exact" (the saved order of this very spec: no sifting at all), "propositions" (one of a
+        #: spec with the same propositions: a start, sifting stays on) or None
+        self.order_reused: str | None = None
         self.max_memory = memory_cap(max_memory)
         self.deadline = deadline
         # the rival order of the race is sifted freely and built clause by clause; with thousands of
@@ -191,9 +198,20 @@ class Game:
         self.variables_next = self.inputs_next + self.outputs_next
         #: dynamic reordering is allowed (few enough variables, see ``REORDER_MAX_VARIABLES``)
         self.may_reorder = BACKEND == "cudd" and 2 * len(self.variables) <= REORDER_MAX_VARIABLES
+        saved = None
+        if getattr(self, "reuse_order", False) and self.may_reorder and bdd is None:
+            saved = order_cache.load(spec, set(self.variables) | set(self.variables_next))
+            if saved is not None and saved[1]:
+                self.may_reorder = False  # the order sifting ended with last time: keep it
         if BACKEND == "cudd" and not self.may_reorder:
             self.bdd.configure(reordering=False)
         self._declare()
+        if saved is not None:
+            try:
+                _backend.reorder(self.bdd, {v: k for k, v in enumerate(saved[0])})
+                self.order_reused = "exact" if saved[1] else "propositions"
+            except Exception:  # pragma: no cover - a saved order is only a hint
+                self.may_reorder = BACKEND == "cudd" and 2 * len(self.variables) <= REORDER_MAX_VARIABLES
         self._to_next = dict(zip(self.variables, self.variables_next, strict=True))
         self._to_current = dict(zip(self.variables_next, self.variables, strict=True))
         # the renamings as variable BDDs: ``let`` with names makes one BDD per variable on every
@@ -402,6 +420,18 @@ class Game:
         finally:
             if reordering:
                 self.bdd.configure(reordering=False)
+
+    def keep_order(self) -> None:
+        """Save the manager's variable order for the next ``Game`` of this spec (``order_cache``),
+        when sifting has changed it (an order reused exactly is already saved)."""
+        if BACKEND != "cudd" or not self.reuse_order or self.order_reused == "exact":
+            return
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # dd warns about a unit change of another statistic
+            if not self.bdd.statistics()["n_reorderings"]:
+                return
+        levels = self.bdd.var_levels
+        order_cache.save(self.spec, sorted(levels, key=levels.get))
 
     def clauses(self, section: str) -> list[tuple[Clause, object]]:
         """``(Clause, BDD)`` for each clause of ``section`` (one of ``SECTIONS``)."""
