@@ -46,8 +46,8 @@ from contextlib import contextmanager
 
 from ltl_stack.spec.formula import And, Const, Formula, Iff, Implies, Not, Or, Var, Xor
 from ltl_stack.spec.model import SECTIONS, Clause, Spec
-from ltl_stack.synthesis.errors import MemoryLimitReached
 from ltl_stack.synthesis import order_cache
+from ltl_stack.synthesis.errors import MemoryLimitReached
 from ltl_stack.synthesis.options import LOOSE_UP_TO, MANAGER_ESTIMATE, NO_DEADLINE, Deadline, memory_cap
 from ltl_stack.synthesis.relation import Relation
 

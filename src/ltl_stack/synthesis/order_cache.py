@@ -51,7 +51,8 @@ def load(spec: Spec, variables: set[str]) -> tuple[list[str], bool] | None:
     folder = cache_dir()
     if folder is None:
         return None
-    for key, exact in zip(keys(spec), (True, False)):
+    content, propositions = keys(spec)
+    for key, exact in ((content, True), (propositions, False)):
         path = folder / f"{key}.json"
         try:
             order = json.loads(path.read_text())
