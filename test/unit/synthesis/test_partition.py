@@ -9,10 +9,13 @@ from __future__ import annotations
 
 from contextlib import contextmanager
 
+import pytest
+from helpers import require_shared
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from random_specs import make_spec, random_spec
 
+from ltl_stack.spec import load_spec
 from ltl_stack.synthesis import relation, synthesize
 from ltl_stack.synthesis.automaton_check import check_automaton
 from ltl_stack.synthesis.fixpoint import solve
@@ -107,3 +110,26 @@ def test_a_relation_small_in_file_order_stays_one_bdd():
     game = Game(spec)
     assert len(game.env_rel.parts) == 1 and len(game.sys_rel.parts) == 1
     assert isinstance(game.env_rel, Relation)
+
+
+SHARED_SPECS = [
+    "slugsin/firefighting", "slugsin/two_customer_waiter_txt", "slugsin/fastslow__fastslow_ICRA",
+    "slugsin/error_resilience_exampleA", "slugsin/unrealizable_waiter_txt", "slugsin/networks",
+    "generated/factory_assembly_4x3_1_1errors", "generated/factory_assembly_5x3_1_4errors",
+    "generated/factory_assembly_5x4_1_0errors", "generated/moving_obstacle_8x8_1glitches",
+    "generated/cinderella_stepmother_n5c2_6_by_4",
+]
+
+
+@pytest.mark.parametrize("name", SHARED_SPECS)
+def test_partitioned_and_monolithic_engines_agree_on_the_shared_specs(name):
+    spec = load_spec(require_shared("specs", "benchmarks", f"{name}.slugsin"))
+    mono = Game(spec, partition=False)
+    with clusters_of(200):  # several clusters even where the default keeps one
+        part = Game(spec)
+    for robotics in (False, True):
+        got = solve(part, robotics_semantics=robotics)
+        want = solve(mono, robotics_semantics=robotics)
+        assert got.realizable == want.realizable, (name, robotics)
+        assert part.count(got.winning) == mono.count(want.winning), (name, robotics)
+    assert part.env_rel.built == 0 and part.sys_rel.built == 0
