@@ -83,6 +83,7 @@ def main() -> None:
     p.add_argument("--specs", nargs="+", default=FAMILIES, help="paths under ../shared/specs/benchmarks, no suffix")
     p.add_argument("--repeat", type=int, default=3)
     p.add_argument("--long-repeat", type=int, default=3)
+    p.add_argument("--root", type=Path, default=SPECS, help=f"the benchmark specs (default {SPECS})")
     p.add_argument("--limit", type=float, default=200.0, help="CPU seconds per run")
     args = p.parse_args()
     if args.worker:
@@ -95,7 +96,7 @@ def main() -> None:
     print("| spec | verdict | before CPU s | after CPU s | after/before | again (order reused) s |")
     print("|---|---|---|---|---|---|")
     for name in args.specs:
-        path = str(SPECS / f"{name}.slugsin")
+        path = str(args.root / f"{name}.slugsin")
         before, after, again, verdicts = [], [], [], set()
         for _ in range(args.long_repeat if name in LONG else args.repeat):
             b = run(Path(args.before), path, "off", args.limit)
