@@ -16,7 +16,11 @@ Stable API (other modules, ``explain.py`` and the differential tests rely on it)
 - ``variables``, ``variables_next``   inputs then outputs, current / next
 - ``prime(u)``, ``unprime(u)``    rename current -> next / next -> current
 - ``env_init``, ``sys_init``      conjunctions of the init clauses (current variables only)
-- ``env_trans``, ``sys_trans``    conjunctions of the safety clauses (current and next variables)
+- ``env_rel``, ``sys_rel``        the safety sections as partitioned relations (``relation.Relation``:
+                                  clusters with a quantification schedule); every part of the engine
+                                  works on these
+- ``env_trans``, ``sys_trans``    the same conjunctions as single BDDs, built on first use only (for
+                                  callers outside the engine; ``Relation.built`` counts it)
 - ``env_goals``, ``sys_goals``    one BDD per liveness clause; ``[true]`` when the section is empty
                                   (goals may mention next variables: they constrain transitions;
                                   ``liveness_has_next`` says whether any does)
@@ -25,8 +29,14 @@ Stable API (other modules, ``explain.py`` and the differential tests rely on it)
 - ``cpre_sys(target)``            positions from which the system can force the next transition
                                   into ``target`` (Eq. 4.2's controllable predecessor)
 - ``cpre_env(target)``            positions from which the environment can force it (dual operator)
-- ``deadlock_free_sys_trans()``   ``sys_trans`` restricted to moves after which the environment
-                                  still has an admissible input (used by the cooperative strategy)
+- ``deadlock_free_sys_rel()``     ``sys_rel`` restricted to moves after which the environment
+                                  still has an admissible input (used by the cooperative strategy);
+                                  ``deadlock_free_sys_trans()`` as one BDD
+- ``alive()``                     positions with an admissible next input (``exists next. env_trans``)
+- ``admissible(values)``          ``env_trans`` restricted to a valuation (stepping: false = violated)
+- ``joint_rel(sys_rel)``          ``env_trans & sys_trans`` as one relation (cooperative analyses)
+- ``keep_order()``                save the variable order sifting found (``order_cache``); a new
+                                  ``Game`` of the same spec starts in it (``order_reused``)
 - ``to_bdd(formula)``             any ``ltl_stack.spec.formula`` node to a BDD
 - ``deadline``, ``max_memory``    the limits of the run (``ltl_stack.synthesis.options``): the memory
                                   cap is set on the manager before the first clause is built, and
