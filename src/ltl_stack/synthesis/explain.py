@@ -83,13 +83,6 @@ def _let(bdd, values: dict, u):
     return bdd.let(values, u) if values else u
 
 
-def _conjoin(bdd, nodes):
-    acc = bdd.true
-    for u in nodes:
-        acc &= u
-    return acc
-
-
 def cooperative_winning(game: Game):
     """Positions from which env and robot *together* can run forever inside both safety formulas
     while meeting every env and system liveness clause infinitely often (a fair cycle)."""
