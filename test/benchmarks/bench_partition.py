@@ -9,7 +9,7 @@ solve, ``time.process_time``: the machine is shared, wall time would measure the
 runs with ``PYTHONPATH`` set to ``--before`` (a checkout of the old ``src``), "after" with this
 checkout; the two alternate within each repeat, so drift in the machine's load hits both alike.
 Both run with the order cache off (``LTL_STACK_ORDER_CACHE=off``): the columns measure the engine.
-The "again" column is a second run of "after" with a cache folder that the run before it filled:
+The "again" column (``--again``) is a second run of "after" with a cache folder that the run before it filled:
 what a second synthesis of the same spec costs (the order reused, no sifting). Medians of
 ``--repeat`` runs; ``--long-repeat`` for the specs listed in ``LONG`` (30-60 s each before).
 """
@@ -84,6 +84,7 @@ def main() -> None:
     p.add_argument("--repeat", type=int, default=3)
     p.add_argument("--long-repeat", type=int, default=3)
     p.add_argument("--root", type=Path, default=SPECS, help=f"the benchmark specs (default {SPECS})")
+    p.add_argument("--again", action="store_true", help="also the second run with the order reused")
     p.add_argument("--limit", type=float, default=200.0, help="CPU seconds per run")
     args = p.parse_args()
     if args.worker:
@@ -102,7 +103,7 @@ def main() -> None:
             b = run(Path(args.before), path, "off", args.limit)
             with tempfile.TemporaryDirectory() as cache:
                 a = run(after_src, path, cache, args.limit)
-                r = run(after_src, path, cache, args.limit)
+                r = run(after_src, path, cache, args.limit) if args.again else {"cpu": None, "realizable": None}
             before.append(b["cpu"])
             after.append(a["cpu"])
             again.append(r["cpu"])
@@ -111,7 +112,8 @@ def main() -> None:
         done_b = [v for v in before if v is not None]
         done_a = [v for v in after if v is not None]
         ratio = f"{statistics.median(done_a) / statistics.median(done_b):.2f}" if done_a and done_b else "-"
-        print(f"| {Path(name).name} | {verdict} | {fmt(before)} | {fmt(after)} | {ratio} | {fmt(again)} |", flush=True)
+        shown = fmt(again) if args.again else "-"
+        print(f"| {Path(name).name} | {verdict} | {fmt(before)} | {fmt(after)} | {ratio} | {shown} |", flush=True)
     print(f"load at end: {os.getloadavg()[0]:.1f}", flush=True)
 
 
