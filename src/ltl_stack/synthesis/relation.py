@@ -98,7 +98,10 @@ class Relation:
         for u in clauses:
             check()
             whole &= u
-            if len(whole) > limit:
+            size = len(whole)
+            if grown is not None:
+                grown(size)
+            if size > limit:
                 break
         else:
             return cls(bdd, [whole], check=check)
@@ -200,7 +203,8 @@ class Relation:
 
 
 def _merged(parts: list, limit: int, check) -> list:
-    """``parts`` with neighbours conjoined while the result stays within ``limit`` nodes.
+    """``parts`` with neighbours conjoined while the result stays within ``limit`` nodes, or is no
+    bigger than the two apart.
 
     Clauses conjoined in the schedule's order can pass through BDDs far bigger than their
     conjunction (basicEvasion's rho_e: clusters of 994 and 91 nodes that conjoin to 385), so the
@@ -210,7 +214,7 @@ def _merged(parts: list, limit: int, check) -> list:
     for u in parts[1:]:
         check()
         joined = merged[-1] & u
-        if len(joined) <= limit:
+        if len(joined) <= max(limit, len(merged[-1]) + len(u)):
             merged[-1] = joined
         else:
             merged.append(u)
