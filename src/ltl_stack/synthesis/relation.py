@@ -203,8 +203,7 @@ class Relation:
 
 
 def _merged(parts: list, limit: int, check) -> list:
-    """``parts`` with neighbours conjoined while the result stays within ``limit`` nodes, or is no
-    bigger than the two apart.
+    """``parts`` with neighbours conjoined while the result stays within ``limit`` nodes.
 
     Clauses conjoined in the schedule's order can pass through BDDs far bigger than their
     conjunction (basicEvasion's rho_e: clusters of 994 and 91 nodes that conjoin to 385), so the
@@ -214,7 +213,7 @@ def _merged(parts: list, limit: int, check) -> list:
     for u in parts[1:]:
         check()
         joined = merged[-1] & u
-        if len(joined) <= max(limit, len(merged[-1]) + len(u)):
+        if len(joined) <= limit:
             merged[-1] = joined
         else:
             merged.append(u)
