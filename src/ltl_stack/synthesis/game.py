@@ -222,8 +222,8 @@ class Game:
                 self.order_reused = "exact" if saved[1] else "propositions"
             except Exception:  # pragma: no cover - a saved order is only a hint
                 self.may_reorder = BACKEND == "cudd" and 2 * len(self.variables) <= REORDER_MAX_VARIABLES
-        self._to_next = dict(zip(self.variables, self.variables_next, strict=True))
-        self._to_current = dict(zip(self.variables_next, self.variables, strict=True))
+        self._to_next = dict(zip(self.variables, self.variables_next))
+        self._to_current = dict(zip(self.variables_next, self.variables))
         # the renamings as variable BDDs: ``let`` with names makes one BDD per variable on every
         # call (a few hundred calls per fixpoint), with BDDs it does the same substitution directly
         var = self.bdd.var
