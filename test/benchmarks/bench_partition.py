@@ -80,6 +80,7 @@ def main() -> None:
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--worker", help=argparse.SUPPRESS)
     p.add_argument("--before", required=False, help="the old code's src folder (PYTHONPATH of 'before')")
+    p.add_argument("--after", type=Path, default=REPO / "src", help="the new code's src folder (default: this checkout's)")
     p.add_argument("--specs", nargs="+", default=FAMILIES, help="paths under ../shared/specs/benchmarks, no suffix")
     p.add_argument("--repeat", type=int, default=3)
     p.add_argument("--long-repeat", type=int, default=3)
@@ -92,7 +93,7 @@ def main() -> None:
         return
     if not args.before:
         p.error("--before is required")
-    after_src = REPO / "src"
+    after_src = args.after
     print(f"load at start: {os.getloadavg()[0]:.1f}", flush=True)
     print("| spec | verdict | before CPU s | after CPU s | after/before | again (order reused) s |")
     print("|---|---|---|---|---|---|")

@@ -425,8 +425,9 @@ class Game:
                 reordering.append(True)
 
         try:
+            shrink = (lambda: _backend.reorder(self.bdd)) if self.may_reorder else None
             return Relation.from_clauses(self.bdd, clauses, quantified, check=self.deadline.check,
-                                         grown=grown)
+                                         grown=grown, shrink=shrink)
         finally:
             if reordering:
                 self.bdd.configure(reordering=False)
