@@ -25,13 +25,13 @@ from ltl_stack.synthesis.relation import Relation, schedule
 
 @contextmanager
 def clusters_of(nodes: int):
-    """Every relation built inside is clustered up to ``nodes`` nodes."""
-    old = relation.CLUSTER_NODES
-    relation.CLUSTER_NODES = nodes
+    """Every relation built inside is clustered up to ``nodes`` nodes (and kept whole only up to that)."""
+    old = relation.CLUSTER_NODES, relation.WHOLE_NODES
+    relation.CLUSTER_NODES = relation.WHOLE_NODES = nodes
     try:
         yield
     finally:
-        relation.CLUSTER_NODES = old
+        relation.CLUSTER_NODES, relation.WHOLE_NODES = old
 
 
 def valuations(game: Game, u) -> set[tuple[bool, ...]]:
