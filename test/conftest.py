@@ -33,6 +33,9 @@ settings.register_profile("suite", derandomize=True, database=None, deadline=Non
 settings.register_profile("explore", max_examples=1000, deadline=None,
                           suppress_health_check=[HealthCheck.too_slow])
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "suite"))
+# saved variable orders (ltl_stack.synthesis.order_cache) would make a test depend on the runs
+# before it and write into the user's cache: off unless a test points it at a folder of its own
+os.environ["LTL_STACK_ORDER_CACHE"] = "off"
 
 
 def _processes_stop_on_sigint() -> None:

@@ -207,6 +207,9 @@ def executor_start(repeat: int, timeout: float, env: dict[str, str], phases: boo
 
 
 def main(argv: list[str] | None = None) -> int:
+    # every run measures a cold start: a variable order saved by the run before (order_cache) would
+    # make the second repeat of a spec cheaper than the first
+    os.environ.setdefault("LTL_STACK_ORDER_CACHE", "off")
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--slugs", help="the slugs binary (built from source); without it the slugs column is skipped")
     p.add_argument("--repeat", type=int, default=5, help="runs per column and spec (median; default 5)")

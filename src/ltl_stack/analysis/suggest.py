@@ -104,11 +104,10 @@ def mark_guaranteed(spec: Spec, suggestions: Sequence[MutualExclusion]) -> list[
     if not suggestions:
         return list(suggestions)
     game = Game(spec)
-    allowed_step = game.env_trans & game.sys_trans
     allowed_start = game.env_init & game.sys_init
     marked = []
     for s in suggestions:
-        kept = (allowed_step & ~game.to_bdd(s.formula(True))) == game.false and \
+        kept = game.env_rel.conjoin(game.sys_rel.conjoin(~game.to_bdd(s.formula(True)))) == game.false and \
             (allowed_start & ~game.to_bdd(s.formula(False))) == game.false
         marked.append(replace(s, in_spec=kept))
     return marked

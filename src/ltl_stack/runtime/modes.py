@@ -76,7 +76,7 @@ def nearest_safe_outputs(game: Game, position: Mapping[str, bool], inputs: Mappi
     unknown_next = [prime_name(p) for p in game.inputs if p in unknown]
     assign = game.assignment({p: bool(position[p]) for p in game.variables},
                              {p: bool(inputs[p]) for p in game.inputs if p not in unknown})
-    allowed = bdd.let(assign, game.sys_trans)  # over the next outputs (and the unknown next inputs)
+    allowed = game.sys_rel.restrict(assign)  # over the next outputs (and the unknown next inputs)
     if unknown_next:
         allowed = bdd.forall(unknown_next, allowed)
     wanted = {p: bool(wanted[p]) for p in game.outputs}

@@ -92,6 +92,7 @@ def synthesize(spec: Spec, *, robotics_semantics: bool = DEFAULT_OPTIONS.robotic
         if not strategy:
             solution = solve(game, robotics_semantics=robotics_semantics, early_exit=True, options=options,
                              progress=progress)
+            game.keep_order()
             return SynthesisResult(solution.realizable, None, time.perf_counter() - start, game, solution,
                                    SynthesisOptions(robotics_semantics, cooperative))
         solution = solve(game, robotics_semantics=robotics_semantics, cooperative=cooperative,
@@ -103,6 +104,7 @@ def synthesize(spec: Spec, *, robotics_semantics: bool = DEFAULT_OPTIONS.robotic
         # looked up on the module: resolved on first use (module ``__getattr__``) and replaceable in tests
         strategy_class = sys.modules[__name__].SymbolicStrategy
         strategy = strategy_class(game, solution, cooperative=cooperative) if solution.realizable else None
+        game.keep_order()
     return SynthesisResult(solution.realizable, strategy, time.perf_counter() - start, game, solution,
                            SynthesisOptions(robotics_semantics, cooperative))
 
@@ -113,7 +115,9 @@ def is_realizable(spec: Spec, *, robotics_semantics: bool = DEFAULT_OPTIONS.robo
     """Realizability only (stops as soon as the answer is known to be "no")."""
     game = Game(spec, max_memory=max_memory, deadline=Deadline(timeout))
     with memory_guard(game.max_memory):
-        return solve(game, robotics_semantics=robotics_semantics, early_exit=True, options=options).realizable
+        realizable = solve(game, robotics_semantics=robotics_semantics, early_exit=True, options=options).realizable
+    game.keep_order()
+    return realizable
 
 
 __getattr__, __dir__ = lazy_exports(__name__, _LAZY, __all__)

@@ -64,9 +64,9 @@ class _Variants:
         g = copy.copy(self.game)
         bdd = self.game.bdd
         if sys_safety is not None:
-            g.sys_trans = _conjoin(bdd, [u for _, u in sys_safety])
+            g.set_safety("sys_safety", [u for _, u in sys_safety])
         if env_safety is not None:
-            g.env_trans = _conjoin(bdd, [u for _, u in env_safety])
+            g.set_safety("env_safety", [u for _, u in env_safety])
         if sys_goals is not None:
             g.sys_goals = [u for _, u in sys_goals] or [bdd.true]
         if env_goals is not None:
@@ -83,22 +83,15 @@ def _let(bdd, values: dict, u):
     return bdd.let(values, u) if values else u
 
 
-def _conjoin(bdd, nodes):
-    acc = bdd.true
-    for u in nodes:
-        acc &= u
-    return acc
-
-
 def cooperative_winning(game: Game):
     """Positions from which env and robot *together* can run forever inside both safety formulas
     while meeting every env and system liveness clause infinitely often (a fair cycle)."""
     bdd = game.bdd
-    both = game.env_trans & game.sys_trans
+    both = game.joint_rel(game.sys_rel)
     goals = list(game.sys_goals) + list(game.env_goals)
 
     def epre(target):
-        return bdd.exist(game.variables_next, both & target)
+        return both.exist_and(target, game.variables_next)
 
     z = bdd.true
     while True:
@@ -222,8 +215,8 @@ class _EnvFixpoint:
         r = next(r for r, x in enumerate(ranks) if (position & x) != bdd.false)
         goal = game.sys_goals[j]
         target = (~goal | game.prime(z)) & game.prime(y) & (game.env_goals[i] | game.prime(ranks[r - 1]))
-        good = game.env_trans & bdd.forall(game.outputs_next, ~game.sys_trans | target)
-        return bdd.exist(game.variables, position & good)
+        forced = game.sys_rel.forall_implies(target, game.outputs_next)
+        return bdd.exist(game.variables, game.env_rel.conjoin(position & forced))
 
 
 def build_counterstrategy(game: Game, robotics_semantics: bool, max_states: int = 2000,
@@ -269,7 +262,7 @@ def build_counterstrategy(game: Game, robotics_semantics: bool, max_states: int 
             continue
         x_next = {v: bool(pick[game.inputs_next[n]]) for n, v in enumerate(game.inputs)}
         state.env_move = x_next
-        answers = bdd.exist(game.variables, here & game.cube({}, x_next) & game.sys_trans)
+        answers = bdd.exist(game.variables, game.sys_rel.conjoin(here & game.cube({}, x_next)))
         answers = _let(bdd, {game.inputs_next[n]: x_next[v] for n, v in enumerate(game.inputs)}, answers)
         outputs = list(bdd.pick_iter(answers, care_vars=set(game.outputs_next)))
         if not outputs:
@@ -435,7 +428,7 @@ def _deadlock_example(game: Game, robotics_semantics: bool) -> dict | None:
 
     The moves come from the environment's attractor to such positions (``cpre_env`` layers)."""
     bdd = game.bdd
-    stuck_moves = game.env_trans & bdd.forall(game.outputs_next, ~game.sys_trans)
+    stuck_moves = game.env_rel.conjoin(game.sys_rel.forall_implies(bdd.false, game.outputs_next))
     layers = [bdd.exist(game.inputs_next, stuck_moves)]
     while True:
         game.deadline.check()
@@ -465,10 +458,11 @@ def _deadlock_example(game: Game, robotics_semantics: bool) -> dict | None:
     k = rank(current)
     while k > 0:
         here = game.cube(current)
-        moves = game.env_trans & bdd.forall(game.outputs_next, ~game.sys_trans | game.prime(layers[k - 1]))
-        x_pick = bdd.pick(bdd.exist(game.variables, here & moves), care_vars=set(game.inputs_next))
+        forced = game.sys_rel.forall_implies(game.prime(layers[k - 1]), game.outputs_next)
+        x_pick = bdd.pick(bdd.exist(game.variables, game.env_rel.conjoin(here & forced)),
+                          care_vars=set(game.inputs_next))
         x_next = {v: bool(x_pick[game.inputs_next[n]]) for n, v in enumerate(game.inputs)}
-        answers = bdd.exist(game.variables, here & game.cube({}, x_next) & game.sys_trans)
+        answers = bdd.exist(game.variables, game.sys_rel.conjoin(here & game.cube({}, x_next)))
         y_pick = bdd.pick(answers, care_vars=set(game.outputs_next) | set(game.inputs_next))
         if y_pick is None:
             break  # this move already leaves the robot without a safe answer

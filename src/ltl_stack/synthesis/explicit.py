@@ -98,7 +98,7 @@ def traps_environment(game: Any, automaton: Automaton) -> bool:
     admissible next input (a strategy that wins by blocking the environment: what the cooperative
     default promises never to do; slugs' 2-state export of error_resilience_exampleA does)."""
     bdd = game.bdd
-    alive = bdd.exist(game.variables_next, game.env_trans)
+    alive = game.alive()
     plain = automaton.metadata.get("states_without_recovery", len(automaton.states))
     return any(bdd.let(game.assignment({**s.inputs, **s.outputs}), alive) != bdd.true
                for s in automaton.states[:plain])
@@ -257,7 +257,7 @@ class _Extraction:
         #: per goal s a move starts its target with: next positions p' whose state (p, skip(p, s)) exists
         self.existing = [self.bdd.false] * self.goals
         #: per goal: the strategy's moves on admissible inputs
-        self.ordinary = [strategy.relations[j] & game.env_trans for j in range(self.goals)]
+        self.ordinary = [game.env_rel.conjoin(strategy.relations[j]) for j in range(self.goals)]
         #: per goal: its Y iterates (``GoalLayers.Y``) as next positions, earliest first: the
         #: targets from which that goal is reached soonest come first
         self.closer = [[game.prime(y) for y in layers.Y[1:]] for layers in strategy.solution.layers]
@@ -439,7 +439,7 @@ class _Extraction:
         game = self.game
         bdd = self.bdd
         rec = self.strategy.recovery_relations()
-        normal = self.strategy.winning & game.env_trans
+        normal = game.env_rel.conjoin(self.strategy.winning)
         self.todo = deque(range(plain))
         check = game.deadline.check
         while self.todo:

@@ -43,6 +43,7 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 from ltl_stack.synthesis.game import BACKEND, BIG_GAME, BIG_GAME_GROWTH, REORDER_THRESHOLD, Game
+from ltl_stack.synthesis.relation import Relation
 
 Progress = Callable[[str], None]
 
@@ -85,7 +86,9 @@ class Solution:
     realizable: bool
     winning: object
     layers: list[GoalLayers]
-    sys_trans: object
+    #: the system's safety the game was solved with (``relation.Relation``): ``Game.sys_rel``, or
+    #: with ``cooperative`` its restriction ``Game.deadlock_free_sys_rel()``
+    sys_rel: Relation
     z_iterations: int
     seconds: float
     robotics_semantics: bool
@@ -158,8 +161,8 @@ def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = Fa
     def cpre(target):
         check()
         maybe_reorder()
-        return game.cpre_sys(target, sys_trans)
-    sys_trans = game.deadlock_free_sys_trans() if cooperative else game.sys_trans
+        return game.cpre_sys(target, sys_rel)
+    sys_rel = game.deadlock_free_sys_rel() if cooperative else game.sys_rel
 
     def x_fixpoint(live, nasm, old: list, c: int, i: int):
         """nu X. live | (nasm & cpre(X')) (state-based) or nu X. cpre(live | (X' & nasm))."""
@@ -225,7 +228,7 @@ def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = Fa
                 if early_exit and not init_ok(game, Z_next, robotics_semantics):
                     if progress:
                         progress(f"Z iteration {iteration}: goal {j} already fails the initial condition")
-                    return Solution(False, Z_next, layers, sys_trans, iteration,
+                    return Solution(False, Z_next, layers, sys_rel, iteration,
                                     time.perf_counter() - start, robotics_semantics, complete=False,
                                     cooperative=cooperative)
             if progress:
@@ -235,7 +238,7 @@ def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = Fa
                 break
             Z = Z_next
         realizable = init_ok(game, Z, robotics_semantics)
-        return Solution(realizable, Z, layers, sys_trans, iteration,
+        return Solution(realizable, Z, layers, sys_rel, iteration,
                         time.perf_counter() - start, robotics_semantics, cooperative=cooperative)
     finally:
         if BACKEND == "cudd":

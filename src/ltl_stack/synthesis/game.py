@@ -16,7 +16,11 @@ Stable API (other modules, ``explain.py`` and the differential tests rely on it)
 - ``variables``, ``variables_next``   inputs then outputs, current / next
 - ``prime(u)``, ``unprime(u)``    rename current -> next / next -> current
 - ``env_init``, ``sys_init``      conjunctions of the init clauses (current variables only)
-- ``env_trans``, ``sys_trans``    conjunctions of the safety clauses (current and next variables)
+- ``env_rel``, ``sys_rel``        the safety sections as partitioned relations (``relation.Relation``:
+                                  clusters with a quantification schedule); every part of the engine
+                                  works on these
+- ``env_trans``, ``sys_trans``    the same conjunctions as single BDDs, built on first use only (for
+                                  callers outside the engine; ``Relation.built`` counts it)
 - ``env_goals``, ``sys_goals``    one BDD per liveness clause; ``[true]`` when the section is empty
                                   (goals may mention next variables: they constrain transitions;
                                   ``liveness_has_next`` says whether any does)
@@ -25,8 +29,14 @@ Stable API (other modules, ``explain.py`` and the differential tests rely on it)
 - ``cpre_sys(target)``            positions from which the system can force the next transition
                                   into ``target`` (Eq. 4.2's controllable predecessor)
 - ``cpre_env(target)``            positions from which the environment can force it (dual operator)
-- ``deadlock_free_sys_trans()``   ``sys_trans`` restricted to moves after which the environment
-                                  still has an admissible input (used by the cooperative strategy)
+- ``deadlock_free_sys_rel()``     ``sys_rel`` restricted to moves after which the environment
+                                  still has an admissible input (used by the cooperative strategy);
+                                  ``deadlock_free_sys_trans()`` as one BDD
+- ``alive()``                     positions with an admissible next input (``exists next. env_trans``)
+- ``admissible(values)``          ``env_trans`` restricted to a valuation (stepping: false = violated)
+- ``joint_rel(sys_rel)``          ``env_trans & sys_trans`` as one relation (cooperative analyses)
+- ``keep_order()``                save the variable order sifting found (``order_cache``); a new
+                                  ``Game`` of the same spec starts in it (``order_reused``)
 - ``to_bdd(formula)``             any ``ltl_stack.spec.formula`` node to a BDD
 - ``deadline``, ``max_memory``    the limits of the run (``ltl_stack.synthesis.options``): the memory
                                   cap is set on the manager before the first clause is built, and
@@ -40,13 +50,16 @@ from __future__ import annotations
 
 import operator
 import sys
+import warnings
 from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 
 from ltl_stack.spec.formula import And, Const, Formula, Iff, Implies, Not, Or, Var, Xor
 from ltl_stack.spec.model import SECTIONS, Clause, Spec
+from ltl_stack.synthesis import order_cache
 from ltl_stack.synthesis.errors import MemoryLimitReached
 from ltl_stack.synthesis.options import LOOSE_UP_TO, MANAGER_ESTIMATE, NO_DEADLINE, Deadline, memory_cap
+from ltl_stack.synthesis.relation import Relation
 
 # dd imports networkx for one thing only, its ``to_nx`` graph export, which ltl_stack never calls;
 # importing networkx costs ~90 ms, as much as the rest of a ``synthesize`` run on a small spec.
@@ -155,13 +168,22 @@ class Game:
     """The BDD game of a ``Spec``. Build one per spec; all BDDs share ``self.bdd``."""
 
     def __init__(self, spec: Spec, *, bdd=None, interleave: bool | None = None,
-                 fused: bool = True, max_memory: int | None = None, deadline: Deadline = NO_DEADLINE) -> None:
+                 fused: bool = True, max_memory: int | None = None, deadline: Deadline = NO_DEADLINE,
+                 partition: bool = True, reuse_order: bool = True) -> None:
         """``interleave=None`` chooses the variable order (see ``_conjoin``): interleaved unless the
         safety conjunctions are much smaller with all current variables before all next ones.
         ``True``/``False`` force one order and ``fused=False`` quantifies after conjoining; those
         exist to measure the techniques. ``max_memory`` caps the manager (``options.memory_cap``;
         a manager passed as ``bdd`` keeps its own settings); ``deadline`` bounds the time of this
-        and every later computation on the game."""
+        and every later computation on the game. ``partition=False`` keeps each safety section as
+        one BDD conjoined in file order (the monolithic engine, to measure partitioning and to test
+        against). ``reuse_order`` starts a fresh manager in the order saved for this spec (or for
+        one with the same propositions) by an earlier run (``order_cache``; see ``keep_order``)."""
+        self.partition = partition
+        self.reuse_order = reuse_order and bdd is None
+        #: "exact" (the saved order of this very spec: no sifting at all), "propositions" (one of a
+        #: spec with the same propositions: a start, sifting stays on) or None
+        self.order_reused: str | None = None
         self.max_memory = memory_cap(max_memory)
         self.deadline = deadline
         # the rival order of the race is sifted freely and built clause by clause; with thousands of
@@ -186,9 +208,20 @@ class Game:
         self.variables_next = self.inputs_next + self.outputs_next
         #: dynamic reordering is allowed (few enough variables, see ``REORDER_MAX_VARIABLES``)
         self.may_reorder = BACKEND == "cudd" and 2 * len(self.variables) <= REORDER_MAX_VARIABLES
+        saved = None
+        if getattr(self, "reuse_order", False) and self.may_reorder and bdd is None:
+            saved = order_cache.load(spec, set(self.variables) | set(self.variables_next))
+            if saved is not None and saved[1]:
+                self.may_reorder = False  # the order sifting ended with last time: keep it
         if BACKEND == "cudd" and not self.may_reorder:
             self.bdd.configure(reordering=False)
         self._declare()
+        if saved is not None:
+            try:
+                _backend.reorder(self.bdd, {v: k for k, v in enumerate(saved[0])})
+                self.order_reused = "exact" if saved[1] else "propositions"
+            except Exception:  # pragma: no cover - a saved order is only a hint
+                self.may_reorder = BACKEND == "cudd" and 2 * len(self.variables) <= REORDER_MAX_VARIABLES
         self._to_next = dict(zip(self.variables, self.variables_next))
         self._to_current = dict(zip(self.variables_next, self.variables))
         # the renamings as variable BDDs: ``let`` with names makes one BDD per variable on every
@@ -202,6 +235,7 @@ class Game:
         self._setup(spec, bdd, interleave)
         self.fused = fused
         self._race = race
+        self._alive = None
         self.true = self.bdd.true
         self.false = self.bdd.false
 
@@ -210,8 +244,11 @@ class Game:
         }
         self.env_init = self._conjoin("env_init")
         self.sys_init = self._conjoin("sys_init")
-        self.env_trans = self._conjoin("env_safety")
-        self.sys_trans = self._conjoin("sys_safety")
+        #: rho_e and rho_s as partitioned relations (``relation.Relation``), scheduled for the
+        #: quantification each one gets in ``cpre_sys``: rho_e over the next inputs, rho_s over the
+        #: next outputs; ``env_trans``/``sys_trans`` are their single BDDs, built only on demand
+        self.env_rel = self._relation("env_safety", self.inputs_next)
+        self.sys_rel = self._relation("sys_safety", self.outputs_next)
         self.env_goals = [u for _, u in self._clauses["env_liveness"]] or [self.true]
         self.sys_goals = [u for _, u in self._clauses["sys_liveness"]] or [self.true]
         nxt = set(self.variables_next)
@@ -219,9 +256,19 @@ class Game:
         self.liveness_has_next = any(nxt & self.bdd.support(u) for u in self.env_goals + self.sys_goals)
         #: live BDD nodes once the game is built (the fixpoint's reordering policy starts from it)
         self.nodes = len(self.bdd)
-        env_support = self.bdd.support(self.env_trans)
         # slugs forbids primed outputs in env safety; if a spec has them, use the general cpre.
-        self._env_sees_outputs_next = any(v in env_support for v in self.outputs_next)
+        self._env_sees_outputs_next = any(v in self.env_rel.support for v in self.outputs_next)
+
+    @property
+    def env_trans(self):
+        """rho_e as one BDD (built on first use from ``env_rel``; the engine's fixpoints, strategy,
+        recovery and stepping use ``env_rel`` and never need it)."""
+        return self.env_rel.conjunction()
+
+    @property
+    def sys_trans(self):
+        """rho_s as one BDD (built on first use from ``sys_rel``)."""
+        return self.sys_rel.conjunction()
 
     # --- variables -------------------------------------------------------------------------
     def _declare(self) -> None:
@@ -363,6 +410,40 @@ class Game:
             self.bdd.configure(reordering=False)
         return acc
 
+    def _relation(self, section: str, quantified: list[str]) -> Relation:
+        """A safety section as a ``Relation``: clusters of scheduled clauses (see ``relation.py``),
+        built with dynamic reordering once a cluster grows past half ``REORDER_THRESHOLD``, as
+        ``_conjoin`` does. With ``partition`` off (to measure it): one cluster, the file order."""
+        clauses = [u for _, u in self._clauses[section]]
+        if not self.partition:
+            return Relation(self.bdd, [self._conjoin(section)], check=self.deadline.check)
+        reordering = []
+
+        def grown(nodes: int) -> None:
+            if self.may_reorder and not reordering and nodes > REORDER_THRESHOLD // 2:
+                self.bdd.configure(reordering=True)
+                reordering.append(True)
+
+        try:
+            shrink = (lambda: _backend.reorder(self.bdd)) if self.may_reorder else None
+            return Relation.from_clauses(self.bdd, clauses, quantified, check=self.deadline.check,
+                                         grown=grown, shrink=shrink)
+        finally:
+            if reordering:
+                self.bdd.configure(reordering=False)
+
+    def keep_order(self) -> None:
+        """Save the manager's variable order for the next ``Game`` of this spec (``order_cache``),
+        when sifting has changed it (an order reused exactly is already saved)."""
+        if BACKEND != "cudd" or not self.reuse_order or self.order_reused == "exact":
+            return
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # dd warns about a unit change of another statistic
+            if not self.bdd.statistics()["n_reorderings"]:
+                return
+        levels = self.bdd.var_levels
+        order_cache.save(self.spec, sorted(levels, key=levels.get))
+
     def clauses(self, section: str) -> list[tuple[Clause, object]]:
         """``(Clause, BDD)`` for each clause of ``section`` (one of ``SECTIONS``)."""
         if section not in self._clauses:
@@ -391,34 +472,66 @@ class Game:
         return bad
 
     # --- predecessor operators ----------------------------------------------------------------
-    def cpre_sys(self, target, sys_trans=None):
+    def cpre_sys(self, target, sys_rel: Relation | None = None):
         """Positions where, for every admissible next input, some next output satisfies
         ``sys_trans & target`` (``target`` over current and next variables).
 
-        ``sys_trans`` defaults to the spec's; the cooperative strategy passes a restricted one.
+        ``sys_rel`` defaults to the spec's; the cooperative game passes a restricted one. Both
+        quantifications go cluster by cluster (``Relation.exist_and`` over the next outputs, then
+        ``Relation.forall_implies`` over the next inputs): ``env_trans`` is never built here.
         """
-        trans = self.sys_trans if sys_trans is None else sys_trans
+        trans = self.sys_rel if sys_rel is None else sys_rel
         bdd = self.bdd
         if self._env_sees_outputs_next:
-            u = bdd.exist(self.outputs_next, ~self.env_trans | (trans & target))
+            u = bdd.exist(self.outputs_next, ~self.env_trans | trans.conjoin(target))
             return bdd.forall(self.inputs_next, u)
-        if BACKEND == "cudd" and self.fused:
-            moves = _backend.and_exists(trans, target, self.outputs_next)
-            return _backend.or_forall(~self.env_trans, moves, self.inputs_next)
-        moves = bdd.exist(self.outputs_next, trans & target)
-        return bdd.forall(self.inputs_next, ~self.env_trans | moves)
+        if not self.fused:
+            moves = bdd.exist(self.outputs_next, trans.conjoin(target))
+            return bdd.forall(self.inputs_next, ~self.env_trans | moves)
+        moves = trans.exist_and(target, self.outputs_next)
+        return self.env_rel.forall_implies(moves, self.inputs_next)
 
     def cpre_env(self, target):
         """Positions from which the environment can force ``target``: some admissible next input
         such that every next output allowed by ``sys_trans`` satisfies ``target``."""
-        bdd = self.bdd
-        forced = bdd.forall(self.outputs_next, ~self.sys_trans | target)
-        return bdd.exist(self.inputs_next, self.env_trans & forced)
+        forced = self.sys_rel.forall_implies(target, self.outputs_next)
+        return self.env_rel.exist_and(forced, self.inputs_next)
+
+    def alive(self):
+        """Positions with an admissible next input (``exists next. env_trans``; computed once)."""
+        if self._alive is None:
+            self._alive = self.env_rel.exist_and(self.true, self.variables_next)
+        return self._alive
+
+    def joint_rel(self, sys_rel: Relation | None = None) -> Relation:
+        """``env_trans & sys_trans`` (``sys_rel`` if given) as one relation: both players' clusters."""
+        trans = self.sys_rel if sys_rel is None else sys_rel
+        return Relation(self.bdd, self.env_rel.parts + trans.parts, check=self.deadline.check)
+
+    def set_safety(self, section: str, clauses: list) -> None:
+        """Replace rho_e (``section="env_safety"``) or rho_s (``"sys_safety"``) by the conjunction of
+        ``clauses`` (BDDs of this manager): the sub-game variants of ``explain`` use it on copies."""
+        if section == "env_safety":
+            self.env_rel = Relation.from_clauses(self.bdd, clauses, self.inputs_next, check=self.deadline.check)
+            self._alive = None
+            self._env_sees_outputs_next = any(v in self.env_rel.support for v in self.outputs_next)
+        elif section == "sys_safety":
+            self.sys_rel = Relation.from_clauses(self.bdd, clauses, self.outputs_next, check=self.deadline.check)
+        else:
+            raise ValueError(f"not a safety section: {section!r}")
+
+    def deadlock_free_sys_rel(self) -> Relation:
+        """``sys_rel`` restricted to next positions that still have an admissible next input."""
+        return self.sys_rel.with_part(self.prime(self.alive()))
 
     def deadlock_free_sys_trans(self):
-        """``sys_trans`` restricted to next positions that still have an admissible next input."""
-        alive = self.bdd.exist(self.variables_next, self.env_trans)
-        return self.sys_trans & self.prime(alive)
+        """``deadlock_free_sys_rel`` as one BDD."""
+        return self.deadlock_free_sys_rel().conjunction()
+
+    def admissible(self, values: Mapping[str, bool]):
+        """``env_trans`` restricted to a valuation (current variables, maybe next inputs): false
+        when the inputs break rho_e, else a BDD over what ``values`` leaves open."""
+        return self.env_rel.restrict(values)
 
     # --- counting ----------------------------------------------------------------------------
     def count(self, u, *, next_too: bool = False) -> int:

@@ -50,6 +50,7 @@ from ltl_stack.spec.model import Clause
 from ltl_stack.synthesis.errors import AssumptionViolation
 from ltl_stack.synthesis.fixpoint import Solution
 from ltl_stack.synthesis.game import Game
+from ltl_stack.synthesis.relation import Relation
 
 #: cap on the iterations of the safety levels (targets deeper than this are ranked equal)
 MAX_SAFETY_LEVELS = 64
@@ -105,8 +106,7 @@ class UnsafeStep(AssumptionViolation):
 
 def existential_pre(game: Game, target):
     """Positions with some rho_s transition (any next inputs, some next outputs) into ``target``."""
-    bdd = game.bdd
-    return bdd.exist(game.variables_next, game.sys_trans & game.prime(target))
+    return game.sys_rel.exist_and(game.prime(target), game.variables_next)
 
 
 def rings(game: Game, base) -> list:
@@ -134,7 +134,7 @@ def safety_levels(game: Game, limit: int = MAX_SAFETY_LEVELS) -> list:
     S = bdd.true
     for _ in range(limit):
         game.deadline.check()
-        keep = bdd.forall(game.inputs_next, bdd.exist(game.outputs_next, game.sys_trans & game.prime(S)))
+        keep = bdd.forall(game.inputs_next, game.sys_rel.exist_and(game.prime(S), game.outputs_next))
         S_next = S & keep
         if S_next == S:
             break
@@ -171,7 +171,7 @@ def keep_current(game: Game, relation):
     return D
 
 
-def layered_relation(game: Game, solution: Solution, j: int, trans, choose=None):
+def layered_relation(game: Game, solution: Solution, j: int, trans: Relation, choose=None):
     """Goal j's moves under ``trans``, each (x, y, x') answered by its earliest (Y round c,
     assumption i) pair (thesis Alg. 1; ``SymbolicStrategy`` module docstring):
 
@@ -189,12 +189,12 @@ def layered_relation(game: Game, solution: Solution, j: int, trans, choose=None)
         below = Yc  # Y[c] and the X sets of the assumptions before i in round c
         for i, X in enumerate(Xs):
             game.deadline.check()
-            paths = trans & (reached | game.prime(below) | (game.prime(X) & not_asm[i]))
+            target = reached | game.prime(below) | (game.prime(X) & not_asm[i])
             below = below | X
-            new = bdd.exist(game.outputs_next, paths) & ~covered
+            new = trans.exist_and(target, game.outputs_next) & ~covered
             if new == bdd.false:
                 continue
-            block = new & paths
+            block = trans.conjoin(new & target)
             relation |= block if choose is None else choose(block, i)
             covered |= new
     return relation
@@ -227,9 +227,8 @@ class RecoveryRelations:
     def goal_rings(self, j: int) -> list:
         """Alg. 1's B_(j,c) rings: positions c+1 rho_s steps from a transition meeting goal j into W."""
         game = self.game
-        bdd = game.bdd
         reached = game.sys_goals[j] & game.prime(self.winning)
-        base = bdd.exist(game.variables_next, game.sys_trans & reached)
+        base = game.sys_rel.exist_and(reached, game.variables_next)
         return rings(game, base)
 
     def relation(self, j: int):
@@ -239,16 +238,16 @@ class RecoveryRelations:
         game = self.game
         bdd = game.bdd
         outs = game.outputs_next
-        trans = game.sys_trans
+        trans = game.sys_rel
         relation = self.normal[j]
         covered = bdd.exist(outs, relation)
-        if self.solution.sys_trans != trans:  # cooperative restriction: rank the rest with full rho_s
+        if self.solution.sys_rel is not trans:  # cooperative restriction: rank the rest with full rho_s
             extra = layered_relation(game, self.solution, j, trans) & ~covered
             relation |= extra
             covered |= bdd.exist(outs, extra)
         goal_layers = None
         for ring in self.rings[1:]:
-            block = trans & game.prime(ring) & ~covered
+            block = trans.conjoin(game.prime(ring) & ~covered)
             if block == bdd.false:
                 continue
             if goal_layers is None:
@@ -256,7 +255,7 @@ class RecoveryRelations:
             block = prefer(game, block, goal_layers)
             relation |= block
             covered |= bdd.exist(outs, block)
-        block = trans & ~covered
+        block = trans.conjoin(~covered)
         if block != bdd.false:
             relation |= prefer(game, block, self.safety_layers())
         self._relations[j] = relation

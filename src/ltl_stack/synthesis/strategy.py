@@ -77,16 +77,16 @@ class SymbolicStrategy:
     def _goal_relation(self, j: int):
         """``recovery.layered_relation`` with the cooperative preferences on each block."""
         if not self.cooperative:
-            return layered_relation(self.game, self.solution, j, self.solution.sys_trans)
+            return layered_relation(self.game, self.solution, j, self.solution.sys_rel)
         game = self.game
-        alive_next = game.prime(game.bdd.exist(game.variables_next, game.env_trans))
+        alive_next = game.prime(game.alive())
 
         def choose(block, i: int):
             if not self.solution.cooperative:
                 block = prefer(game, block, [alive_next])
             return self._prefer_helping(block, i)
 
-        return layered_relation(game, self.solution, j, self.solution.sys_trans, choose)
+        return layered_relation(game, self.solution, j, self.solution.sys_rel, choose)
 
     def _prefer_helping(self, block, i: int):
         """Keep, for each (x, y, x') of ``block``, only the moves that let the environment satisfy
@@ -106,14 +106,15 @@ class SymbolicStrategy:
         game = self.game
         bdd = game.bdd
         W = self.winning
-        joint = game.env_trans & self.solution.sys_trans & game.prime(W) & W
+        joint = game.joint_rel(self.solution.sys_rel)
+        inside = game.prime(W) & W
         layers = [game.env_goals[i]]
-        near = bdd.exist(game.variables_next, joint & game.env_goals[i])
+        near = joint.exist_and(inside & game.env_goals[i], game.variables_next)
         seen = near
         while near != bdd.false:
             game.deadline.check()
             layers.append(game.prime(near))
-            step_back = bdd.exist(game.variables_next, joint & game.prime(near))
+            step_back = joint.exist_and(inside & game.prime(near), game.variables_next)
             near = step_back & ~seen
             seen |= near
         cache[i] = layers
@@ -198,7 +199,7 @@ class SymbolicStrategy:
         bdd = game.bdd
         new_inputs = self._full(inputs, self.inputs, "inputs")
         assign = game.assignment(state.valuation, new_inputs)
-        if bdd.let(assign, game.env_trans) == bdd.false:
+        if game.admissible(assign) == bdd.false:
             raise AssumptionViolation(game.violated("env_safety", state.valuation, new_inputs), new_inputs)
         outputs = self._move(state, new_inputs, assign)
         if outputs is None:
@@ -253,7 +254,7 @@ class SymbolicStrategy:
         bdd = game.bdd
         new_inputs = self._full(inputs, self.inputs, "inputs")
         assign = game.assignment(state.valuation, new_inputs)
-        admissible = bdd.let(assign, game.env_trans) != bdd.false
+        admissible = game.admissible(assign) != bdd.false
         violated = [] if admissible else game.violated("env_safety", state.valuation, new_inputs)
         u, normal = self._moves(state, assign, admissible)
         if u == bdd.false:
@@ -276,14 +277,14 @@ class SymbolicStrategy:
         new_inputs = self._full(inputs, self.inputs, "inputs")
         new_outputs = self._full(outputs, self.outputs, "outputs")
         assign = game.assignment(state.valuation, new_inputs)
-        moves, _ = self._moves(state, assign, bdd.let(assign, game.env_trans) != bdd.false)
+        moves, _ = self._moves(state, assign, game.admissible(assign) != bdd.false)
         return bdd.let(game.assignment(state.valuation, {**new_inputs, **new_outputs}), moves) == bdd.true
 
     def keeps_safety(self, state: State, inputs: Mapping[str, bool], outputs: Mapping[str, bool]) -> bool:
         """Whether the move from ``state`` to (``inputs``, ``outputs``) satisfies the system safety."""
         game = self.game
         move = game.assignment(state.valuation, {**inputs, **outputs})
-        return game.bdd.let(move, self.solution.sys_trans) == game.bdd.true
+        return self.solution.sys_rel.holds(move)
 
     def _successor(self, state: State, new_inputs: dict[str, bool], outputs: dict[str, bool]) -> State:
         game = self.game
@@ -315,7 +316,7 @@ class SymbolicStrategy:
         """Every next input valuation allowed by env safety from ``state`` (sorted by bits)."""
         game = self.game
         bdd = game.bdd
-        u = bdd.let(game.assignment(state.valuation), game.env_trans)
+        u = game.admissible(game.assignment(state.valuation))
         result = []
         for a in bdd.pick_iter(u, care_vars=set(game.inputs_next)):
             result.append({n: bool(a[game.inputs_next[k]]) for k, n in enumerate(self.inputs)})
