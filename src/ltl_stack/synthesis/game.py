@@ -25,6 +25,8 @@ Stable API (other modules, ``explain.py`` and the differential tests rely on it)
 - ``cpre_sys(target)``            positions from which the system can force the next transition
                                   into ``target`` (Eq. 4.2's controllable predecessor)
 - ``cpre_env(target)``            positions from which the environment can force it (dual operator)
+- ``pre_exists(target)``          positions from which some joint move of both players satisfies
+                                  ``target`` (existential predecessor; ``vacuity``)
 - ``deadlock_free_sys_trans()``   ``sys_trans`` restricted to moves after which the environment
                                   still has an admissible input (used by the cooperative strategy)
 - ``to_bdd(formula)``             any ``ltl_stack.spec.formula`` node to a BDD
@@ -414,6 +416,26 @@ class Game:
         bdd = self.bdd
         forced = bdd.forall(self.outputs_next, ~self.sys_trans | target)
         return bdd.exist(self.inputs_next, self.env_trans & forced)
+
+    def pre_exists(self, target, sys_trans=None):
+        """Positions with some admissible next input and some next output allowed by ``sys_trans``
+        such that the transition satisfies ``target`` (over current and next variables): the
+        existential predecessor of both players moving together (``vacuity``'s fair states).
+
+        ``sys_trans`` defaults to the spec's; ``true`` gives the environment's moves alone. The
+        outputs are quantified with the system's relation first, then the inputs with the
+        environment's, as ``cpre_sys`` does; the two relations are never conjoined whole.
+        """
+        trans = self.sys_trans if sys_trans is None else sys_trans
+        if self._env_sees_outputs_next:
+            if BACKEND == "cudd" and self.fused:
+                return _backend.and_exists(self.env_trans, trans & target, self.variables_next)
+            return self.bdd.exist(self.variables_next, self.env_trans & trans & target)
+        if BACKEND == "cudd" and self.fused:
+            moves = _backend.and_exists(trans, target, self.outputs_next)
+            return _backend.and_exists(self.env_trans, moves, self.inputs_next)
+        moves = self.bdd.exist(self.outputs_next, trans & target)
+        return self.bdd.exist(self.inputs_next, self.env_trans & moves)
 
     def deadlock_free_sys_trans(self):
         """``sys_trans`` restricted to next positions that still have an admissible next input."""
