@@ -14,8 +14,10 @@ Z iterations that took).
 A realizable spec whose environment assumptions no play can meet (with the robot keeping its
 safety requirements), or that has no guarantees, is vacuous: a warning line says so and ``--json``
 has ``"vacuity"`` (the warnings, empty when the spec means something) and
-``"assumptions_satisfiable"`` (``synthesis.vacuity``); the exit code stays 0. Warnings of the spec's
-reader (a map's isolated region) are printed too and listed in ``"warnings"``.
+``"assumptions_satisfiable"`` (``synthesis.vacuity``); the exit code stays 0. The check obeys
+``--timeout`` and ``--max-memory`` like the solve: a limit reached during it is one error line that
+also gives the verdict (exit 5). Warnings of the spec's reader (a map's isolated region) are printed
+too and listed in ``"warnings"``.
 
 Exit codes (``ltl_stack.errors.Exit``): 0 realizable, 10 unrealizable, 2 bad input, 4 an export
 could not be written, 5 a limit was reached (``--timeout``, ``--max-memory``, ``--max-states``).
@@ -33,7 +35,7 @@ from ltl_stack import cli
 from ltl_stack.errors import Exit, OutputError
 from ltl_stack.spec.load import load_spec
 from ltl_stack.spec.model import Spec
-from ltl_stack.synthesis import synthesize
+from ltl_stack.synthesis import LimitReached, synthesize
 from ltl_stack.synthesis.options import (
     DEFAULT_MAX_MEMORY,
     Deadline,
@@ -142,8 +144,11 @@ def _synthesize(args: argparse.Namespace) -> int:
             from ltl_stack.synthesis.game import memory_guard
             from ltl_stack.synthesis.vacuity import check  # only a realizable spec can be vacuous
 
-            with memory_guard(result.game.max_memory):
-                vacuity = check(result.game, result.solution.winning)
+            try:
+                with memory_guard(result.game.max_memory):
+                    vacuity = check(result.game, result.solution.winning, progress=progress)
+            except LimitReached as e:  # the verdict stands; say it on the one line
+                raise type(e)(f"{e}, in the vacuity check after the verdict REALIZABLE") from None
             summary["vacuity"] = list(vacuity.warnings)
             summary["assumptions_satisfiable"] = vacuity.assumptions_satisfiable
             if not args.quiet:

@@ -93,9 +93,12 @@ def fair_states(game: Game, sys_trans: object, within: object, initial: object |
         # mu Y. z & (pre(goal & z') | pre(Y')), grown by the predecessors of its newest layer
         y = z & pre(goal & game.prime(z))
         layer = y
-        while layer != bdd.false:
+        while layer != bdd.false and y != z:  # y cannot grow past z
             layer = z & pre(game.prime(layer)) & ~y
             y |= layer
+        if progress is not None:
+            progress(f"vacuity check: environment goal {(k - 1) % len(goals) + 1} of {len(goals)}, "
+                     f"round {(k - 1) // len(goals) + 1}")
         if y == z:
             unchanged += 1
             continue
@@ -103,9 +106,6 @@ def fair_states(game: Game, sys_trans: object, within: object, initial: object |
         z = y
         if initial is not None and (z & initial) == bdd.false:
             return z
-        if progress is not None:
-            progress(f"vacuity check: goal {(k - 1) % len(goals)} of the environment, "
-                     f"{game.count(z):.0f} fair candidates left")
     counts.full_fixpoints += 1
     return z
 

@@ -1,9 +1,8 @@
-"""Vacuity: is a realizable spec realizable only because nothing can be asked of the robot?
+"""The vacuity check as it was first written, kept as the test oracle of ``synthesis.vacuity``.
 
-A GR(1) spec is an implication, assumptions -> guarantees (thesis Def. 3.4.2). When no play meets the
-environment's assumptions, every controller "wins" by default and its strategy means nothing; when
-the spec has no guarantees, any controller does. Both are realizable and both deserve a word
-(issue 24: the thesis' Spec. 2 as printed is such a spec, and nothing said so).
+Two plain Emerson–Lei fixpoints (the environment's moves alone, then both players' moves within the
+robot's winning positions), both always computed to the end, each predecessor one ``and_exists``
+over all next-state variables; ``check`` returns what ``synthesis.vacuity.check`` must return.
 
 ``assumptions_satisfiable`` asks whether some infinite play starts in an initial position, keeps the
 safety of both sides at every step and meets every environment goal infinitely often: the fair
@@ -12,20 +11,8 @@ states of the transition relation ``env_trans & sys_trans`` with the environment
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 from ltl_stack.synthesis.game import BACKEND, Game, _backend
-
-
-@dataclass(frozen=True)
-class Vacuity:
-    """What ``check`` found; ``warnings`` is empty for a spec that means something."""
-
-    has_guarantees: bool
-    assumptions_satisfiable: bool
-    #: the assumptions can be met by some play if the robot ignores its own safety requirements
-    assumptions_satisfiable_alone: bool
-    warnings: tuple[str, ...]
+from ltl_stack.synthesis.vacuity import Vacuity
 
 
 def fair_states(game: Game, trans: object, more: object = None, within: object = None) -> object:
