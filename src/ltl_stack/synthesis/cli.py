@@ -146,7 +146,8 @@ def _synthesize(args: argparse.Namespace) -> int:
 
             try:
                 with memory_guard(result.game.max_memory):
-                    vacuity = check(result.game, result.solution.winning, progress=progress)
+                    vacuity = check(result.game, result.solution.winning, progress=progress,
+                                    cpre_winning=result.solution.cpre_winning)
             except LimitReached as e:  # the verdict stands; say it on the one line
                 raise type(e)(f"{e}, in the vacuity check after the verdict REALIZABLE") from None
             summary["vacuity"] = list(vacuity.warnings)

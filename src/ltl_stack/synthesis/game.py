@@ -225,6 +225,12 @@ class Game:
         # slugs forbids primed outputs in env safety; if a spec has them, use the general cpre.
         self._env_sees_outputs_next = any(v in env_support for v in self.outputs_next)
 
+    @property
+    def env_sees_outputs_next(self) -> bool:
+        """Whether the environment's safety mentions next outputs (slugs forbids it): then
+        ``cpre_sys`` lets the system answer an input with an output that breaks that safety."""
+        return self._env_sees_outputs_next
+
     # --- variables -------------------------------------------------------------------------
     def _declare(self) -> None:
         if self.interleave:

@@ -17,10 +17,12 @@ The check runs after every realizable verdict, so it must cost a small part of t
 - only the joint question is asked first; the environment's moves alone (``assumptions_satisfiable_alone``,
   which the joint answer implies) are examined only when the joint answer is "no";
 - the greatest fixpoint starts at the robot's winning positions (every play of a winning strategy
-  stays there) and is iterated chaotically, one goal at a time with Z updated at once (the same
-  fixpoint: each step is monotone and only removes states; the iteration ends when a whole round
-  of goals removes nothing), and it stops as soon as an iterate no longer meets the initial
-  positions: the iterates only shrink, so the answer is then "no";
+  stays there), whose first predecessor the solve already knows (``Solution.cpre_winning``: from a
+  winning position every admissible input has an answer that stays winning);
+- it is iterated chaotically, one goal at a time with Z updated at once (the same fixpoint: each
+  step is monotone and only removes states; the iteration ends when a whole round of goals removes
+  nothing), and it stops as soon as an iterate no longer meets the initial positions: the iterates
+  only shrink, so the answer is then "no";
 - each least fixpoint grows by the predecessors of its newest layer only (``pre_exists`` distributes
   over union), and every predecessor goes through the game's own ``pre_exists``, which quantifies
   the outputs with the system's relation and the inputs with the environment's, never the two
@@ -66,13 +68,16 @@ class Counts:
 
 
 def fair_states(game: Game, sys_trans: object, within: object, initial: object | None = None,
-                counts: Counts | None = None, progress: Progress | None = None) -> object:
+                counts: Counts | None = None, progress: Progress | None = None,
+                moving: object | None = None) -> object:
     """The states of ``within`` from which a path of joint moves (the environment's safety and
     ``sys_trans``) stays in ``within`` and meets every environment goal infinitely often (goals may
     mention the next step: met on a transition).
 
     With ``initial``, stop with the current iterate as soon as it no longer meets ``initial`` (the
-    fixpoint then does not meet it either; the result is exact only as to that)."""
+    fixpoint then does not meet it either; the result is exact only as to that). ``moving``, when
+    known, is the set whose states of ``within`` are exactly those with a joint move into ``within``:
+    while Z is still ``within``, a goal without next-state variables then needs no predecessor."""
     bdd = game.bdd
     check = game.deadline.check
     counts = counts if counts is not None else Counts()
@@ -91,7 +96,10 @@ def fair_states(game: Game, sys_trans: object, within: object, initial: object |
         goal = goals[k % len(goals)]
         k += 1
         # mu Y. z & (pre(goal & z') | pre(Y')), grown by the predecessors of its newest layer
-        y = z & pre(goal & game.prime(z))
+        if moving is not None and z == within and not game.liveness_has_next:
+            y = z & goal & moving  # pre(goal & z') is goal & pre(z') for a goal on the current state
+        else:
+            y = z & pre(goal & game.prime(z))
         layer = y
         while layer != bdd.false and y != z:  # y cannot grow past z
             layer = z & pre(game.prime(layer)) & ~y
@@ -111,13 +119,17 @@ def fair_states(game: Game, sys_trans: object, within: object, initial: object |
 
 
 def check(game: Game, winning: object = None, progress: Progress | None = None,
-          counts: Counts | None = None) -> Vacuity:
+          counts: Counts | None = None, cpre_winning: object = None) -> Vacuity:
     """Whether the spec of ``game`` has guarantees and whether its assumptions can be met.
 
     With the robot's ``winning`` positions (a realizable spec's solution), the plays considered stay
     in them, as every play of a winning strategy does: the question is then whether the strategy can
     ever meet an environment that keeps its assumptions, and the fixpoint works on a smaller set.
-    ``progress`` hears about the check once it has run for ``QUIET_FOR`` seconds."""
+    ``cpre_winning`` is the solve's ``Solution.cpre_winning``: where it holds every winning position
+    (as it does after a complete solve), each winning position from which the environment has an
+    admissible input has a joint move that stays winning, so the first predecessor of the fixpoint
+    is known without computing it. ``progress`` hears about the check once it has run for
+    ``QUIET_FOR`` seconds."""
     spec = game.spec
     has_guarantees = bool(spec.sys_init or spec.sys_safety or spec.sys_liveness)
     bdd = game.bdd
@@ -130,8 +142,12 @@ def check(game: Game, winning: object = None, progress: Progress | None = None,
     counts = counts if counts is not None else Counts()
     within = bdd.true if winning is None else winning
     initial = game.env_init & game.sys_init & within
+    moving = None
+    if winning is not None and cpre_winning is not None and not game.env_sees_outputs_next \
+            and (winning & ~cpre_winning) == bdd.false:
+        moving = game.pre_exists(bdd.true, bdd.true)  # an admissible input exists
     together = initial != bdd.false and \
-        (fair_states(game, game.sys_trans, within, initial, counts, told) & initial) != bdd.false
+        (fair_states(game, game.sys_trans, within, initial, counts, told, moving) & initial) != bdd.false
     alone = together
     if not together:  # the joint answer implies this one; only a "no" needs it
         alone = game.env_init != bdd.false and \

@@ -33,18 +33,23 @@ def shared_spec_files() -> list[str]:
     return [str(p.relative_to(base / "specs")) for p in found if not any(s in str(p) for s in SLOW)]
 
 
-def assert_same_answers(game, winning=None) -> tuple[bool, bool]:
-    new = check(game, winning)
+def assert_same_answers(game, winning=None, cpre_winning=None) -> tuple[bool, bool]:
+    new = check(game, winning, cpre_winning=cpre_winning)
     old = vacuity_reference.check(game, winning)
     assert new == old
     return new.assumptions_satisfiable, new.assumptions_satisfiable_alone
 
 
 def compare(spec) -> tuple[bool, bool]:
+    """Without and with the robot's winning positions, and with the solve's ``cpre_winning`` as the
+    command passes it (for the ordinary and the cooperative solve)."""
     result = synthesize(spec, strategy=False)
     answers = assert_same_answers(result.game)
     if result.realizable:
-        answers = assert_same_answers(result.game, result.solution.winning)
+        assert_same_answers(result.game, result.solution.winning)
+        answers = assert_same_answers(result.game, result.solution.winning, result.solution.cpre_winning)
+        full = synthesize(spec)  # the cooperative solve first, as an export does
+        assert_same_answers(full.game, full.solution.winning, full.solution.cpre_winning)
     return answers
 
 
@@ -161,3 +166,23 @@ def test_a_long_check_reports_progress(monkeypatch):
     monkeypatch.setattr(vacuity_module, "QUIET_FOR", 3600.0)
     check(result.game, result.solution.winning, progress=heard.append)
     assert heard == []
+
+
+NO_ENVIRONMENT_GOAL = make_spec(
+    ["req"], ["grant"],
+    env_safety=["| ! req req'"],
+    sys_safety=["| ! req' grant'"],
+    sys_liveness=["| grant ! req"])
+
+
+def test_the_solves_own_predecessor_spares_the_checks():
+    """Without environment goals every winning position with an admissible input is fair: the solve's
+    ``cpre_winning`` says so and the check computes no predecessor of its own."""
+    result = synthesize(NO_ENVIRONMENT_GOAL, strategy=False)
+    assert result.realizable and result.solution.cpre_winning is not None
+    counts = vacuity_module.Counts()
+    found = check(result.game, result.solution.winning, counts=counts,
+                  cpre_winning=result.solution.cpre_winning)
+    assert found.assumptions_satisfiable and counts.pres == 0
+    without = vacuity_module.Counts()
+    assert check(result.game, result.solution.winning, counts=without) == found and without.pres > 0
