@@ -42,6 +42,16 @@ Progress = Callable[[str], None]
 
 #: seconds of checking after which ``check`` reports its progress
 QUIET_FOR = 1.0
+#: the command's budget for the check (``budget_for``): this share of the solve's CPU time, and at
+#: least this many CPU seconds. A last resort for games unlike the benchmark's, where the check
+#: takes a few per cent of the solve; ``synthesize --full-vacuity-check`` lifts it
+BUDGET_SHARE = 0.5
+BUDGET_FLOOR = 2.0
+
+
+def budget_for(solve_cpu: float) -> float:
+    """CPU seconds the command grants the check after a solve that took ``solve_cpu`` CPU seconds."""
+    return max(BUDGET_FLOOR, BUDGET_SHARE * solve_cpu)
 
 
 @dataclass(frozen=True)
@@ -49,10 +59,16 @@ class Vacuity:
     """What ``check`` found; ``warnings`` is empty for a spec that means something."""
 
     has_guarantees: bool
-    assumptions_satisfiable: bool
+    assumptions_satisfiable: bool | None
     #: the assumptions can be met by some play if the robot ignores its own safety requirements
-    assumptions_satisfiable_alone: bool
+    assumptions_satisfiable_alone: bool | None
     warnings: tuple[str, ...]
+    #: False when the check stopped at its ``budget``: the answers not found yet are None
+    complete: bool = True
+
+
+class OverBudget(Exception):
+    """The check used up its budget of CPU time (``check``'s ``budget``)."""
 
 
 @dataclass
@@ -67,9 +83,9 @@ class Counts:
     pres: int = 0
 
 
-def fair_states(game: Game, sys_trans: object, within: object, initial: object | None = None,
+def fair_states(game: Game, sys_trans: object, within: object, initial: object | None = None, *,
                 counts: Counts | None = None, progress: Progress | None = None,
-                moving: object | None = None) -> object:
+                moving: object | None = None, stop: Callable[[], None] | None = None) -> object:
     """The states of ``within`` from which a path of joint moves (the environment's safety and
     ``sys_trans``) stays in ``within`` and meets every environment goal infinitely often (goals may
     mention the next step: met on a transition).
@@ -77,9 +93,10 @@ def fair_states(game: Game, sys_trans: object, within: object, initial: object |
     With ``initial``, stop with the current iterate as soon as it no longer meets ``initial`` (the
     fixpoint then does not meet it either; the result is exact only as to that). ``moving``, when
     known, is the set whose states of ``within`` are exactly those with a joint move into ``within``:
-    while Z is still ``within``, a goal without next-state variables then needs no predecessor."""
+    while Z is still ``within``, a goal without next-state variables then needs no predecessor.
+    ``stop`` is called before every predecessor (and may raise); by default the game's deadline."""
     bdd = game.bdd
-    check = game.deadline.check
+    check = game.deadline.check if stop is None else stop
     counts = counts if counts is not None else Counts()
     counts.fixpoints += 1
 
@@ -119,7 +136,7 @@ def fair_states(game: Game, sys_trans: object, within: object, initial: object |
 
 
 def check(game: Game, winning: object = None, progress: Progress | None = None,
-          counts: Counts | None = None, cpre_winning: object = None) -> Vacuity:
+          counts: Counts | None = None, cpre_winning: object = None, budget: float | None = None) -> Vacuity:
     """Whether the spec of ``game`` has guarantees and whether its assumptions can be met.
 
     With the robot's ``winning`` positions (a realizable spec's solution), the plays considered stay
@@ -129,10 +146,11 @@ def check(game: Game, winning: object = None, progress: Progress | None = None,
     (as it does after a complete solve), each winning position from which the environment has an
     admissible input has a joint move that stays winning, so the first predecessor of the fixpoint
     is known without computing it. ``progress`` hears about the check once it has run for
-    ``QUIET_FOR`` seconds."""
+    ``QUIET_FOR`` seconds. With a ``budget`` (seconds of this process' CPU time) the check gives up
+    once it is spent: ``complete`` False and the answers not found by then None (the joint one is
+    found first; when it is "no" the spec is vacuous whatever the other)."""
     spec = game.spec
     has_guarantees = bool(spec.sys_init or spec.sys_safety or spec.sys_liveness)
-    bdd = game.bdd
     start = time.perf_counter()
 
     def told(message: str) -> None:
@@ -140,6 +158,38 @@ def check(game: Game, winning: object = None, progress: Progress | None = None,
             progress(message)
 
     counts = counts if counts is not None else Counts()
+    deadline = game.deadline.check
+    spent_at = None if budget is None else time.process_time() + budget
+
+    def stop() -> None:
+        deadline()
+        if spent_at is not None and time.process_time() > spent_at:
+            raise OverBudget
+
+    found: list[bool] = []  # assumptions_satisfiable, then ..._alone, as they are known
+    try:
+        _satisfiable(game, winning, cpre_winning, counts, told, stop, found)
+    except OverBudget:
+        pass
+    together, alone = (found + [None, None])[:2]
+    warnings = []
+    if not has_guarantees:
+        warnings.append("the spec has no guarantees (no [SYS_INIT], [SYS_TRANS] or [SYS_LIVENESS] clause): any "
+                        "controller meets it")
+    if alone is False:
+        warnings.append("no play meets the environment's assumptions (initial condition, safety and goals "
+                        "together): the spec is realizable only because the environment can never keep them")
+    elif together is False:
+        warnings.append("no play that keeps the robot's requirements meets the environment's assumptions: the spec "
+                        "is realizable only because the environment can never keep them (the strategy is vacuous)")
+    return Vacuity(has_guarantees, together, alone, tuple(warnings), complete=len(found) == 2)
+
+
+def _satisfiable(game: Game, winning: object, cpre_winning: object, counts: Counts, told: Progress,
+                 stop: Callable[[], None], found: list[bool]) -> None:
+    """Append ``assumptions_satisfiable`` and then ``assumptions_satisfiable_alone`` (see ``check``)
+    to ``found``."""
+    bdd = game.bdd
     within = bdd.true if winning is None else winning
     initial = game.env_init & game.sys_init & within
     moving = None
@@ -147,19 +197,12 @@ def check(game: Game, winning: object = None, progress: Progress | None = None,
             and (winning & ~cpre_winning) == bdd.false:
         moving = game.pre_exists(bdd.true, bdd.true)  # an admissible input exists
     together = initial != bdd.false and \
-        (fair_states(game, game.sys_trans, within, initial, counts, told, moving) & initial) != bdd.false
+        (fair_states(game, game.sys_trans, within, initial, counts=counts, progress=told, moving=moving,
+                     stop=stop) & initial) != bdd.false
+    found.append(together)
     alone = together
     if not together:  # the joint answer implies this one; only a "no" needs it
         alone = game.env_init != bdd.false and \
-            (fair_states(game, bdd.true, bdd.true, game.env_init, counts, told) & game.env_init) != bdd.false
-    warnings = []
-    if not has_guarantees:
-        warnings.append("the spec has no guarantees (no [SYS_INIT], [SYS_TRANS] or [SYS_LIVENESS] clause): any "
-                        "controller meets it")
-    if not alone:
-        warnings.append("no play meets the environment's assumptions (initial condition, safety and goals "
-                        "together): the spec is realizable only because the environment can never keep them")
-    elif not together:
-        warnings.append("no play that keeps the robot's requirements meets the environment's assumptions: the spec "
-                        "is realizable only because the environment can never keep them (the strategy is vacuous)")
-    return Vacuity(has_guarantees, together, alone, tuple(warnings))
+            (fair_states(game, bdd.true, bdd.true, game.env_init, counts=counts, progress=told, stop=stop)
+             & game.env_init) != bdd.false
+    found.append(alone)

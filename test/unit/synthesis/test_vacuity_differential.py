@@ -186,3 +186,28 @@ def test_the_solves_own_predecessor_spares_the_checks():
     assert found.assumptions_satisfiable and counts.pres == 0
     without = vacuity_module.Counts()
     assert check(result.game, result.solution.winning, counts=without) == found and without.pres > 0
+
+
+def test_a_spent_budget_leaves_the_answers_open():
+    result = synthesize(MEANINGFUL, strategy=False)
+    found = check(result.game, result.solution.winning, budget=-1.0)
+    assert not found.complete and found.assumptions_satisfiable is None
+    assert found.assumptions_satisfiable_alone is None and found.warnings == ()
+    assert check(result.game, result.solution.winning, budget=3600.0).complete
+
+
+def test_a_no_found_before_the_budget_is_spent_is_kept(monkeypatch):
+    """The joint answer comes first: a "no" found before the budget runs out still warns."""
+    result = synthesize(NEVER_TOGETHER, strategy=False)
+    real = vacuity_module.fair_states
+
+    def second_spent(game, sys_trans, within, initial=None, **kwargs):
+        if kwargs["counts"].fixpoints:  # the environment's moves alone: past the budget
+            raise vacuity_module.OverBudget
+        return real(game, sys_trans, within, initial, **kwargs)
+
+    monkeypatch.setattr(vacuity_module, "fair_states", second_spent)
+    found = check(result.game, result.solution.winning, budget=3600.0)
+    assert not found.complete and found.assumptions_satisfiable is False
+    assert found.assumptions_satisfiable_alone is None
+    assert len(found.warnings) == 1 and "robot's requirements" in found.warnings[0]
