@@ -51,11 +51,11 @@ CHECK_SHARE_OUT = REPO / "docs" / "benchmarks" / "check_share.md"
 #: the realizable games of the synthesis benchmark on which the vacuity check's share is measured
 #: (``grid:n:k:m`` is ``bench_synthesis_family.grid_patrol``, written as .slugsin for the command)
 CHECK_SHARE_GAMES = [
-    "factory_assembly_5x5_2_0errors", "factory_assembly_5x5_2_1errors", "factory_assembly_5x5_2_10errors",
-    "factory_assembly_5x5_2_11errors", "factory_assembly_5x6_2_0errors", "factory_assembly_7x5_2_0errors",
-    "basicEvasion", "cinderella_stepmother_n6c1_15_by_5", "cinderella_stepmother_n6c2_14_by_6",
-    "moving_obstacle_24x24_7glitches", "moving_obstacle_32x32_11glitches", "grid:16:4:3", "grid:32:4:3",
-    "two_customer_waiter_txt", "clean_and_patrol"]
+    "clean_and_patrol", "two_customer_waiter_txt", "cinderella_stepmother_n6c2_14_by_6",
+    "cinderella_stepmother_n6c1_15_by_5", "grid:16:4:3", "moving_obstacle_24x24_7glitches",
+    "moving_obstacle_32x32_11glitches", "factory_assembly_5x5_2_0errors", "factory_assembly_5x5_2_1errors",
+    "factory_assembly_5x6_2_0errors", "factory_assembly_7x5_2_0errors", "grid:32:4:3", "basicEvasion",
+    "factory_assembly_5x5_2_10errors", "factory_assembly_5x5_2_11errors"]
 #: a process that solves only: the command's own solve, without the check after it
 #: (started as the script starts: the collector off while importing, no teardown at the end)
 SOLVE_ONLY = ("import gc; gc.disable(); import sys; from ltl_stack import cli; from ltl_stack.spec.load import "
@@ -278,8 +278,8 @@ def main(argv: list[str] | None = None) -> int:
         env["PYTHONPATH"] = os.pathsep.join([str(Path(args.pythonpath).resolve()), env.get("PYTHONPATH", "")])
 
     if args.check_share:
-        lines = check_share(script, env, args, Path(cache))
         out = Path(args.out) if args.out != str(OUT) else CHECK_SHARE_OUT
+        lines = check_share(script, env, args, Path(cache), out)
         out.write_text("\n".join(lines))
         print("\n".join(lines))
         shutil.rmtree(cache, ignore_errors=True)
@@ -378,8 +378,9 @@ def answers(r: dict) -> str:
     return f"{summary.get('assumptions_satisfiable')} {summary.get('vacuity')}"
 
 
-def check_share(script: Path, env: dict[str, str], args: argparse.Namespace, folder: Path) -> list[str]:
-    """The default command against the solve alone (whole processes, CPU), before and after."""
+def check_share(script: Path, env: dict[str, str], args: argparse.Namespace, folder: Path, out: Path) -> list[str]:
+    """The default command against the solve alone (whole processes, CPU), before and after; the
+    table so far is written to ``out`` after every game."""
     before_env = None
     if args.before:
         before_env = dict(env, PYTHONPATH=os.pathsep.join([str(Path(args.before).resolve()), env.get("PYTHONPATH", "")]))
@@ -411,6 +412,7 @@ def check_share(script: Path, env: dict[str, str], args: argparse.Namespace, fol
         rows.append((name, runs))
         print(f"{name}: " + ", ".join(f"{c} {med(r, 'cpu') or 0:.2f} s CPU ({len(r)} runs)" for c, r in runs.items()),
               file=sys.stderr, flush=True)
+        out.write_text("\n".join(check_share_table(rows, args, floor, started, load)))  # so far
     return check_share_table(rows, args, floor, started, load)
 
 
