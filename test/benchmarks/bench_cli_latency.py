@@ -433,7 +433,7 @@ def check_share_table(rows: list, args: argparse.Namespace, floor: dict[str, flo
              + (f", {floor['before'] * 1000:.0f} ms with the older sources" if before else "") + "). *command / "
              "solve* = (command − start-up) / (solve − start-up); *check's share* = (command − solve) / "
              "(solve − start-up)." + (" *before*: the same command with the older sources first on "
-                                     "`PYTHONPATH` (`--before`); the solve's code is the same in both." if before
+                                     "`PYTHONPATH` (`--before`); the solve's algorithm is the same in both." if before
                                      else ""), "",
              "| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     ratios = []
