@@ -33,7 +33,7 @@ The check runs after every realizable verdict, so it must cost a small part of t
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
+from typing import Callable
 from dataclasses import dataclass
 
 from ltl_stack.synthesis.game import Game
