@@ -33,8 +33,8 @@ The check runs after every realizable verdict, so it must cost a small part of t
 from __future__ import annotations
 
 import time
-from typing import Callable
 from dataclasses import dataclass
+from typing import Callable
 
 from ltl_stack.synthesis.game import Game
 
