@@ -3,6 +3,7 @@
     python test/benchmarks/bench_cli_latency.py --slugs SLUGS
     python test/benchmarks/bench_cli_latency.py --slugs PATH --generated 1.0   # + generated members up to 1 s
     python test/benchmarks/bench_cli_latency.py --pythonpath /tmp/old/src      # an older checkout's code
+    python test/benchmarks/bench_cli_latency.py --check-share --before /tmp/main/src   # the vacuity check's share
 
 Each spec is run as a fresh process, alternating ours and slugs' (and rosrun's) runs so that load
 drift hits every column alike; the table gives medians of ``--repeat`` runs (wall and CPU time of
@@ -18,6 +19,14 @@ Bytecode: the session that runs the suite sets ``PYTHONDONTWRITEBYTECODE``; an i
 has its ``.pyc`` files (``catkin_make install`` compiles them, a devel space writes them on the
 first run), so the children run with a private ``PYTHONPYCACHEPREFIX`` warmed by one untimed run.
 The verdicts of ours and slugs' are compared; a disagreement is marked ``DIFFERENT``.
+
+``--check-share`` measures, on the large realizable games of the synthesis benchmark, what the
+default command costs beside the solve alone: ``synthesize SPEC --json`` (verdict, then the vacuity
+check) and a process that only solves (``synthesize(spec, strategy=False)``), each a whole process
+(CPU of the child), minus the start-up of a process that imports the command and does nothing. With
+``--before SRC`` the command also runs with an older checkout's sources first on ``PYTHONPATH``, in
+the same alternating rounds, and the two checks' answers (``vacuity``, ``assumptions_satisfiable``)
+are compared. Table: ``docs/benchmarks/check_share.md``.
 """
 from __future__ import annotations
 
@@ -35,8 +44,26 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 REPO = HERE.parent.parent
-SHARED = REPO.parent / "shared" / "specs"
+#: ``../shared/specs``, or ``$LTL_STACK_SHARED/specs`` (a checkout in a worktree elsewhere)
+SHARED = Path(os.environ.get("LTL_STACK_SHARED", REPO.parent / "shared")) / "specs"
 OUT = REPO / "docs" / "benchmarks" / "cli_latency.md"
+CHECK_SHARE_OUT = REPO / "docs" / "benchmarks" / "check_share.md"
+#: the realizable games of the synthesis benchmark on which the vacuity check's share is measured
+#: (``grid:n:k:m`` is ``bench_synthesis_family.grid_patrol``, written as .slugsin for the command)
+CHECK_SHARE_GAMES = [
+    "clean_and_patrol", "two_customer_waiter_txt", "cinderella_stepmother_n6c2_14_by_6",
+    "cinderella_stepmother_n6c1_15_by_5", "grid:16:4:3", "moving_obstacle_24x24_7glitches",
+    "moving_obstacle_32x32_11glitches", "factory_assembly_5x5_2_0errors", "factory_assembly_5x5_2_1errors",
+    "factory_assembly_5x6_2_0errors", "factory_assembly_7x5_2_0errors", "grid:32:4:3", "basicEvasion",
+    "factory_assembly_5x5_2_10errors", "factory_assembly_5x5_2_11errors"]
+#: a process that solves only: the command's own solve, without the check after it
+#: (started as the script starts: the collector off while importing, no teardown at the end)
+SOLVE_ONLY = ("import gc; gc.disable(); import sys; from ltl_stack import cli; from ltl_stack.spec.load import "
+              "load_spec; from ltl_stack.synthesis import synthesize; import ltl_stack.synthesis.cli; "
+              "cli.imports_done(); cli.exit_now(0 if synthesize(load_spec(sys.argv[1]), strategy=False).realizable "
+              "else 10)")
+START_UP = ("import gc; gc.disable(); from ltl_stack import cli; import ltl_stack.synthesis.cli; cli.imports_done(); "
+            "cli.exit_now(0)")
 #: slugs' examples too slow for a latency table (slugs: > 400 s; ours ~20 s): bench_synthesis.py
 SLOW = {"basicEvasion"}
 
@@ -230,6 +257,13 @@ def main(argv: list[str] | None = None) -> int:
                    help="only controller_executor's start-up on thesis Ex. 8 through a real master")
     p.add_argument("--phases", action="store_true",
                    help="with --executor: also print when each start-up phase ended in the node (from its log)")
+    p.add_argument("--check-share", action="store_true",
+                   help="only the vacuity check's share of the default command on the large games")
+    p.add_argument("--before", metavar="SRC",
+                   help="with --check-share: also the command with this checkout's sources (e.g. main's src)")
+    p.add_argument("--before-once", type=float, default=120.0, metavar="S",
+                   help="with --before: run the older command once only on a game where its first run took "
+                        "more than S s CPU (default 120)")
     args = p.parse_args(argv)
 
     ws = os.environ.get("LTL_STACK_WS")
@@ -248,6 +282,13 @@ def main(argv: list[str] | None = None) -> int:
     if args.pythonpath:
         env["PYTHONPATH"] = os.pathsep.join([str(Path(args.pythonpath).resolve()), env.get("PYTHONPATH", "")])
 
+    if args.check_share:
+        out = Path(args.out) if args.out != str(OUT) else CHECK_SHARE_OUT
+        lines = check_share(script, env, args, Path(cache), out)
+        out.write_text("\n".join(lines))
+        print("\n".join(lines))
+        shutil.rmtree(cache, ignore_errors=True)
+        return 0
     if args.executor:
         lines = executor_start(args.repeat, args.timeout, env, phases=args.phases)
         print("\n".join(lines))
@@ -308,6 +349,126 @@ def main(argv: list[str] | None = None) -> int:
     shutil.rmtree(cache, ignore_errors=True)
     shutil.rmtree(cache + "-without-ours", ignore_errors=True)
     return 0
+
+
+def check_share_spec(name: str, folder: Path) -> Path:
+    """The file of a game of ``CHECK_SHARE_GAMES`` (a grid patrol member is written to ``folder``)."""
+    if name.startswith("grid:"):
+        sys.path.insert(0, str(HERE))
+        from bench_synthesis_family import grid_patrol
+
+        from ltl_stack.spec import write_slugsin
+
+        n, k, m = (int(v) for v in name.split(":")[1:])
+        path = folder / f"grid_patrol_{n}_{k}_{m}.slugsin"
+        path.write_text(write_slugsin(grid_patrol(n, k, m)))
+        return path
+    if name == "clean_and_patrol":
+        return ex8_slugsin(folder)
+    for path in [SHARED / "benchmarks" / "generated" / f"{name}.slugsin",
+                 SHARED / "benchmarks" / "slugsin" / f"{name}.slugsin"]:
+        if path.exists():
+            return path
+    raise SystemExit(f"bench_cli_latency: no spec named {name}")
+
+
+def answers(r: dict) -> str:
+    """The vacuity answers of one ``synthesize --json`` run, for comparing two checkouts."""
+    import json
+
+    try:
+        summary = json.loads(r.get("out", "")[r.get("out", "").index("{"):])
+    except ValueError:
+        return f"exit {r.get('code', '?')}" if "timeout" not in r else "timeout"
+    return f"{summary.get('assumptions_satisfiable')} {summary.get('vacuity')}"
+
+
+def check_share(script: Path, env: dict[str, str], args: argparse.Namespace, folder: Path, out: Path) -> list[str]:
+    """The default command against the solve alone (whole processes, CPU), before and after; the
+    table so far is written to ``out`` after every game."""
+    before_env = None
+    if args.before:
+        before_env = dict(env, PYTHONPATH=os.pathsep.join([str(Path(args.before).resolve()), env.get("PYTHONPATH", "")]))
+    names = CHECK_SHARE_GAMES
+    if args.only:
+        names = [n for n in names if any(o in n for o in args.only)]
+    py = sys.executable
+    columns: dict[str, tuple[list[str], dict[str, str]]] = {
+        "command": ([str(script)], env), "solve": ([py, "-c", SOLVE_ONLY], env)}
+    if before_env:
+        columns["before"] = ([str(script)], before_env)
+    run([str(script), str(check_share_spec("clean_and_patrol", folder))], env, args.timeout)  # warm .pyc
+    if before_env:
+        run([str(script), str(check_share_spec("clean_and_patrol", folder))], before_env, args.timeout)
+    start_up = {key: [run([py, "-c", START_UP], e, args.timeout) for _ in range(args.repeat)]
+                for key, e in (("after", env), ("before", before_env)) if e}
+    floor = {key: med(r, "cpu") or 0.0 for key, r in start_up.items()}
+    started, load = time.time(), os.getloadavg()[0]
+    rows = []
+    for name in names:
+        spec = str(check_share_spec(name, folder))
+        runs: dict[str, list[dict]] = {c: [] for c in columns}
+        for k in range(args.repeat):
+            for column, (cmd, cenv) in columns.items():
+                if column == "before" and k and runs[column] and runs[column][0].get("cpu", 1e9) > args.before_once:
+                    continue
+                extra = ["--json"] if column != "solve" else []
+                runs[column].append(run(cmd + [spec] + extra, cenv, args.timeout))
+        rows.append((name, runs))
+        print(f"{name}: " + ", ".join(f"{c} {med(r, 'cpu') or 0:.2f} s CPU ({len(r)} runs)" for c, r in runs.items()),
+              file=sys.stderr, flush=True)
+        out.write_text("\n".join(check_share_table(rows, args, floor, started, load)))  # so far
+    return check_share_table(rows, args, floor, started, load)
+
+
+def check_share_table(rows: list, args: argparse.Namespace, floor: dict[str, float], started: float,
+                      load: float) -> list[str]:
+    before = "before" in floor
+    head = ["game", "realizable", "solve alone, CPU s", "command, CPU s", "command / solve", "check's share"]
+    if before:
+        head += ["command before, CPU s (runs)", "before / solve", "same answers"]
+    lines = ["# The vacuity check's share of `synthesize SPEC`", "",
+             f"Command: `python test/benchmarks/bench_cli_latency.py {command_line(args)}`, "
+             f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime(started))}, {platform.machine()}, {os.cpu_count()} "
+             f"cores shared with other jobs (load average {load:.1f} at the start, {os.getloadavg()[0]:.1f} at the "
+             f"end). Whole processes, CPU (user + system of the child), medians of {args.repeat} alternating runs "
+             "unless the runs column says fewer. *command*: `synthesize SPEC --json` (realizability, then the "
+             "vacuity check); *solve alone*: a process that only calls `synthesize(spec, strategy=False)`; both "
+             f"minus the start-up of a process importing the command ({floor.get('after', 0.0) * 1000:.0f} ms CPU"
+             + (f", {floor['before'] * 1000:.0f} ms with the older sources" if before else "") + "). *command / "
+             "solve* = (command − start-up) / (solve − start-up); *check's share* = (command − solve) / "
+             "(solve − start-up)." + (" *before*: the same command with the older sources first on "
+                                     "`PYTHONPATH` (`--before`); the solve's algorithm is the same in both." if before
+                                     else ""), "",
+             "| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    ratios = []
+    for name, runs in rows:
+        solve, command = med(runs["solve"], "cpu"), med(runs["command"], "cpu")
+        verdicts = "/".join(sorted({verdict_ours(r) for r in runs["command"]}))
+        base = solve - floor["after"] if solve is not None else None
+        ratio = (command - floor["after"]) / base if command is not None and base else None
+        share = (command - solve) / base if command is not None and base else None
+        if ratio is not None:
+            ratios.append((ratio, name))
+        cells = [f"`{name}`", verdicts, _secs(solve), _secs(command), _ratio(ratio),
+                 "–" if share is None else f"{share * 100:.0f} %"]
+        if before:
+            old = med(runs["before"], "cpu")
+            old_ratio = (old - floor["before"]) / base if old is not None and base else None
+            same = {answers(r) for r in runs["before"]} == {answers(r) for r in runs["command"]}
+            cells += [f"{_secs(old)} ({len(runs['before'])})", _ratio(old_ratio), "yes" if same else
+                      f"**no**: {sorted({answers(r) for r in runs['command']})} vs "
+                      f"{sorted({answers(r) for r in runs['before']})}"]
+        lines.append("| " + " | ".join(cells) + " |")
+    if ratios:
+        worst = max(ratios)
+        lines += ["", f"Largest command / solve: {worst[0]:.2f} ({worst[1]}); over 1.25: "
+                      f"{', '.join(n for r, n in ratios if r > 1.25) or 'none'}."]
+    return lines + [""]
+
+
+def _secs(value: float | None) -> str:
+    return "–" if value is None else f"{value:.2f}"
 
 
 EXECUTOR_HEADING = "## `controller_executor` start-up"

@@ -94,6 +94,9 @@ class Solution:
     robotics_semantics: bool
     complete: bool = True  # False when an early exit stopped before the fixpoint
     cooperative: bool = False  # solved without moves that leave the environment no admissible input
+    #: ``cpre(winning')`` as the last Z iteration computed it (state-based iterates of a complete
+    #: solve; None otherwise): the vacuity check reads from it which winning positions have a move
+    cpre_winning: object = None
 
 
 def init_ok(game: Game, winning, robotics_semantics: bool) -> bool:
@@ -238,8 +241,10 @@ def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = Fa
                 break
             Z = Z_next
         realizable = init_ok(game, Z, robotics_semantics)
+        # the last iteration started from Z and ended at it: its cox_z is cpre of the winning set
         return Solution(realizable, Z, layers, sys_rel, iteration,
-                        time.perf_counter() - start, robotics_semantics, cooperative=cooperative)
+                        time.perf_counter() - start, robotics_semantics, cooperative=cooperative,
+                        cpre_winning=cox_z)
     finally:
         if BACKEND == "cudd":
             bdd.configure(reordering=old_reordering)

@@ -37,6 +37,8 @@ Stable API (other modules, ``explain.py`` and the differential tests rely on it)
 - ``joint_rel(sys_rel)``          ``env_trans & sys_trans`` as one relation (cooperative analyses)
 - ``keep_order()``                save the variable order sifting found (``order_cache``); a new
                                   ``Game`` of the same spec starts in it (``order_reused``)
+- ``pre_exists(target)``          positions from which some joint move of both players satisfies
+                                  ``target`` (existential predecessor; ``vacuity``)
 - ``to_bdd(formula)``             any ``ltl_stack.spec.formula`` node to a BDD
 - ``deadline``, ``max_memory``    the limits of the run (``ltl_stack.synthesis.options``): the memory
                                   cap is set on the manager before the first clause is built, and
@@ -269,6 +271,12 @@ class Game:
     def sys_trans(self):
         """rho_s as one BDD (built on first use from ``sys_rel``)."""
         return self.sys_rel.conjunction()
+
+    @property
+    def env_sees_outputs_next(self) -> bool:
+        """Whether the environment's safety mentions next outputs (slugs forbids it): then
+        ``cpre_sys`` lets the system answer an input with an output that breaks that safety."""
+        return self._env_sees_outputs_next
 
     # --- variables -------------------------------------------------------------------------
     def _declare(self) -> None:
@@ -523,6 +531,25 @@ class Game:
     def deadlock_free_sys_rel(self) -> Relation:
         """``sys_rel`` restricted to next positions that still have an admissible next input."""
         return self.sys_rel.with_part(self.prime(self.alive()))
+
+    def pre_exists(self, target, sys_rel: Relation | None = None):
+        """Positions with some admissible next input and some next output allowed by ``sys_rel``
+        such that the transition satisfies ``target`` (over current and next variables): the
+        existential predecessor of both players moving together (``vacuity``'s fair states).
+
+        ``sys_rel`` defaults to the spec's; ``Relation(bdd, [])`` gives the environment's moves
+        alone. The outputs are quantified cluster by cluster with the system's relation first, then
+        the inputs with the environment's, as ``cpre_sys`` does; ``env_trans`` is not built here.
+        """
+        trans = self.sys_rel if sys_rel is None else sys_rel
+        bdd = self.bdd
+        if self._env_sees_outputs_next:
+            return bdd.exist(self.variables_next, self.env_trans & trans.conjoin(target))
+        if not self.fused:
+            moves = bdd.exist(self.outputs_next, trans.conjoin(target))
+            return bdd.exist(self.inputs_next, self.env_trans & moves)
+        moves = trans.exist_and(target, self.outputs_next)
+        return self.env_rel.exist_and(moves, self.inputs_next)
 
     def deadlock_free_sys_trans(self):
         """``deadlock_free_sys_rel`` as one BDD."""

@@ -122,3 +122,56 @@ def load_spec_text(text: str):
         path = Path(folder) / "s.structuredslugs"
         path.write_text(text)
         return load_spec(path)
+
+
+def _spec_file(tmp_path: Path) -> Path:
+    path = tmp_path / "robot.structuredslugs"
+    path.write_text(ROBOT_MAKES_IT_IMPOSSIBLE)
+    return path
+
+
+def test_a_timeout_during_the_check_is_one_line_with_the_verdict(tmp_path, capsys, monkeypatch):
+    from ltl_stack.synthesis import vacuity
+
+    real = vacuity.fair_states
+
+    def late(game, *args, **kwargs):
+        game.deadline.at = 0.0  # the time limit passes as the check starts
+        return real(game, *args, **kwargs)
+
+    monkeypatch.setattr(vacuity, "fair_states", late)
+    code = main([str(_spec_file(tmp_path)), "--timeout", "60"])
+    out = capsys.readouterr()
+    assert code == Exit.LIMIT and out.out == ""
+    assert out.err == ("synthesize: error: gave up after 60 s (the time limit, --timeout), in the vacuity check "
+                       "after the verdict REALIZABLE\n")
+
+
+def test_the_memory_cap_during_the_check_is_one_line_with_the_verdict(tmp_path, capsys, monkeypatch):
+    from ltl_stack.synthesis import vacuity
+
+    def full(*args, **kwargs):
+        raise MemoryError
+
+    monkeypatch.setattr(vacuity, "fair_states", full)
+    code = main([str(_spec_file(tmp_path)), "--max-memory", "1G"])
+    err = capsys.readouterr().err
+    assert code == Exit.LIMIT and err.count("\n") == 1
+    assert "memory cap of 1024 MiB (raise it with --max-memory), in the vacuity check after the verdict" in err
+
+
+def test_a_check_past_its_budget_says_so_and_keeps_the_verdict(tmp_path, capsys, monkeypatch):
+    from ltl_stack.synthesis import vacuity
+
+    monkeypatch.setattr(vacuity, "budget_for", lambda solve_cpu: -1.0)  # spent before it starts
+    path = tmp_path / "plain.structuredslugs"
+    path.write_text(ROBOT_MAKES_IT_IMPOSSIBLE.replace("[ENV_LIVENESS]\nact & done\n", "[ENV_LIVENESS]\n!done\n"))
+    code, summary, err = _run(path, capsys)
+    assert code == Exit.OK and summary["realizable"]
+    assert summary["vacuity_complete"] is False and summary["assumptions_satisfiable"] is None
+    assert summary["vacuity"] == []
+    assert err.count("\n") == 1 and err.startswith("synthesize: warning: the vacuity check was not completed")
+    assert "run it in full with --full-vacuity-check" in err
+    code = main([str(path), "--json", "--full-vacuity-check"])
+    summary = json.loads(capsys.readouterr().out)
+    assert code == Exit.OK and summary["vacuity_complete"] is True and summary["assumptions_satisfiable"] is True
