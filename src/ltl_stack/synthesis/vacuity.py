@@ -37,6 +37,7 @@ from dataclasses import dataclass
 from typing import Callable
 
 from ltl_stack.synthesis.game import Game
+from ltl_stack.synthesis.relation import Relation
 
 Progress = Callable[[str], None]
 
@@ -83,11 +84,11 @@ class Counts:
     pres: int = 0
 
 
-def fair_states(game: Game, sys_trans: object, within: object, initial: object | None = None, *,
+def fair_states(game: Game, sys_rel: Relation, within: object, initial: object | None = None, *,
                 counts: Counts | None = None, progress: Progress | None = None,
                 moving: object | None = None, stop: Callable[[], None] | None = None) -> object:
     """The states of ``within`` from which a path of joint moves (the environment's safety and
-    ``sys_trans``) stays in ``within`` and meets every environment goal infinitely often (goals may
+    ``sys_rel``) stays in ``within`` and meets every environment goal infinitely often (goals may
     mention the next step: met on a transition).
 
     With ``initial``, stop with the current iterate as soon as it no longer meets ``initial`` (the
@@ -103,7 +104,7 @@ def fair_states(game: Game, sys_trans: object, within: object, initial: object |
     def pre(target: object) -> object:
         check()
         counts.pres += 1
-        return game.pre_exists(target, sys_trans)
+        return game.pre_exists(target, sys_rel)
 
     goals = game.env_goals
     z = within
@@ -195,14 +196,14 @@ def _satisfiable(game: Game, winning: object, cpre_winning: object, counts: Coun
     moving = None
     if winning is not None and cpre_winning is not None and not game.env_sees_outputs_next \
             and (winning & ~cpre_winning) == bdd.false:
-        moving = game.pre_exists(bdd.true, bdd.true)  # an admissible input exists
+        moving = game.alive()  # an admissible input exists
     together = initial != bdd.false and \
-        (fair_states(game, game.sys_trans, within, initial, counts=counts, progress=told, moving=moving,
+        (fair_states(game, game.sys_rel, within, initial, counts=counts, progress=told, moving=moving,
                      stop=stop) & initial) != bdd.false
     found.append(together)
     alone = together
     if not together:  # the joint answer implies this one; only a "no" needs it
         alone = game.env_init != bdd.false and \
-            (fair_states(game, bdd.true, bdd.true, game.env_init, counts=counts, progress=told, stop=stop)
+            (fair_states(game, Relation(bdd, []), bdd.true, game.env_init, counts=counts, progress=told, stop=stop)
              & game.env_init) != bdd.false
     found.append(alone)

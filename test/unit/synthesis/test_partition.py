@@ -133,3 +133,25 @@ def test_partitioned_and_monolithic_engines_agree_on_the_shared_specs(name):
         assert got.realizable == want.realizable, (name, robotics)
         assert part.count(got.winning) == mono.count(want.winning), (name, robotics)
     assert part.env_rel.built == 0 and part.sys_rel.built == 0
+
+
+def test_the_vacuity_check_never_builds_the_single_relations():
+    """The check after the verdict goes through the same partitioned predecessors as the solve, in
+    both of its questions (together with the robot's safety, and the environment alone)."""
+    from ltl_stack.synthesis import vacuity
+
+    spec = make_spec(["a", "b"], ["x", "y"], env_init=["! a"], env_safety=["| ! a b'", "| a' ! b'", "| x a'"],
+                     env_liveness=["a"], sys_safety=["| ! x' y'", "| a' x'", "| ! b' y'"], sys_liveness=["x"])
+    with clusters_of(1):
+        result = synthesize(spec, robotics_semantics=False, strategy=False)
+        game = result.game
+        counts = vacuity.Counts()
+        joint = vacuity.check(game, result.solution.winning, counts=counts)
+        assert joint.assumptions_satisfiable
+        never = make_spec(["done"], ["act"], env_safety=["| act ! done'"], env_liveness=["& act done"],
+                          sys_safety=["| ! done' ! act'"], sys_liveness=["act"])
+        alone = synthesize(never, robotics_semantics=False, strategy=False)
+        vacuity.check(alone.game, alone.solution.winning)
+    assert len(game.env_rel.parts) > 1 and counts.pres > 0
+    for g in (game, alone.game):
+        assert g.env_rel.built == 0 and g.sys_rel.built == 0
