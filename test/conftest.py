@@ -90,7 +90,7 @@ def _private_ros_environment(tmp_path_factory):
 
 
 def is_unit_test(item: pytest.Item) -> bool:
-    return Path(item.path).resolve().is_relative_to(UNIT)
+    return UNIT in Path(item.path).resolve().parents
 
 
 @pytest.fixture(autouse=True)

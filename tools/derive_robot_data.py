@@ -10,6 +10,7 @@ pairs). It then loads each written file and checks that it gives the same model 
 from __future__ import annotations
 
 import argparse
+import re
 import sys
 from pathlib import Path
 from xml.etree import ElementTree
@@ -82,7 +83,7 @@ def groups_data(srdf_path: Path) -> dict:
 
 def _flow(value) -> str:
     text = yaml.safe_dump(value, default_flow_style=True, width=10**6, sort_keys=False)
-    return text.removesuffix("\n...\n").strip()
+    return re.sub(r"\n\.\.\.\n$", "", text).strip()
 
 
 def dump(data: dict, header: str) -> str:
@@ -133,7 +134,7 @@ def main() -> int:
             out.write_text(dump(make(described), f"# {robot}: the {what} of {described.name}\n"
                                                  "# (our format, transfer/robot_data.py; by tools/derive_robot_data.py)"))
             check_same(described, out)
-            print(f"{out.relative_to(REPO) if out.is_relative_to(REPO) else out}: from {described.name}")
+            print(f"{out.relative_to(REPO) if REPO in out.parents else out}: from {described.name}")
     return 0
 
 

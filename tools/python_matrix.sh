@@ -14,10 +14,10 @@ VERSIONS=${LTL_STACK_PYTHONS:-3.12 3.13}
 
 say() { echo "[python-matrix] $*" >&2; }
 
-# requirements.txt without the main run's tools (ruff, pytest-qt); PyYAML 6.0 has no wheel for 3.12+
-# and does not build with Cython 3, so these venvs take 6.0.2 (same API)
+# requirements.txt (its environment markers pick the versions for each Python) without the main run's
+# tools (ruff, pytest-qt)
 requirements() {
-  grep -v -E '^(ruff|pytest-qt)==' "$ROOT/requirements.txt" | sed -E 's/^PyYAML==6\.0$/PyYAML==6.0.2/'
+  grep -v -E '^(ruff|pytest-qt)==' "$ROOT/requirements.txt"
 }
 
 interpreter() {  # interpreter VERSION: the newest pyenv X.Y.Z, else pythonX.Y on PATH

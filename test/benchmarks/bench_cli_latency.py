@@ -78,7 +78,7 @@ def run(cmd: list[str], env: dict[str, str], timeout: float) -> dict:
         _, status, usage = os.wait4(proc.pid, 0)
         wall = time.perf_counter() - start
         killer.cancel()
-        proc.returncode = os.waitstatus_to_exitcode(status)
+        proc.returncode = -os.WTERMSIG(status) if os.WIFSIGNALED(status) else os.WEXITSTATUS(status)
         if wall >= timeout:
             return {"timeout": timeout}
         out.seek(0)
@@ -210,17 +210,19 @@ def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--slugs", help="the slugs binary (built from source); without it the slugs column is skipped")
     p.add_argument("--repeat", type=int, default=5, help="runs per column and spec (median; default 5)")
-    p.add_argument("--rosrun", action=argparse.BooleanOptionalAction, default=True,
-                   help="also run through rosrun and measure rosrun's own cost (default on)")
+    p.add_argument("--rosrun", action="store_true", default=True,
+                   help="also run through rosrun and measure rosrun's own cost (default on; --no-rosrun: not)")
+    p.add_argument("--no-rosrun", dest="rosrun", action="store_false", help=argparse.SUPPRESS)
     p.add_argument("--generated", type=float, default=0.0, metavar="S",
                    help="also the generated family members where slugs needs at most S seconds")
     p.add_argument("--only", nargs="+", metavar="NAME", help="only the specs whose name contains one of these")
     p.add_argument("--pythonpath", help="put this source folder first on PYTHONPATH (measure another checkout)")
     p.add_argument("--timeout", type=float, default=120.0)
     p.add_argument("--out", default=str(OUT), help=f"the table (default {OUT.relative_to(REPO)})")
-    p.add_argument("--variants", action=argparse.BooleanOptionalAction, default=True,
+    p.add_argument("--variants", action="store_true", default=True,
                    help="also ours without .pyc and without .pth files (python -S), and the start-up floor "
-                        "(default on)")
+                        "(default on; --no-variants: not)")
+    p.add_argument("--no-variants", dest="variants", action="store_false", help=argparse.SUPPRESS)
     p.add_argument("--executor", action="store_true",
                    help="only controller_executor's start-up on thesis Ex. 8 through a real master")
     p.add_argument("--phases", action="store_true",

@@ -52,7 +52,7 @@ def one_run(kind: str, env: dict, settle: float) -> tuple[float, float]:
         proc.send_signal(signal.SIGINT)
         _, status, usage = os.wait4(proc.pid, 0)
         wall = time.monotonic() - start
-        proc.returncode = os.waitstatus_to_exitcode(status)
+        proc.returncode = -os.WTERMSIG(status) if os.WIFSIGNALED(status) else os.WEXITSTATUS(status)
     finally:
         if proc.returncode is None:
             proc.kill()

@@ -28,7 +28,7 @@ def _eq_const(names: list[str], value: int, primed: bool = False):
 
 
 def _eq_vars(a: list[str], b: list[str], a_primed: bool, b_primed: bool):
-    return And(tuple(Iff(Var(x, a_primed), Var(y, b_primed)) for x, y in zip(a, b, strict=True)))
+    return And(tuple(Iff(Var(x, a_primed), Var(y, b_primed)) for x, y in zip(a, b)))
 
 
 def _step_at_most_one(names: list[str], n: int):

@@ -12,6 +12,7 @@ test/unit/analysis/test_analysis_checks.py.
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 import sys
 from collections.abc import Iterator
@@ -140,8 +141,8 @@ def mapping_commands(mapping_path: Path) -> tuple[list[list[str]], set[tuple[str
         for entries in (mapping.get(kind) or {}).values():
             for entry in entries if isinstance(entries, list) else [entries]:
                 ns, _, name = entry["node"].rpartition("/")
-                script = entry["filename"].removesuffix(".py")
-                params = [f"_{k}:={yaml.safe_dump(v, default_flow_style=True).strip().removesuffix('...').strip()}"
+                script = re.sub(r"\.py$", "", entry["filename"])
+                params = [f"_{k}:={re.sub(r'[.][.][.]$', '', yaml.safe_dump(v, default_flow_style=True).strip()).strip()}"
                           if isinstance(v, dict) else f"_{k}:={v}" for k, v in (entry.get("parameters") or {}).items()]
                 commands.append(["rosrun", "ltl_stack", script, f"__ns:={ns or '/'}", f"__name:={name}",
                                  f"_proposition_topic:={entry[topic_key]}", *params])

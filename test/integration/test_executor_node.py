@@ -369,7 +369,7 @@ def test_rate_steps_without_input_changes_and_start_paused_waits(ros_master, pro
     # With the input constant, the 20 Hz steps alone make out blink.
     wait_for(lambda: len(probe.of("bool", topic="/blink/outputs/out")) >= 5, 90, "out to change 4 times")
     values = [e["value"] for e in probe.of("bool", topic="/blink/outputs/out")]
-    assert all(x != y for x, y in zip(values, values[1:], strict=False)), values
+    assert all(x != y for x, y in zip(values, values[1:])), values
     assert len(probe.of("published")) == 1
 
 

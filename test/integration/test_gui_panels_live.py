@@ -104,7 +104,7 @@ def test_analysis_panel_on_the_live_scenario(scenario, qtbot):
     qtbot.waitUntil(lambda: panel.result is not None or "rror" in panel.status_label.text(), timeout=WAIT)
     assert panel.result is not None, panel.status_label.text()
     e2 = panel.tables["E2"]
-    first = [row for row, f in zip(e2.rows, e2.finding, strict=True) if f == 0]
+    first = [row for row, f in zip(e2.rows, e2.finding) if f == 0]
     assert first[0][0] == "[/clean_and_patrol/cmd_vel]" and {r[1] for r in first} == {"stop", *REGIONS}
     assert panel.selected_rows("E2") == e2.rows_of(0) or panel.current_key() == "E1"
     text = panel.suggestions_text.toPlainText()
@@ -166,7 +166,7 @@ def test_controller_view_follows_the_executor_and_pauses_it(scenario, qtbot, mon
     for update in lost:
         bits = [bool(update.state_id >> k & 1) for k in range(n)]
         assert update.state_id >> n == update.goal, f"executor state not found in the automaton: {update}"
-        assert a.find(dict(zip(a.inputs, bits, strict=False)), dict(zip(a.outputs, bits[len(a.inputs):], strict=False)),
+        assert a.find(dict(zip(a.inputs, bits)), dict(zip(a.outputs, bits[len(a.inputs):])),
                       update.goal) is None, f"the automaton has this executor state, the view missed it: {update}"
     qtbot.waitUntil(lambda: view.current_node_id() is not None and bool(view.graph_view._marks), timeout=WAIT)
     state = view.model.automaton.states[view.model.current]

@@ -75,9 +75,9 @@ def test_the_shell_sees_only_the_install_space(install, install_env, tmp_path):
     assert proc.returncode == 0, proc.stderr
     paths, package, module = proc.stdout.splitlines()
     for entry in paths.replace("|", ":").split(":"):
-        assert not entry or Path(entry).is_relative_to(install), paths
+        assert not entry or install in Path(entry).parents, paths
     assert Path(package) == install / "share" / "ltl_stack", package
-    assert Path(module).is_relative_to(install / "lib"), module
+    assert install / "lib" in Path(module).parents, module
 
 
 def test_every_module_of_the_package_is_installed(install):
@@ -108,7 +108,7 @@ def test_roslaunch_finds_the_installed_launch_files(install, install_env, tmp_pa
     assert proc.returncode == 0, proc.stderr
     files = [line for line in proc.stdout.splitlines() if line.endswith(".launch")]
     assert {Path(f).name for f in files} == {"clean_and_patrol.launch", "clean_and_patrol_propositions.launch"}
-    assert all(Path(f).is_relative_to(install) for f in files), files
+    assert all(install in Path(f).parents for f in files), files
     assert "/simple/controller_executor" in proc.stdout, proc.stdout
 
 

@@ -97,13 +97,15 @@ def _rate_params() -> list[tuple[str, str, str]]:
     documented in Hz or per second."""
     found = []
     for path in sorted((REPO_ROOT / "src" / "ltl_stack").rglob("*.py")):
-        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        source = path.read_text()
+        for node in ast.walk(ast.parse(source, str(path))):
             if not (isinstance(node, ast.Call) and getattr(node.func, "id", None) == "Param" and node.args):
                 continue
             name = node.args[0].value if isinstance(node.args[0], ast.Constant) else ""
-            doc = ast.unparse(node.args[2]) if len(node.args) > 2 else ""
+            doc = ast.get_source_segment(source, node.args[2]) if len(node.args) > 2 else ""
             if str(name).endswith("rate") or "Hz" in doc or "per second" in doc:
-                bound = next((ast.unparse(k.value) for k in node.keywords if k.arg == "bound"), "none")
+                bound = next((ast.get_source_segment(source, k.value) for k in node.keywords if k.arg == "bound"),
+                             "none")
                 found.append((path.relative_to(REPO_ROOT).as_posix(), name, bound))
     return found
 

@@ -273,13 +273,12 @@ def test_check_run_names_the_step_and_clause_of_an_injected_violation(clean_and_
             if count <= 5:
                 kept.append(msg)
             if count == 5:  # the robot in two regions at once, and picking up while dropping
-                inputs = dict(zip(msg.inputs.keys, msg.inputs.values, strict=True))
+                inputs = dict(zip(msg.inputs.keys, msg.inputs.values))
                 region = next(r for r in REGIONS if inputs[f"{r}_rc"])
                 other = next(r for r in REGIONS if r != region)
-                msg.inputs.values = [v or k == f"{other}_rc" for k, v in zip(msg.inputs.keys, msg.inputs.values,
-                                                                                strict=True)]
+                msg.inputs.values = [v or k == f"{other}_rc" for k, v in zip(msg.inputs.keys, msg.inputs.values)]
                 msg.outputs.values = [v or k in ("pickup", "drop") for k, v in zip(msg.outputs.keys,
-                                                                                  msg.outputs.values, strict=True)]
+                                                                                  msg.outputs.values)]
             out.write(topic, msg, stamp)
     done = run_script(["rosrun", "ltl_stack", "check_run", str(SPEC), str(MAPPING), str(broken)],
                       capture_output=True, text=True, timeout=300)
@@ -340,4 +339,4 @@ def test_readme_and_chapter3_tell_the_demo_as_it_runs(clean_and_patrol_run):
     beats = ["starts in `topLane`", "second time it is in `bottomLane`", "picks the object up",
              "carries it to `rightGround`", "drops it there", "patrol again"]
     positions = [paragraph.find(b) for b in beats]
-    assert -1 not in positions and positions == sorted(positions), dict(zip(beats, positions, strict=True))
+    assert -1 not in positions and positions == sorted(positions), dict(zip(beats, positions))

@@ -71,7 +71,7 @@ class E1Finding:
         data = {"output": self.output, "input": self.input, "input_node": self.input_node,
                 "output_node": self.witness.node, "chain": self.witness.text,
                 "chains": [{"output_node": w.node, "input_node": n, "chain": w.text}
-                           for w, n in zip(self.witnesses, self.input_nodes, strict=True)]}
+                           for w, n in zip(self.witnesses, self.input_nodes)]}
         if self.expected:
             data["expected"] = self.expected
             data["why"] = feedback_reason(self)

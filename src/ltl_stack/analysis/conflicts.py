@@ -24,11 +24,12 @@ from __future__ import annotations
 from collections import deque
 from collections.abc import Collection
 from itertools import combinations
+from typing import Tuple
 
 from ltl_stack.analysis.graph import ComputationGraph
 from ltl_stack.analysis.reach import Reach
 
-Agent = tuple[str, str]  # (output proposition, node)
+Agent = Tuple[str, str]  # (output proposition, node)
 
 
 def _origin(node: int, r: Reach, relays: Collection[int]) -> int:

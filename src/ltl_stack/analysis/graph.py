@@ -167,7 +167,7 @@ class ComputationGraph:
     @property
     def edge_count(self) -> int:
         """Number of publisher and subscriber edges (node->lane and lane->node)."""
-        return sum(len(p) + len(s) for p, s in zip(self.lane_publishers, self.lane_subscribers, strict=True))
+        return sum(len(p) + len(s) for p, s in zip(self.lane_publishers, self.lane_subscribers))
 
     def vertex_name(self, v: int) -> str:
         n = len(self.nodes)

@@ -12,6 +12,7 @@ explains an unrealizable result. Loading, the checks, the problem list and apply
 """
 from __future__ import annotations
 
+import re
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 
@@ -280,7 +281,7 @@ def suggestion_text(suggestions: Sequence[MutualExclusion], form: str) -> str:
                                                f"{', …' if len(s.topics) > 4 else ''})" if s.topics else "")
                    + (f"   {IN_SPEC_NOTE}" if s.in_spec else ""))
         if form == "english":
-            out.append(f"   always {forms['english_expanded'].removeprefix('always ')}")
+            out.append(f"   always {re.sub('^always ', '', forms['english_expanded'])}")
         elif form == "ltl":
             out.append(f"   {forms['ltl']}")
         else:

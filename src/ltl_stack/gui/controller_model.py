@@ -130,8 +130,8 @@ class ControllerModel:
         n = len(a.inputs) + len(a.outputs)
         if sid >> n == update.goal:
             bits = [bool(sid >> k & 1) for k in range(n)]
-            found = a.find(dict(zip(a.inputs, bits, strict=False)),
-                           dict(zip(a.outputs, bits[len(a.inputs):], strict=False)), update.goal)
+            found = a.find(dict(zip(a.inputs, bits)),
+                           dict(zip(a.outputs, bits[len(a.inputs):])), update.goal)
             if found is not None:
                 return found.id
         if any(p not in update.inputs for p in a.inputs) or any(p not in update.outputs for p in a.outputs):
@@ -339,7 +339,7 @@ def assemble_automaton(parts: Iterable[tuple]) -> Automaton:
             automaton = Automaton(states=[], **part[1])
         elif part[0] == "states":
             ins, outs = automaton.inputs, automaton.outputs
-            automaton.states.extend(AutomatonState(i, dict(zip(ins, iv, strict=True)), dict(zip(outs, ov, strict=True)),
+            automaton.states.extend(AutomatonState(i, dict(zip(ins, iv)), dict(zip(outs, ov)),
                                                    goal, succ, rec) for i, goal, iv, ov, succ, rec in part[1])
     if automaton is None:
         raise ValueError("no automaton in the parts")

@@ -114,8 +114,8 @@ def keep_out_of_gc() -> None:
 def update_of(msg: Any) -> StateUpdate:
     """A ``ControllerState`` message as the view needs it (fields an older executor lacks get defaults)."""
     return StateUpdate(int(msg.state_id), int(msg.goal_index),
-                       dict(zip(msg.inputs.keys, msg.inputs.values, strict=False)),
-                       dict(zip(msg.outputs.keys, msg.outputs.values, strict=False)),
+                       dict(zip(msg.inputs.keys, msg.inputs.values)),
+                       dict(zip(msg.outputs.keys, msg.outputs.values)),
                        bool(msg.running), msg.header.stamp.to_sec(),
                        mode=str(getattr(msg, "mode", "")), violations=int(getattr(msg, "violations", 0)),
                        recovery_steps=int(getattr(msg, "recovery_steps", 0)),

@@ -195,7 +195,7 @@ def sketch_layout(graph: DotGraph, first: str) -> PlainLayout:
                  for n in column]
         width = max((w for w, _h in sizes), default=0.0)
         y = 0.0
-        for n, (w, h) in zip(column, sizes, strict=True):
+        for n, (w, h) in zip(column, sizes):
             nodes[n.id] = PlainNode(n.id, x + width / 2, y - h / 2, w, h, n.label, n.shape, n.color)
             y -= h + 0.3
         x += width + 1.0 if column else 0.0

@@ -275,7 +275,7 @@ class MappingPanel(QWidget):
             self._fill(self.outputs_table_widget, OUTPUT)
         finally:
             self._filling = False
-        for table, (v, h) in zip(tables, scroll, strict=True):  # + and Delete keep the user's place
+        for table, (v, h) in zip(tables, scroll):  # + and Delete keep the user's place
             table.verticalScrollBar().setValue(v)
             table.horizontalScrollBar().setValue(h)
         self.validate()

@@ -68,7 +68,7 @@ HOVER_COLOR = "#7b3fb5"  # a hovered node: not red (a conflict), blue (a proposi
 
 def error_text(err: BaseException) -> str:
     """One line for the user: a ``UserError``'s message, else the exception's type and message."""
-    if isinstance(err, UserError | OSError | GraphvizError):
+    if isinstance(err, (UserError, OSError, GraphvizError)):
         return str(err)
     return f"{type(err).__name__}: {err}"
 
@@ -287,7 +287,7 @@ class Task(QObject):
             with quick_handover():
                 result = self._work(self._progress)
         except Exception as err:  # noqa: BLE001 - every failure is shown in the panel, none kills it
-            if not isinstance(err, UserError | OSError | GraphvizError | Cancelled):
+            if not isinstance(err, (UserError, OSError, GraphvizError, Cancelled)):
                 traceback.print_exc()
             self._relay.deliver.emit(self, "_deliver_error", error_text(err))
             return
@@ -596,7 +596,7 @@ def restore_controls(root: QWidget, settings: Any) -> None:
             elif isinstance(w, QTabWidget):
                 w.setCurrentIndex(int(value))
             elif isinstance(w, QSplitter):
-                sizes = [int(s) for s in (value if isinstance(value, list | tuple) else [value])]
+                sizes = [int(s) for s in (value if isinstance(value, (list, tuple)) else [value])]
                 if len(sizes) == w.count():
                     w.setSizes(sizes)
             elif isinstance(w, QPlainTextEdit) and not w.isReadOnly():
@@ -610,7 +610,7 @@ def _own(root: QWidget, w: QWidget) -> bool:
     (rows made from a loaded file, which the file restores)."""
     parent = w.parentWidget()
     while parent is not None and parent is not root:
-        if isinstance(parent, QComboBox | QSpinBox | QAbstractItemView):
+        if isinstance(parent, (QComboBox, QSpinBox, QAbstractItemView)):
             return False
         parent = parent.parentWidget()
     return True

@@ -103,8 +103,7 @@ class ControllerTrace:
         when = msg.header.stamp.to_sec() - self._start
         lines = []
         if counts != self.resyntheses:
-            new = [name for name, now, before in zip(("EC1", "EC2", "user"), counts[1:], self.resyntheses[1:],
-                                                      strict=True) if now > before]
+            new = [name for name, now, before in zip(("EC1", "EC2", "user"), counts[1:], self.resyntheses[1:]) if now > before]
             lines.append(f"resynthesized ({', '.join(new) or 'negotiation'}): {counts[0]} resynthes"
                           f"{'i' if counts[0] == 1 else 'e'}s (EC1 {counts[1]}, EC2 {counts[2]}, user {counts[3]})")
         if mode != self.mode:

@@ -6,7 +6,7 @@ register a node, so the snapshot does not contain the tool itself.
 from __future__ import annotations
 
 import socket
-from datetime import UTC, datetime
+from datetime import datetime, timezone
 
 import rosgraph.masterapi
 
@@ -38,5 +38,5 @@ def take_snapshot(master_uri: str | None = None, timeout: float = 5.0) -> Snapsh
         raise SnapshotError(f"cannot read the graph from the ROS master at {uri}: {e}", Exit.NO_ROS) from None
     finally:
         socket.setdefaulttimeout(previous)
-    taken = datetime.now(UTC).strftime("%Y-%m-%dT%H:%M:%SZ")
+    taken = datetime.now(timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
     return Snapshot.from_system_state(publishers, subscribers, services, topic_types, master=uri, taken=taken)

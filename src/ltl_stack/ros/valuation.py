@@ -23,4 +23,4 @@ def msg_to_valuation(msg: PropositionValuation) -> dict[str, bool]:
     """The dict of a message; ValueError when its parallel arrays disagree in length."""
     if len(msg.keys) != len(msg.values):
         raise ValueError(f"PropositionValuation has {len(msg.keys)} keys but {len(msg.values)} values")
-    return dict(zip(msg.keys, (bool(v) for v in msg.values), strict=True))
+    return dict(zip(msg.keys, (bool(v) for v in msg.values)))

@@ -35,11 +35,11 @@ from __future__ import annotations
 import re
 import time
 from collections import deque
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from enum import Enum
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable, Optional
 
 from ltl_stack.fileio import write_atomic
 from ltl_stack.spec import (
@@ -386,7 +386,7 @@ class Event:
 #: no collaborative robot is involved, the peer is absent or silent, or the pair already negotated —
 #: and the robot goes to S.1 (explanation and the user, §4.4: the peer is then uncontrollable
 #: environment); ``NegotiationAbort`` when the robots negotiated and cannot agree (4.8.3, line 20).
-Negotiate = Callable[["ResilientStrategy", Observation], Spec | None]
+Negotiate = Callable[["ResilientStrategy", Observation], Optional[Spec]]
 
 
 class NegotiationAbort(Exception):

@@ -39,11 +39,10 @@ that the order of published outputs is the order of the steps.
 from __future__ import annotations
 
 import threading
-from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from enum import StrEnum
-from typing import Any, Protocol
+from typing import Any, Callable, Mapping, Protocol
 
+from ltl_stack.compat import StrEnum
 from ltl_stack.synthesis.errors import AssumptionViolation, NoInitialState
 
 

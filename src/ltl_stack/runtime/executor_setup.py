@@ -28,10 +28,10 @@ controller characterizes at the first violation.
 from __future__ import annotations
 
 import posixpath
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable, Tuple
 
 from ltl_stack import cli
 from ltl_stack.errors import Exit, UserError
@@ -130,7 +130,7 @@ class Options:
 
 
 #: Looks up a private parameter: (is it set, its value).
-ParamLookup = Callable[[str], tuple[bool, Any]]
+ParamLookup = Callable[[str], Tuple[bool, Any]]
 
 
 def no_params(_name: str) -> tuple[bool, Any]:
@@ -170,7 +170,7 @@ def merge_options(cli: Mapping[str, Any], lookup: ParamLookup = no_params) -> Op
         sources[param.name] = source
     if isinstance(values["init_props"], Mapping):
         items = values["init_props"].items()
-        bad = [k for k, v in items if not isinstance(v, bool | int) or not isinstance(k, str)]
+        bad = [k for k, v in items if not isinstance(v, (bool, int)) or not isinstance(k, str)]
         if bad:
             raise ExecutorError(f"{NODE_NAME}: parameter ~init_props: {bad[0]!r} needs a true/false value")
         values["init_props"] = ",".join(f"{k}={int(bool(v))}" for k, v in items)

@@ -46,7 +46,7 @@ def region_goal(regions: RegionMap, name: str, pose: Sequence[float] = ()) -> Re
     RegionsError for an unknown region or a malformed pose."""
     region = regions.find(name)
     if pose:
-        if len(pose) not in (2, 3) or not all(isinstance(v, int | float) and math.isfinite(v) for v in pose):
+        if len(pose) not in (2, 3) or not all(isinstance(v, (int, float)) and math.isfinite(v) for v in pose):
             raise RegionsError(f"the pose of region {name!r} must be [x, y] or [x, y, yaw] (finite numbers), "
                                f"not {list(pose)!r}")
         return RegionPose(*(float(v) for v in pose))

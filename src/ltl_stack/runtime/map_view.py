@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Tuple
 
 from shapely.geometry import Polygon
 from shapely.ops import triangulate
@@ -13,7 +14,7 @@ from shapely.ops import triangulate
 from ltl_stack.runtime.regions import RegionMap
 from ltl_stack.spec.region_map import Point
 
-Color = tuple[float, float, float, float]
+Color = Tuple[float, float, float, float]
 
 OUTLINE: Color = (0.2, 0.2, 0.2, 1.0)
 CURRENT: Color = (0.1, 0.7, 0.2, 0.55)  # the region the robot is in

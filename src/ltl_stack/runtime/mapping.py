@@ -199,7 +199,7 @@ def parse_mapping(text: str, file: str = "<string>") -> Mapping:
             if isinstance(value, dict):
                 items = [(value, value_node)]
             elif isinstance(value, list):
-                items = list(zip(value, value_node.value, strict=True))
+                items = list(zip(value, value_node.value))
             else:
                 raise MappingError(file, prop_line, f"{kind} {prop!r}: expected a node entry or a list of them, "
                                    f"got {type(value).__name__}")
@@ -243,7 +243,7 @@ def _entry(file: str, kind: str, prop: str, value: Any, node: yaml.Node) -> Node
         raw = value.get(key)
         if raw is None:
             return None
-        if not isinstance(raw, str | int | float) or isinstance(raw, bool):
+        if not isinstance(raw, (str, int, float)) or isinstance(raw, bool):
             raise MappingError(file, keys[key][0], f"{kind} {prop!r}: {key} must be a string, got {raw!r}")
         return str(raw).strip() or None
 

@@ -191,7 +191,7 @@ def violation_report(violation: Any, result: Any, unkeepable: list[Clause], read
     broken = violation.clauses or (result.violated if result is not None else [])
     clauses = [f"{c.location}: {c.text}" for c in broken] or ["(no single clause)"]
     meanings = [english(c) for c in broken]
-    parts = [f"{c} ({m})" if m else c for c, m in zip(clauses, meanings + [""] * len(clauses), strict=False)]
+    parts = [f"{c} ({m})" if m else c for c, m in zip(clauses, meanings + [""] * len(clauses))]
     unsafe = [f"{c.location}: {c.text}" for c in (result.unsafe if result is not None else unkeepable)]
     kind = result.kind.value if result is not None else None
     inputs = format_valuation(readings)
@@ -452,7 +452,7 @@ class NodeReports:
         result = cleared = None
         if violation:
             strategy = self.controller.strategy
-            result = strategy.last if isinstance(strategy, RecoveringStrategy | BackgroundResilience) else None
+            result = strategy.last if isinstance(strategy, (RecoveringStrategy, BackgroundResilience)) else None
             if isinstance(update.violation, UnsafeStep) and result is not None and result.kind is not StepKind.UNSAFE:
                 result = None
         elif self._last_violation_key is not None and self.controller.violation is None:

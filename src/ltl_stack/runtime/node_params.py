@@ -169,10 +169,10 @@ def _convert(param: Param, want: type | None, value: Any, node: str) -> Any:
     elif want is str:
         if isinstance(value, str):
             return value
-        if isinstance(value, int | float) and not isinstance(value, bool):
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
             return str(value)
     elif want is list:
-        if isinstance(value, list | tuple):
+        if isinstance(value, (list, tuple)):
             return list(value)
         if isinstance(value, str):
             return value.split()
@@ -186,7 +186,7 @@ _LOWER = {Bound.RATE: Bound.POSITIVE, Bound.RATE_OR_ZERO: Bound.NON_NEGATIVE, Bo
 
 
 def _check_value(param: Param, value: Any, node: str) -> None:
-    if isinstance(value, int | float) and not isinstance(value, bool):
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
         lower = _LOWER.get(param.bound, param.bound)
         if lower is not Bound.ANY and 0 < value < SMALLEST:
             raise _fail(param, node, f"must be 0 or at least {SMALLEST:g} (a rate or time that small is 0 for "

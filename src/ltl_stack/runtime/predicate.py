@@ -47,7 +47,7 @@ class Condition:
             value = yaml.safe_load(raw)
         except yaml.YAMLError:
             value = raw
-        if op in VECTOR_OPS and not (isinstance(value, int | float) and math.isfinite(value) and value >= 0):
+        if op in VECTOR_OPS and not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
             raise ValueError(f"condition {text!r}: {op} needs a finite distance >= 0")
         return cls(str(text), tuple(parse_field_path(field)), op, value)
 

@@ -104,7 +104,7 @@ def _widest_chord(region: Region, y: float) -> Point | None:
             xs.append(x1 + (y - y1) * (x2 - x1) / (y2 - y1))
     xs.sort()
     best, width = None, 0.0
-    for a, b in zip(xs[0::2], xs[1::2], strict=False):
+    for a, b in zip(xs[0::2], xs[1::2]):
         mid = ((a + b) / 2.0, y)
         if b - a > width and region.contains(*mid):
             best, width = mid, b - a

@@ -261,7 +261,7 @@ def table(runs: list[Run]) -> str:
                      resyntheses_text(r), f"{r.violated_transitions} in {len(r.episodes)} episode(s)",
                      str(r.recovery_steps), r.thesis or "-", r.verdict or "-"))
     widths = [max(len(row[i]) for row in rows) for i in range(len(head))]
-    lines = ["  ".join(cell.ljust(w) for cell, w in zip(row, widths, strict=True)).rstrip() for row in rows]
+    lines = ["  ".join(cell.ljust(w) for cell, w in zip(row, widths)).rstrip() for row in rows]
     lines.insert(1, "-" * max(len(line) for line in lines))
     lines.append("Differences from the thesis and why: docs/resilience.md, \"The §4.10.4 comparison\".")
     return "\n".join(lines)

@@ -35,8 +35,8 @@ import ctypes
 import gc
 import threading
 import time
-from collections.abc import Callable, Mapping
-from typing import Any
+from collections.abc import Mapping
+from typing import Any, Callable
 
 from ltl_stack.fileio import write_atomic
 from ltl_stack.runtime.characterize import (

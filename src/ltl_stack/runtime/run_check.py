@@ -140,5 +140,5 @@ def check_run(spec: Spec, steps: Sequence[TraceStep], from_start: bool = False) 
         for goal, clause in enumerate(spec.sys_liveness):
             if step.running and _holds(clause, current, nxt):
                 counts[goal] += 1
-    report.goals = [(clause_name(c), n) for c, n in zip(spec.sys_liveness, counts, strict=True)]
+    report.goals = [(clause_name(c), n) for c, n in zip(spec.sys_liveness, counts)]
     return report

@@ -84,7 +84,7 @@ def check_field_path(sample: Any, steps: list[str | int], type_name: str = "the 
     value = sample
     for position, step in enumerate(steps):
         if isinstance(step, int):
-            if not isinstance(value, list | tuple | bytes):
+            if not isinstance(value, (list, tuple, bytes)):
                 raise LookupError(f"{type_name} field {_path(steps[:position])} is not an array")
             if not value:
                 return
@@ -95,7 +95,7 @@ def check_field_path(sample: Any, steps: list[str | int], type_name: str = "the 
             known = ", ".join(getattr(value, "__slots__", ())) or "none"
             raise LookupError(f"{type_name} has no field {_path(steps[:position + 1])} (fields there: {known})")
         value = getattr(value, step)
-    if isinstance(value, bool | int | float):
+    if isinstance(value, (bool, int, float)):
         return
     raise LookupError(f"{type_name} field {_path(steps)} is a {type(value).__name__}, not a number")
 

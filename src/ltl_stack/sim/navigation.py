@@ -170,7 +170,7 @@ class NavigationServer:
                 if waypoints and dist <= c["goal_tolerance"]:
                     target = waypoints.pop(0)
                     dist = math.hypot(target[0] - pose.x, target[1] - pose.y)
-                left = dist + sum(math.dist(a, b) for a, b in zip([target, *waypoints], waypoints, strict=False))
+                left = dist + sum(math.dist(a, b) for a, b in zip([target, *waypoints], waypoints))
                 self.server.publish_feedback(self.feedback(left, pose))
                 if not waypoints and dist <= c["goal_tolerance"]:
                     self.stop()

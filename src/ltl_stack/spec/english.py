@@ -23,6 +23,7 @@ formula's size.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Tuple, Union
 
 from ltl_stack.spec.formula import FALSE, TRUE, And, Const, Formula, Iff, Implies, Not, Or, Var, Xor, children
 from ltl_stack.spec.model import SECTIONS, Clause, IntegerVariable, Spec
@@ -108,7 +109,7 @@ class _Names:
 
 
 # A rendered subformula and how it binds: "atom" needs no parentheses anywhere.
-_Piece = tuple[str | _Rope, str]
+_Piece = Tuple[Union[str, _Rope], str]
 
 _WORDS = {"not", "and", "or", "if", "then", "next", "always", "true", "false", "infinitely", "often",
           "initially", "exactly", "one", "of", "only"}

@@ -142,7 +142,7 @@ class _Writer:
         kinds = [self._atom(a)[1] for a in node.args]
         # sensing and activating read a name the same way: one phrase covers both (Spec. 3 line 6)
         plain = {"sensor": "plain", "robot": "plain"}
-        shapes = {(plain.get(k, k), self._past(a, mode)) for k, a in zip(kinds, node.args, strict=True)}
+        shapes = {(plain.get(k, k), self._past(a, mode)) for k, a in zip(kinds, node.args)}
         if len(shapes) != 1:
             return None
         kind, past = shapes.pop()
@@ -329,7 +329,7 @@ def _render_group(group: list[tuple[str, Clause]], w: _Writer, decl: Declaration
     if memory is not None:
         return [memory]
     if sorted(sections) in (["sys_init", "sys_safety"], ["env_init", "env_safety"]):
-        names = _exclusive(next(f for s, f in zip(sections, formulas, strict=True) if s.endswith("safety")))
+        names = _exclusive(next(f for s, f in zip(sections, formulas) if s.endswith("safety")))
         if names:
             listed = ", ".join(names[:-1]) + " and " + names[-1]
             return [f"{'Assume ' if sections[0].startswith('env') else ''}{listed} are mutually exclusive"]

@@ -8,9 +8,10 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from dataclasses import dataclass
+from typing import Union
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Var:
     """A Boolean variable; ``primed`` means its value in the next state (``x'``)."""
 
@@ -18,49 +19,49 @@ class Var:
     primed: bool = False
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Const:
     value: bool
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Not:
     arg: Formula
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class And:
     """Conjunction of two or more formulas (an empty tuple means true)."""
 
     args: tuple[Formula, ...]
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Or:
     """Disjunction of two or more formulas (an empty tuple means false)."""
 
     args: tuple[Formula, ...]
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Xor:
     left: Formula
     right: Formula
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Implies:
     left: Formula
     right: Formula
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Iff:
     left: Formula
     right: Formula
 
 
-Formula = Var | Const | Not | And | Or | Xor | Implies | Iff
+Formula = Union[Var, Const, Not, And, Or, Xor, Implies, Iff]
 
 TRUE = Const(True)
 FALSE = Const(False)

@@ -24,12 +24,13 @@ from __future__ import annotations
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import List
 
 from ltl_stack.spec.formula import FALSE, TRUE, And, Formula, Not, Or, Var
 from ltl_stack.spec.model import IntegerVariable
 from ltl_stack.spec.ops import and_, conjunction, iff_, not_, or_, xor_
 
-Bits = list[Formula]  # least significant first
+Bits = List[Formula]  # least significant first
 
 _FIRST_BIT = re.compile(r"^(?P<name>.+)@0\.(?P<low>-?\d{1,18})\.(?P<high>-?\d{1,18})$")
 
@@ -119,7 +120,7 @@ def _pad(a: Bits, n: int) -> Bits:
 def equal(a: Bits, b: Bits) -> Formula:
     n = max(len(a), len(b))
     a, b = _pad(a, n), _pad(b, n)
-    terms = [iff_(x, y) for x, y in zip(a, b, strict=True)]
+    terms = [iff_(x, y) for x, y in zip(a, b)]
     if any(t == FALSE for t in terms):
         return FALSE
     return conjunction([t for t in terms if t != TRUE])
@@ -130,7 +131,7 @@ def less(a: Bits, b: Bits) -> Formula:
     n = max(len(a), len(b))
     a, b = _pad(a, n), _pad(b, n)
     result: Formula = FALSE
-    for x, y in zip(a, b, strict=True):
+    for x, y in zip(a, b):
         result = or_(and_(not_(x), y), and_(iff_(x, y), result))
     return result
 

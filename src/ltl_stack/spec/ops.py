@@ -99,7 +99,7 @@ def map_vars(f: Formula, replace: Callable[[Var], Formula]) -> Formula:
 
 def _rebuild(node: Formula, kids: tuple) -> Formula:
     """``node`` with new children (the same object when nothing changed, to keep sharing)."""
-    if all(a is b for a, b in zip(kids, children(node), strict=True)):
+    if all(a is b for a, b in zip(kids, children(node))):
         return node
     if isinstance(node, Not):
         return Not(kids[0])

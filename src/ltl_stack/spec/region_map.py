@@ -32,7 +32,7 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Tuple
 
 from ltl_stack.errors import InputError
 from ltl_stack.inputs import parse_json
@@ -55,7 +55,7 @@ FREE_SPACE = "others"
 _HEADER = re.compile(r"^([A-Za-z][A-Za-z0-9_]*):\s*(#.*)?$")
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 
-Point = tuple[float, float]
+Point = Tuple[float, float]
 
 
 @dataclass

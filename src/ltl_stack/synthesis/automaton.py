@@ -126,7 +126,7 @@ class Automaton:
         states = []
         targets = set()
         for key, node in sorted(data["nodes"].items(), key=lambda kv: int(kv[0])):
-            values = dict(zip(names, (bool(b) for b in node["state"]), strict=True))
+            values = dict(zip(names, (bool(b) for b in node["state"])))
             succ = [int(t) for t in node["trans"]]
             targets.update(succ)
             states.append(AutomatonState(int(key), {n: values[n] for n in inputs},

@@ -25,10 +25,10 @@ data and DOT.
 from __future__ import annotations
 
 import copy
-from collections.abc import Callable
 from dataclasses import dataclass, field
-from enum import StrEnum
+from typing import Callable
 
+from ltl_stack.compat import StrEnum
 from ltl_stack.spec.model import Clause, Spec
 from ltl_stack.synthesis.fixpoint import init_ok, solve
 from ltl_stack.synthesis.game import Game, memory_guard

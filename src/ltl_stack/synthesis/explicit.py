@@ -41,8 +41,7 @@ strategy needs only ``SymbolicStrategy.step``.
 from __future__ import annotations
 
 from collections import deque
-from collections.abc import Callable
-from typing import Any, Protocol
+from typing import Any, Callable, Protocol
 
 from ltl_stack.synthesis.automaton import Automaton, AutomatonState
 from ltl_stack.synthesis.errors import LimitReached
@@ -361,7 +360,7 @@ class _Extraction:
             ahead = free & part if goals[-1] != goal else bdd.false
             if ahead != bdd.false:
                 moves = (moves & ~ahead) | prefer(game, ahead, self.closer[goals[-1]])
-        for name, name_next in zip(game.outputs, game.outputs_next, strict=True):
+        for name, name_next in zip(game.outputs, game.outputs_next):
             keep = bdd.var(name_next) if outputs[name] else ~bdd.var(name_next)
             kept = moves & keep
             if kept == bdd.false:

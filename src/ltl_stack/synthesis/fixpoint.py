@@ -39,8 +39,8 @@ for strategy extraction (thesis Alg. 1 prefers the earliest Y iterate; here the 
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Callable
 
 from ltl_stack.synthesis.game import BACKEND, BIG_GAME, BIG_GAME_GROWTH, REORDER_THRESHOLD, Game
 

@@ -189,8 +189,8 @@ class Game:
         if BACKEND == "cudd" and not self.may_reorder:
             self.bdd.configure(reordering=False)
         self._declare()
-        self._to_next = dict(zip(self.variables, self.variables_next, strict=True))
-        self._to_current = dict(zip(self.variables_next, self.variables, strict=True))
+        self._to_next = dict(zip(self.variables, self.variables_next))
+        self._to_current = dict(zip(self.variables_next, self.variables))
         # the renamings as variable BDDs: ``let`` with names makes one BDD per variable on every
         # call (a few hundred calls per fixpoint), with BDDs it does the same substitution directly
         var = self.bdd.var

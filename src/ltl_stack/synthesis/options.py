@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import re
 import resource
 import time
 from dataclasses import dataclass
@@ -61,13 +62,21 @@ def add_option_flags(parser: argparse.ArgumentParser) -> None:
     Both default to ``None`` (not given), so a tool can merge them with parameters; ``options_from``
     fills what is still ``None`` from ``DEFAULT_OPTIONS``.
     """
-    parser.add_argument("--robotics-semantics", action=argparse.BooleanOptionalAction, default=None,
-                        help="every position satisfying env_init and sys_init must be winning (default); "
-                             "--no-robotics-semantics: slugs' default init semantics (for every allowed "
-                             "initial input some sys_init answer is winning)")
-    parser.add_argument("--cooperative", action=argparse.BooleanOptionalAction, default=None,
-                        help="never force the environment to break its assumptions and help it reach its "
-                             "liveness goals (default); --no-cooperative: any winning move")
+    _add_switch(parser, "robotics-semantics",
+                "every position satisfying env_init and sys_init must be winning (default); "
+                "--no-robotics-semantics: slugs' default init semantics (for every allowed "
+                "initial input some sys_init answer is winning)")
+    _add_switch(parser, "cooperative",
+                "never force the environment to break its assumptions and help it reach its "
+                "liveness goals (default); --no-cooperative: any winning move")
+
+
+def _add_switch(parser: argparse.ArgumentParser, name: str, help: str) -> None:
+    """``--NAME`` sets True, ``--no-NAME`` False (the last one given wins), neither leaves None
+    (argparse's ``BooleanOptionalAction``, which Python 3.8 lacks)."""
+    dest = name.replace("-", "_")
+    parser.add_argument(f"--{name}", dest=dest, action="store_true", default=None, help=help)
+    parser.add_argument(f"--no-{name}", dest=dest, action="store_false", default=None, help=argparse.SUPPRESS)
 
 
 def options_from(robotics_semantics: bool | None = None, cooperative: bool | None = None) -> SynthesisOptions:
@@ -129,7 +138,7 @@ def _address_space_in_use() -> int:
 def parse_size(text: str) -> int:
     """``512M``, ``4G``, ``1.5G``, ``100000000`` (bytes) as a number of bytes; ValueError otherwise."""
     units = {"K": 2**10, "M": 2**20, "G": 2**30, "T": 2**40}
-    word = text.strip().upper().removesuffix("B").removesuffix("I")
+    word = re.sub(r"I?B?$", "", text.strip().upper(), count=1)
     factor = 1
     if word and word[-1] in units:
         factor, word = units[word[-1]], word[:-1]

@@ -163,7 +163,7 @@ def keep_current(game: Game, relation):
     outputs keep their current value when they can, decided in the spec's output order."""
     bdd = game.bdd
     D = relation
-    for name, name_next in zip(game.outputs, game.outputs_next, strict=True):
+    for name, name_next in zip(game.outputs, game.outputs_next):
         keep = bdd.ite(bdd.var(name), bdd.var(name_next), ~bdd.var(name_next))
         can_keep = bdd.exist(game.outputs_next, D & keep)
         D = D & (keep | ~can_keep)
@@ -184,7 +184,7 @@ def layered_relation(game: Game, solution: Solution, j: int, trans, choose=None)
     not_asm = [~a for a in game.env_goals]
     covered = bdd.false
     relation = bdd.false
-    for Yc, Xs in zip(layers.Y, layers.X, strict=True):
+    for Yc, Xs in zip(layers.Y, layers.X):
         below = Yc  # Y[c] and the X sets of the assumptions before i in round c
         for i, X in enumerate(Xs):
             game.deadline.check()

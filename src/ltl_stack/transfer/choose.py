@@ -12,14 +12,14 @@ non-interactive rule decides and the report flags it).
 """
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import Callable, Optional, Sequence
 
 from .codebase import ChannelStats
 from .srdf import similarity
 
 # ask(kind word, type, original name, options) -> index of the chosen option, or None: no answer
-Asker = Callable[[str, str, str, Sequence[str]], "int | None"]
+Asker = Callable[[str, str, str, Sequence[str]], Optional[int]]
 
 
 @dataclass

@@ -11,8 +11,9 @@ import json
 import os
 import sys
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from pathlib import Path
+from typing import Callable, List, Tuple
 
 import yaml
 
@@ -30,7 +31,7 @@ from .transfer import TransferOptions, transfer_program
 TRANSFER = "ros_code_transfer"
 MINE = "mine_channels"
 #: a function listing the (name, type) channels of the running master, e.g. ``ros.live_channels``
-LiveLister = Callable[[], list[tuple[str, str]]]
+LiveLister = Callable[[], List[Tuple[str, str]]]
 
 
 def make_asker(stream_in=None, stream_out=None):

@@ -134,9 +134,9 @@ class _VelocityScanner:
                     _twist_field(node.target), node.lineno, self.src.segment(node), "arithmetic update"))
 
     def assignment(self, target: ast.AST, value: ast.expr, line: int) -> None:
-        if isinstance(target, ast.Tuple | ast.List):
-            if isinstance(value, ast.Tuple | ast.List) and len(value.elts) == len(target.elts):
-                for t, v in zip(target.elts, value.elts, strict=True):
+        if isinstance(target, (ast.Tuple, ast.List)):
+            if isinstance(value, (ast.Tuple, ast.List)) and len(value.elts) == len(target.elts):
+                for t, v in zip(target.elts, value.elts):
                     self.assignment(t, v, line)
             return
         fld = _twist_field(target)
@@ -163,11 +163,11 @@ def _list_literal(src: SourceFile, node: ast.expr | None, kind: str):
     """(list node, variable name) for an inline list or a name bound only to list literals."""
     if node is None:
         return []
-    if isinstance(node, ast.List | ast.Tuple):
+    if isinstance(node, (ast.List, ast.Tuple)):
         return [(node, None)]
     if isinstance(node, ast.Name):
         bound = src.bindings(node)
-        if bound and all(isinstance(v, ast.List | ast.Tuple) for v in bound):
+        if bound and all(isinstance(v, (ast.List, ast.Tuple)) for v in bound):
             return [(v, node.id) for v in bound]
     return None
 
@@ -189,7 +189,7 @@ def find_joint_trajectories(src: SourceFile) -> JointTrajectoryUse:
         elif isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) \
                 and node.func.attr in JOINT_POSITION_METHODS:
             use.by_group = True
-            for kind, at in zip(("names", "positions"), JOINT_POSITION_METHODS[node.func.attr], strict=True):
+            for kind, at in zip(("names", "positions"), JOINT_POSITION_METHODS[node.func.attr]):
                 arg = call_argument(node, *at)
                 if arg is not None:
                     sites.append((kind, arg, node.lineno))
@@ -284,7 +284,7 @@ def array_length(text: str) -> int | None:
         node = ast.parse(text.strip(), mode="eval").body
     except SyntaxError:
         return None
-    if isinstance(node, ast.List | ast.Tuple):
+    if isinstance(node, (ast.List, ast.Tuple)):
         return len(node.elts)
     if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Mult) and isinstance(node.left, ast.List) \
             and isinstance(node.right, ast.Constant) and isinstance(node.right.value, int):

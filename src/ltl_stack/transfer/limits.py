@@ -68,7 +68,7 @@ class VelocityLimits:
 def _number(value, file: str, where: str) -> float | None:
     if value is None or (isinstance(value, str) and value.strip().lower() in ("none", "null", "")):
         return None
-    if isinstance(value, bool) or not isinstance(value, int | float):
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise TransferError(f"expected a number or None, got {value!r}", file, where)
     return float(value)
 

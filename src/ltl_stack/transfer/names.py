@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import ast
 from dataclasses import dataclass, field
+from typing import Dict
 
 from .source_ast import SourceFile, Span, call_argument, string_value
 
@@ -22,12 +23,12 @@ class NameRef:
     note: str | None = None           # e.g. 'the default of the parameter ~topic'
 
 
-Subst = dict[str, ast.expr]   # a wrapper's parameters -> the arguments of one call of it
+Subst = Dict[str, ast.expr]   # a wrapper's parameters -> the arguments of one call of it
 
 
 def _function_of(src: SourceFile, node: ast.AST) -> ast.FunctionDef | ast.AsyncFunctionDef | None:
     scope = src.scope_of(node)
-    return scope if isinstance(scope, ast.FunctionDef | ast.AsyncFunctionDef) else None
+    return scope if isinstance(scope, (ast.FunctionDef, ast.AsyncFunctionDef)) else None
 
 
 def _parameters(function: ast.FunctionDef | ast.AsyncFunctionDef) -> list[str]:
@@ -54,8 +55,8 @@ def _argument_of(src: SourceFile, function, call: ast.Call, name: str) -> ast.ex
         return found
     positional = function.args.posonlyargs + function.args.args
     defaults = dict(zip([a.arg for a in positional[len(positional) - len(function.args.defaults):]],
-                        function.args.defaults, strict=True))
-    defaults.update({a.arg: d for a, d in zip(function.args.kwonlyargs, function.args.kw_defaults, strict=True)
+                        function.args.defaults))
+    defaults.update({a.arg: d for a, d in zip(function.args.kwonlyargs, function.args.kw_defaults)
                      if d is not None})
     return defaults.get(name)
 

@@ -293,10 +293,10 @@ def transfer_joint_commands(src: SourceFile, use: JointTrajectoryUse, source: Ro
         report.parameters.append(ParameterChange(
             "joint_names" + (f" (variable {joint_list.via})" if joint_list.via else ""), joint_list.line,
             text, new, "B.3 retargeted chain"))
-    for point, result in zip(good_points, results, strict=True):
+    for point, result in zip(good_points, results):
         text = src.data[point.span.start:point.span.end].decode("utf-8")
         new = format_list([format_angle(v) for v in result.q], text)
-        within = all(lo - 1e-9 <= v <= hi + 1e-9 for v, (lo, hi) in zip(result.q, chain_t.bounds, strict=True))
+        within = all(lo - 1e-9 <= v <= hi + 1e-9 for v, (lo, hi) in zip(result.q, chain_t.bounds))
         edits.append(Edit(point.span, new))
         report.parameters.append(ParameterChange(
             "positions" + (f" (variable {point.via})" if point.via else ""), point.line, text, new,
@@ -314,7 +314,7 @@ def transfer_joint_commands(src: SourceFile, use: JointTrajectoryUse, source: Ro
         "target_rule": rule,
         "points": [{"line": p.line, "source": list(p.values), "target": [round(float(v), 4) for v in r.q],
                     "ee_error_m": round(r.ee_error, 5), "shape_distance": round(r.shape, 5), "weight": r.weight}
-                   for p, r in zip(good_points, results, strict=True)]}
+                   for p, r in zip(good_points, results)]}
     far = [i + 1 for i, r in enumerate(results) if r.ee_error > 10 * EE_TOLERANCE]
     if far:
         report.notes.append(f"trajectory point(s) {far}: the target's end effector cannot get within "
@@ -348,8 +348,8 @@ def _scale_rates(src: SourceFile, use: JointTrajectoryUse, names: list[str], cha
     index = {n: i for i, n in enumerate(names)}
     limits_s = [source_urdf.velocity_limit(n) for n in chain_s.names]
     limits_t = [target_urdf.velocity_limit(n) for n in chain_t.names]
-    missing = [n for n, v in zip(chain_s.names, limits_s, strict=True) if v is None] + \
-              [n for n, v in zip(chain_t.names, limits_t, strict=True) if v is None]
+    missing = [n for n, v in zip(chain_s.names, limits_s) if v is None] + \
+              [n for n, v in zip(chain_t.names, limits_t) if v is None]
     for kind, rates in use.rates:
         text = src.data[rates.span.start:rates.span.end].decode("utf-8")
         if len(rates.values) != len(names):
@@ -390,7 +390,7 @@ def _check_joint_limits(src: SourceFile, use: JointTrajectoryUse, names: list[st
                                                 f"{len(point.values)} positions for {len(names)} joints"))
             continue
         clamped, outside = [], []
-        for name, value in zip(names, point.values, strict=True):
+        for name, value in zip(names, point.values):
             lower, upper = urdf.limits(name)
             clamped.append(min(max(value, lower), upper))
             if clamped[-1] != value:
@@ -408,7 +408,7 @@ def _check_joint_limits(src: SourceFile, use: JointTrajectoryUse, names: list[st
             continue  # accelerations have no URDF limit to check against
         text = src.data[rates.span.start:rates.span.end].decode("utf-8")
         vmax = [urdf.velocity_limit(n) for n in names]
-        clamped = [v if m is None else float(np.clip(v, -m, m)) for v, m in zip(rates.values, vmax, strict=True)]
+        clamped = [v if m is None else float(np.clip(v, -m, m)) for v, m in zip(rates.values, vmax)]
         if clamped != rates.values:
             new = format_list(_rate_text(clamped), text)
             edits.append(Edit(rates.span, new))

@@ -15,7 +15,7 @@ class Edit:
 def apply_edits(data: bytes, edits: list[Edit]) -> bytes:
     """Replace each span by its text; equal duplicate edits collapse, overlapping ones are a bug."""
     unique = sorted(set(edits), key=lambda e: (e.span.start, e.span.end))
-    for before, after in zip(unique, unique[1:], strict=False):
+    for before, after in zip(unique, unique[1:]):
         if after.span.start < before.span.end:
             raise ValueError(f"overlapping edits at line {before.span.line}: {before.text!r} / {after.text!r}")
     out = bytearray(data)

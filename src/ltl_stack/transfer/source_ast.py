@@ -59,7 +59,7 @@ class SourceFile:
         self._self_bindings: dict[tuple[ast.AST, str], list[ast.expr]] = {}
         self.functions: dict[str, list[ast.FunctionDef | ast.AsyncFunctionDef]] = {}
         for node in ast.walk(self.tree):
-            if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
                 self.functions.setdefault(node.name, []).append(node)
             elif isinstance(node, ast.Assign):
                 for target in node.targets:
@@ -96,7 +96,7 @@ class SourceFile:
         heads = [self.aliases[node.id]] if node.id in self.aliases else []
         if not heads and depth < 10:
             bound = self.bindings(node)
-            if bound and all(isinstance(v, ast.Name | ast.Attribute) and isinstance(v.ctx, ast.Load) for v in bound):
+            if bound and all(isinstance(v, (ast.Name, ast.Attribute)) and isinstance(v.ctx, ast.Load) for v in bound):
                 for value in sorted(bound, key=lambda v: (v.lineno, v.col_offset)):
                     heads += [h for h in self.qualnames(value, depth + 1) if h not in heads]
         heads = heads or [node.id]
@@ -105,7 +105,7 @@ class SourceFile:
     def scope_of(self, node: ast.AST) -> ast.AST:
         while node in self.parents:
             node = self.parents[node]
-            if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef | ast.Lambda | ast.ClassDef):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda, ast.ClassDef)):
                 return node
         return self.tree
 
@@ -208,7 +208,7 @@ def _bindings(tree: ast.Module, parents: dict) -> dict[tuple[ast.AST, str], list
     def scope_of(node):
         while node in parents:
             node = parents[node]
-            if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef | ast.Lambda | ast.ClassDef):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda, ast.ClassDef)):
                 return node
         return tree
 
@@ -220,7 +220,7 @@ def _bindings(tree: ast.Module, parents: dict) -> dict[tuple[ast.AST, str], list
                     pairs.append((target, node.value))
                 elif isinstance(target, ast.Tuple) and isinstance(node.value, ast.Tuple) \
                         and len(target.elts) == len(node.value.elts):
-                    pairs += [(t, v) for t, v in zip(target.elts, node.value.elts, strict=True)
+                    pairs += [(t, v) for t, v in zip(target.elts, node.value.elts)
                               if isinstance(t, ast.Name)]
             for target, value in pairs:
                 found.setdefault((scope_of(node), target.id), []).append(value)
@@ -228,19 +228,19 @@ def _bindings(tree: ast.Module, parents: dict) -> dict[tuple[ast.AST, str], list
             found.setdefault((scope_of(node), node.target.id), []).append(node.value)
         elif isinstance(node, ast.AugAssign) and isinstance(node.target, ast.Name):
             found.setdefault((scope_of(node), node.target.id), []).append(node)  # arithmetic: not a literal
-        elif isinstance(node, ast.For | ast.comprehension) and isinstance(node.target, ast.Name):
+        elif isinstance(node, (ast.For, ast.comprehension)) and isinstance(node.target, ast.Name):
             found.setdefault((scope_of(node), node.target.id), []).append(node.target)
     return found
 
 
 def number_value(node: ast.AST) -> float | None:
     """The value of a numeric literal, also ``-0.5`` and ``+1``; None for anything else."""
-    if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub | ast.UAdd):
+    if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
         inner = number_value(node.operand)
         if inner is None:
             return None
         return -inner if isinstance(node.op, ast.USub) else inner
-    if isinstance(node, ast.Constant) and isinstance(node.value, int | float) \
+    if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)) \
             and not isinstance(node.value, bool):
         return float(node.value)
     return None

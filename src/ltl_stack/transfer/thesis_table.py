@@ -102,7 +102,7 @@ def run_row(row: Row, data: Path, robots: Path, robot_codebase: Path | None, out
             "ours": report["summary"], "thesis": dict(zip(("time_s", "channels_replaced", "parameters_replaced",
                                                            "total_replacements", "user_inputs",
                                                            "target_robot_examples", "lines_in_file",
-                                                           "replacement_errors"), row.thesis, strict=True)),
+                                                           "replacement_errors"), row.thesis)),
             "why_they_differ": row.why}
 
 

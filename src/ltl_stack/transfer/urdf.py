@@ -141,7 +141,7 @@ def chain_frames_jacobian(chain: list[ChainJoint], q) -> tuple[np.ndarray, np.nd
         points.append(transform[:3, 3].copy())
     points = np.array(points)
     jac = np.zeros((len(points), 3, len(axes)))
-    for m, (axis, origin, kind, start) in enumerate(zip(axes, origins, kinds, starts, strict=True)):
+    for m, (axis, origin, kind, start) in enumerate(zip(axes, origins, kinds, starts)):
         if kind == "prismatic":
             jac[start:, :, m] = axis
         else:

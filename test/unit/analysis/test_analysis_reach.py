@@ -127,7 +127,7 @@ def test_reach_equals_closure_and_chains_are_paths(nodes, direction):
         chain = r.chain(target)
         assert chain[0 if direction == PUBLISH else -1] == start and target in (chain[0], chain[-1])
         assert len(set(chain)) == len(chain) or any(v >= n for v in chain), "no node repeats on a chain"
-        for a, b in zip(chain, chain[1:], strict=False):  # chains read in message order
+        for a, b in zip(chain, chain[1:]):  # chains read in message order
             if a < n:
                 assert any(g.lane_channel[lane] == b - n for lane in g.node_publishes[a]), g.format_chain(chain)
             else:

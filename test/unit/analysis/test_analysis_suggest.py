@@ -26,8 +26,7 @@ prop_names = st.lists(st.sampled_from(["a", "b", "not", "not_ready", "and", "or"
 @given(prop_names, st.data())
 def test_formula_is_true_exactly_when_at_most_one_is_true(names, data):
     s = MutualExclusion(tuple(names))
-    values = dict(zip(names, data.draw(st.lists(st.booleans(), min_size=len(names), max_size=len(names))),
-                      strict=True))
+    values = dict(zip(names, data.draw(st.lists(st.booleans(), min_size=len(names), max_size=len(names)))))
     expected = sum(values.values()) <= 1
     assert evaluate(s.formula(False), values) == expected
     assert evaluate(s.formula(True), {}, values) == expected
@@ -129,7 +128,7 @@ def test_slugsin_lines_read_back_to_the_same_constraint(names):
     forms = suggestion_forms(s)
     assert forms["slugsin"]["SYS_TRANS"] in write_slugsin(spec).split("\n")
     for values in itertools.product([False, True], repeat=len(names)):
-        valuation = dict(zip(names, values, strict=True))
+        valuation = dict(zip(names, values))
         expected = sum(values) <= 1
         assert evaluate(back.sys_safety[0].formula, {}, valuation) == expected
         assert evaluate(back.sys_init[0].formula, valuation) == expected

@@ -14,7 +14,7 @@ def step(t: float, true: set[str]) -> TraceStep:
 
 def patrol(t: float, lanes) -> list[TraceStep]:
     out = []
-    for here, there in zip(lanes, lanes[1:], strict=False):
+    for here, there in zip(lanes, lanes[1:]):
         out.append(step(t, {f"{here}_rc", there}))
         t += 1
     return out

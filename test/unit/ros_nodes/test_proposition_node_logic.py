@@ -59,7 +59,7 @@ def test_edges_alternate_and_track_the_value(values):
     # Rising and falling alternate, starting with rising (the value starts false).
     assert all(e == (RISING if i % 2 == 0 else FALLING) for i, e in enumerate(got)), got
     assert edges.value == (values[-1] if values else False)
-    assert len(got) == sum(1 for a, b in zip([False, *values], values, strict=False) if a != b)
+    assert len(got) == sum(1 for a, b in zip([False, *values], values) if a != b)
 
 
 @pytest.mark.parametrize("param, raw, expected", [

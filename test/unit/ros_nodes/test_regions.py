@@ -168,7 +168,7 @@ def test_route_to_an_adjacent_region_never_passes_through_a_third(start_region, 
         assert len(route) == 1, route
         return
     seen = []
-    for a, b in zip([start, *route], route, strict=False):
+    for a, b in zip([start, *route], route):
         n = max(2, int(math.dist(a, b) / 0.01))
         for i in range(n + 1):
             x, y = a[0] + (b[0] - a[0]) * i / n, a[1] + (b[1] - a[1]) * i / n

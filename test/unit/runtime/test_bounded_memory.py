@@ -31,7 +31,7 @@ def formula_objects(roots) -> set[int]:
         seen.add(id(f))
         if isinstance(f, Not):
             todo.append(f.arg)
-        elif isinstance(f, And | Or):
+        elif isinstance(f, (And, Or)):
             todo.extend(f.args)
     return seen
 
@@ -41,8 +41,8 @@ def test_ec_disjuncts_share_their_literals():
     3 objects each at most (a Var, a Not and the Var inside it). The old Characterizer made 1-2 new
     objects per input for every disjunct (here 1,056 objects for 96 disjuncts instead of <= 126)."""
     ch = Characterizer(parse_structured(TEXT, "flood.structuredslugs"))
-    valuations = [dict(zip(INPUTS, bits, strict=True)) for bits in itertools.product([False, True], repeat=5)]
-    for k, (now, incoming) in enumerate(zip(valuations, valuations[7:] + valuations[:7] * 9, strict=False)):
+    valuations = [dict(zip(INPUTS, bits)) for bits in itertools.product([False, True], repeat=5)]
+    for k, (now, incoming) in enumerate(zip(valuations, valuations[7:] + valuations[:7] * 9)):
         ch.record(Observation(k, 0.0, now, {"x": False}, incoming))
         ch.record(Observation(k, 0.0, incoming, {"x": False}, now))
     disjuncts = ch.ec1 + ch.ec2

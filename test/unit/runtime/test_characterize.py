@@ -245,7 +245,7 @@ def test_disjunction_sets_converge_and_ec1_becomes_valid():
     once every incoming valuation was observed the EC1 assumption admits everything."""
     spec = parse_structured(SMALL, "small.structuredslugs")
     ch = Characterizer(spec)
-    values = [dict(zip(spec.inputs, bits, strict=True)) for bits in itertools.product((False, True), repeat=2)]
+    values = [dict(zip(spec.inputs, bits)) for bits in itertools.product((False, True), repeat=2)]
     sizes = []
     for k, (now, nxt) in enumerate(itertools.product(values, values)):
         for _ in range(2):  # the same observation twice adds nothing the second time

@@ -39,7 +39,7 @@ def test_spec4_pickup_without_a_block_breaks_the_assumption_and_never_actuates_p
     quiet = {"pickupTask": False, "holdingBlock": False, "blockPresent": False}
     state = strategy.initial_state(inputs=quiet)
     with pytest.raises(AssumptionViolation):
-        strategy.step(state, quiet | {"pickupTask": True})
-    moved = strategy.step(state, quiet | {"pickupTask": True, "blockPresent": True})
+        strategy.step(state, {**quiet, "pickupTask": True})
+    moved = strategy.step(state, {**quiet, "pickupTask": True, "blockPresent": True})
     assert moved.outputs["pickup"] is True
-    assert strategy.step(state, quiet | {"blockPresent": True}).outputs["pickup"] is False
+    assert strategy.step(state, {**quiet, "blockPresent": True}).outputs["pickup"] is False

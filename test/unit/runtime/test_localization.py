@@ -29,7 +29,7 @@ def test_crossing_a_border_switches_only_past_the_hysteresis():
     tracker.update(*start)
     seen = []
     legs = [start, *MAP.route(start, "rightLane")]  # across the middle of the border, as the robot drives
-    for a, b in zip(legs, legs[1:], strict=False):
+    for a, b in zip(legs, legs[1:]):
         for i in range(101):
             x, y = a[0] + (b[0] - a[0]) * i / 100, a[1] + (b[1] - a[1]) * i / 100
             seen.append(tracker.update(x, y))

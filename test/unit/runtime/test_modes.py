@@ -83,7 +83,7 @@ def test_history_and_events_stay_bounded_over_many_resyntheses():
     rs.on_installed = controller.restart_from
     controller.report_many(dict.fromkeys("abcd", False))
     for bits in itertools.product([False, True], repeat=3):  # 8 new violating valuations (a = 1)
-        controller.report_many({"a": True, **dict(zip("bcd", bits, strict=True))})
+        controller.report_many({"a": True, **dict(zip("bcd", bits))})
         controller.report_many(dict.fromkeys("abcd", False))
     assert rs.counters.resyntheses >= 5, rs.counters
     assert len(rs.characterizer.history) <= HISTORY_KEPT == 1 and len(rs.events) <= EVENTS_KEPT

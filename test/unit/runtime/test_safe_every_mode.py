@@ -66,7 +66,7 @@ MODES = [  # (name, options): the mode matrix of issue 23
     ("EC with recovery", {"characterize": True}),
     ("EC with recovery after 2 transitions", {"characterize": True, "characterize_after_transitions": 2}),
 ]
-VALUATIONS = [dict(zip(INPUTS, bits, strict=True)) for bits in itertools.product([False, True], repeat=2)]
+VALUATIONS = [dict(zip(INPUTS, bits)) for bits in itertools.product([False, True], repeat=2)]
 OPS = st.one_of(st.tuples(st.just("inputs"), st.sampled_from(VALUATIONS)),
                 st.tuples(st.just("inputs"), st.sampled_from(VALUATIONS)),
                 st.tuples(st.just("jobs")), st.tuples(st.just("tick")), st.tuples(st.just("user")),
@@ -118,7 +118,7 @@ def check_run(text, clauses, options, ops) -> None:
             continue  # abort (Alg. 3 line 11) and the time before the start: every output false
         readings = controller.readings
         outputs = controller.current_outputs()
-        possible = any(keeps(clauses, {**readings, **dict(zip(OUTPUTS, bits, strict=True))})
+        possible = any(keeps(clauses, {**readings, **dict(zip(OUTPUTS, bits))})
                        for bits in itertools.product([False, True], repeat=len(OUTPUTS)))
         if possible:
             assert keeps(clauses, {**readings, **outputs}), (op, readings, outputs, controller.violation)

@@ -93,7 +93,7 @@ def test_sentence_form_means_what_ltlmop_makes_of_it(sentence, section, expected
     got = _clauses(sentence, section)
     want = _expected(section, expected)
     assert len(got) == len(want)
-    for g, w in zip(got, want, strict=True):
+    for g, w in zip(got, want):
         assert equivalent(g, w), (sentence, g)
 
 
@@ -110,7 +110,7 @@ def test_groups_all_any_each():
     want = _expected("sys_liveness", ["r1 & r1_rc", "r3 & r3_rc", "(r1 & r1_rc) | (r3 & r3_rc)",
                                       "!seen -> (r1 & r1_rc)", "!seen -> (r3 & r3_rc)"])
     assert [len(goals[k]) for k in (7, 8, 11)] == [2, 1, 2]
-    for g, w in zip(goals[7] + goals[8] + goals[11], want, strict=True):
+    for g, w in zip(goals[7] + goals[8] + goals[11], want):
         assert equivalent(g, w)
     safety = {c.line: c.formula for c in spec.sys_safety if c.line in (9, 10)}
     assert equivalent(safety[9], _expected("sys_safety", ["(r1_rc' & r3_rc') -> stop'"])[0])
@@ -192,13 +192,14 @@ def test_a_hint_differs_only_in_the_misspelt_word_and_reads_as_meant(sentence, p
     hint_words, typo_words = hint.split(" "), typo.split(" ")
     assert len(hint_words) in (len(typo_words), len(typo_words) + 1)
     if len(hint_words) == len(typo_words):
-        changed = [j for j, (a, b) in enumerate(zip(hint_words, typo_words, strict=True)) if a != b]
+        changed = [j for j, (a, b) in enumerate(zip(hint_words, typo_words)) if a != b]
         assert changed == [i], (typo, hint)
     hinted = read_english(DECLARATIONS + hint + "\n", "h.spec").spec
     if hint_words == words:  # the hint restores the user's word: the same formulas
         meant = read_english(DECLARATIONS + sentence + "\n", "h.spec").spec
         for section in ("sys_safety", "env_safety", "sys_liveness"):
-            for a, b in zip(hinted.section(section), meant.section(section), strict=True):
+            assert len(hinted.section(section)) == len(meant.section(section))
+            for a, b in zip(hinted.section(section), meant.section(section)):
                 assert equivalent(a.formula, b.formula)
 
 

@@ -73,7 +73,7 @@ def safe_moves(spec, current: dict, new_inputs: dict, outputs_list: list[dict]) 
 
 # --- the independent model check of exported recovery automata ---------------------------------
 def valuations(names):
-    return [dict(zip(names, bits, strict=True)) for bits in itertools.product((False, True), repeat=len(names))]
+    return [dict(zip(names, bits)) for bits in itertools.product((False, True), repeat=len(names))]
 
 
 def key(inputs: dict, names: list[str]) -> tuple:

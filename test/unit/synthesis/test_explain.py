@@ -51,7 +51,7 @@ def check_assumption_core(spec, explanation):
 
 def all_valuations(names):
     for bits in itertools.product((False, True), repeat=len(names)):
-        yield dict(zip(names, bits, strict=True))
+        yield dict(zip(names, bits))
 
 
 def holds(clauses, current, nxt=None):

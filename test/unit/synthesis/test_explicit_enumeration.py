@@ -36,7 +36,7 @@ def _manager(order: list[int]):
 @given(st.lists(dnfs, min_size=1, max_size=4), st.permutations(range(6)), st.permutations(range(6)))
 def test_codes_are_the_valuations_even_with_nodes_shared_across_bdds(functions, order, bits) -> None:
     bdd = _manager(list(order))
-    bit_of = {NAMES[k]: b for k, b in zip(range(6), bits, strict=True)}
+    bit_of = {NAMES[k]: b for k, b in zip(range(6), bits)}
     codes = _Codes(bdd, bit_of)
     for dnf in functions:  # one enumerator for all: later BDDs re-use the kept results
         u = _bdd_of(bdd, dnf)

@@ -21,7 +21,7 @@ SETTINGS = settings(max_examples=30, deadline=None, suppress_health_check=[Healt
 
 
 def valuations(names):
-    return [dict(zip(names, bits, strict=True)) for bits in itertools.product((False, True), repeat=len(names))]
+    return [dict(zip(names, bits)) for bits in itertools.product((False, True), repeat=len(names))]
 
 
 def holds(clauses, current, nxt=None):

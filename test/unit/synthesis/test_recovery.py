@@ -203,7 +203,7 @@ def test_no_safe_move_is_reported_with_the_clauses_that_cannot_be_kept():
 # --- random specs ---------------------------------------------------------------------------------
 
 def valuations(names):
-    return [dict(zip(names, bits, strict=True)) for bits in itertools.product((False, True), repeat=len(names))]
+    return [dict(zip(names, bits)) for bits in itertools.product((False, True), repeat=len(names))]
 
 
 @functools.lru_cache(maxsize=256)

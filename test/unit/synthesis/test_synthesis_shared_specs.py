@@ -99,7 +99,7 @@ def check_automaton(spec, automaton):
         cur = val[s.id]
         admissible = 0
         for bits in itertools.product([False, True], repeat=len(spec.inputs)):
-            nxt = dict(zip(spec.inputs, bits, strict=True))
+            nxt = dict(zip(spec.inputs, bits))
             if env(cur, nxt):
                 admissible += 1
         assert len(s.successors) == admissible, (s.id, len(s.successors), admissible)

@@ -24,7 +24,7 @@ def run(program, source, target):
 def changed_lines(before, after):
     a, b = before.splitlines(keepends=True), after.splitlines(keepends=True)
     assert len(a) == len(b)
-    return {i + 1: (x.strip(), y.strip()) for i, (x, y) in enumerate(zip(a, b, strict=True)) if x != y}
+    return {i + 1: (x.strip(), y.strip()) for i, (x, y) in enumerate(zip(a, b)) if x != y}
 
 
 def test_example_1_keyboard_jackal_to_turtlebot():
@@ -65,7 +65,7 @@ def test_everything_outside_the_edits_is_byte_identical():
         pos = edit.span.end
     out += data[pos:]
     assert bytes(out) == result.text.encode()
-    kept = [data[a.span.end:b.span.start] for a, b in zip(edits, edits[1:], strict=False)]
+    kept = [data[a.span.end:b.span.start] for a, b in zip(edits, edits[1:])]
     assert all(chunk in result.text.encode() for chunk in kept)
 
 

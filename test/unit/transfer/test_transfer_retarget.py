@@ -31,7 +31,7 @@ def test_chain_kinematics_match_yourdfpy(robot, base, tip):
     rng = np.random.default_rng(3)
     for _ in range(3):
         q = np.array([rng.uniform(*model.limits(n)) for n in moving])
-        cfg = dict(zip(moving, q, strict=True))
+        cfg = dict(zip(moving, q))
         reference.update_cfg({n: cfg.get(n, 0.0) for n in reference.actuated_joint_names})
         expected = reference.get_transform(frame_to=tip, frame_from=base)[:3, 3]
         got = chain_frames(chain, q)[-1]
@@ -99,7 +99,7 @@ def test_example_3_ur5_to_jaco(target, dof):
     assert len(points) == 3
     for point in points:
         assert len(point["target"]) == dof
-        for name, value in zip(names, point["target"], strict=True):
+        for name, value in zip(names, point["target"]):
             lower, upper = model.limits(name)
             assert lower <= value <= upper, (name, value)
         assert point["ee_error_m"] < 0.005, point    # stated in docs: about 1 mm

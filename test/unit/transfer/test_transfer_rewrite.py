@@ -15,7 +15,7 @@ from ltl_stack.transfer.transfer import transfer_program
 def data_and_edits(draw):
     data = draw(st.binary(min_size=1, max_size=200))
     cuts = sorted(draw(st.sets(st.integers(0, len(data)), min_size=0, max_size=8)))
-    pairs = list(zip(cuts[::2], cuts[1::2], strict=False))
+    pairs = list(zip(cuts[::2], cuts[1::2]))
     edits = [Edit(Span(a, b, 1), draw(st.text(max_size=5))) for a, b in pairs]
     return data, edits
 
@@ -51,7 +51,7 @@ def test_every_twist_literal_becomes_its_scaled_value(commands):
     result = transfer_program(text, SOURCE, TARGET)
     tree = ast.parse(result.text)
     assert ast.literal_eval(tree.body[1].value) == 1.5
-    for (vx, wz), node in zip(commands, tree.body[2:], strict=True):
+    for (vx, wz), node in zip(commands, tree.body[2:]):
         linear, angular = node.value.args
         got_x, got_z = ast.literal_eval(linear.args[0]), ast.literal_eval(angular.args[2])
         want_x = scale_command(vx, SOURCE.limits["linear.x"], TARGET.limits["linear.x"]) if vx else 0.0

@@ -1,5 +1,7 @@
 """The arms' joints and MoveIt groups shipped in the package (our YAML, transfer/robot_data.py; issue 27):
 they agree with the URDF/SRDF of ../shared, give the same transfers, and bad files are one clear line."""
+from __future__ import annotations
+
 import importlib.util
 import json
 

@@ -26,7 +26,7 @@ DATA = Path(__file__).resolve().parents[2] / "data" / "transfer"
 def changed_lines(before, after):
     a, b = before.splitlines(), after.splitlines()
     assert len(a) == len(b)
-    return {i + 1: (x.strip(), y.strip()) for i, (x, y) in enumerate(zip(a, b, strict=True)) if x != y}
+    return {i + 1: (x.strip(), y.strip()) for i, (x, y) in enumerate(zip(a, b)) if x != y}
 
 
 def answers(mapping):
@@ -85,7 +85,7 @@ def test_example_4_greet_pepper_to_nao():
     assert len(positions) == 4 and all(p.method == "B.3 retargeted" and p.changed for p in positions), positions
     for p in positions:
         values = eval(p.replacement)
-        for name, value in zip(report.retargeting["target_joints"], values, strict=True):
+        for name, value in zip(report.retargeting["target_joints"], values):
             lower, upper = nao_urdf.limits(name)
             assert lower - 1e-4 <= value <= upper + 1e-4, (name, value)
     assert report.retargeting["target_rule"] == "the target has the program's joints"
@@ -175,7 +175,7 @@ def test_joint_rates_are_scaled_by_the_velocity_limits_same_joints():
     rates = {p.what: p for p in result.report.parameters if p.what.startswith("velocities")}
     assert set(rates) == {"velocities (variable SWING_OUT)", "velocities (variable SWING_IN)"}, rates
     source = [0.0, -1.5, 0.0, 2.0, 0.0]
-    expected = [v * nao.velocity_limit(j) / pepper.velocity_limit(j) for v, j in zip(source, joints, strict=True)]
+    expected = [v * nao.velocity_limit(j) / pepper.velocity_limit(j) for v, j in zip(source, joints)]
     got = eval(rates["velocities (variable SWING_OUT)"].replacement)
     assert got == pytest.approx(expected, abs=1e-4), (got, expected)
     assert rates["velocities (variable SWING_OUT)"].method == "B.2 scaled (joint velocity limits)"
@@ -200,9 +200,9 @@ def test_joint_rates_between_different_arms_follow_the_joint_order_and_limits():
     match = [0, 1, 2, 3, 3, 4, 5]
     ratio = [jaco.velocity_limit(f"j2s7s300_joint_{j + 1}") / ur5.velocity_limit(ur5_joints[i])
              for j, i in enumerate(match)]
-    assert rates["velocities"] == pytest.approx([source_v[i] * r for i, r in zip(match, ratio, strict=True)],
+    assert rates["velocities"] == pytest.approx([source_v[i] * r for i, r in zip(match, ratio)],
                                                 abs=1e-4)
-    assert rates["accelerations"] == pytest.approx([source_a[i] * r for i, r in zip(match, ratio, strict=True)],
+    assert rates["accelerations"] == pytest.approx([source_a[i] * r for i, r in zip(match, ratio)],
                                                    abs=1e-4)
     assert rates["velocities"][0] != 0 and rates["velocities"][6] != 0, rates
 
