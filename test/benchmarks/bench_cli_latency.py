@@ -44,8 +44,8 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 REPO = HERE.parent.parent
-#: ``../shared/specs``, or ``$LTL_STACK_SHARED/specs`` (a checkout in a worktree elsewhere)
-SHARED = Path(os.environ.get("LTL_STACK_SHARED", REPO.parent / "shared")) / "specs"
+#: ``../shared/specs`` beside the repository
+SHARED = REPO.parent / "shared" / "specs"
 OUT = REPO / "docs" / "benchmarks" / "cli_latency.md"
 CHECK_SHARE_OUT = REPO / "docs" / "benchmarks" / "check_share.md"
 #: the realizable games of the synthesis benchmark on which the vacuity check's share is measured

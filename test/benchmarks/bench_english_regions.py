@@ -21,7 +21,7 @@ import tempfile
 
 WORKER = r'''
 import json, os, resource, sys, tempfile, time
-from ltl_stack.spec.english_reader import parse_english
+from ltl_stack.spec.english_files import parse_english
 from ltl_stack.spec.formula import children
 kind, n = sys.argv[1], int(sys.argv[2])
 folder = tempfile.mkdtemp()

@@ -56,7 +56,7 @@ elif kind == "pie":
     seconds = time.process_time() - t0
     outcome = f"{sum(map(len, topology.adjacent.values())) // 2} adjacent pairs"
 else:
-    from ltl_stack.spec.english_reader import parse_english
+    from ltl_stack.spec.english_files import parse_english
     from ltl_stack.spec.errors import SpecError
     sentences, members = size // 10000, size % 10000
     names = [f"r{i}" for i in range(members)]

@@ -13,14 +13,13 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import subprocess
 import sys
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 REPO = HERE.parent.parent
-SHARED = Path(os.environ.get("LTL_STACK_SHARED", REPO.parent / "shared")) / "specs"
+SHARED = REPO.parent / "shared" / "specs"
 
 
 def one(path: str) -> dict:

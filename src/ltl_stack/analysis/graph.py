@@ -10,7 +10,8 @@ replies to the goals it sent itself, so following them would let a goal sent by 
 on to every other client of the same server, and from there to everything they command - false
 conflicts between every pair of propositions that share a planner.
 
-Generic topics that every node uses (``/rosout``, ``/clock``, ``/tf``, parameter updates, ...) are
+Generic topics that every node uses (``/rosout``, ``/diagnostics``, ``/clock``, ``/tf``, parameter updates,
+...) are
 left out, so that they do not make every node reach every other one (false conflicts).
 """
 from __future__ import annotations
@@ -26,6 +27,8 @@ from ltl_stack.analysis.snapshot import Snapshot
 DEFAULT_IGNORED_TOPICS: tuple[str, ...] = (
     "/rosout",
     "/rosout_agg",
+    "/diagnostics",
+    "/diagnostics_agg",
     "/clock",
     "/tf",
     "/tf_static",

@@ -37,7 +37,8 @@ from ltl_stack.runtime.mapping import (
     resolve_topics,
 )
 from ltl_stack.spec import formula_to_slugsin, load_spec, write_slugsin
-from ltl_stack.spec.english_reader import ENGLISH_SUFFIXES, has_section_headers, parse_english
+from ltl_stack.spec.english_files import parse_english
+from ltl_stack.spec.english_reader import ENGLISH_SUFFIXES, has_section_headers
 from ltl_stack.spec.english_writer import sentences_for
 from ltl_stack.spec.model import SLUGSIN_SECTIONS, Spec
 from ltl_stack.synthesis import is_realizable

@@ -131,7 +131,7 @@ def trace_steps(records: Iterable, source: str = "the bag", topic: str = "") -> 
     the record time (a bag's record times never go back, while replayed header stamps may), one at a
     time; a message that cannot be read is an ``InputError`` naming the bag, the topic and the
     message's number (from 1)."""
-    from ltl_stack.ros.controller_trace import step_of
+    from ltl_stack.ros.valuation import step_of
 
     start = None
     for index, (when, msg) in enumerate(records):

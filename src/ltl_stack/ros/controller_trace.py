@@ -22,21 +22,13 @@ from ltl_stack import cli
 from ltl_stack.errors import Exit, UserError
 from ltl_stack.msg import ControllerState
 from ltl_stack.ros.master import init_node, master_uri, ros_name, wait_for_master
-from ltl_stack.ros.valuation import MalformedValuation, state_valuations
+from ltl_stack.ros.valuation import MalformedValuation, step_of
 from ltl_stack.runtime.negotiation import report_lines
 from ltl_stack.runtime.trace import GoalCycles, TraceStep, describe
 from ltl_stack.spec import load_spec
 
 #: seconds to wait for the master before giving up with Exit.NO_ROS
 MASTER_WAIT = 10.0
-
-
-def step_of(msg, start: float) -> TraceStep:
-    """A ``TraceStep`` of a ControllerState message, timed from ``start`` (seconds);
-    ``MalformedValuation`` when its inputs or outputs cannot be read."""
-    inputs, outputs = state_valuations(msg)
-    return TraceStep(time=msg.header.stamp.to_sec() - start, state_id=msg.state_id, goal=msg.goal_index,
-                     inputs=inputs, outputs=outputs, running=msg.running)
 
 
 class ControllerTrace:

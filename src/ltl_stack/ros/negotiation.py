@@ -181,7 +181,6 @@ class NegotiationEndpoint:
                           self.name)
         #: the latest hijack of ~negotiate the watch repaired (for the diagnostics), or ""
         self.hijack = ""
-        negotiator.on_change = self._changed
         #: the node that serves each declared peer's negotiation: the only one that may speak for it
         self.peer_nodes = {name: node_of(service_of(peer)) for name, peer in negotiator.classes.peers.items()}
         self.refusals = 0
@@ -192,6 +191,8 @@ class NegotiationEndpoint:
                                     lambda _event: negotiator.settle(strategy, controller))
         self.watch = RegistrationWatch(self.service, on_hijack=self._hijacked, timeout=min(timeout, 2.0))
         self.watch_timer = rospy.Timer(rospy.Duration(registration_period), lambda _event: self.watch.check())
+        # last: a negotiation may start on another thread at once, and its reports use all of the above
+        negotiator.on_change = self._changed
         self._publish()
 
     def service_of(self, peer: Peer) -> str:

@@ -1,4 +1,5 @@
-"""Conversion between ``ltl_stack/PropositionValuation`` messages and plain dicts."""
+"""Conversion between ``ltl_stack/PropositionValuation`` messages and plain dicts, and the one decoding of
+a ``ControllerState`` (its valuations, a trace step)."""
 from __future__ import annotations
 
 from collections.abc import Mapping
@@ -6,6 +7,7 @@ from collections.abc import Mapping
 import rospy
 
 from ltl_stack.msg import PropositionValuation
+from ltl_stack.runtime.trace import TraceStep
 
 
 def valuation_to_msg(valuation: Mapping[str, bool], stamp: rospy.Time | None = None,
@@ -37,3 +39,11 @@ def state_valuations(msg) -> tuple[dict[str, bool], dict[str, bool]]:
     (controller_trace, check_run, controller_trace --bag, map_markers, story_environment);
     ``MalformedValuation`` naming the field otherwise."""
     return msg_to_valuation(msg.inputs, "inputs"), msg_to_valuation(msg.outputs, "outputs")
+
+
+def step_of(msg, start: float) -> TraceStep:
+    """A ``TraceStep`` of a ControllerState message, timed from ``start`` (seconds);
+    ``MalformedValuation`` when its inputs or outputs cannot be read."""
+    inputs, outputs = state_valuations(msg)
+    return TraceStep(time=msg.header.stamp.to_sec() - start, state_id=msg.state_id, goal=msg.goal_index,
+                     inputs=inputs, outputs=outputs, running=msg.running)

@@ -149,25 +149,9 @@ def has_section_headers(text: str) -> bool:
     return False
 
 
-def parse_english(text: str, file: str = "<string>", base_dir: str | Path | None = None) -> Spec:
-    """Read a Structured English spec; raises one ``SpecError`` naming file, line and column.
-
-    ``Map:`` paths are relative to ``base_dir`` (default: the folder of ``file``).
-    """
-    return read_english(text, file, base_dir).spec
-
-
-def read_english(text: str, file: str = "<string>", base_dir: str | Path | None = None) -> EnglishSpec:
-    """Like ``parse_english`` but also returns the declarations and sentences (for rendering back).
-
-    An LTLMoP project file (``======== SETTINGS ========`` …) is read as shipped by
-    ``ltlmop_project.read_project``, with LTLMoP's meaning."""
-    if base_dir is None:
-        base_dir = Path(file).parent if file and not file.startswith("<") else Path(".")
-    if is_ltlmop_project(text):
-        from ltl_stack.spec.ltlmop_project import read_project  # the project format builds on this module
-
-        return read_project(text, file, Path(base_dir))
+def read_sentences(text: str, file: str, base_dir: Path) -> EnglishSpec:
+    """A plain Structured English file (declarations, then sentences): its spec, declarations and
+    sentences. ``english_files.read_english`` is the entry that also takes LTLMoP project files."""
     lines = []
     for number, raw in enumerate(text.splitlines(), start=1):
         m = _COMMENT.search(raw)

@@ -24,7 +24,8 @@ from ltl_stack.errors import InputError
 from ltl_stack.fileio import write_atomic
 from ltl_stack.inputs import read_text
 from ltl_stack.spec.activation_completion import ACTION_COMPLETION, REGION_COMPLETION
-from ltl_stack.spec.english_reader import Declarations, EnglishSpec, read_english
+from ltl_stack.spec.english_files import read_english
+from ltl_stack.spec.english_reader import Declarations, EnglishSpec
 from ltl_stack.spec.errors import SpecError
 from ltl_stack.spec.formula import And, Const, Formula, Iff, Implies, Not, Or, Var, Xor, walk
 from ltl_stack.spec.model import Clause, Spec

@@ -41,7 +41,9 @@ def load_spec(path: str | Path) -> Spec:
     from ltl_stack.spec import english_reader
 
     if suffix in english_reader.ENGLISH_SUFFIXES and not english_reader.has_section_headers(text):
-        return english_reader.parse_english(text, file)
+        from ltl_stack.spec.english_files import parse_english
+
+        return parse_english(text, file)
     try:
         return parse_slugsin(text, file)
     except SpecError as as_slugsin:

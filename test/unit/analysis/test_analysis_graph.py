@@ -54,11 +54,12 @@ def test_incomplete_action_stays_topics():
 
 def test_default_ignore_list_drops_generic_topics_and_reports_them():
     g = graph_of({"/a": {"pub": ["/rosout", "/clock", "/tf", "/tf_static", "/rosout_agg", "/a/parameter_updates",
-                                 "/a/parameter_descriptions", "/cmd_vel"]},
-                  "/b": {"sub": ["/clock", "/tf", "/cmd_vel"]}})
+                                 "/a/parameter_descriptions", "/diagnostics", "/cmd_vel"]},
+                  "/b": {"sub": ["/clock", "/tf", "/cmd_vel"]},
+                  "/c": {"pub": ["/diagnostics", "/cmd_vel"]}})
     assert [c.name for c in g.channels] == ["/cmd_vel"]
     assert sorted(g.ignored) == sorted(["/rosout", "/clock", "/tf", "/tf_static", "/rosout_agg",
-                                        "/a/parameter_updates", "/a/parameter_descriptions"])
+                                        "/a/parameter_updates", "/a/parameter_descriptions", "/diagnostics"])
     assert set(DEFAULT_IGNORED_TOPICS) >= {"/rosout", "/clock", "/tf"}
 
 

@@ -33,35 +33,53 @@ def module_names(src: Path) -> dict[str, Path]:
     return found
 
 
-def imported(module: str, path: Path) -> list[str]:
-    """Every module name ``module`` imports, anywhere in its file, relative imports resolved."""
+def imported(module: str, path: Path) -> list[tuple[str, list[str]]]:
+    """``(origin, names)`` for every import statement that runs in ``module`` (``import a.b`` gives
+    ``("a.b", [])``), relative imports resolved. Imports under ``if TYPE_CHECKING:`` never run and are
+    left out; imports inside functions are in."""
     package = module if path.name == "__init__.py" else module.rpartition(".")[0]
-    names = []
-    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    skipped = {id(n) for block in ast.walk(tree) if isinstance(block, ast.If) and _type_checking(block.test)
+               for statement in block.body for n in ast.walk(statement)}
+    found = []
+    for node in ast.walk(tree):
+        if id(node) in skipped:
+            continue
         if isinstance(node, ast.Import):
-            names.extend(alias.name for alias in node.names)
+            found.extend((alias.name, []) for alias in node.names)
         elif isinstance(node, ast.ImportFrom):
             if node.level:
                 base = package.split(".")[:len(package.split(".")) - node.level + 1]
                 origin = ".".join(base + ([node.module] if node.module else []))
             else:
                 origin = node.module or ""
-            names.append(origin)
-            names.extend(f"{origin}.{alias.name}" for alias in node.names)
-    return names
+            found.append((origin, [alias.name for alias in node.names]))
+    return found
+
+
+def _type_checking(test: ast.expr) -> bool:
+    return (isinstance(test, ast.Name) and test.id == "TYPE_CHECKING") or \
+        (isinstance(test, ast.Attribute) and test.attr == "TYPE_CHECKING")
 
 
 def import_graph(src: Path) -> dict[str, set[str]]:
-    """Module -> the modules of the same tree it imports (``from p import m`` counts as importing p.m)."""
+    """Module -> the modules of the same tree it imports: ``from p import m`` imports the module
+    ``p.m`` when there is one, else (a name defined in ``p``) the module ``p``."""
     modules = module_names(src)
+
+    def known(name: str) -> str:
+        while name and name not in modules:
+            name = name.rpartition(".")[0]
+        return name
+
     graph = {}
     for module, path in modules.items():
         targets = set()
-        for name in imported(module, path):
-            while name and name not in modules:
-                name = name.rpartition(".")[0]
-            if name and name != module:
-                targets.add(name)
+        for origin, names in imported(module, path):
+            submodules = [f"{origin}.{name}" for name in names if f"{origin}.{name}" in modules]
+            found = submodules if submodules and len(submodules) == len(names) else \
+                submodules + [known(origin)]
+            targets.update(name for name in found if name and name != module)
         graph[module] = targets
     return graph
 
@@ -87,7 +105,7 @@ def ros_or_qt_in_pure_layers(src: Path) -> list[str]:
     for module, path in module_names(src).items():
         if layer(module) not in PURE:
             continue
-        for name in imported(module, path):
+        for name, _names in imported(module, path):
             top = name.split(".")[0]
             own_messages = name.startswith(("ltl_stack.msg", "ltl_stack.srv"))
             if top in ROS_OR_QT or top.endswith(("_msgs", "_srvs")) or own_messages:
@@ -178,14 +196,14 @@ def tree(tmp_path):
 
 def test_the_checks_pass_a_tree_that_keeps_the_rule(tree):
     graph = import_graph(tree)
-    assert graph["ltl_stack.runtime.controller"] == {"ltl_stack.spec", "ltl_stack.spec.model"}
+    assert graph["ltl_stack.runtime.controller"] == {"ltl_stack.spec.model"}
+    assert graph["ltl_stack.ros.node"] == {"ltl_stack.runtime.controller"}
     assert upward_imports(graph) == [] and cycles(graph) == [] and ros_or_qt_in_pure_layers(tree) == []
 
 
 def test_an_upward_import_inside_a_function_is_found(tree):
     write_tree(tree, {"ltl_stack/spec/model.py": "def f():\n    from ltl_stack.ros import node\n"})
-    assert upward_imports(import_graph(tree)) == ["ltl_stack.spec.model (spec) -> ltl_stack.ros (ros)",
-                                                  "ltl_stack.spec.model (spec) -> ltl_stack.ros.node (ros)"]
+    assert upward_imports(import_graph(tree)) == ["ltl_stack.spec.model (spec) -> ltl_stack.ros.node (ros)"]
 
 
 def test_a_sideways_import_between_layers_of_one_rank_is_found(tmp_path):
@@ -193,7 +211,6 @@ def test_a_sideways_import_between_layers_of_one_rank_is_found(tmp_path):
                                  "ltl_stack/analysis/a.py": "from ltl_stack.transfer import b\n",
                                  "ltl_stack/transfer/b.py": ""})
     assert upward_imports(import_graph(root)) == [
-        "ltl_stack.analysis.a (analysis) -> ltl_stack.transfer (transfer)",
         "ltl_stack.analysis.a (analysis) -> ltl_stack.transfer.b (transfer)"]
 
 
@@ -204,15 +221,26 @@ def test_ros_and_qt_in_a_pure_layer_are_found(tree):
                                                          "from ltl_stack.msg import ControllerState\n"})
     assert ros_or_qt_in_pure_layers(tree) == [
         "ltl_stack.runtime.controller imports ltl_stack.msg",
-        "ltl_stack.runtime.controller imports ltl_stack.msg.ControllerState",
         "ltl_stack.runtime.controller imports python_qt_binding",
-        "ltl_stack.runtime.controller imports python_qt_binding.QtCore",
         "ltl_stack.runtime.controller imports rospy.names",
-        "ltl_stack.runtime.controller imports std_msgs.msg",
-        "ltl_stack.runtime.controller imports std_msgs.msg.Bool"]
+        "ltl_stack.runtime.controller imports std_msgs.msg"]
 
 
 def test_a_cycle_through_a_function_level_import_is_found(tree):
     write_tree(tree, {"ltl_stack/spec/other.py": "from ltl_stack.spec.model import y\n",
                       "ltl_stack/spec/model.py": "def f():\n    from . import other\n"})
     assert cycles(import_graph(tree)) == [["ltl_stack.spec.model", "ltl_stack.spec.other"]]
+
+
+def test_imports_for_type_checkers_only_do_not_count(tree):
+    write_tree(tree, {"ltl_stack/spec/model.py": "from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n"
+                                                 "    from ltl_stack.ros import node\n    import rospy\n"})
+    assert upward_imports(import_graph(tree)) == [] and ros_or_qt_in_pure_layers(tree) == []
+
+
+def test_a_name_from_a_package_is_an_import_of_the_package(tree):
+    write_tree(tree, {"ltl_stack/spec/__init__.py": "from ltl_stack.spec.model import Spec\n",
+                      "ltl_stack/spec/other.py": "from ltl_stack.spec import Spec\n"})
+    graph = import_graph(tree)
+    assert graph["ltl_stack.spec.other"] == {"ltl_stack.spec"}
+    assert cycles(graph) == []

@@ -4,7 +4,8 @@ from __future__ import annotations
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from ltl_stack.spec.english_reader import KEYWORDS, PHRASES, TEMPLATES, parse_english
+from ltl_stack.spec.english_files import parse_english
+from ltl_stack.spec.english_reader import KEYWORDS, PHRASES, TEMPLATES
 from ltl_stack.spec.errors import SpecError
 
 HEADER = "Sensors: person, door\nActions: move, stop\nActions with completion: pick\nMemory: seen\nRegions: r1, r2\n"

@@ -9,7 +9,7 @@ from english_testing import Bdds
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from ltl_stack.spec.english_reader import parse_english, read_english
+from ltl_stack.spec.english_files import parse_english, read_english
 from ltl_stack.spec.errors import SpecError
 from ltl_stack.spec.structured import parse_structured
 from ltl_stack.synthesis import is_realizable

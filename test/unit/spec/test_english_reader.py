@@ -7,7 +7,7 @@ from english_testing import CONFIG, DATA, REPO, Bdds, assert_equivalent, truth
 from spec_testing import SPECS
 
 from ltl_stack.spec import load_spec
-from ltl_stack.spec.english_reader import parse_english, read_english
+from ltl_stack.spec.english_files import parse_english, read_english
 from ltl_stack.spec.errors import SpecError
 from ltl_stack.spec.region_map import parse_region_map
 from ltl_stack.spec.structured import parse_structured

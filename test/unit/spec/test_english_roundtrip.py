@@ -11,7 +11,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from ltl_stack.analysis.suggest import MutualExclusion
-from ltl_stack.spec.english_reader import parse_english, read_english
+from ltl_stack.spec.english_files import parse_english, read_english
 from ltl_stack.spec.english_writer import append_sentences, clause_to_sentence, sentences_for, spec_sentences
 from ltl_stack.spec.errors import SpecError
 from ltl_stack.spec.formula import FALSE, TRUE, And, Const, Formula, Iff, Implies, Not, Or, Var, Xor

@@ -9,7 +9,7 @@ from english_testing import CONFIG, Bdds
 
 from ltl_stack.spec import activation_completion
 from ltl_stack.spec.activation_completion import at_most_one, exactly_one
-from ltl_stack.spec.english_reader import parse_english
+from ltl_stack.spec.english_files import parse_english
 from ltl_stack.spec.formula import children
 from ltl_stack.synthesis import is_realizable
 

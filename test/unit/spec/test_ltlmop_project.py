@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from ltl_stack.spec import load_spec
-from ltl_stack.spec.english_reader import read_english
+from ltl_stack.spec.english_files import read_english
 from ltl_stack.spec.errors import SpecError
 from ltl_stack.spec.region_map import parse_region_map
 from ltl_stack.synthesis import is_realizable

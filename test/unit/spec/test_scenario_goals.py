@@ -12,7 +12,7 @@ import pytest
 from english_testing import CONFIG
 
 from ltl_stack.spec import load_spec
-from ltl_stack.spec.english_reader import parse_english
+from ltl_stack.spec.english_files import parse_english
 from ltl_stack.spec.formula import Formula, Implies, Not, Or, evaluate, variables
 from ltl_stack.spec.model import Spec
 from ltl_stack.synthesis import synthesize
