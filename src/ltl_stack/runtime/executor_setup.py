@@ -59,6 +59,7 @@ from ltl_stack.spec.valuation import parse_valuation
 from ltl_stack.synthesis import Automaton, synthesize
 from ltl_stack.synthesis.errors import LimitReached, SynthesisError
 from ltl_stack.synthesis.explicit import TooManyStates
+from ltl_stack.synthesis.game import backend_line
 
 NODE_NAME = "controller_executor"
 #: The explicit automaton is extracted (and its ids used) up to this many states by default.
@@ -343,7 +344,7 @@ def build_strategy(spec: Any, options: Options, log: Callable[[str], None] = pri
               if getattr(options, name) is not None}
     if characterization_on(options):
         return _resilient(spec, options, chosen, log)
-    log(f"synthesizing {spec.source} ...")
+    log(f"synthesizing {spec.source} ({backend_line()}) ...")
     result = synthesize(spec, **chosen, timeout=options.timeout or None)
     semantics = result.solution.robotics_semantics if result.solution is not None else chosen.get(
         "robotics_semantics")
@@ -363,7 +364,7 @@ def build_strategy(spec: Any, options: Options, log: Callable[[str], None] = pri
 
 def _resilient(spec: Any, options: Options, chosen: dict[str, Any], log: Callable[[str], None]) -> BackgroundResilience:
     threshold = threshold_of(options)
-    log(f"synthesizing {spec.source} ...")
+    log(f"synthesizing {spec.source} ({backend_line()}) ...")
     try:
         strategy = BackgroundResilience(
             spec, lock=None, recovery=options.recovery, characterize=True, threshold=threshold,

@@ -39,6 +39,7 @@ from ltl_stack.errors import Exit, OutputError
 from ltl_stack.spec.load import load_spec
 from ltl_stack.spec.model import Spec
 from ltl_stack.synthesis import LimitReached, synthesize
+from ltl_stack.synthesis.game import BACKEND, backend_line
 from ltl_stack.synthesis.options import (
     DEFAULT_MAX_MEMORY,
     Deadline,
@@ -148,6 +149,7 @@ def _synthesize(args: argparse.Namespace) -> int:
             "synthesis_seconds": round(result.seconds, 6),
             "z_iterations": result.solution.z_iterations,
             "warnings": list(spec.warnings),
+            "bdd_backend": BACKEND,
         }
         if result.realizable:
             from ltl_stack.synthesis.game import memory_guard
@@ -203,6 +205,8 @@ def _synthesize(args: argparse.Namespace) -> int:
         print(f"{verdict} ({result.seconds:.3f} s{extra}; {options.describe()})")
         if text:
             print(text, end="")
+        if BACKEND != "cudd":
+            cli.warn(PROG, backend_line())
     return Exit.OK if result.realizable else Exit.UNREALIZABLE
 
 

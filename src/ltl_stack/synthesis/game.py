@@ -93,6 +93,15 @@ finally:
         del sys.modules["networkx"]
 
 
+def backend_line() -> str:
+    """Which BDD package synthesis runs on, in the words a tool prints once; without CUDD also where to
+    read how to get it (dd has no CUDD wheel for Python 3.8; docs/python_versions.md)."""
+    if BACKEND == "cudd":
+        return "BDDs: CUDD (dd.cudd)"
+    return ("BDDs: dd's pure-Python dd.autoref, as this dd has no CUDD: the same answers, slower; "
+            "docs/python_versions.md says how to build dd with CUDD")
+
+
 #: node count from which building the game and solving it use dynamic reordering
 REORDER_THRESHOLD = 2_000
 
