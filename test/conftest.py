@@ -13,6 +13,7 @@ import mode).
 """
 from __future__ import annotations
 
+import gc
 import os
 import signal
 import socket
@@ -58,6 +59,16 @@ def _closed_port() -> int:
     with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
         s.bind(("127.0.0.1", 0))
         return s.getsockname()[1]
+
+
+@pytest.hookimpl(wrapper=True, tryfirst=True)
+def pytest_runtest_setup(item: pytest.Item):
+    """Collect the garbage the previous test of this worker left before this one starts (before
+    pytest-qt starts catching exceptions and before capsys): a BDD manager freed by the collector
+    in a reference cycle with its nodes makes dd print "Still N nodes referenced upon shutdown",
+    which must not land inside another test's body or captured output."""
+    gc.collect()
+    return (yield)
 
 
 def pytest_collection_modifyitems(session: pytest.Session, config: pytest.Config, items: list[pytest.Item]) -> None:
