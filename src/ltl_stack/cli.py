@@ -141,7 +141,7 @@ def _output_failed(prog: str, err: OSError, stream: TextIO) -> int:
 
 def _path_bytes(err: UnicodeError) -> tuple[str | bytes, int]:
     """Encoding error handler of a tool's stdout: a file name given on the command line that is not
-    UTF-8 (``\xff`` arrives as ``\udcff``) is written back as its own bytes, anything else the
+    UTF-8 (byte 0xff arrives as the lone surrogate U+DCFF) is written back as its own bytes, anything else the
     encoding cannot write as a backslash escape."""
     if isinstance(err, UnicodeEncodeError):
         part = err.object[err.start:err.end]
