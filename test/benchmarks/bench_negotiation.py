@@ -87,12 +87,12 @@ def in_process(repeat: int) -> float:
     a_spec = load_spec(KITCHEN / "kitchen_assistant.structuredslugs")
     d_classes = classes_from_mapping(load_mapping(KITCHEN / "delivery_agent.yaml"))
     a_classes = classes_from_mapping(load_mapping(KITCHEN / "kitchen_assistant.yaml"))
-    a_in = {n: False for n in a_spec.inputs} | A_IN
+    a_in = {**dict.fromkeys(a_spec.inputs, False), **A_IN}
     times = []
     for _ in range(repeat):
         start = time.perf_counter()
         d = Negotiation(d_spec, d_classes, "A", incoming=D_BLOCKED_IN, outputs=D_BLOCKED_OUT)
-        a = Negotiation(a_spec, a_classes, "D", incoming=a_in, outputs=dict.fromkeys(a_spec.outputs, False) | {"prepArea": True},
+        a = Negotiation(a_spec, a_classes, "D", incoming=a_in, outputs={**dict.fromkeys(a_spec.outputs, False), "prepArea": True},
                         initiator=False)
         drive(d, lambda m, a=a: answer(a, m))
         times.append(time.perf_counter() - start)

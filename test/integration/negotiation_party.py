@@ -47,8 +47,8 @@ def main() -> int:
     classes = classes_from_mapping(load_mapping(args.mapping))
     strategy = ResilientStrategy(spec, recovery=False)
     controller = Controller(strategy, settle_steps=0)
-    inputs = {n: False for n in spec.inputs} | json.loads(args.inputs)
-    controller.report_many({n: False for n in spec.inputs} | json.loads(args.start) if args.start else inputs)
+    inputs = {**dict.fromkeys(spec.inputs, False), **json.loads(args.inputs)}
+    controller.report_many({**dict.fromkeys(spec.inputs, False), **json.loads(args.start)} if args.start else inputs)
     negotiator = Negotiator(classes, path=args.adopted)
 
     def report(n) -> None:
@@ -61,7 +61,7 @@ def main() -> int:
                         auth=classes_authenticator(classes))
     print(json.dumps({"ready": rospy.get_name()}), flush=True)
     if args.role == "initiator":
-        outputs = {n: False for n in spec.outputs} | json.loads(args.outputs)
+        outputs = {**dict.fromkeys(spec.outputs, False), **json.loads(args.outputs)}
         negotiator.initiate(strategy.characterizer.original, args.peer, inputs, outputs)
     rospy.spin()
     return 0

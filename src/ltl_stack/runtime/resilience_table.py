@@ -215,7 +215,7 @@ def verdict(run: Run, figures: Mapping[str, int | bool]) -> str:
 
 
 def _inputs(story: Story, where: str | None, values: dict[str, bool]) -> dict[str, bool]:
-    return {f"{r}_c": r == where for r in story.regions} | values
+    return {**{f"{r}_c": r == where for r in story.regions}, **values}
 
 
 def _why(violation: AssumptionViolation) -> str:

@@ -63,7 +63,7 @@ def alice_run(rs: ResilientStrategy, script: dict, steps: int, user: str | None 
             else:
                 door[key] = value
         where = heading(state.outputs, ALICE_REGIONS)
-        inputs = {f"{r}_c": r == where for r in ALICE_REGIONS} | {"order": order, **door}
+        inputs = {**{f"{r}_c": r == where for r in ALICE_REGIONS}, "order": order, **door}
         state, raised = drive(controller, inputs)
         trace.append({"t": t, "at": where, "inputs": inputs, "heading": heading(state.outputs, ALICE_REGIONS),
                       "mode": rs.mode, "raised": raised})
@@ -154,7 +154,7 @@ def patrol_run(rs: ResilientStrategy, spill_steps: int, user: str) -> list[dict]
     robot's head before turning the alarm off (A1 broken)."""
     sensed = dict.fromkeys(["alarm", "spill", "tap", "metal", "glass", "paper"], False)
     controller = Controller(rs)
-    controller.report_many({f"{r}_c": r == "office" for r in PATROL_REGIONS} | sensed)
+    controller.report_many({**{f"{r}_c": r == "office" for r in PATROL_REGIONS}, **sensed})
     state = controller.state
     phase, since = "paper", 0
     where = "office"
@@ -176,7 +176,7 @@ def patrol_run(rs: ResilientStrategy, spill_steps: int, user: str) -> list[dict]
             sensed["tap"], phase = True, "tapped"  # the alarm is still on: A1 broken
         elif phase == "tapped":
             sensed["alarm"], phase = False, "done"
-        inputs = {f"{r}_c": r == where for r in PATROL_REGIONS} | sensed
+        inputs = {**{f"{r}_c": r == where for r in PATROL_REGIONS}, **sensed}
         state, raised = drive(controller, inputs)
         trace.append({"t": t, "at": where, "phase": phase, "outputs": dict(state.outputs), "raised": raised,
                       "mode": rs.mode})
@@ -334,8 +334,8 @@ def test_block_cutting_waits_for_the_block_instead_of_cutting_air(name, recovery
     quiet = dict.fromkeys(spec.inputs, False)
     controller.report_many(quiet)
     for _ in range(3):
-        state, raised = drive(controller, quiet | {"pickupTask": True})
+        state, raised = drive(controller, {**quiet, "pickupTask": True})
         assert raised is None and state.outputs["pickup"] is False
-    state, raised = drive(controller, quiet | {"pickupTask": True, "blockPresent": True})
+    state, raised = drive(controller, {**quiet, "pickupTask": True, "blockPresent": True})
     assert raised is None and state.outputs["pickup"] is True
     assert (rs.counters.resyntheses == 0) == recovery
