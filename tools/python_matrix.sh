@@ -1,16 +1,21 @@
 #!/usr/bin/env bash
-# The ROS-free unit suite under the other Pythons people run ROS 1 on (issue 27; docs/python_versions.md):
-# ./tools/test runs it after the main suite. For each version in LTL_STACK_PYTHONS (default "3.12 3.13"):
-# pyenv's newest interpreter of that version (else pythonX.Y on PATH; absent: a clear "skipped" line),
-# a venv of its own in $LTL_STACK_HOME/py<version> with requirements.txt's PyPI packages (made once per
-# requirements; kept under a lock, so concurrent runs wait instead of building twice), then pytest on
-# test/unit without ROS: the Qt panels and the tests that run the ROS node scripts need Debian's
-# Python 3.11 modules and stay in the main run. Exit status: the first failing version's pytest code.
+# The ROS-free unit suite under the other Pythons people run ROS 1 on (docs/python_versions.md):
+# ./tools/test runs it after the main suite. For each version in LTL_STACK_PYTHONS (default
+# "3.8 3.10 3.12 3.13"): pyenv's newest interpreter of that version (else pythonX.Y on PATH; absent: a
+# clear "skipped" line), a venv of its own in $LTL_STACK_HOME/py<version> with requirements.txt's PyPI
+# packages (made once per requirements; kept under a lock, so concurrent runs wait instead of building
+# twice), then pytest on test/unit without ROS: the Qt panels and the tests that run the ROS node
+# scripts need Debian's Python 3.11 modules and stay in the main run. Under 3.8 (ROS Noetic's Python)
+# a short integration leg follows: test/integration/test_noetic_python.py runs the controller executor
+# and a proposition node with that venv's packages first and Debian's ROS modules after them, on a
+# master of its own. Exit status: the first failing version's pytest code.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 ROOT=$PWD
 HOME_DIR=${LTL_STACK_HOME:-$HOME/.cache/ltl_stack}
-VERSIONS=${LTL_STACK_PYTHONS:-3.12 3.13}
+VERSIONS=${LTL_STACK_PYTHONS:-3.8 3.10 3.12 3.13}
+# the Python of ROS Noetic (Ubuntu 20.04): its leg also runs our nodes on a real master
+NOETIC=3.8
 
 say() { echo "[python-matrix] $*" >&2; }
 
@@ -76,6 +81,15 @@ for version in $VERSIONS; do
     test/unit "${NEEDS_ROS[@]}"
   code=$?
   set -e
+  if [ "$code" -eq 0 ] && [ "$version" = "$NOETIC" ]; then
+    say "Python $version: the executor and a proposition node on a real master (Debian's ROS modules after the venv's)"
+    # the main Python runs pytest and the master; the nodes run on this venv (LTL_STACK_NOETIC_VENV)
+    set +e
+    LTL_STACK_NOETIC_VENV="$venv" bash -c 'source tools/env.sh > /dev/null && exec python -m pytest -q \
+      -p no:cacheprovider -n 0 test/integration/test_noetic_python.py'
+    code=$?
+    set -e
+  fi
   if [ "$code" -ne 0 ] && [ "$status" -eq 0 ]; then
     status=$code
   fi
