@@ -45,6 +45,19 @@ ROS_PYTHON = importlib.util.find_spec("rosgraph") is not None and importlib.util
 ROS_FREE_SCRIPTS = frozenset({"synthesize", "generate_launch", "mine_channels"})
 
 
+def _bdd_backend() -> str:
+    from ltl_stack.synthesis.game import BACKEND
+
+    return BACKEND
+
+
+#: a test of what only CUDD does (the memory cap of --max-memory, dynamic reordering and its counts, the
+#: manager's statistics); Python 3.8's dd has no CUDD (docs/python_versions.md), and there synthesis
+#: runs on dd.autoref, which the rest of the suite tests
+needs_cudd = pytest.mark.skipif(_bdd_backend() != "cudd",
+                                reason="needs dd.cudd (CUDD), which this Python's dd wheel lacks")
+
+
 def script_marks(tool: str) -> list[pytest.MarkDecorator]:
     """``ros_python`` for a case that runs a script needing Debian's ROS Python modules."""
     return [] if tool in ROS_FREE_SCRIPTS else [pytest.mark.ros_python]

@@ -4,6 +4,7 @@ from __future__ import annotations
 import warnings
 
 import pytest
+from helpers import needs_cudd
 
 from ltl_stack.spec.slugsin import parse_slugsin
 from ltl_stack.synthesis import Game, order_cache, synthesize
@@ -34,6 +35,7 @@ def cache(tmp_path, monkeypatch):
     return folder
 
 
+@needs_cudd
 def test_a_second_run_of_the_same_spec_reorders_zero_times(cache):
     spec = crossed_spec()
     first = synthesize(spec)
@@ -45,6 +47,7 @@ def test_a_second_run_of_the_same_spec_reorders_zero_times(cache):
     assert second.game.count(second.solution.winning) == first.game.count(first.solution.winning)
 
 
+@needs_cudd
 def test_a_variant_with_the_same_propositions_starts_in_the_saved_order(cache):
     synthesize(crossed_spec())
     variant = Game(crossed_spec(goal="| y1 ! y1"))

@@ -6,7 +6,7 @@ from __future__ import annotations
 import warnings
 
 import pytest
-from helpers import require_shared, shared_dir
+from helpers import needs_cudd, require_shared, shared_dir
 
 from ltl_stack.spec import load_spec
 from ltl_stack.synthesis import Game, Options
@@ -52,6 +52,7 @@ def test_the_threshold_follows_the_size_of_the_built_game() -> None:
     assert reorder_threshold(game, big) == max(REORDER_THRESHOLD, int(BIG_GAME_GROWTH * game.nodes))
 
 
+@needs_cudd
 def test_a_big_game_starts_its_fixpoint_without_reordering() -> None:
     # moving_obstacle 16x16: a small game whose fixpoint grows ~20x; as a small game it sifts during
     # the fixpoint, treated as a big one (growth factor out of reach) it does not

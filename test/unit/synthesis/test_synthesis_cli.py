@@ -11,6 +11,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from helpers import needs_cudd
 
 from ltl_stack.errors import Exit
 from ltl_stack.synthesis import automaton as automaton_module
@@ -188,6 +189,7 @@ def test_an_unwritable_export_leaves_no_other_export(spec_file, tmp_path, capsys
     assert sorted(p.name for p in tmp_path.iterdir()) == ["spec.slugsin"], list(tmp_path.iterdir())
 
 
+@needs_cudd
 def test_the_memory_cap_is_a_limit_with_one_line(spec_file, tmp_path, capsys):
     small = main([spec_file(COPY), "--max-memory", "2M", "--quiet"])
     code = main([spec_file(random_cnf(), "cnf.structuredslugs"), "--max-memory", "2M",

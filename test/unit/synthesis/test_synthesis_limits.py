@@ -6,6 +6,7 @@ import resource
 import warnings
 
 import pytest
+from helpers import needs_cudd
 from hypothesis import given
 from hypothesis import strategies as st
 
@@ -86,6 +87,7 @@ def test_deadline_needs_a_positive_time(bad):
         Deadline(bad)
 
 
+@needs_cudd
 def test_memory_cap_in_force_from_the_first_clause():
     # a clause whose BDD alone needs more than the cap: no fixpoint runs before the limit
     variables = "\n".join(f"v{k}" for k in range(60))
