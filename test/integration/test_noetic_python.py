@@ -101,13 +101,17 @@ def test_executor_and_threshold_sensor_answer_an_input_change(noetic_python, req
 
     stop = ros.record(f"/{ns}/outputs/stop", Bool)
     executor = node("controller_executor", str(spec))
-    node("topic_threshold_sensor", f"__name:={ns}_person", f"_topic:=/{ns}/camera/person_distance",
-         "_type:=std_msgs/Float64", "_field:=data", "_comparison:=<", "_threshold:=1.5",
-         f"_proposition_topic:=/{ns}/inputs/person")
-    stop.wait_last(lambda b: b.data is False, what="stop false while nobody is near")
-    for distance, expected in ((0.8, True), (3.0, False), (1.0, True)):
-        ros.publish(f"/{ns}/camera/person_distance", Float64(data=distance))
-        stop.wait_last(lambda b, e=expected: b.data is e, what=f"stop {expected} at a person {distance} m away")
+    sensor = node("topic_threshold_sensor", f"__name:={ns}_person", f"_topic:=/{ns}/camera/person_distance",
+                  "_type:=std_msgs/Float64", "_field:=data", "_comparison:=<", "_threshold:=1.5",
+                  f"_proposition_topic:=/{ns}/inputs/person")
+    try:
+        stop.wait_last(lambda b: b.data is False, what="stop false while nobody is near")
+        for distance, expected in ((0.8, True), (3.0, False), (1.0, True)):
+            ros.publish(f"/{ns}/camera/person_distance", Float64(data=distance))
+            stop.wait_last(lambda b, e=expected: b.data is e, what=f"stop {expected} at a person {distance} m away")
+    except AssertionError as err:  # what the 3.8 nodes said (a traceback, an import error)
+        raise AssertionError(f"{err}\n--- executor ---\n{executor.output()[-3000:]}\n"
+                             f"--- sensor ---\n{sensor.output()[-3000:]}") from None
     log = executor.output()
     assert "Traceback" not in log, log[-4000:]
     assert "BDDs:" in log, log[-4000:]  # the backend line: this executor synthesized on 3.8's dd
