@@ -74,14 +74,21 @@ for version in $VERSIONS; do
     fi
   ) 9> "$HOME_DIR/py$version.lock" || { [ "$status" -ne 0 ] || status=3; continue; }
   say "Python $version ($("$venv/bin/python" --version 2>&1)): ROS-free unit suite"
+  # pytest-timeout is a hang guard (pytest.ini: 600 s a test); without CUDD (3.8: dd.autoref) a
+  # characterization test's resyntheses take tens of times the CPU, over 10 min on a loaded machine
+  timeout=600
+  [ "$version" != "$NOETIC" ] || timeout=2400
   # no ROS environment and no catkin workspace: the package from src/, nothing from Debian's 3.11
   set +e
   env -i HOME="$HOME" PATH="$venv/bin:/usr/bin:/bin" PYTHONPATH="$ROOT/src" LANG=C.UTF-8 \
-    "$venv/bin/python" -m pytest -q -p no:cacheprovider -n "${LTL_STACK_MATRIX_WORKERS:-2}" \
+    "$venv/bin/python" -m pytest -q -p no:cacheprovider -n "${LTL_STACK_MATRIX_WORKERS:-2}" --timeout "$timeout" \
     test/unit "${NEEDS_ROS[@]}"
   code=$?
   set -e
-  if [ "$code" -eq 0 ] && [ "$version" = "$NOETIC" ]; then
+  if [ "$code" -ne 0 ] && [ "$status" -eq 0 ]; then
+    status=$code
+  fi
+  if [ "$version" = "$NOETIC" ]; then
     say "Python $version: the executor and a proposition node on a real master (Debian's ROS modules after the venv's)"
     # the main Python runs pytest and the master; the nodes run on this venv (LTL_STACK_NOETIC_VENV)
     set +e
