@@ -294,6 +294,21 @@ def test_init_props_with_true_and_false_values_start_without_waiting(ros_master,
     probe.wait_value(OUT, False)
 
 
+def test_the_node_publishes_the_options_it_runs_with(ros_master, lock_spec):
+    start_executor(ros_master, lock_spec, "--rate", "5", "--no-cooperative", "_settle_steps:=3",
+                   "_on_violation:=all-false")
+
+    def effective():
+        code, _msg, value = ros_master.proxy().getParam("/pytest", "/controller_executor/effective_options")
+        return value if code == 1 else None
+
+    options = wait_for(effective, 90, "~effective_options on the parameter server")
+    assert {k: options[k] for k in ("rate", "cooperative", "settle_steps", "on_violation", "robotics_semantics",
+                                    "characterize", "heartbeat")} == {
+        "rate": 5.0, "cooperative": False, "settle_steps": 3, "on_violation": "all-false",
+        "robotics_semantics": True, "characterize": False, "heartbeat": 0.25}, options
+
+
 def test_second_publisher_on_an_input_topic_is_warned_about(ros_master, probes, lock_spec):
     executor = start_executor(ros_master, lock_spec, "--publisher-check-period", "0.3")
     first, second = probes([], "one"), probes([], "two")
