@@ -38,11 +38,11 @@ import time
 from collections import deque
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from enum import Enum
 from pathlib import Path
 from typing import Any, Callable, Optional
 
 from ltl_stack.fileio import write_atomic
+from ltl_stack.runtime.node_mode import Mode
 from ltl_stack.spec import (
     SpecError,
     formula_to_infix,
@@ -66,16 +66,6 @@ HISTORY_KEPT = 1
 EVENTS_KEPT = 1000
 #: the characters ``str.splitlines`` breaks a line at
 LINE_BREAKS = "\n\r\x0b\x0c\x1c\x1d\x1e\x85\u2028\u2029"
-
-
-class Mode(Enum):
-    """What a resilient controller is doing (for ``~state`` / diagnostics)."""
-
-    NORMAL = "normal"
-    RECOVERING = "recovering"
-    CHARACTERIZING = "characterizing"
-    WAITING_FOR_USER = "waiting_for_user"
-    ABORTED = "aborted"
 
 
 class ExecutionAborted(AssumptionViolation):
