@@ -254,7 +254,7 @@ def test_assumption_violation_is_diagnosed_and_outputs_follow_the_policy(ros_mas
     assert ["clause", f"{lock_spec}:{LOCK_CLAUSE_LINE}: | ! lock lock'"] in diag["values"], diag
     log = executor.wait_output("environment assumption violated")
     assert "Traceback" not in log, log
-    # Lemma 1(a) (issue 23): both policies keep busy' <-> lock' and out' <-> a' (a valuation keeps them):
+    # Lemma 1(a): both policies keep busy' <-> lock' and out' <-> a' (a valuation keeps them):
     # hold changes the one output that breaks them, all-false leaves true only what they need
     probe.wait_value(BUSY, False)
     probe.wait_value(OUT, True)

@@ -61,7 +61,7 @@ from ltl_stack.synthesis.recovery import StepKind, StepResult, UnsafeStep
 from ltl_stack.synthesis.strategy import State, SymbolicStrategy
 
 EC1, EC2 = "EC1", "EC2"
-#: attempts and events a resilient strategy keeps (issue 23: bounded memory under a violation flood)
+#: attempts and events a resilient strategy keeps (memory stays bounded under a flood of violations)
 HISTORY_KEPT = 1
 EVENTS_KEPT = 1000
 #: the characters ``str.splitlines`` breaks a line at
@@ -148,7 +148,7 @@ class Characterizer:
         #: ``HISTORY_KEPT`` are kept, so memory stays flat over hundreds of resyntheses)
         self.history: deque[Attempt] = deque(maxlen=HISTORY_KEPT)
         #: each input literal once (name, primed, value): the EC conjunctions share them, so a disjunct
-        #: holds one And and its tuple instead of 2-3 objects per input (issue 23: bounded memory)
+        #: holds one And and its tuple instead of 2-3 objects per input (bounded memory under a flood of violations)
         self._literals: dict[tuple[str, bool, bool], Formula] = {}
 
     # --- Alg. 2 -----------------------------------------------------------------------------------
@@ -301,7 +301,7 @@ class Characterizer:
 
 
 def _variables(formula: Formula) -> list[Var]:
-    return list(variables(formula))  # each shared subformula once: linear in the DAG (issue 28)
+    return list(variables(formula))  # each shared subformula once: work linear in the DAG, not the tree
 
 
 class Threshold:

@@ -12,7 +12,7 @@ automaton stays small:
 2. otherwise, for a move that reaches the current goal, one into a position from which the goal it
    advances to is reached soonest (the earliest of that goal's Y iterates, ``GoalLayers.Y``): slugs'
    twoDimensionalCost simple1 exported 20 states against slugs' 18 when the move kept an output the
-   next goal needs changed (issue 16);
+   next goal needs changed;
 3. then the outputs ``SymbolicStrategy.step`` picks (each output keeps its current value when it
    may, in the spec's output order).
 
@@ -72,18 +72,6 @@ class SymbolicStrategy(Protocol):
     def recovery_relations(self) -> Any: ...
 
     def _skip_satisfied(self, inputs: dict[str, bool], outputs: dict[str, bool], goal: int) -> int: ...
-
-
-def initial_states(strategy: SymbolicStrategy) -> list[State]:
-    """Every winning initial position (goal 0 unless already met there), ordered by ``State.id``."""
-    game = strategy.game
-    bdd = game.bdd
-    result = []
-    for a in bdd.pick_iter(strategy.initial, care_vars=set(game.variables)):
-        result.append(strategy.start_state({n: bool(a[n]) for n in game.inputs},
-                                           {n: bool(a[n]) for n in game.outputs}))
-    result.sort(key=lambda s: s.id)
-    return result
 
 
 def extract(strategy: SymbolicStrategy, *, max_states: int | None = None, progress: Progress | None = None,
@@ -410,7 +398,8 @@ class _Extraction:
         strategy = self.strategy
         game = self.game
         bdd = self.bdd
-        # ``initial_states`` as codes: ordered by ``State.id`` (goal, then the position's bits)
+        # every winning initial position (goal 0 unless already met there) as codes, ordered by
+        # ``State.id`` (goal, then the position's bits)
         starts = _Codes(bdd, self.current_bit)(strategy.initial)
         for goal, code in sorted((self.skip(code, 0), code) for code in starts):
             self.number(code, goal)

@@ -332,7 +332,7 @@ class SymbolicStrategy:
         same solution (no preference for moves that help the environment's liveness): the smaller
         is returned, provided that it never leaves the environment without an admissible input
         (``traps_environment``), so the default export is never larger than it needs to be for
-        that promise (fastslow_ICRA 599 -> 270 states, slugs 552; issue 28)."""
+        that promise (fastslow_ICRA 599 -> 270 states, slugs 552)."""
         with memory_guard(self.game.max_memory):
             if not self.cooperative:
                 return extract(self, max_states=max_states, progress=progress, recovery=recovery)
