@@ -25,7 +25,7 @@ in that chain when that state has the smaller goal.
 
 Each state's moves are computed at once as a BDD over the next inputs and outputs (the relation
 restricted to the state) and enumerated as integer codes (input k is bit k, output k bit
-n_in + k; ``_codes``), never one dict per valuation.
+n_in + k; ``_Codes``), never one dict per valuation.
 
 With ``recovery=True`` (Alg. 1 lines 19-25, ``ltl_stack.synthesis.recovery``) every (state, input)
 for which some move satisfies sys safety gets one edge: inputs that break env safety, and every
@@ -90,16 +90,6 @@ def traps_environment(game: Any, automaton: Automaton) -> bool:
     plain = automaton.metadata.get("states_without_recovery", len(automaton.states))
     return any(bdd.let(game.assignment({**s.inputs, **s.outputs}), alive) != bdd.true
                for s in automaton.states[:plain])
-
-
-def _codes(bdd, u, bit_of: dict[str, int]) -> list[int]:
-    """Every satisfying valuation of ``u`` over the variables of ``bit_of`` (which must cover its
-    support) as an integer with bit ``bit_of[v]`` set when v is true (see ``_Codes``)."""
-    codes = _Codes(bdd, bit_of)
-    try:
-        return codes(u)
-    finally:
-        codes.clear()
 
 
 class _Codes:
@@ -331,7 +321,8 @@ class _Extraction:
         """One move per next input of ``moves`` (a BDD over the next inputs and outputs): into an
         existing state when one is allowed; else, for a move that reaches the current goal, into a
         position from which the goal it advances to is reached soonest (``closer``); then each
-        output keeping its current value when it may (``keep_current`` restricted to this position)."""
+        output keeping its current value when it may, decided in the spec's output order (as
+        ``SymbolicStrategy`` steps)."""
         bdd = self.bdd
         game = self.game
         reuse = bdd.false
