@@ -95,19 +95,19 @@ def params_lookup(params: Mapping[str, Any]) -> ParamLookup:
     return lookup
 
 
-def merge_options(cli: Mapping[str, Any], lookup: ParamLookup = no_params) -> Options:
-    """CLI value if given (not None), else the ``~param`` if set, else the default; each checked
+def merge_options(given: Mapping[str, Any], lookup: ParamLookup = no_params) -> Options:
+    """The command line's value if given (not None), else the ``~param`` if set, else the default; each checked
     against its ``Param``. Raises ``ExecutorError`` naming the flag or parameter (also for a
     command-line value that is no option: a flag the parser has but no ``Options`` field)."""
-    unknown = sorted(set(cli) - set(PARAMS_BY_NAME))
+    unknown = sorted(set(given) - set(PARAMS_BY_NAME))
     if unknown:
         raise ExecutorError(f"{NODE_NAME}: {flag_of(unknown[0])} is not an option of the executor")
     values: dict[str, Any] = {}
     sources: dict[str, str] = {}
     for param in EXECUTOR_PARAMS:
         flag = flag_of(param.name)
-        if cli.get(param.name) is not None:
-            raw, source = cli[param.name], flag
+        if given.get(param.name) is not None:
+            raw, source = given[param.name], flag
         else:
             found, raw = lookup(param.name)
             source = f"~{param.name}" if found else "default"
