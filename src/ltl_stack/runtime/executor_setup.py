@@ -96,8 +96,8 @@ def params_lookup(params: Mapping[str, Any]) -> ParamLookup:
 
 
 def merge_options(given: Mapping[str, Any], lookup: ParamLookup = no_params) -> Options:
-    """The command line's value if given (not None), else the ``~param`` if set, else the default; each checked
-    against its ``Param``. Raises ``ExecutorError`` naming the flag or parameter (also for a
+    """The command line's value if given (not None), else the ``~param`` if set, else the default;
+    each checked against its ``Param``. Raises ``ExecutorError`` naming the flag or parameter (also for a
     command-line value that is no option: a flag the parser has but no ``Options`` field)."""
     unknown = sorted(set(given) - set(PARAMS_BY_NAME))
     if unknown:
