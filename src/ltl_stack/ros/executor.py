@@ -108,12 +108,15 @@ POLL_PERIOD = 0.1
 
 
 def build_parser() -> cli.ToolParser:
+    """The command line: SPEC, MAPPING, one flag per option of ``runtime.executor_options`` and
+    ``--check``/``--json``."""
     parser = cli.ToolParser(
         prog=PROG,
         description="Run a synthesized GR(1) controller as a ROS node (thesis 3.5.1): input propositions "
                     "arrive as std_msgs/Bool topics, output propositions leave as latched std_msgs/Bool topics.",
         epilog="Every option also reads the private parameter of the same name (~rate, ~on_violation, ...); "
-               "a flag on the command line wins. Every value is checked at start-up.",
+               "a flag on the command line wins. Every value is checked at start-up. The node publishes the "
+               "options it runs with, defaults filled in, as ~effective_options.",
         exit_codes=(Exit.OK, Exit.BAD_INPUT, Exit.LIMIT, Exit.UNREALIZABLE))
     parser.add_argument("spec", help="specification (.slugsin or structured)")
     parser.add_argument("mapping", nargs="?", help="proposition mapping YAML (default: every proposition on its "
