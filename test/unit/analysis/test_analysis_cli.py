@@ -276,7 +276,7 @@ def spec3_setup(folder: Path) -> list[str]:
 
 
 def test_apply_on_english_spec3_appends_sentences_and_names_the_assumption(tmp_path, capsys):
-    from ltl_stack.spec.english_writer import append_sentences
+    from ltl_stack.spec.english_files import append_sentences
     from ltl_stack.synthesis import is_realizable
 
     args = spec3_setup(tmp_path)
