@@ -247,7 +247,7 @@ def apply_text(applied: dict) -> str:
                        "exclusive is NOT enough on its own to make the spec realizable:")
         for sentence in hint.get("sentences", []):
             out.append(f"  Sentence to add: {sentence}")
-        out.append(f"  Structured English: {hint['english_expanded']}")
+        out.append(f"  In words: {hint['english_expanded']}")
         for section, line in hint["slugsin"].items():
             out.append(f"  .slugsin [{section}]: {line}")
     return "\n".join(out) + "\n"

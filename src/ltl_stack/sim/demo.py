@@ -534,7 +534,7 @@ KITCHEN_DONE = "C cooked the ingredients"
 def _follow_negotiation(args, launch, log_path: Path, problems: list[str], say) -> int:
     """Example 13: narrate the world's events (``/kitchen/kitchen_world/events``) and each negotiation
     (``/kitchen/<robot>/controller_executor/negotiations``: with whom, what was sent and received in
-    Structured English, the outcome) until C has cooked and D is back in company."""
+    in words, the outcome) until C has cooked and D is back in company."""
     import rospy
     from std_msgs.msg import String
 
