@@ -96,6 +96,7 @@ class EnglishSpec:
 
 
 def declare(decl: Declarations, m: re.Match, number: int, body: str, file: str, base_dir: Path) -> None:
+    """The declaration line ``body`` (line ``number``, matched by ``DECLARATION`` as ``m``) into ``decl``."""
     key = " ".join(m["key"].lower().split())
     column = body.index(m["key"][0]) + 1
     kind = DECLARATION_KINDS.get(key)
@@ -134,6 +135,7 @@ def _names(rest: str, column: int) -> list[tuple[str, int]]:
 
 
 def article(word: str) -> str:
+    """``a``/``an`` and ``word``."""
     return ("an " if word[:1] in "aeiou" else "a ") + word
 
 

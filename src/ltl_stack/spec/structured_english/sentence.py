@@ -67,8 +67,11 @@ class Sentence:
                 raise self.error(t.column, "a period ends a sentence; write one sentence per line")
         return out
 
+    # -- pieces the sentence forms share -----------------------------------------------------
+
     @staticmethod
     def combine(how: str, cond: Formula, req: Formula) -> Formula:
+        """The requirement ``req`` under the condition ``cond``: ``if`` (->), ``iff`` (<->) or ``unless`` (or)."""
         if how == "if":
             return Implies(cond, req)
         if how == "iff":

@@ -17,6 +17,8 @@ TOKEN = re.compile(r"(?P<space>\s+)|(?P<word>[A-Za-z_][A-Za-z0-9_]*)|(?P<number>
 
 
 class Token:
+    """A word, number, parenthesis, comma or period of a sentence line, at its 1-based column."""
+
     __slots__ = ("kind", "text", "column", "low")
 
     def __init__(self, kind: str, text: str, column: int):
