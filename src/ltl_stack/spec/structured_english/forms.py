@@ -7,8 +7,9 @@ A ``SentenceForm`` declares everything about one form in one place:
   before the forms whose recognizers also accept its sentences (``visit R and stay there`` before
   ``visit R``; every form before ``safety``, which reads anything left);
 - ``build(r)``: the GR(1) clauses of the sentence, as (section, formula) pairs;
-- ``templates``: the form with ``<kind>`` placeholders, for documentation, hints and the fuzz tests;
-- ``words``: the words the form adds to the vocabulary a hint may use in place of a misspelt one;
+- ``templates``: the form with ``<kind>`` placeholders (``TEMPLATES``: documentation, the fuzz tests);
+- ``words``: the words the form adds to the vocabulary of hints: a hint (``reader._closest_form``)
+  puts one in place of a misspelt word, or inserts a word that completes a form, if the result reads;
 - ``follows_always``: the form may follow ``Always`` (``Always if C then …``);
 - ``write_clause(w, f, section, env)`` and ``write_group(group, w)``: the writer's counterpart (see
   ``writer``): one clause as a sentence of this form, or the clauses that one sentence of this form
