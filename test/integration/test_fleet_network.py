@@ -238,4 +238,5 @@ def test_over_a_slow_lossy_link_a_region_change_is_no_assumption_violation(hosts
     assert "violated" not in executor.output() and "mode holding" not in executor.output(), executor.output()[-3000:]
     assert executor.output().count("step to state") == crossings, executor.output()[-3000:]  # one per crossing
     last = "!a_rc b_rc -> outputs !x" if crossings % 2 else "a_rc !b_rc -> outputs x"
-    assert executor.output().rstrip().splitlines()[-1].endswith(last), executor.output()[-3000:]
+    steps = [line for line in executor.output().splitlines() if "step to state" in line]
+    assert steps[-1].endswith(last), executor.output()[-3000:]  # (other lines, e.g. a WARN, may follow)
