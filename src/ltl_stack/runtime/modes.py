@@ -153,11 +153,11 @@ def liveness_refusal(characterize: bool, started: bool, mode: str) -> str | None
     if not characterize:
         return ("environment characterization is off: start the executor with --characterize or "
                 "--characterized-spec FILE (docs/resilience.md)")
-    if mode == "aborted":
+    if mode == Mode.ABORTED.value:
         return "already aborted: every output is false"
     if not started:
         return "not ready: the controller has not started yet (waiting for every input to report)"
-    if mode != "waiting_for_user":
+    if mode != Mode.WAITING_FOR_USER.value:
         return (f"not waiting for the user (mode {mode}): an environment liveness assumption is taken after "
                 "environment characterization found no realizable specification (docs/resilience.md)")
     return None
