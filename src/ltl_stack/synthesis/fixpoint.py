@@ -151,15 +151,20 @@ def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = Fa
     opts = options or Options()
     start = time.perf_counter()
     kind = kernel.requested() if opts.kernel is None else opts.kernel
+    if kind not in kernel.KINDS:
+        raise ValueError(f"unknown BDD kernel {kind!r}; expected one of {', '.join(kernel.KINDS)}")
     if kind != "cudd" and kernel.available() and BACKEND == "cudd":
-        try:
-            return _solve(game, robotics_semantics, early_exit, cooperative, opts, progress,
-                          stop_after=None if kind == "oxidd" else kernel.WARMUP_CPRE)
-        except _WarmedUp:
-            pass
+        if kind == "auto":
+            try:
+                return _solve(game, robotics_semantics, early_exit, cooperative, opts, progress,
+                              stop_after=kernel.WARMUP_CPRE)
+            except _WarmedUp:
+                pass
         try:
             return _solve_oxidd(game, robotics_semantics, early_exit, cooperative, opts, progress, start)
-        except kernel.OxiddMemoryError:
+        except Exception as e:
+            if not kernel.is_memory_error(e):
+                raise
             if progress:
                 progress("oxidd ran out of its memory share: solving in CUDD")
     return _solve(game, robotics_semantics, early_exit, cooperative, opts, progress)

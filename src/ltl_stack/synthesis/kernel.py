@@ -29,54 +29,89 @@ the choice; ``choose`` documents the automatic one.
 from __future__ import annotations
 
 import copy
+import importlib.util
 import os
 from collections.abc import Iterable, Mapping
 
-try:  # pragma: no cover - depends on the installation
-    from oxidd.bcdd import BCDDManager as _OxManager
-    from oxidd.protocols import BooleanOperator as _Op
-    from oxidd.util import DDMemoryError as OxiddMemoryError
+_OXIDD: list = []  # the imported (BCDDManager, BooleanOperator, DDMemoryError), once needed
 
-    OXIDD = True
-except ImportError:  # pragma: no cover
-    OXIDD = False
 
-    class OxiddMemoryError(Exception):  # type: ignore[no-redef]
-        """Stands in for oxidd's memory error when oxidd is absent."""
+def _oxidd() -> tuple:
+    """oxidd's classes, imported on first use (``import oxidd`` costs ~0.1 s of start-up)."""
+    if not _OXIDD:
+        from oxidd.bcdd import BCDDManager
+        from oxidd.protocols import BooleanOperator
+        from oxidd.util import DDMemoryError
+
+        _OXIDD.extend((BCDDManager, BooleanOperator, DDMemoryError))
+    return tuple(_OXIDD)
 
 
 #: environment variable that forces the kernel: "cudd", "oxidd" or "auto"
 KERNEL_ENV = "LTL_STACK_KERNEL"
+#: the kernel choices ("auto": oxidd when installed and the fixpoint outlasts the warm-up)
+KINDS = ("auto", "cudd", "oxidd")
 #: the automatic choice takes oxidd for games whose fixpoint needs at least this many controllable
 #: predecessors in the warm-up (smaller fixpoints end in CUDD before the copy could pay)
 WARMUP_CPRE = 48
-#: bytes per oxidd inner node and apply-cache entry, to size its manager from the memory cap
+#: bytes an oxidd inner node takes with its share of the unique table (to size the node table
+#: from the memory cap: oxidd fails with its ``DDMemoryError`` past it, and ``solve`` falls back to CUDD)
 NODE_BYTES = 32
+#: share of the game's memory cap given to oxidd's nodes (CUDD keeps the game meanwhile)
+SHARE = 0.5
+#: apply-cache entries (allocated up front, unlike CUDD's growing cache: ~100 MB)
+CACHE_ENTRIES = 1 << 22
+
+
+def capacity(max_memory: int) -> tuple[int, int]:
+    """(inner nodes, apply-cache entries) of the oxidd manager for a memory cap of ``max_memory`` bytes."""
+    nodes = max(1 << 16, int(max_memory * SHARE) // NODE_BYTES)
+    return nodes, min(CACHE_ENTRIES, max(1 << 12, nodes // 4))
 
 
 def requested() -> str:
     """The kernel asked for by ``LTL_STACK_KERNEL`` ("auto" when unset or unknown)."""
     value = os.environ.get(KERNEL_ENV, "auto").strip().lower()
-    return value if value in ("cudd", "oxidd", "auto") else "auto"
+    return value if value in KINDS else "auto"
+
+
+_AVAILABLE: list = []
 
 
 def available() -> bool:
-    """Whether oxidd can be used (installed and importable)."""
-    return OXIDD
+    """Whether oxidd is installed (found without importing it)."""
+    if not _AVAILABLE:
+        _AVAILABLE.append(importlib.util.find_spec("oxidd") is not None)
+    return _AVAILABLE[0]
+
+
+def is_memory_error(error: BaseException) -> bool:
+    """Whether ``error`` is oxidd's "out of memory" (its node table reached ``capacity``)."""
+    return bool(_OXIDD) and isinstance(error, _OXIDD[2])
+
+
+def describe(kind: str | None = None) -> str:
+    """The kernel choice in words, for the backend line tools print once."""
+    kind = requested() if kind is None else kind
+    if kind == "cudd" or not available():
+        return "fixpoints in CUDD" + ("" if kind == "cudd" else " (oxidd not installed)")
+    if kind == "oxidd":
+        return "fixpoints in oxidd"
+    return f"fixpoints in oxidd when they outlast {WARMUP_CPRE} controllable predecessors in CUDD"
 
 
 class OxiddManager:
     """``dd``'s manager interface (the part the fixpoint uses) on an oxidd BCDD manager.
 
     Variables are named as in the CUDD manager and created in ``order`` (top first): oxidd keeps that
-    order. ``max_memory`` bytes bound the node table and the apply cache (``OxiddMemoryError``).
+    order. ``max_memory`` bytes bound the node table (``capacity``; oxidd's ``DDMemoryError`` past it).
     """
 
     kernel = "oxidd"
 
     def __init__(self, order: list[str], max_memory: int) -> None:
-        nodes = max(1 << 16, max_memory // (2 * NODE_BYTES))
-        self._m = _OxManager(nodes, max(1 << 14, nodes // 4), 1)
+        manager, self._op, _ = _oxidd()
+        self._m = manager(*capacity(max_memory), 1)
         self._index = {name: i for i, name in zip(self._m.add_named_vars(order), order)}
         self._names = {i: name for name, i in self._index.items()}
         self.true = self._m.true()
@@ -105,10 +140,10 @@ class OxiddManager:
         return u.forall(self._cube(names))
 
     def and_exists(self, u, v, names: Iterable[str]):
-        return u.apply_exists(_Op.AND, v, self._cube(names))
+        return u.apply_exists(self._op.AND, v, self._cube(names))
 
     def or_forall(self, u, v, names: Iterable[str]):
-        return u.apply_forall(_Op.OR, v, self._cube(names))
+        return u.apply_forall(self._op.OR, v, self._cube(names))
 
     def let(self, renaming: Mapping[str, object], u):
         """``u`` with each variable named in ``renaming`` replaced by its function (a parallel
