@@ -198,7 +198,7 @@ outputs:
 #: A robot crossing between regions a and b every second, localized as region_localization does:
 #: the whole valuation on ~valuation, then old region off, then new region on, on two Bool topics.
 CROSSINGS = '''
-import sys, time
+import os, sys, time
 import ltl_stack.ros  # noqa: F401
 import rospy
 from std_msgs.msg import Bool
@@ -215,10 +215,9 @@ bools["a"].publish(Bool(True))
 bools["b"].publish(Bool(False))
 while bools["a"].get_num_connections() < 1 or bools["b"].get_num_connections() < 1:
     time.sleep(0.1)
-deadline = time.monotonic() + 20  # an executor that reads ~valuation has connected to it by then
-while whole.get_num_connections() < 1 and time.monotonic() < deadline:
+go = sys.argv[2]  # the test creates it once the executor has the first ~valuation
+while not os.path.exists(go):
     time.sleep(0.1)
-time.sleep(2.0)
 for k in range(int(sys.argv[1])):
     there = "b" if here == "a" else "a"
     whole.publish(valuation_to_msg({topics[here]: False, topics[there]: True}))
@@ -247,8 +246,14 @@ def test_over_a_slow_lossy_link_a_region_change_is_no_assumption_violation(hosts
     executor = hosts.run(0, ["rosrun", "ltl_stack", "controller_executor", str(spec), str(mapping), "--no-recovery"],
                          hosts.env(0, 0, PORT), "executor")
     crossings = 12
-    robot = hosts.run(1, [sys.executable, str(script), str(crossings), "__ns:=/loc"], hosts.env(1, 0, PORT),
+    go = tmp_path / "go"
+    robot = hosts.run(1, [sys.executable, str(script), str(crossings), str(go), "__ns:=/loc"], hosts.env(1, 0, PORT),
                       "localization")
+    # until the first ~valuation has crossed the lossy link the executor can only read the two Bool
+    # topics (a region change is then two messages): the crossings start once it reads the valuation
+    wait_for(lambda: "now come from /loc/localization/valuation" in executor.output(), 120,
+             "the executor reading the localization's ~valuation")
+    go.touch()
     robot.wait_output("done", timeout=180)
     wait_for(lambda: executor.output().count("step to state") >= crossings or "violated" in executor.output(), 120,
              "the executor's steps for every crossing")
