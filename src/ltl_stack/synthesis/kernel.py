@@ -256,6 +256,9 @@ def oxidd_game(game, max_memory: int):
     ox = OxiddManager(sorted(levels, key=levels.get), max_memory)
     copier = Copier(bdd, ox)
     view = copy.copy(game)
+    for name in list(vars(view)):  # a method replaced on the instance would run on CUDD's BDDs
+        if callable(getattr(type(game), name, None)):
+            delattr(view, name)
     view.bdd = ox
     view.true, view.false = ox.true, ox.false
     view.may_reorder = False
