@@ -26,6 +26,9 @@ Techniques (each can be switched off to measure it, see ``Options``):
   every intermediate Y stays below it), so Y needs fewer rounds; on the grid-patrol family this
   halves the number of cpre calls.
 - the first X iterate from ``true`` is ``live | (!asm_i & cpre(true))`` with cpre(true) computed once.
+- *the kernel* (``kernel.py``): a fixpoint that outlasts ``kernel.WARMUP_CPRE`` controllable
+  predecessors in CUDD is redone in oxidd, in the order CUDD has sifted into, and its sets are copied
+  back (basicEvasion 53 -> 8 s CPU); ``Options.kernel`` / ``LTL_STACK_KERNEL`` choose it.
 
 When no liveness formula mentions next-state variables, the equivalent state-based iterates of
 Bloem et al. (JCSS 2012) are used instead: ``X = (goal_j & cpre(Z')) | cpre(Y') | (!asm_i & cpre(X'))``
