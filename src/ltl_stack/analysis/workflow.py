@@ -16,6 +16,7 @@ from dataclasses import dataclass, replace
 from ltl_stack.analysis import report
 from ltl_stack.analysis.checks import Analysis, analyze, e2_groups
 from ltl_stack.analysis.graph import DEFAULT_IGNORED_TOPICS, DEFAULT_MERGERS, ComputationGraph
+from ltl_stack.analysis.graph_checks.p1_input_publishers import CHECK as P1
 from ltl_stack.analysis.snapshot import Snapshot
 from ltl_stack.analysis.suggest import (
     MutualExclusion,
@@ -38,9 +39,9 @@ from ltl_stack.runtime.mapping import (
 )
 from ltl_stack.spec import formula_to_slugsin, load_spec, write_slugsin
 from ltl_stack.spec.english_files import parse_english
-from ltl_stack.spec.english_reader import ENGLISH_SUFFIXES, has_section_headers
-from ltl_stack.spec.english_writer import sentences_for
 from ltl_stack.spec.model import SLUGSIN_SECTIONS, Spec
+from ltl_stack.spec.structured_english import ENGLISH_SUFFIXES, has_section_headers
+from ltl_stack.spec.structured_english.writer import sentences_for
 from ltl_stack.synthesis import is_realizable
 from ltl_stack.synthesis.explain import explain
 from ltl_stack.synthesis.explain_render import explanation_dict, explanation_text
@@ -106,7 +107,7 @@ def problems(analysis: Analysis, mapping: Mapping, issues: Sequence[MappingIssue
     if analysis.unmapped:
         found.append(Problem(UNMAPPED, "warning", f"not mapped to any node (left out): {', '.join(analysis.unmapped)}"))
     for f in analysis.p1:  # P1 (thesis 3.5.1): the same finding the report lists, as a problem to fix first
-        found.append(Problem(PUBLISHERS, "error", f"{INPUT} {f.input}: topic {f.topic} is also published by "
+        found.append(Problem(PUBLISHERS, P1.severity, f"{INPUT} {f.input}: topic {f.topic} is also published by "
                              f"{', '.join(f.others)}; an input topic takes exactly one node (thesis 3.5.1)", f.input))
     found += wrong_types(analysis, mapping, snapshot)
     return found
@@ -191,7 +192,7 @@ def apply_suggestions(spec: Spec, suggestions: list[MutualExclusion], out: str,
 
 
 def english_sentences(spec: Spec, suggestion: MutualExclusion) -> list[str]:
-    """A suggestion as Structured English sentences of ``spec``'s language (``english_writer``):
+    """A suggestion as Structured English sentences of ``spec``'s language (``structured_english.writer``):
     ``a, b and c are mutually exclusive``, ``Assume x, y and z are mutually exclusive``."""
     return sentences_for(spec, list(suggestion.clauses().items()))
 
@@ -247,7 +248,7 @@ def apply_text(applied: dict) -> str:
                        "exclusive is NOT enough on its own to make the spec realizable:")
         for sentence in hint.get("sentences", []):
             out.append(f"  Sentence to add: {sentence}")
-        out.append(f"  Structured English: {hint['english_expanded']}")
+        out.append(f"  In words: {hint['english_expanded']}")
         for section, line in hint["slugsin"].items():
             out.append(f"  .slugsin [{section}]: {line}")
     return "\n".join(out) + "\n"

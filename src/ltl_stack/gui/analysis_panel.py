@@ -3,8 +3,8 @@
 Snapshot the live graph or load a saved snapshot, fill in Robots and Robot topics to ignore, Analyze:
 one table per check (E1, E2 grouped by topic, E3, C1, C2) with the witness chains; selecting a row
 selects every row of its finding (an E2 topic's outputs) and draws the chains' subgraph with the
-conflicting channel in red. The suggested constraints are shown as Structured English, LTL or
-``.slugsin``; "Apply and check" writes the amended spec, synthesizes it and shows whether it is
+conflicting channel in red. Each suggested constraint is shown as its Structured English sentence with its formula in words, as
+LTL or as ``.slugsin``; "Apply and check" writes the amended spec, synthesizes it and shows whether it is
 realizable, or the explanation and the assume-exclusive hint of thesis Example 9. The snapshot, the
 analysis and the synthesis run off the GUI thread. All logic is in ``analysis_model``.
 """
@@ -35,7 +35,8 @@ from python_qt_binding.QtWidgets import (
     QWidget,
 )
 
-from ltl_stack.analysis.report import CHECKS, FEEDBACK_TITLE
+from ltl_stack.analysis.graph_checks import BY_CODE
+from ltl_stack.analysis.report import FEEDBACK_TITLE
 from ltl_stack.gui.analysis_model import (
     CHECK_KEYS,
     FEEDBACK_KEY,
@@ -150,7 +151,8 @@ class AnalysisPanel(QWidget):
             self.models[key], self.views[key] = model, view
             self.findings_tab_widget.addTab(view, TAB_TITLES[key])
             self.findings_tab_widget.setTabToolTip(self.findings_tab_widget.count() - 1,
-                                                   FEEDBACK_TITLE if key == FEEDBACK_KEY else f"{key}: {CHECKS[key]}")
+                                                   FEEDBACK_TITLE if key == FEEDBACK_KEY else
+                                                   f"{key}: {BY_CODE[key].title}\n{BY_CODE[key].explanation}")
         self.findings_tab_widget.currentChanged.connect(lambda _i: self._on_selection(self.current_key()))
         self.graph_view = GraphView()
         self.graph_view.setObjectName("conflict_graphics_view")

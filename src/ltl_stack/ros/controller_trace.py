@@ -5,7 +5,7 @@ state: what the controller senses, what it does and what changed; and one line p
 resilience mode (normal, recovering, holding, characterizing, waiting_for_user, aborted; thesis ch. 4)
 and per resynthesis (EC1/EC2/user counters), with the violated environment-safety clauses; and each
 finished integrative negotiation (the executor's ``~negotiations``: with whom, the clauses sent and
-received in Structured English, the outcome; thesis §4.8, docs/negotiation.md). With ``--cycles N`` it exits after
+received in words, the outcome; thesis §4.8, docs/negotiation.md). With ``--cycles N`` it exits after
 the strategy has gone N times through all system goals (the spec tells how many there are). With
 ``--bag FILE`` it replays the states recorded in a rosbag instead (no master needed).
 """
@@ -24,6 +24,7 @@ from ltl_stack.msg import ControllerState
 from ltl_stack.ros.master import init_node, master_uri, ros_name, wait_for_master
 from ltl_stack.ros.valuation import MalformedValuation, step_of
 from ltl_stack.runtime.negotiation import report_lines
+from ltl_stack.runtime.node_mode import Mode
 from ltl_stack.runtime.trace import GoalCycles, TraceStep, describe
 from ltl_stack.spec import load_spec
 
@@ -39,7 +40,7 @@ class ControllerTrace:
         self.json_lines = json_lines
         self.out = out
         self.steps: list[TraceStep] = []
-        self.mode = "normal"
+        self.mode = Mode.NORMAL.value
         self.resyntheses = (0, 0, 0, 0)
         self.cycles = GoalCycles(goals) if goals else None
         self.changed = threading.Condition()
@@ -99,7 +100,7 @@ class ControllerTrace:
 
     def _resilience(self, msg) -> None:
         """A line when the mode or the resynthesis counters change."""
-        mode = msg.mode or "normal"
+        mode = msg.mode or Mode.NORMAL.value
         counts = (msg.resyntheses, msg.resyntheses_ec1, msg.resyntheses_ec2, msg.resyntheses_user)
         if (mode, counts) == (self.mode, self.resyntheses):
             return

@@ -109,7 +109,7 @@ def main(argv: list[str] | None = None) -> int:
 def script() -> NoReturn:
     """``synthesize`` as a process (``scripts/synthesize``, ``python -m``): ``main``, then the
     process ends without Python's teardown (``cli.imports_done``, ``cli.exit_now``: ~13 ms of a
-    run on a small spec; issue 16)."""
+    run on a small spec)."""
     cli.imports_done()
     cli.exit_now(main())
 
@@ -150,6 +150,7 @@ def _synthesize(args: argparse.Namespace) -> int:
             "z_iterations": result.solution.z_iterations,
             "warnings": list(spec.warnings),
             "bdd_backend": BACKEND,
+            "kernel": result.solution.kernel,
         }
         if result.realizable:
             from ltl_stack.synthesis.game import memory_guard

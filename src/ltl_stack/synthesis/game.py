@@ -30,8 +30,7 @@ Stable API (other modules, ``explain.py`` and the differential tests rely on it)
                                   into ``target`` (Eq. 4.2's controllable predecessor)
 - ``cpre_env(target)``            positions from which the environment can force it (dual operator)
 - ``deadlock_free_sys_rel()``     ``sys_rel`` restricted to moves after which the environment
-                                  still has an admissible input (used by the cooperative strategy);
-                                  ``deadlock_free_sys_trans()`` as one BDD
+                                  still has an admissible input (used by the cooperative strategy)
 - ``alive()``                     positions with an admissible next input (``exists next. env_trans``)
 - ``admissible(values)``          ``env_trans`` restricted to a valuation (stepping: false = violated)
 - ``joint_rel(sys_rel)``          ``env_trans & sys_trans`` as one relation (cooperative analyses)
@@ -58,7 +57,7 @@ from contextlib import contextmanager
 
 from ltl_stack.spec.formula import And, Const, Formula, Iff, Implies, Not, Or, Var, Xor
 from ltl_stack.spec.model import SECTIONS, Clause, Spec
-from ltl_stack.synthesis import order_cache
+from ltl_stack.synthesis import kernel, order_cache
 from ltl_stack.synthesis.errors import MemoryLimitReached
 from ltl_stack.synthesis.options import LOOSE_UP_TO, MANAGER_ESTIMATE, NO_DEADLINE, Deadline, memory_cap
 from ltl_stack.synthesis.relation import Relation
@@ -94,10 +93,11 @@ finally:
 
 
 def backend_line() -> str:
-    """Which BDD package synthesis runs on, in the words a tool prints once; without CUDD also where to
-    read how to get it (dd has no CUDD wheel for Python 3.8; docs/python_versions.md)."""
+    """Which BDD package synthesis runs on, in the words a tool prints once, with the fixpoint kernel
+    (``kernel.describe``); without CUDD also where to read how to get it (dd has no CUDD wheel for
+    Python 3.8; docs/python_versions.md)."""
     if BACKEND == "cudd":
-        return "BDDs: CUDD (dd.cudd)"
+        return f"BDDs: CUDD (dd.cudd), {kernel.describe()}"
     return ("BDDs: dd's pure-Python dd.autoref, as this dd has no CUDD: the same answers, slower; "
             "docs/python_versions.md says how to build dd with CUDD")
 
@@ -559,10 +559,6 @@ class Game:
             return bdd.exist(self.inputs_next, self.env_trans & moves)
         moves = trans.exist_and(target, self.outputs_next)
         return self.env_rel.exist_and(moves, self.inputs_next)
-
-    def deadlock_free_sys_trans(self):
-        """``deadlock_free_sys_rel`` as one BDD."""
-        return self.deadlock_free_sys_rel().conjunction()
 
     def admissible(self, values: Mapping[str, bool]):
         """``env_trans`` restricted to a valuation (current variables, maybe next inputs): false

@@ -62,7 +62,7 @@ def test_text_report_shows_findings_chains_and_suggestions(snapshots, capsys):
            "(arm_1/arm_controller/follow_joint_trajectory/action_topics), (move_group/action_topics)" in out
     assert out.count("[/odom]") == 1, "channels with the same competing outputs are listed once"
     assert ".slugsin [SYS_TRANS]: | & pickup' ! drop' | & ! pickup' drop' & ! pickup' ! drop'" in out
-    assert "Structured English: always ((pickup and not drop) or (not pickup and drop) or (not pickup and not drop))" in out
+    assert "In words: always ((pickup and not drop) or (not pickup and drop) or (not pickup and not drop))" in out
 
 
 def test_json_report_for_tools(snapshots, capsys):
@@ -170,7 +170,7 @@ def test_bad_input_is_one_line_and_exit_2(snapshots, tmp_path, capsys, case):
     assert captured.out == ""
     errors = [line for line in captured.err.splitlines() if "error:" in line]
     assert len(errors) == 1 and errors[0].startswith("analyze_graph: error: ") and expect in errors[0], captured.err
-    assert errors[0].count("error:") == 1, errors  # issue 28: it once said "error:" twice
+    assert errors[0].count("error:") == 1, errors  # it once said "error:" twice
     assert "Traceback" not in captured.err
     assert not (tmp_path / "o.slugsin").exists()
     assert {p: p.read_bytes() for p in before} == before
@@ -247,7 +247,7 @@ def test_thesis_example_9_on_the_shared_sphero_mapping(tmp_path, capsys):
         assert clause["line"] > 0 and lines[clause["line"] - 1].startswith("| & move_left'"), clause
 
 
-# --- --apply on a Structured English spec appends English sentences (issue 15) --------------------
+# --- --apply on a Structured English spec appends English sentences --------------------
 
 ENGLISH = Path(__file__).resolve().parents[2] / "data" / "english"
 SPEC3_MOVES = ["moveLeft", "moveRight", "moveUp", "moveDown", "stop"]
@@ -276,7 +276,7 @@ def spec3_setup(folder: Path) -> list[str]:
 
 
 def test_apply_on_english_spec3_appends_sentences_and_names_the_assumption(tmp_path, capsys):
-    from ltl_stack.spec.english_writer import append_sentences
+    from ltl_stack.spec.english_files import append_sentences
     from ltl_stack.synthesis import is_realizable
 
     args = spec3_setup(tmp_path)
