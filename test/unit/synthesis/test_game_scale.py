@@ -8,6 +8,7 @@ import sys
 import warnings
 
 import pytest
+from helpers import needs_cudd
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -38,6 +39,7 @@ def test_variables_are_declared_interleaved_in_spec_order() -> None:
     assert [block.bdd.var_at_level(i) for i in range(8)] == ["x0", "x1", "y0", "y1", "x0'", "x1'", "y0'", "y1'"]
 
 
+@needs_cudd  # sifting; dd.autoref's recursion also overflows on these games
 def test_big_games_neither_reorder_nor_race_and_keep_their_verdict() -> None:
     n = REORDER_MAX_VARIABLES // 2  # 2n propositions, 4n BDD variables
     for toggle, verdict in ((True, True), (False, False)):
@@ -78,6 +80,7 @@ def _game_work(n: int) -> tuple[int, float]:
         return calls, game.bdd.statistics()["cache_lookups"]
 
 
+@needs_cudd  # counts CUDD's cache lookups (its statistics)
 @pytest.mark.parametrize("whole_nodes", [0, 10 ** 9], ids=["partitioned", "whole"])
 def test_doubling_the_propositions_doubles_the_game_construction_work(whole_nodes, monkeypatch) -> None:
     # each clause is one n-ary conjunction over all propositions: balanced combination makes the BDD
