@@ -274,8 +274,12 @@ def test_check_run_from_the_start_of_the_demo_bag_holds_and_counts_every_goal_th
     assert report["initial_checked"] and report["ok"], report["violations"]
     passed_over = [0] * len(report["goals"])
     with rosbag.Bag(str(demo_bag)) as bag:
-        goals = [m.goal_index for _, m, _ in bag.read_messages(topics=["/clean_and_patrol/controller_executor/state"])
-                 if m.state_id >= 0]
+        states = [m for _, m, _ in bag.read_messages(topics=["/clean_and_patrol/controller_executor/state"])]
+    goals = [m.goal_index for m in states if m.state_id >= 0]
+    # a state passed through while settling says so, and the state reached follows with its stamp
+    settling = [k for k, m in enumerate(states) if m.settling]
+    assert settling and not states[-1].settling, [(m.state_id, m.settling) for m in states]
+    assert all(states[k + 1].header.stamp == states[k].header.stamp for k in settling), settling
     for index in range(1, len(goals)):
         k, after = goals[index - 1], goals[index]
         while k != after:  # every goal from the one pursued up to the next one pursued was met

@@ -344,7 +344,12 @@ class ExecutorNode:
         now = time.monotonic()
         for prop in got:
             self.freshness.seen(prop, now)
+        first = [p for p in got if p not in self._grouped]
         self._grouped.update(got)
+        if first:
+            rospy.loginfo("%s: inputs %s now come from %s, one message per change (their Bool topics only "
+                          "count for freshness)", self.name, ", ".join(first), msg._connection_header["topic"]
+                          if getattr(msg, "_connection_header", None) else "their node's ~valuation")
         self._report_inputs(got)
 
     def _report_inputs(self, values: dict[str, bool]) -> None:
@@ -606,6 +611,7 @@ class ExecutorNode:
         for index, state in enumerate(update.passed):
             outputs = {p: bool(state.outputs[p]) if p in state.outputs else False for p in self.controller.outputs}
             msg = self._state_msg(state, inputs, outputs, stamp)
+            msg.settling = True
             if update.started and index == 0:
                 self.initial_pub.publish(msg)
             self.state_pub.publish(msg)

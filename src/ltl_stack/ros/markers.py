@@ -192,6 +192,8 @@ class MapMarkers:
         self.publish()
 
     def _on_state(self, msg: Any) -> None:
+        if getattr(msg, "settling", False):
+            return  # passed through at once: the state reached follows, and only its outputs were published
         try:
             view = state_view(msg)
         except (TypeError, ValueError, OverflowError) as error:

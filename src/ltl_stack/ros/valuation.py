@@ -46,4 +46,5 @@ def step_of(msg, start: float) -> TraceStep:
     ``MalformedValuation`` when its inputs or outputs cannot be read."""
     inputs, outputs = state_valuations(msg)
     return TraceStep(time=msg.header.stamp.to_sec() - start, state_id=msg.state_id, goal=msg.goal_index,
-                     inputs=inputs, outputs=outputs, running=msg.running)
+                     inputs=inputs, outputs=outputs, running=msg.running,
+                     settling=bool(getattr(msg, "settling", False)))

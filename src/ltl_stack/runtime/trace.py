@@ -21,6 +21,8 @@ class TraceStep:
     inputs: Mapping[str, bool]
     outputs: Mapping[str, bool]
     running: bool = True
+    #: passed through while settling: its outputs were never published (``ControllerState.settling``)
+    settling: bool = False
 
     def true_inputs(self) -> list[str]:
         return [name for name, value in self.inputs.items() if value]
@@ -29,8 +31,12 @@ class TraceStep:
         return [name for name, value in self.outputs.items() if value]
 
     def to_dict(self) -> dict:
-        return {"time": round(self.time, 3), "state": self.state_id, "goal": self.goal,
+        """The step as JSON; ``settling`` only when true (older records lack it)."""
+        data = {"time": round(self.time, 3), "state": self.state_id, "goal": self.goal,
                 "inputs": dict(self.inputs), "outputs": dict(self.outputs), "running": self.running}
+        if self.settling:
+            data["settling"] = True
+        return data
 
 
 def changes(previous: TraceStep | None, current: TraceStep) -> list[str]:
@@ -53,6 +59,8 @@ def describe(previous: TraceStep | None, current: TraceStep, goals: int | None =
     line = f"[{current.time:7.2f}s] state {current.state_id:<8d} goal {goal:<5s} sensing: {sensing:<32s} doing: {doing}"
     if not current.running:
         line += "  (paused)"
+    if current.settling:
+        line += "  (settling: not published)"
     delta = changes(previous, current)
     if delta:
         line += f"   [{' '.join(delta)}]"
