@@ -1,18 +1,21 @@
 """Progress while a game's BDDs are built: a large circuit (a multiplier written clause by clause)
 can take minutes before the fixpoint's own progress starts.
 
-The lines are counted, not timed, at the source: one every ``every`` BDD operations (each operation
-``Game.to_bdd`` and the conjunctions make), and at most one every ``interval`` seconds on top of that,
-so that a fast build prints nothing and a slow one a line every few seconds. The callback is the
-tool's usual one (``synthesize`` prints on stderr after its first second, nothing under ``--quiet``).
+A line comes between two BDD operations (each one ``Game.to_bdd`` and the conjunctions make) once
+both ``every`` operations and ``interval`` seconds have passed since the last line: a fast build
+prints nothing, a slow one a line every few seconds whether its time goes into many small operations
+or a few large ones (a multiplier's middle bits: a few hundred operations, minutes). Tests set
+``interval`` to 0 and count lines against operations. One operation that alone takes minutes reports
+nothing while it runs. The callback is the tool's usual one (``synthesize`` prints on stderr after
+its first second, nothing under ``--quiet``).
 """
 from __future__ import annotations
 
 import time
 from collections.abc import Callable
 
-#: BDD operations between two progress lines (at most)
-EVERY = 20_000
+#: BDD operations between two progress lines (at least)
+EVERY = 1
 #: seconds between two progress lines (at least)
 INTERVAL = 2.0
 
@@ -43,7 +46,7 @@ class BuildProgress:
         self.done += 1
 
     def tick(self) -> None:
-        """One BDD operation: report when ``every`` have passed since the last line (and ``interval``)."""
+        """One BDD operation: report when ``every`` of them and ``interval`` seconds passed since the last line."""
         self.operations += 1
         if self.operations < self._next:
             return
