@@ -3,8 +3,9 @@ the readers before the change as the peer in the same run.
 
     python test/benchmarks/bench_long_line.py [--sizes 1,2,4,8] [--base COMMIT]
 
-Each measurement is a fresh child process: CPU seconds of ``load_spec`` and the peak RSS it added over
-the imports (``ru_maxrss`` after minus before), as a multiple of the file's size. Shapes: ``chain``, a
+Each measurement is two fresh child processes: CPU seconds of ``load_spec`` in one, the peak of the
+Python allocations it made (``tracemalloc``, which slows it) in the other, as a multiple of the file's
+size (the file's bytes and text are part of it). Shapes: ``chain``, a
 right-nested ``& p & q …`` (how slugs writes a conjunction), and ``random``, a random prefix formula
 over ``! & | ^``. The old code is ``src`` of ``BASE`` read from git into a temporary folder.
 Figures go to docs/BENCHMARKS.md ("One long formula line").
@@ -26,18 +27,18 @@ BASE = "d195746"  # main before the readers' memory work
 NAMES = [f"p{k}" for k in range(60)]
 
 CHILD = r"""
-import json, resource, sys, time
+import json, sys, time, tracemalloc
 if sys.argv[2] != "-":
     sys.path.insert(0, sys.argv[2])
 from ltl_stack.spec import load_spec
-before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+if sys.argv[3] == "trace":
+    tracemalloc.start()
 t0 = time.process_time()
 spec = load_spec(sys.argv[1])
 seconds = time.process_time() - t0
-added = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before
-print(json.dumps({"seconds": seconds, "added_kb": added, "clauses": len(spec.sys_safety)}))
+peak = tracemalloc.get_traced_memory()[1] if tracemalloc.is_tracing() else 0
+print(json.dumps({"seconds": seconds, "peak": peak, "clauses": len(spec.sys_safety)}))
 """
-
 
 def write_line(path: Path, shape: str, size: int) -> int:
     rng = random.Random(1)
@@ -65,11 +66,15 @@ def write_line(path: Path, shape: str, size: int) -> int:
 
 
 def measure(path: Path, code: str) -> dict:
-    done = subprocess.run([sys.executable, "-c", CHILD, str(path), code], capture_output=True, text=True,
-                          cwd=ROOT, timeout=1800)
-    if done.returncode:
-        raise RuntimeError(done.stderr[-2000:])
-    return json.loads(done.stdout)
+    """CPU seconds of a plain run and the peak of a traced one (tracemalloc slows the reading)."""
+    runs = []
+    for mode in ("time", "trace"):
+        done = subprocess.run([sys.executable, "-c", CHILD, str(path), code, mode], capture_output=True, text=True,
+                              cwd=ROOT, timeout=1800)
+        if done.returncode:
+            raise RuntimeError(done.stderr[-2000:])
+        runs.append(json.loads(done.stdout))
+    return {"seconds": runs[0]["seconds"], "peak": runs[1]["peak"]}
 
 
 def main() -> None:
@@ -82,14 +87,14 @@ def main() -> None:
     with tarfile.open(fileobj=BytesIO(archive)) as tar:
         tar.extractall(folder / "old")
     old = str(folder / "old" / "src")
-    print("| shape | file | before: CPU s | before: peak added | after: CPU s | after: peak added |")
+    print("| shape | file | before: CPU s | before: peak | after: CPU s | after: peak |")
     print("| --- | --- | --- | --- | --- | --- |")
     for shape in ("chain", "random"):
         for mib in (float(s) for s in args.sizes.split(",")):
             path = folder / f"{shape}.slugsin"
             size = write_line(path, shape, int(mib * 2**20))
             before, after = measure(path, old), measure(path, "-")
-            cells = [f"{r['seconds']:.1f} | {r['added_kb'] / 1024:.0f} MB ({r['added_kb'] * 1024 / size:.1f}x)"
+            cells = [f"{r['seconds']:.1f} | {r['peak'] / 2**20:.0f} MB ({r['peak'] / size:.1f}x)"
                      for r in (before, after)]
             print(f"| {shape} | {size / 2**20:.1f} MB | {cells[0]} | {cells[1]} |", flush=True)
 
