@@ -50,3 +50,19 @@ def test_a_long_line_is_read_in_memory_a_small_multiple_of_it(shape: str) -> Non
         tracemalloc.stop()
     assert spec.sys_safety, shape
     assert peak <= BOUND.get(shape, 20) * len(text), (shape, peak / len(text))
+
+
+def test_formula_nodes_have_slots_and_still_pickle_copy_and_stay_frozen() -> None:
+    import copy
+    import dataclasses
+    import pickle
+
+    from ltl_stack.spec.formula import And, Not, Var, Xor
+
+    f = And((Var("a"), Not(Var("b", True)), Xor(Var("a"), Var("c"))))
+    assert not hasattr(Var("a"), "__dict__")  # some 100 bytes a node saved on an 8 MB line
+    assert pickle.loads(pickle.dumps(f)) == f
+    assert copy.deepcopy(f) == f and hash(copy.deepcopy(f)) == hash(f)
+    assert Var("a").primed is False and dataclasses.replace(Var("a"), primed=True) == Var("a", True)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        Var("a").name = "b"
