@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import http.client
 import importlib.util
+import json
 import os
 import random
 import signal
@@ -91,6 +92,19 @@ def wait_for(predicate: Callable[[], object], timeout: float = WAIT, what: str =
         if time.monotonic() > deadline:
             raise AssertionError(f"timed out after {timeout:.1f} s waiting for {what}")
         time.sleep(interval)
+
+
+def demo_states(stdout: str) -> list[dict]:
+    """The states a ``demo --json`` run gave the robot, from its output. A state the controller
+    settled through at once (its outputs never published; e.g. the initial one, whose outputs the
+    spec may leave free) is told with ``"settling": true`` and the stamp of the state reached after
+    it; whether the trace saw it depends on when it connected, so it is checked and left out."""
+    states = [e for e in (json.loads(line) for line in stdout.splitlines() if line.startswith("{"))
+              if e["event"] == "state"]
+    for s in states:
+        if s.get("settling"):
+            assert any(o["time"] == s["time"] and not o.get("settling") for o in states), states
+    return [s for s in states if not s.get("settling")]
 
 
 def work(fn: Callable[[], object], weigh: Callable[[object], int] | None = None) -> int:
