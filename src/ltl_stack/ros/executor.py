@@ -14,6 +14,7 @@ and violation reports of ``~state`` and /diagnostics); this module only wires th
 * optional fixed-rate stepping (``--rate``) for specs that progress without input changes;
 * the heartbeat: every output topic republished every ``--heartbeat`` s (output nodes' deadman);
 * the ready handshake: the timer ``--ready-timeout`` reports the inputs that have never reported;
+  from then on those with a freshness bound are unknown (a peer's host down at the start);
 * a node owning several inputs (region localization) publishes their valuation at once on
   ``<node>/valuation``; once it has, that message is their reading (one step for one region change)
   and their Bool topics only count for freshness;
@@ -412,16 +413,20 @@ class ExecutorNode:
         controller resumes when none is left); say so on /diagnostics and in the log."""
         with self.controller.lock:
             now = time.monotonic()
-            stale = self.freshness.stale(now)
+            waited = self.options.ready_timeout > 0 and now - self._started_at >= self.options.ready_timeout
+            stale = self.freshness.stale(now, self.controller.missing_inputs() if waited else ())
             if stale == self.controller.unknown:
                 return
             update = self.controller.set_unknown(stale)
             status = self.reports.unknown_report(update, unknown_text(stale, self.prepared.input_topics,
                                                                       self.freshness, now))
             self._publish(update, force_state=True)
+            if update.started and self.ready_timer is not None:
+                self.ready_timer.shutdown()
         log = {0: rospy.loginfo, 1: rospy.logwarn}.get(status.level, rospy.logerr)
         log("%s: %s", self.name, status.message)
         self._set_status(status)
+        self._update_health()
 
     def _on_set_running(self, request: Any) -> SetBoolResponse:
         self.set_running(request.data)
@@ -526,6 +531,8 @@ class ExecutorNode:
                 print(json.dumps(report.event), flush=True)
 
     def _on_ready_timeout(self, _event: Any) -> None:
+        if self.freshness.active:
+            self.check_freshness()  # silent inputs with a freshness bound are unknown from now on
         text = self.reports.silent_inputs(time.monotonic() - self._started_at)
         if text is None:
             return
