@@ -52,7 +52,7 @@ from std_srvs.srv import SetBool, SetBoolResponse, Trigger, TriggerResponse
 from ltl_stack import cli
 from ltl_stack.errors import Exit, UserError
 from ltl_stack.msg import ControllerSource, ControllerState, PropositionValuation
-from ltl_stack.ros.master import init_node, timed_proxy
+from ltl_stack.ros.master import init_node, master_call, private_params
 from ltl_stack.ros.master_watch import MasterWatch
 from ltl_stack.ros.negotiation import NegotiationEndpoint, prepare_negotiation
 from ltl_stack.ros.valuation import msg_to_valuation, valuation_to_msg
@@ -557,10 +557,7 @@ class ExecutorNode:
     def check_publishers(self) -> list[str]:
         """Warn about input topics with more than one publisher; returns the warnings issued now."""
         try:
-            code, message, state = timed_proxy(rosgraph.get_master_uri()).getSystemState(self.name)
-            if code != 1:
-                raise rosgraph.MasterException(message)
-            publishers = state[0]
+            publishers = master_call("getSystemState", caller=self.name)[0]
         except Exception as err:  # noqa: BLE001 - the master may be going away
             rospy.logdebug("%s: cannot ask the master for publishers: %s", self.name, err)
             return []
@@ -739,12 +736,6 @@ def _check(args: argparse.Namespace) -> int:
     return Exit.OK
 
 
-def _private_params() -> dict[str, Any]:
-    """Every ``~param`` of the node, in one call to the master ({} when none is set)."""
-    params = rospy.get_param("~", {})
-    return params if isinstance(params, dict) else {}
-
-
 def _run(args: argparse.Namespace, negotiate: Negotiate | None = None,
          setup: Callable[[ExecutorNode], None] | None = None) -> int:
     """Load the files (errors before touching ROS), then start the node; errors after ``init_node``
@@ -757,7 +748,7 @@ def _run(args: argparse.Namespace, negotiate: Negotiate | None = None,
     try:
         if refused:
             raise ExecutorError(refused)
-        options = merge_options(_cli_values(args), params_lookup(_private_params()))
+        options = merge_options(_cli_values(args), params_lookup(private_params()))
         check_characterized_spec(options, [args.spec, args.mapping, options.strategy or None])
         namespace = scenario_namespace(options.namespace, rospy.get_namespace(), mapping, args.spec)
         in_topics, out_topics = resolve_topics(mapping, spec.inputs, spec.outputs, namespace.strip("/"))
