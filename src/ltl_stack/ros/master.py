@@ -109,6 +109,12 @@ def master_call(method: str, *args: Any, caller: str | None = None, uri: str | N
     return value
 
 
+#: The parameters outside the node's private namespace it read (``read_param``), by resolved name:
+#: ``MasterWatch`` sets them again on a restarted master that lacks them (a launch file's namespace
+#: parameters are gone with the old master, and a node started later needs them too).
+SHARED_READ: dict[str, Any] = {}
+
+
 def read_param(name: str, default: Any = None, timeout: float = STARTUP_TIMEOUT) -> Any:
     """The parameter ``name`` (resolved as rospy does: ``~x`` private, ``x`` in the node's namespace),
     ``default`` when it is not set. A master that does not answer within ``timeout`` s is a
@@ -117,7 +123,10 @@ def read_param(name: str, default: Any = None, timeout: float = STARTUP_TIMEOUT)
 
     resolved = rospy.resolve_name(name)
     try:
-        return master_call("getParam", resolved, timeout=timeout)
+        value = master_call("getParam", resolved, timeout=timeout)
+        if not resolved.startswith(rospy.get_name() + "/") and resolved != rospy.get_name() + "/":
+            SHARED_READ[resolved] = value
+        return value
     except rosgraph.MasterException:
         return default
     except (OSError, http.client.HTTPException, xmlrpc.client.Error) as err:
