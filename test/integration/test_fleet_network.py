@@ -17,6 +17,8 @@ import sys
 import pytest
 from helpers import wait_for
 from netns_hosts import Hosts, netns_refusal, reachable, start_master
+from two_regions import MAPPING as REGION_MAPPING
+from two_regions import SPEC as REGION_SPEC
 
 PORT = 11400
 SPEC = """[INPUT]
@@ -171,30 +173,6 @@ def test_with_the_master_cut_off_an_input_change_still_reaches_the_outputs(hosts
     wait_for(lambda: 0.3 in commands(world)[stopped:], 60, "the robot moving again, the master still cut off")
 
 
-REGION_SPEC = """[INPUT]
-a_rc
-b_rc
-
-[OUTPUT]
-x
-
-[ENV_INIT]
-a_rc
-!b_rc
-
-[ENV_TRANS]
-a_rc' <-> !b_rc'
-
-[SYS_TRANS]
-x' <-> a_rc'
-"""
-REGION_MAPPING = """namespace: loc
-inputs:
-  a_rc: {node: localization, node_publish_topic: a_rc}
-  b_rc: {node: localization, node_publish_topic: b_rc}
-outputs:
-  x: {node: x_node, node_subscribe_topic: x}
-"""
 #: A robot crossing between regions a and b every second, localized as region_localization does:
 #: the whole valuation on ~valuation, then old region off, then new region on, on two Bool topics.
 CROSSINGS = '''
@@ -260,7 +238,8 @@ def test_over_a_slow_lossy_link_a_region_change_is_no_assumption_violation(hosts
     assert "violated" not in executor.output() and "mode holding" not in executor.output(), executor.output()[-3000:]
     assert executor.output().count("step to state") == crossings, executor.output()[-3000:]  # one per crossing
     last = "!a_rc b_rc -> outputs !x" if crossings % 2 else "a_rc !b_rc -> outputs x"
-    assert executor.output().rstrip().splitlines()[-1].endswith(last), executor.output()[-3000:]
+    steps = [line for line in executor.output().splitlines() if "step to state" in line]
+    assert steps[-1].endswith(last), executor.output()[-3000:]  # (other lines, e.g. a WARN, may follow)
 
 
 PEER_SPEC = """[INPUT]

@@ -7,31 +7,8 @@ from __future__ import annotations
 import sys
 
 from helpers import wait_for
+from two_regions import MAPPING, SPEC
 
-SPEC = """[INPUT]
-a_rc
-b_rc
-
-[OUTPUT]
-x
-
-[ENV_INIT]
-a_rc
-!b_rc
-
-[ENV_TRANS]
-a_rc' <-> !b_rc'
-
-[SYS_TRANS]
-x' <-> a_rc'
-"""
-MAPPING = """namespace: loc
-inputs:
-  a_rc: {node: localization, node_publish_topic: a_rc}
-  b_rc: {node: localization, node_publish_topic: b_rc}
-outputs:
-  x: {node: x_node, node_subscribe_topic: x}
-"""
 #: Region localization over a slow link: on "b" the valuation at once, the new region's Bool at
 #: once, the old region's Bool 3 s later.
 LOCALIZATION = '''
@@ -79,6 +56,7 @@ def test_a_region_change_is_one_step_whatever_the_order_of_its_bool_messages(ros
     try:
         executor.wait_output("initial state", timeout=60)
         wait_for(lambda: "up" in (tmp_path / "loc.log").read_text(), 60, "the localization's connections")
+        executor.wait_output("now come from /loc/localization/valuation", timeout=60)
         fake.stdin.write("b\n")
         fake.stdin.flush()
         executor.wait_output("inputs !a_rc b_rc", timeout=60)
