@@ -575,8 +575,8 @@ class NodeReports:
         if mode == "inputs_unknown":
             values += [("unknown_input", p) for p in self.controller.unknown]
             text += f"; unknown: {', '.join(self.controller.unknown)}"
-            if self.controller.unkeepable:
-                level = ERROR
+            if self.controller.unkeepable:  # (before the start every output was false anyway: a WARN)
+                level = ERROR if self.controller.state is not None else WARN
                 text += "; no output valuation keeps it for every value: every output false"
         if violated and mode in ("recovering", "holding", "characterizing"):
             text += "; violated: " + "; ".join(violated)
@@ -615,6 +615,10 @@ class NodeReports:
         if update.unkeepable:
             clauses = [f"{c.location}: {c.text}" for c in update.unkeepable]
             values += [("unsafe_clause", c) for c in clauses]
+            if update.state is None:  # not started: every output was false already (a WARN, not a failure)
+                return Status(WARN, "input freshness", f"input(s) unknown: {named}; not starting until they report; "
+                              f"no output valuation keeps the system safety for every value of them "
+                              f"({'; '.join(clauses)}): every output false", values)
             return Status(ERROR, "input freshness", f"input(s) unknown: {named}; no output valuation keeps the system "
                           f"safety for every value of them ({'; '.join(clauses)}): every output false", values)
         doing = "not stepping" if update.state is not None else "not starting until they report"
