@@ -21,12 +21,13 @@ FEEDBACK_TITLE = ("Expected feedback, not findings: activation-completion pairs 
 
 
 def suggestion_forms(s: MutualExclusion) -> dict:
-    """The three renderings of a suggestion: Structured English, LTL, and .slugsin lines per section.
+    """The renderings of a suggestion: its Structured English sentence, the formula in words, LTL, and
+    .slugsin lines per section.
 
     The LTL form ``G(...)`` holds in every state, the first included; in GR(1) that is the
     unprimed formula in the init section plus the primed one in the safety section.
     """
-    from ltl_stack.spec.english import clause_to_english, formula_to_infix, formula_to_slugsin
+    from ltl_stack.spec.formula_text import clause_to_english, formula_to_infix, formula_to_slugsin
 
     safety, init = s.sections
     return {
@@ -148,7 +149,7 @@ def suggestion_lines(i: int, s: MutualExclusion) -> list[str]:
     if "render_error" in forms:
         lines.append(f"   (cannot render the formula: {forms['render_error']})")
         return lines
-    lines.append(f"   Structured English: {forms['english_expanded']}")
+    lines.append(f"   In words: {forms['english_expanded']}")
     lines.append(f"   LTL: {forms['ltl']}")
     for section, line in forms["slugsin"].items():
         lines.append(f"   .slugsin [{section}]: {line}")
@@ -274,7 +275,7 @@ def to_markdown(a: Analysis, suggestions: list[MutualExclusion]) -> str:
         out.append(f"{i}. **{s.sentence()}** (shared: {', '.join(s.topics) or '-'})"
                    + (f" {IN_SPEC_NOTE}" if s.in_spec else ""))
         if "render_error" not in forms:
-            out.append(f"   - Structured English: `{forms['english_expanded']}`")
+            out.append(f"   - In words: `{forms['english_expanded']}`")
             out.append(f"   - LTL: `{forms['ltl']}`")
             for section, line in forms["slugsin"].items():
                 out.append(f"   - `[{section}]`: `{line}`")

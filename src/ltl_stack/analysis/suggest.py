@@ -21,8 +21,8 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, replace
 
 from ltl_stack.analysis.conflicts import maximal_cliques
-from ltl_stack.spec.english import formula_to_english
 from ltl_stack.spec.formula import And, Formula, Not, Or, Var, variables
+from ltl_stack.spec.formula_text import formula_to_english
 from ltl_stack.spec.model import Clause, Spec
 from ltl_stack.synthesis.game import Game
 

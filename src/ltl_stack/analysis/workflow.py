@@ -38,9 +38,9 @@ from ltl_stack.runtime.mapping import (
 )
 from ltl_stack.spec import formula_to_slugsin, load_spec, write_slugsin
 from ltl_stack.spec.english_files import parse_english
-from ltl_stack.spec.english_reader import ENGLISH_SUFFIXES, has_section_headers
-from ltl_stack.spec.english_writer import sentences_for
 from ltl_stack.spec.model import SLUGSIN_SECTIONS, Spec
+from ltl_stack.spec.structured_english import ENGLISH_SUFFIXES, has_section_headers
+from ltl_stack.spec.structured_english.writer import sentences_for
 from ltl_stack.synthesis import is_realizable
 from ltl_stack.synthesis.explain import explain
 from ltl_stack.synthesis.explain_render import explanation_dict, explanation_text
@@ -191,7 +191,7 @@ def apply_suggestions(spec: Spec, suggestions: list[MutualExclusion], out: str,
 
 
 def english_sentences(spec: Spec, suggestion: MutualExclusion) -> list[str]:
-    """A suggestion as Structured English sentences of ``spec``'s language (``english_writer``):
+    """A suggestion as Structured English sentences of ``spec``'s language (``structured_english.writer``):
     ``a, b and c are mutually exclusive``, ``Assume x, y and z are mutually exclusive``."""
     return sentences_for(spec, list(suggestion.clauses().items()))
 
@@ -247,7 +247,7 @@ def apply_text(applied: dict) -> str:
                        "exclusive is NOT enough on its own to make the spec realizable:")
         for sentence in hint.get("sentences", []):
             out.append(f"  Sentence to add: {sentence}")
-        out.append(f"  Structured English: {hint['english_expanded']}")
+        out.append(f"  In words: {hint['english_expanded']}")
         for section, line in hint["slugsin"].items():
             out.append(f"  .slugsin [{section}]: {line}")
     return "\n".join(out) + "\n"

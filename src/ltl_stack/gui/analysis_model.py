@@ -39,7 +39,7 @@ FEEDBACK_KEY = "feedback"
 TAB_KEYS = (*CHECK_KEYS, FEEDBACK_KEY)  # the panel's tabs: the checks, then the expected feedback
 TAB_TITLES = {**{k: k for k in CHECK_KEYS}, FEEDBACK_KEY: "Expected feedback"}
 FORMS = ("english", "ltl", "slugsin")
-FORM_TITLES = {"english": "Structured English", "ltl": "LTL", "slugsin": ".slugsin"}
+FORM_TITLES = {"english": "Formula in words", "ltl": "LTL", "slugsin": ".slugsin"}
 CONFLICT_COLOR = "red"
 PROPOSITION_COLOR = "blue"
 
@@ -271,7 +271,8 @@ def run_analysis(spec_path: str, mapping_path: str, *, snapshot: Snapshot | None
 
 
 def suggestion_text(suggestions: Sequence[MutualExclusion], form: str) -> str:
-    """Every suggestion in one of ``FORMS``: Structured English, LTL ``G(...)`` or ``.slugsin`` lines."""
+    """Every suggestion (its Structured English sentence) with its formula in one of ``FORMS``: in words,
+    LTL ``G(...)`` or ``.slugsin`` lines."""
     if not suggestions:
         return "No suggestions: no two outputs compete on a topic or action."
     out = []

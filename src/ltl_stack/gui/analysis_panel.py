@@ -3,8 +3,8 @@
 Snapshot the live graph or load a saved snapshot, fill in Robots and Robot topics to ignore, Analyze:
 one table per check (E1, E2 grouped by topic, E3, C1, C2) with the witness chains; selecting a row
 selects every row of its finding (an E2 topic's outputs) and draws the chains' subgraph with the
-conflicting channel in red. The suggested constraints are shown as Structured English, LTL or
-``.slugsin``; "Apply and check" writes the amended spec, synthesizes it and shows whether it is
+conflicting channel in red. Each suggested constraint is shown as its Structured English sentence with its formula in words, as
+LTL or as ``.slugsin``; "Apply and check" writes the amended spec, synthesizes it and shows whether it is
 realizable, or the explanation and the assume-exclusive hint of thesis Example 9. The snapshot, the
 analysis and the synthesis run off the GUI thread. All logic is in ``analysis_model``.
 """

@@ -385,7 +385,7 @@ class ControllerView(QWidget):
         self.violated_list_widget = QListWidget()
         self.violated_list_widget.setObjectName("violated_clauses_list_widget")
         self.violated_list_widget.setToolTip("environment-safety clauses the current inputs violate (file:line: "
-                                             "Structured English), as the executor reports them on ~state")
+                                             "text (in words)), as the executor reports them on ~state")
         self.violated_list_widget.setMaximumHeight(90)
         side_layout.addWidget(self.state_label)
         side_layout.addWidget(self.liveness_label)

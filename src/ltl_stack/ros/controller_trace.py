@@ -5,7 +5,7 @@ state: what the controller senses, what it does and what changed; and one line p
 resilience mode (normal, recovering, holding, characterizing, waiting_for_user, aborted; thesis ch. 4)
 and per resynthesis (EC1/EC2/user counters), with the violated environment-safety clauses; and each
 finished integrative negotiation (the executor's ``~negotiations``: with whom, the clauses sent and
-received in Structured English, the outcome; thesis §4.8, docs/negotiation.md). With ``--cycles N`` it exits after
+received in words, the outcome; thesis §4.8, docs/negotiation.md). With ``--cycles N`` it exits after
 the strategy has gone N times through all system goals (the spec tells how many there are). With
 ``--bag FILE`` it replays the states recorded in a rosbag instead (no master needed).
 """

@@ -10,7 +10,7 @@ exchange (offer, status 1, status 2, or an abort). The protocol logic is ROS-fre
   message, bounded by ``timeout``: a peer whose service does not appear or does not answer in time is
   a fault, the negotiation fails and nothing is adopted), expires a negotiation whose initiator went
   silent, and publishes ``~negotiations`` (``std_msgs/String``, latched: a JSON list of the reports —
-  with whom, what was sent and received in Structured English, outcome) and a ``negotiation`` status
+  with whom, what was sent and received in words, outcome) and a ``negotiation`` status
   on ``/diagnostics``;
 * a peer's service is the ``service:`` of its mapping entry, else
   ``<parent namespace>/<peer>/controller_executor/negotiate`` (the executors of a scenario side by side,

@@ -12,7 +12,7 @@ synthesized. When the running spec is a ``.spec`` in Structured English and the 
 
 The result is read back (``read_english``) and each section compared with phi' on BDDs (one
 ``Game``): it is written only when it says exactly what runs. It cannot when a sentence gave
-clauses of other sections too, when a disjunct has no sentence (``english_writer`` raises), or when
+clauses of other sections too, when a disjunct has no sentence (the Structured English writer raises), or when
 the clauses the declarations generate (regions, actions with completion, thesis [75]) come back as
 separate assumptions that the learned disjuncts break; then ``english_text`` returns ``None`` with
 the reason and the caller writes the structured format.
@@ -26,11 +26,11 @@ from ltl_stack.errors import InputError
 from ltl_stack.inputs import read_text
 from ltl_stack.runtime.characterize import EC1, Characterizer, Observation
 from ltl_stack.spec.english_files import read_english
-from ltl_stack.spec.english_reader import ENGLISH_SUFFIXES, has_section_headers
-from ltl_stack.spec.english_writer import clause_to_sentence
 from ltl_stack.spec.errors import SpecError
 from ltl_stack.spec.formula import And, Formula, Not, Or, Var
 from ltl_stack.spec.model import SECTIONS, Spec
+from ltl_stack.spec.structured_english import ENGLISH_SUFFIXES, has_section_headers
+from ltl_stack.spec.structured_english.writer import clause_to_sentence
 from ltl_stack.synthesis.game import Game
 
 

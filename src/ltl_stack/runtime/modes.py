@@ -33,7 +33,7 @@ from ltl_stack.runtime.controller import Controller, Update
 from ltl_stack.runtime.recovery import RecoveringStrategy
 from ltl_stack.runtime.resilient_executor import BackgroundResilience, Busy
 from ltl_stack.spec import SpecError
-from ltl_stack.spec.english import clause_to_english
+from ltl_stack.spec.formula_text import clause_to_english
 from ltl_stack.spec.model import Clause
 from ltl_stack.spec.valuation import format_valuation
 from ltl_stack.synthesis.automaton import goal_text
@@ -217,7 +217,7 @@ def policy_text(policy: str, unsafe: bool) -> str:
 
 
 def english(clause: Any) -> str:
-    """The env-safety clause in Structured English, or "" when it cannot be rendered."""
+    """The env-safety clause in words (``formula_text``), or "" when it cannot be rendered."""
     try:
         return clause_to_english(clause, "env_safety")
     except Exception:  # noqa: BLE001 - a rendering problem must not hide the violation itself
@@ -225,7 +225,7 @@ def english(clause: Any) -> str:
 
 
 def shown(clause: Any) -> str:
-    """``file:line: text`` and, when it says more, the Structured English in parentheses."""
+    """``file:line: text`` and, when it says more, the clause in words in parentheses."""
     words = english(clause)
     text = f"{clause.location}: {clause.text}"
     return f"{text} ({words})" if words and words.strip() != (clause.text or "").strip() else text

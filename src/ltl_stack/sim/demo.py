@@ -13,7 +13,10 @@ code 0 when it did, 1 when it did not in time or a node of the scenario died (ro
 ``--scenario NAME`` runs another scenario of the registry ``SCENARIOS`` (``--help`` lists them). A
 scenario with a story (thesis Examples 11 and 12: ``config/<example>/story.yaml`` played by the
 ``story_environment`` node) is narrated instead — what the story does, the controller's mode
-changes and resyntheses, the user's steps — and ends when the story is complete.
+changes and resyntheses, the user's steps — and ends when the story is complete. A scenario of
+several robots negotiating (thesis Example 13) is narrated from the world's events and the robots'
+negotiation reports. Each entry of ``SCENARIOS`` holds its scenario's data; a ``Follower`` (trace,
+story or negotiation) tells the run and says when it is complete, in the one loop of ``_follow``.
 """
 from __future__ import annotations
 
@@ -27,6 +30,7 @@ import tempfile
 import threading
 import time
 import xmlrpc.client
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -40,8 +44,22 @@ from ltl_stack.spec import load_spec
 
 
 @dataclass(frozen=True)
+class Negotiation:
+    """A scenario of several robots negotiating (docs/negotiation.md): narrated from the world's events
+    and each robot's negotiation reports, over when ``finished`` says so of the events so far."""
+
+    robots: tuple[tuple[str, str], ...]      # (namespace of a robot in the scenario's, its role)
+    events: str                              # the world's event topic, in the scenario's namespace
+    finished: Callable[[Sequence[str]], bool]
+    goal: str                                # what ends the run, for "the run ends when …"
+    done: str                                # the same once it happened, for "done: …"
+
+
+@dataclass(frozen=True)
 class Scenario:
-    """One runnable scenario: ``roslaunch ltl_stack <launch> <launch_args>``."""
+    """One runnable scenario: ``roslaunch ltl_stack <launch> <launch_args>``, and how it is followed:
+    from its story (``story``), from its robots' negotiations (``negotiation``), else from the
+    controller's trace (goal cycles), told as ``narration`` when it has one."""
 
     description: str
     launch: str                      # a launch file of launch/
@@ -49,7 +67,9 @@ class Scenario:
     launch_args: tuple[str, ...] = ()
     story: bool = False              # narrated from its story; ends when the story is complete
     config: str | None = None        # folder of config/ with the spec (default: the namespace)
-    negotiation: bool = False        # several robots negotiating (docs/negotiation.md): narrated from their reports
+    negotiation: Negotiation | None = None
+    #: the thesis' story told from the trace (clean_and_patrol, Fig. 3.10); the run also waits for it
+    narration: Callable[[], CleanAndPatrolStory] | None = None
 
 
 def _alice(what: str, resilience: str) -> Scenario:
@@ -62,11 +82,21 @@ def _patrol(what: str, resilience: str) -> Scenario:
                     "patrol_recycling", (f"resilience:={resilience}",), story=True)
 
 
+def _kitchen_finished(events: Sequence[str]) -> bool:
+    """Example 13 is over when C has cooked and D, after delivering, is back in company."""
+    delivered = next((i for i, text in enumerate(events) if text.startswith("D delivered")), None)
+    return ("C cooked the ingredients" in events and delivered is not None
+            and "D is in company" in events[delivered + 1:])
+
+
+KITCHEN = Negotiation((("D", "DeliveryAgent"), ("A", "KitchenAssistant"), ("C", "Chef")), "kitchen_world/events",
+                      _kitchen_finished, "C has cooked and D is back in company", "C cooked and D is back in company")
+
 SCENARIOS: dict[str, Scenario] = {
     "clean_and_patrol": Scenario(
         "Thesis Example 8 (Fig. 3.10): start in topLane and patrol the four lanes; on the second time in "
         "bottomLane the camera sees an object there: stop, pick it up, carry it to rightGround, drop it, patrol "
-        "again.", "clean_and_patrol.launch", "clean_and_patrol"),
+        "again.", "clean_and_patrol.launch", "clean_and_patrol", narration=CleanAndPatrolStory),
     "simple": Scenario(
         "Thesis Example 7: always move; stop when a person is sensed (move and stop are then true together, "
         "the conflict of Fig. 3.1).", "simple.launch", "simple"),
@@ -88,7 +118,7 @@ SCENARIOS: dict[str, Scenario] = {
         "Thesis Example 13 (§4.10.3): DeliveryAgent D, KitchenAssistant A and Chef C. D is blocked at the closed "
         "door, characterization fails, D negotiates with A (A opens the door when D is in road or storage), D "
         "delivers; C negotiates with A to have the ingredients passed, A passes, C cooks, D returns to company.",
-        "kitchen.launch", "kitchen", negotiation=True),
+        "kitchen.launch", "kitchen", negotiation=KITCHEN),
     "patrol_recycling_ec": _patrol(
         "environment characterization only: every violation (metal item, alarm + spill, early tap) is "
         "resynthesized; the spill needs the user's GF !spill.", "no-recovery characterize"),
@@ -281,66 +311,44 @@ def _run(args: argparse.Namespace) -> int:
 
         rospy.Subscriber("/diagnostics", DiagnosticArray, on_diagnostics)
         if scenario.story:
-            return _follow_story(args, scenario, launch, log_path, problems, say)
-        if scenario.negotiation:
-            return _follow_negotiation(args, launch, log_path, problems, say)
-        trace = ControllerTrace(f"/{scenario.namespace}/controller_executor/state", goals, args.json)
-        # clean_and_patrol: the thesis' story (Fig. 3.10) told from the trace; the run also waits for it
-        story = CleanAndPatrolStory() if args.scenario == "clean_and_patrol" else None
-        read = 0  # trace steps the story has read
-        if has_goals:
-            say(f"synthesizing and starting; the run ends after {args.cycles} cycle(s) through {goals} goals")
+            follower: Follower = StoryFollower(scenario, args, say)
+        elif scenario.negotiation is not None:
+            follower = NegotiationFollower(scenario.namespace, scenario.negotiation, args.json)
         else:
-            say(f"synthesizing and starting; the spec has no goals, the run ends after {args.duration:.0f} s")
-        started = time.monotonic()
-        first_state = None  # --duration counts from here: start-up takes long on a busy machine
-        reached = False
-        watch, dead = LaunchLog(log_path), None
-        while time.monotonic() - started < args.timeout and launch.poll() is None:
-            dead = watch.died()
-            if dead:
-                break
-            cycles_done = has_goals and trace.wait_cycles(args.cycles, 1.0 if story is None else 0.5)
-            if story is not None:
-                read = _tell(story, trace.steps, read, args.json)
-            if cycles_done and (story is None or story.complete):
-                reached = True
-                break
-            if cycles_done:
-                time.sleep(0.2)
-            if not has_goals:
-                time.sleep(0.2)
-                if trace.steps and first_state is None:
-                    first_state = time.monotonic()
-                if first_state is not None and time.monotonic() - first_state >= args.duration:
-                    reached = True
-                    break
-        elapsed = time.monotonic() - started
-        rospy.signal_shutdown("demo finished")
-        summary = {"event": "summary", "scenario": args.scenario, "cycles": trace.cycles.completed,
-                   "states": len(trace.steps), "seconds": round(elapsed, 1), "problems": len(problems),
-                   "ok": reached}
-        if story is not None:
-            summary["story"] = [c.key for c in story.chapters]
-        if args.json:
-            print(json.dumps(summary), flush=True)
-        elif reached:
-            cycles = f"{trace.cycles.completed} goal cycle(s), " if has_goals else ""
-            say(f"done: {cycles}{len(trace.steps)} controller states, {elapsed:.1f} s, "
-                f"{len(problems)} problem(s) reported")
-        if not reached:
-            if dead:
-                why = f"{dead} after {elapsed:.0f} s"
-            elif launch.poll() is not None:
-                why = f"roslaunch exited with code {launch.returncode} after {elapsed:.0f} s"
-            elif story is not None and trace.cycles.completed >= args.cycles:
-                why = f"the story did not reach '{story.next_key}' within {args.timeout:.0f} s"
-            elif has_goals:
-                why = f"{args.cycles} goal cycle(s) not completed within {args.timeout:.0f} s"
-            else:
-                why = f"the controller did not start within {args.timeout:.0f} s"
-            _not_reached(why, log_path)
-            return Exit.NEGATIVE
+            follower = TraceFollower(ControllerTrace(f"/{scenario.namespace}/controller_executor/state", goals,
+                                                     args.json), scenario, args, has_goals, goals)
+        return _follow(args, follower, launch, log_path, problems, say)
+
+
+def _follow(args, follower: Follower, launch, log_path: Path, problems: list[str], say) -> int:
+    """The one loop of every scenario: follow it until ``follower`` has seen it complete (Exit.OK), a
+    scenario node dies, roslaunch ends or --timeout passes (Exit.NEGATIVE, with the reason)."""
+    import rospy
+
+    say(follower.intro())
+    started = time.monotonic()
+    watch, dead = LaunchLog(log_path), None
+    while time.monotonic() - started < args.timeout and launch.poll() is None:
+        if follower.wait():
+            break
+        dead = watch.died()
+        if dead:
+            break
+    follower.finish()
+    elapsed = time.monotonic() - started
+    rospy.signal_shutdown("demo finished")
+    reached = follower.reached()
+    summary = {"event": "summary", "scenario": args.scenario, **follower.summary(reached, elapsed, problems)}
+    if args.json:
+        print(json.dumps(summary), flush=True)
+    elif reached:
+        say(f"done: {follower.done(elapsed, problems)}")
+    if not reached:
+        why = (f"{dead} after {elapsed:.0f} s" if dead
+               else f"roslaunch exited with code {launch.returncode} after {elapsed:.0f} s" if launch.poll() is not None
+               else follower.unfinished(args.timeout))
+        _not_reached(why, log_path)
+        return Exit.NEGATIVE
     return Exit.OK
 
 
@@ -372,6 +380,41 @@ def _not_reached(why: str, log_path: Path) -> None:
     cli.error("demo", f"{why} (the last lines of the launch log are above)")
 
 
+COUNTERS = ("violations", "recovery_steps", "resyntheses", "resyntheses_ec1", "resyntheses_ec2", "resyntheses_user",
+            "unrealizable")
+
+
+class Follower:
+    """What the demo watches while a scenario runs, and how it tells it (``_follow`` is the loop)."""
+
+    def intro(self) -> str:
+        """What the run waits for, said before it starts."""
+        raise NotImplementedError
+
+    def wait(self) -> bool:
+        """Wait a moment (about a second at most) for news and tell it; True once the run is complete."""
+        raise NotImplementedError
+
+    def finish(self) -> None:
+        """After the loop: tell what is still on its way."""
+
+    def reached(self) -> bool:
+        """Did the scenario complete?"""
+        raise NotImplementedError
+
+    def summary(self, reached: bool, elapsed: float, problems: list[str]) -> dict:
+        """The fields of the ``--json`` summary after ``event`` and ``scenario``."""
+        raise NotImplementedError
+
+    def done(self, elapsed: float, problems: list[str]) -> str:
+        """The last line of a complete run, after ``done:``."""
+        raise NotImplementedError
+
+    def unfinished(self, timeout: float) -> str:
+        """Why the run is not complete after ``timeout`` s (no node died, roslaunch still runs)."""
+        raise NotImplementedError
+
+
 def _tell(story: CleanAndPatrolStory, steps: list, read: int, json_lines: bool) -> int:
     """Feed the story the trace steps after ``read`` and print each part it completes; the new count."""
     new = steps[read:]
@@ -384,19 +427,80 @@ def _tell(story: CleanAndPatrolStory, steps: list, read: int, json_lines: bool) 
     return read + len(new)
 
 
-class StoryFollower:
-    """Narrates a story scenario: the story node's beats and user steps (``story/fired``), and from the
-    executor's ``~state`` where the robot is, the controller's mode and its resyntheses."""
+class TraceFollower(Follower):
+    """Prints the controller's trace (``ControllerTrace``) until the strategy has cycled through its
+    goals ``--cycles`` times (and the scenario's narration is complete), or for a spec without goals
+    ``--duration`` seconds from the controller's first state."""
 
-    def __init__(self, namespace: str, regions: list[str], json_lines: bool, say) -> None:
+    def __init__(self, trace, scenario: Scenario, args, has_goals: bool, goals: int) -> None:
+        self.trace, self.has_goals, self.goals = trace, has_goals, goals
+        self.cycles, self.duration, self.json_lines = args.cycles, args.duration, args.json
+        self.story = scenario.narration() if scenario.narration is not None else None
+        self.read = 0  # trace steps the story has read
+        self.first_state: float | None = None  # --duration counts from here: start-up takes long on a busy machine
+        self._reached = False
+
+    def intro(self) -> str:
+        if self.has_goals:
+            return f"synthesizing and starting; the run ends after {self.cycles} cycle(s) through {self.goals} goals"
+        return f"synthesizing and starting; the spec has no goals, the run ends after {self.duration:.0f} s"
+
+    def wait(self) -> bool:
+        cycles_done = self.has_goals and self.trace.wait_cycles(self.cycles, 1.0 if self.story is None else 0.5)
+        if self.story is not None:
+            self.read = _tell(self.story, self.trace.steps, self.read, self.json_lines)
+        if cycles_done and (self.story is None or self.story.complete):
+            self._reached = True
+            return True
+        if cycles_done:
+            time.sleep(0.2)
+        if not self.has_goals:
+            time.sleep(0.2)
+            if self.trace.steps and self.first_state is None:
+                self.first_state = time.monotonic()
+            if self.first_state is not None and time.monotonic() - self.first_state >= self.duration:
+                self._reached = True
+                return True
+        return False
+
+    def reached(self) -> bool:
+        return self._reached
+
+    def summary(self, reached: bool, elapsed: float, problems: list[str]) -> dict:
+        summary = {"cycles": self.trace.cycles.completed, "states": len(self.trace.steps),
+                   "seconds": round(elapsed, 1), "problems": len(problems), "ok": reached}
+        if self.story is not None:
+            summary["story"] = [c.key for c in self.story.chapters]
+        return summary
+
+    def done(self, elapsed: float, problems: list[str]) -> str:
+        cycles = f"{self.trace.cycles.completed} goal cycle(s), " if self.has_goals else ""
+        return f"{cycles}{len(self.trace.steps)} controller states, {elapsed:.1f} s, {len(problems)} problem(s) reported"
+
+    def unfinished(self, timeout: float) -> str:
+        if self.story is not None and self.trace.cycles.completed >= self.cycles:
+            return f"the story did not reach '{self.story.next_key}' within {timeout:.0f} s"
+        if self.has_goals:
+            return f"{self.cycles} goal cycle(s) not completed within {timeout:.0f} s"
+        return f"the controller did not start within {timeout:.0f} s"
+
+
+class StoryFollower(Follower):
+    """Narrates a story scenario: the story node's beats and user steps (``story/fired``), and from the
+    executor's ``~state`` where the robot is, the controller's mode and its resyntheses; complete when
+    the story node says so (``story/complete``)."""
+
+    def __init__(self, scenario: Scenario, args, say) -> None:
         import rospy
         from std_msgs.msg import Bool, String
 
         from ltl_stack.msg import ControllerState
 
-        self.json_lines = json_lines
+        config = package_dir() / "config" / (scenario.config or scenario.namespace)
+        self.story = load_story(config / "story.yaml")
+        self.json_lines = args.json
         self.say = say
-        self.regions = regions
+        self.regions = self.story.regions
         self.complete = threading.Event()
         #: the story's beats seen on story/fired ("story: ..."); story/complete is another topic and
         #: may arrive before the last beat's message
@@ -407,10 +511,41 @@ class StoryFollower:
         self.states = 0
         self.last_stamp = None  # of the last ~state told
         self.lock = threading.Lock()
-        self.state_topic = f"/{namespace}/controller_executor/state"
-        rospy.Subscriber(f"/{namespace}/story/fired", String, self._on_fired, queue_size=100)
-        rospy.Subscriber(f"/{namespace}/story/complete", Bool, self._on_complete, queue_size=10)
+        self.state_topic = f"/{scenario.namespace}/controller_executor/state"
+        rospy.Subscriber(f"/{scenario.namespace}/story/fired", String, self._on_fired, queue_size=100)
+        rospy.Subscriber(f"/{scenario.namespace}/story/complete", Bool, self._on_complete, queue_size=10)
         rospy.Subscriber(self.state_topic, ControllerState, self._on_state, queue_size=100)
+
+    def intro(self) -> str:
+        return f"synthesizing and starting; the run ends when the story's {len(self.story.beats)} beats have played"
+
+    def wait(self) -> bool:
+        return self.complete.wait(0.5)
+
+    def finish(self) -> None:
+        # the last beat's message travels on story/fired, the completion on story/complete: tell it too
+        deadline = time.monotonic() + 10.0
+        while self.complete.is_set() and self.beats_told < len(self.story.beats) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        if self.complete.is_set():
+            self.catch_up(10.0)
+
+    def reached(self) -> bool:
+        return self.complete.is_set()
+
+    def summary(self, reached: bool, elapsed: float, problems: list[str]) -> dict:
+        with self.lock:
+            return {"ok": reached, "seconds": round(elapsed, 1), "states": self.states, "modes": self.modes,
+                    "problems": len(problems), **self.counters}
+
+    def done(self, elapsed: float, problems: list[str]) -> str:
+        c = self.counters
+        return (f"story complete in {elapsed:.1f} s; {c.get('resyntheses', 0)} resynthes(es) "
+                f"(EC1 {c.get('resyntheses_ec1', 0)}, EC2 {c.get('resyntheses_ec2', 0)}, "
+                f"user {c.get('resyntheses_user', 0)}), {c.get('violations', 0)} violating transitions")
+
+    def unfinished(self, timeout: float) -> str:
+        return f"the story did not complete within {timeout:.0f} s"
 
     def catch_up(self, timeout: float) -> None:
         """Wait (at most ``timeout`` s) until the ~state the executor published last has been told.
@@ -479,135 +614,85 @@ class StoryFollower:
             self.counters = counters
 
 
-COUNTERS = ("violations", "recovery_steps", "resyntheses", "resyntheses_ec1", "resyntheses_ec2", "resyntheses_user",
-            "unrealizable")
+_NUMBER_WORDS = ("no", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine")
 
 
-def _follow_story(args, scenario: Scenario, launch, log_path: Path, problems: list[str], say) -> int:
-    """Follow a story scenario until its story is complete (Exit.OK) or --timeout (Exit.NEGATIVE)."""
-    import rospy
+class NegotiationFollower(Follower):
+    """Narrates several robots negotiating (thesis Example 13): the world's events and each robot's
+    negotiation reports (``<robot>/controller_executor/negotiations``: with whom, what was sent and
+    received in words, the outcome), until the scenario's ``Negotiation.finished`` holds."""
 
-    config = package_dir() / "config" / (scenario.config or scenario.namespace)
-    story = load_story(config / "story.yaml")
-    follower = StoryFollower(scenario.namespace, story.regions, args.json, say)
-    say(f"synthesizing and starting; the run ends when the story's {len(story.beats)} beats have played")
-    started = time.monotonic()
-    watch, dead = LaunchLog(log_path), None
-    while time.monotonic() - started < args.timeout and launch.poll() is None:
-        if follower.complete.wait(0.5):
-            break
-        dead = watch.died()
-        if dead:
-            break
-    # the last beat's message travels on story/fired, the completion on story/complete: tell it too
-    deadline = time.monotonic() + 10.0
-    while follower.complete.is_set() and follower.beats_told < len(story.beats) and time.monotonic() < deadline:
-        time.sleep(0.05)
-    if follower.complete.is_set():
-        follower.catch_up(10.0)
-    elapsed = time.monotonic() - started
-    rospy.signal_shutdown("demo finished")
-    reached = follower.complete.is_set()
-    with follower.lock:
-        summary = {"event": "summary", "scenario": args.scenario, "ok": reached, "seconds": round(elapsed, 1),
-                   "states": follower.states, "modes": follower.modes, "problems": len(problems), **follower.counters}
-    if args.json:
-        print(json.dumps(summary), flush=True)
-    elif reached:
-        c = follower.counters
-        say(f"done: story complete in {elapsed:.1f} s; {c.get('resyntheses', 0)} resynthes(es) "
-            f"(EC1 {c.get('resyntheses_ec1', 0)}, EC2 {c.get('resyntheses_ec2', 0)}, "
-            f"user {c.get('resyntheses_user', 0)}), {c.get('violations', 0)} violating transitions")
-    if not reached:
-        why = (f"{dead} after {elapsed:.0f} s" if dead
-               else f"roslaunch exited with code {launch.returncode} after {elapsed:.0f} s" if launch.poll() is not None
-               else f"the story did not complete within {args.timeout:.0f} s")
-        _not_reached(why, log_path)
-        return Exit.NEGATIVE
-    return Exit.OK
+    def __init__(self, namespace: str, negotiation: Negotiation, json_lines: bool) -> None:
+        import rospy
+        from std_msgs.msg import String
 
+        self.namespace, self.negotiation, self.json_lines = namespace, negotiation, json_lines
+        self.roles = dict(negotiation.robots)
+        self.lock = threading.Lock()
+        self.done_event = threading.Event()
+        self.seen: set[tuple[str, str]] = set()
+        self.events: list[str] = []
+        self.negotiations = 0
+        self.started = time.monotonic()
+        rospy.Subscriber(f"/{namespace}/{negotiation.events}", String, self._on_event, queue_size=100)
+        for robot in self.roles:
+            rospy.Subscriber(f"/{namespace}/{robot}/controller_executor/negotiations", String, self._on_reports,
+                             callback_args=robot, queue_size=100)
 
-KITCHEN_ROBOTS = {"D": "DeliveryAgent", "A": "KitchenAssistant", "C": "Chef"}
-KITCHEN_DONE = "C cooked the ingredients"
+    def _stamp(self) -> str:
+        return f"[{time.monotonic() - self.started:7.2f}s]"
 
-
-def _follow_negotiation(args, launch, log_path: Path, problems: list[str], say) -> int:
-    """Example 13: narrate the world's events (``/kitchen/kitchen_world/events``) and each negotiation
-    (``/kitchen/<robot>/controller_executor/negotiations``: with whom, what was sent and received in
-    Structured English, the outcome) until C has cooked and D is back in company."""
-    import rospy
-    from std_msgs.msg import String
-
-    lock = threading.Lock()
-    done = threading.Event()
-    seen: set[tuple[str, str]] = set()
-    state = {"delivered": False, "cooked": False, "back": False, "negotiations": 0}
-    started = time.monotonic()
-
-    def stamp() -> str:
-        return f"[{time.monotonic() - started:7.2f}s]"
-
-    def on_event(msg: String) -> None:
-        with lock:
+    def _on_event(self, msg) -> None:
+        with self.lock:
             text = msg.data
-            if args.json:
+            if self.json_lines:
                 print(json.dumps({"event": "world", "text": text}), flush=True)
             else:
-                print(f"{stamp()} {text}", flush=True)
-            state["delivered"] |= text.startswith("D delivered")
-            state["cooked"] |= text == KITCHEN_DONE
-            state["back"] |= state["delivered"] and text == "D is in company"
-            if state["cooked"] and state["back"]:
-                done.set()
+                print(f"{self._stamp()} {text}", flush=True)
+            self.events.append(text)
+            if self.negotiation.finished(self.events):
+                self.done_event.set()
 
-    def on_reports(msg: String, robot: str) -> None:
-        with lock:
+    def _on_reports(self, msg, robot: str) -> None:
+        with self.lock:
             for report in json.loads(msg.data):
                 key = (robot, report["session"])
-                if report["outcome"] is None or key in seen:
+                if report["outcome"] is None or key in self.seen:
                     continue
-                seen.add(key)
+                self.seen.add(key)
                 if report["initiator"]:
-                    state["negotiations"] += 1
-                if args.json:
+                    self.negotiations += 1
+                if self.json_lines:
                     print(json.dumps({"event": "negotiation", "robot": robot, **{k: report[k] for k in (
                         "peer", "session", "case", "outcome", "reason", "sent", "received", "dropped")}}), flush=True)
                     continue
-                first, *rest = report_lines(report, f"{KITCHEN_ROBOTS[robot]} ({robot})")
-                print(f"{stamp()} *** {first}", flush=True)
+                first, *rest = report_lines(report, f"{self.roles[robot]} ({robot})")
+                print(f"{self._stamp()} *** {first}", flush=True)
                 for line in rest:
                     print(f"{' ' * 12}{line}", flush=True)
                 if report["explanation"]:
                     print(report["explanation"], flush=True)
 
-    rospy.Subscriber("/kitchen/kitchen_world/events", String, on_event, queue_size=100)
-    for robot in KITCHEN_ROBOTS:
-        rospy.Subscriber(f"/kitchen/{robot}/controller_executor/negotiations", String, on_reports,
-                         callback_args=robot, queue_size=100)
-    say("synthesizing and starting three controllers; the run ends when C has cooked and D is back in company")
-    watch, dead = LaunchLog(log_path), None
-    while time.monotonic() - started < args.timeout and launch.poll() is None:
-        if done.wait(0.5):
-            break
-        dead = watch.died()
-        if dead:
-            break
-    elapsed = time.monotonic() - started
-    rospy.signal_shutdown("demo finished")
-    reached = done.is_set()
-    summary = {"event": "summary", "scenario": args.scenario, "ok": reached, "seconds": round(elapsed, 1),
-               "negotiations": state["negotiations"], "problems": len(problems)}
-    if args.json:
-        print(json.dumps(summary), flush=True)
-    elif reached:
-        say(f"done: {state['negotiations']} negotiation(s), C cooked and D is back in company after {elapsed:.1f} s")
-    if not reached:
-        why = (f"{dead} after {elapsed:.0f} s" if dead
-               else f"roslaunch exited with code {launch.returncode} after {elapsed:.0f} s" if launch.poll() is not None
-               else f"the kitchen did not finish within {args.timeout:.0f} s")
-        _not_reached(why, log_path)
-        return Exit.NEGATIVE
-    return Exit.OK
+    def intro(self) -> str:
+        count = len(self.roles)
+        return (f"synthesizing and starting {_NUMBER_WORDS[count] if count < len(_NUMBER_WORDS) else count} "
+                f"controllers; the run ends when {self.negotiation.goal}")
+
+    def wait(self) -> bool:
+        return self.done_event.wait(0.5)
+
+    def reached(self) -> bool:
+        return self.done_event.is_set()
+
+    def summary(self, reached: bool, elapsed: float, problems: list[str]) -> dict:
+        return {"ok": reached, "seconds": round(elapsed, 1), "negotiations": self.negotiations,
+                "problems": len(problems)}
+
+    def done(self, elapsed: float, problems: list[str]) -> str:
+        return f"{self.negotiations} negotiation(s), {self.negotiation.done} after {elapsed:.1f} s"
+
+    def unfinished(self, timeout: float) -> str:
+        return f"the {self.namespace} did not finish within {timeout:.0f} s"
 
 
 if __name__ == "__main__":

@@ -1,4 +1,4 @@
-"""GR(1) specification model, .slugsin and structured readers/writers, Structured English.
+"""GR(1) specification model, .slugsin and structured readers/writers, formulas in words.
 
 The names below are imported on first use (PEP 562 module ``__getattr__``): a tool that reads one
 slugsin file does not pay for the English writer and reader (~30 ms of a command's start-up), while
@@ -11,21 +11,21 @@ from typing import TYPE_CHECKING
 from ltl_stack.lazy import lazy_exports
 
 if TYPE_CHECKING:  # pragma: no cover - for type checkers and readers only
-    from ltl_stack.spec.english import (
+    from ltl_stack.spec.errors import SpecError
+    from ltl_stack.spec.formula import FALSE, TRUE, And, Const, Formula, Iff, Implies, Not, Or, Var, Xor
+    from ltl_stack.spec.formula_text import (
         clause_to_english,
         formula_to_english,
         formula_to_infix,
         spec_to_english,
     )
-    from ltl_stack.spec.errors import SpecError
-    from ltl_stack.spec.formula import FALSE, TRUE, And, Const, Formula, Iff, Implies, Not, Or, Var, Xor
     from ltl_stack.spec.load import load_spec
     from ltl_stack.spec.model import SECTIONS, Clause, IntegerVariable, Spec
     from ltl_stack.spec.slugsin import formula_to_slugsin, parse_slugsin, write_slugsin
     from ltl_stack.spec.structured import parse_structured
 
 _EXPORTS = {
-    "english": ("clause_to_english", "formula_to_english", "formula_to_infix", "spec_to_english"),
+    "formula_text": ("clause_to_english", "formula_to_english", "formula_to_infix", "spec_to_english"),
     "errors": ("SpecError",),
     "formula": ("FALSE", "TRUE", "And", "Const", "Formula", "Iff", "Implies", "Not", "Or", "Var", "Xor"),
     "load": ("load_spec",),

@@ -1,17 +1,25 @@
 """Structured English files as users have them: plain sentence files and LTLMoP project files.
 
-``read_english`` tells the two apart and hands each to its reader: ``english_reader.read_sentences``
+``read_english`` tells the two apart and hands each to its reader: ``structured_english.read_sentences``
 for declarations and sentences, ``ltlmop_project.read_project`` for an LTLMoP project
 (``======== SETTINGS ========`` …), read as shipped with LTLMoP's meaning. The project reader builds
-on the sentence reader, so the choice lives here, above both.
+on the sentence reader, so the choice lives here, above both. ``append_sentences`` adds sentences —
+suggestions of the graph analysis, learned assumptions — to a file, atomically and only if the whole
+file still reads.
 """
 from __future__ import annotations
 
+import os
+from collections.abc import Iterable
 from pathlib import Path
 
-from ltl_stack.spec.english_reader import EnglishSpec, is_ltlmop_project, read_sentences
+from ltl_stack.errors import InputError
+from ltl_stack.fileio import write_atomic
+from ltl_stack.inputs import read_text
+from ltl_stack.spec.errors import SpecError
 from ltl_stack.spec.ltlmop_project import read_project
 from ltl_stack.spec.model import Spec
+from ltl_stack.spec.structured_english import EnglishSpec, is_ltlmop_project, read_sentences
 
 
 def read_english(text: str, file: str = "<string>",
@@ -31,4 +39,26 @@ def parse_english(text: str, file: str = "<string>", base_dir: str | Path | None
     return read_english(text, file, base_dir).spec
 
 
-__all__ = ["parse_english", "read_english"]
+def append_sentences(path: str | os.PathLike, sentences: Iterable[str]) -> EnglishSpec:
+    """Append ``sentences`` (one per line) to the English spec at ``path``, atomically.
+
+    The whole new text is read first; if it does not read (a sentence that does not parse, an
+    unknown name) the ``SpecError`` is raised and the file is left as it was.
+    """
+    path = Path(path)
+    try:
+        old = read_text(path, "spec file")
+    except InputError as e:
+        raise SpecError(str(path), e.line, 0, e.message) from None
+    added = [s.strip() for s in sentences if s.strip()]
+    for s in added:
+        if "\n" in s or "\r" in s:
+            raise SpecError(str(path), 0, 0, f"a sentence is one line: {s!r}")
+    text = old + ("" if not old or old.endswith("\n") else "\n") + "".join(s + "\n" for s in added)
+    result = read_english(text, str(path))
+    mode = path.stat().st_mode & 0o7777
+    write_atomic(path, text, mode=mode)
+    return result
+
+
+__all__ = ["append_sentences", "parse_english", "read_english"]

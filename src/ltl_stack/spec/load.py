@@ -15,7 +15,7 @@ STRUCTURED_SUFFIXES = (".structuredslugs", ".ltl")
 
 def load_spec(path: str | Path) -> Spec:
     """Read ``path``: ``.slugsin`` as slugsin, ``.structuredslugs``/``.ltl`` as the structured format,
-    ``.spec``/``.english`` as Structured English (``english_reader``) unless the file starts with a
+    ``.spec``/``.english`` as Structured English (``structured_english``) unless the file starts with a
     section header such as ``[INPUT]``.
 
     Any other name is tried as slugsin, then as structured; when both fail, the error of the reader
@@ -38,9 +38,9 @@ def load_spec(path: str | Path) -> Spec:
         return parse_structured(text, file)
     # imported here, not at the top: the English reader's phrase tables cost ~12 ms of every
     # command's start-up, and only a file that is neither slugsin nor structured may be English
-    from ltl_stack.spec import english_reader
+    from ltl_stack.spec import structured_english
 
-    if suffix in english_reader.ENGLISH_SUFFIXES and not english_reader.has_section_headers(text):
+    if suffix in structured_english.ENGLISH_SUFFIXES and not structured_english.has_section_headers(text):
         from ltl_stack.spec.english_files import parse_english
 
         return parse_english(text, file)

@@ -22,7 +22,7 @@ SETTINGS
                                   LTLMoP encodes the same spec.
 SPECIFICATION
     ``Spec:``                     the sentences (``parser: structured``, read by
-                                  ``english_reader`` with LTLMoP's timing) or the raw LTL
+                                  ``structured_english`` with LTLMoP's timing) or the raw LTL
                                   (``parser: ltl``: assumptions, a line of dashes, guarantees; one
                                   conjunct per line in LTLMoP's syntax ``[]``, ``[]<>``, ``next()``,
                                   ``s.``/``e.`` prefixes, region bits and the follow macros, ``_RawLtl``)
@@ -36,13 +36,13 @@ from pathlib import Path
 
 from ltl_stack.errors import InputError
 from ltl_stack.inputs import read_text
-from ltl_stack.spec.english_reader import Declarations, EnglishSpec, add_declaration, compile_sentences
 from ltl_stack.spec.errors import SpecError
 from ltl_stack.spec.formula import And, Formula, Implies, Not, Or, Var
 from ltl_stack.spec.model import SECTIONS, Clause
 from ltl_stack.spec.region_map import parse_region_map
 from ltl_stack.spec.sections import Line, SpecBuilder
 from ltl_stack.spec.structured import NAME_RULE, parse_clause, valid_name
+from ltl_stack.spec.structured_english import Declarations, EnglishSpec, add_declaration, compile_sentences
 
 _CONTAINER = re.compile(r"^=+\s*(?P<title>[^=]+?)\s*=+")
 _HEADER = re.compile(r"^(?P<key>\w+):\s*(?:#.*)?$")

@@ -7,8 +7,8 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping, Sequence
 from typing import Union
 
-from ltl_stack.spec.english import formula_to_infix
 from ltl_stack.spec.formula import Formula
+from ltl_stack.spec.formula_text import formula_to_infix
 from ltl_stack.spec.model import SECTIONS, SLUGSIN_SECTIONS
 
 #: one line of a section: a text line (a ``str``: a comment, or a clause already written) or a clause

@@ -3,14 +3,14 @@
 ``explanation_text`` is the report ``synthesize --explain`` prints, ``explanation_dict`` its JSON
 data (``--json``); ``counterstrategy_json`` and ``counterstrategy_dot`` are the files of
 ``--counterstrategy``. Clauses are named by ``file:line`` with their text and, when it says more,
-their Structured English; the English of a clause with shared subformulas names them
+their formula in words (``formula_text``); the words of a clause with shared subformulas name them
 (``… where B1 = …``), so it stays as long as the clause.
 """
 from __future__ import annotations
 
 from collections.abc import Mapping
 
-from ltl_stack.spec.english import clause_to_english
+from ltl_stack.spec.formula_text import clause_to_english
 from ltl_stack.spec.model import Clause
 from ltl_stack.synthesis.explain import DEADLOCK, INIT, LIVELOCK, Counterstrategy, Explanation
 
@@ -20,7 +20,7 @@ MAX_TEXT = 160
 
 
 def english(clause: Clause) -> str:
-    """The clause's formula in Structured English (no section word)."""
+    """The clause's formula in words (no section word)."""
     return clause_to_english(clause)
 
 
@@ -29,7 +29,7 @@ def _shorten(text: str) -> str:
 
 
 def clause_line(clause: Clause, section: str | None = None) -> str:
-    """``file:line: text`` (plus the Structured English in parentheses when it says more); long
+    """``file:line: text`` (plus the formula in words in parentheses when it says more); long
     clauses are shortened."""
     text = _shorten(clause.text or "(no text)")
     words = _shorten(english(clause))

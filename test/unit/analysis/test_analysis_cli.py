@@ -62,7 +62,7 @@ def test_text_report_shows_findings_chains_and_suggestions(snapshots, capsys):
            "(arm_1/arm_controller/follow_joint_trajectory/action_topics), (move_group/action_topics)" in out
     assert out.count("[/odom]") == 1, "channels with the same competing outputs are listed once"
     assert ".slugsin [SYS_TRANS]: | & pickup' ! drop' | & ! pickup' drop' & ! pickup' ! drop'" in out
-    assert "Structured English: always ((pickup and not drop) or (not pickup and drop) or (not pickup and not drop))" in out
+    assert "In words: always ((pickup and not drop) or (not pickup and drop) or (not pickup and not drop))" in out
 
 
 def test_json_report_for_tools(snapshots, capsys):
@@ -276,7 +276,7 @@ def spec3_setup(folder: Path) -> list[str]:
 
 
 def test_apply_on_english_spec3_appends_sentences_and_names_the_assumption(tmp_path, capsys):
-    from ltl_stack.spec.english_writer import append_sentences
+    from ltl_stack.spec.english_files import append_sentences
     from ltl_stack.synthesis import is_realizable
 
     args = spec3_setup(tmp_path)

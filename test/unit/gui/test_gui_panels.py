@@ -164,6 +164,9 @@ def test_analysis_panel_on_a_snapshot_file_then_apply_and_check(qtbot, tmp_path)
     assert {n.label for n in panel.graph_view.graph.nodes} == {"/simple/move", "/simple/cmd_vel", "/simple/stop"}
     assert len(panel.graph_view.items) == 3
     assert "mutually exclusive" in panel.suggestions_text.toPlainText()
+    # the formula under each suggestion is text to read ('always ((move and not stop) or …'), which the
+    # Structured English reader does not take: the drop-down must not call it Structured English
+    assert panel.form_combo_box.itemText(0) == "Formula in words"
     panel.form_combo_box.setCurrentIndex(1)
     assert "G((move & !stop)" in panel.suggestions_text.toPlainText()
     panel.form_combo_box.setCurrentIndex(2)

@@ -93,3 +93,34 @@ def test_the_launch_log_names_the_first_node_that_died(tmp_path):
     assert watch.died() == "node alice/story_environment died (exit code 2)"
     assert watch.died() is None  # told once
     assert LaunchLog(tmp_path / "absent.log").died() is None
+
+
+@pytest.mark.parametrize("name", [n for n, s in SCENARIOS.items() if s.negotiation is not None])
+def test_negotiation_scenarios_name_robots_and_a_world_their_launch_file_starts(name):
+    """The negotiation follower subscribes to /<namespace>/<robot>/… and /<namespace>/<events>: each
+    robot is a group of the launch file and the world node publishing the events is started there."""
+    scenario = SCENARIOS[name]
+    launch = (ROOT / "launch" / scenario.launch).read_text()
+    for robot, role in scenario.negotiation.robots:
+        assert f'<group ns="{robot}">' in launch, (robot, role)
+    node = scenario.negotiation.events.split("/")[0]
+    assert f'name="{node}"' in launch, node
+
+
+def test_the_kitchen_is_over_when_c_has_cooked_and_d_is_back_in_company_after_delivering():
+    finished = SCENARIOS["kitchen"].negotiation.finished
+    cooked, back = "C cooked the ingredients", "D is in company"
+    delivered = "D delivered the ingredients to storage: ingredientArrived"
+    assert finished([delivered, "A passed the ingredients to C", cooked, back])
+    assert finished([back, delivered, back, cooked])
+    assert not finished([back, delivered, cooked])          # in company only before the delivery
+    assert not finished([delivered, back])                  # C has not cooked
+    assert not finished([cooked, back, "D is in road"])     # nothing delivered
+
+
+def test_the_demo_driver_holds_no_scenario_data():
+    """Scenario data (robots, event texts) lives in the registry's entries, not in the driver's loop."""
+    source = (ROOT / "src" / "ltl_stack" / "sim" / "demo.py").read_text()
+    driver = source[source.index("def _run("):]
+    for word in ("kitchen", "clean_and_patrol", "DeliveryAgent", "cooked", '"D"'):
+        assert word not in driver, word

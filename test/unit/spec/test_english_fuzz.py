@@ -5,8 +5,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from ltl_stack.spec.english_files import parse_english
-from ltl_stack.spec.english_reader import KEYWORDS, PHRASES, TEMPLATES
 from ltl_stack.spec.errors import SpecError
+from ltl_stack.spec.structured_english import KEYWORDS, PHRASES, TEMPLATES
 
 HEADER = "Sensors: person, door\nActions: move, stop\nActions with completion: pick\nMemory: seen\nRegions: r1, r2\n"
 WORDS = sorted(KEYWORDS) + ["person", "door", "move", "stop", "pick", "seen", "r1", "r2", "r1_rc", "pick_ac",

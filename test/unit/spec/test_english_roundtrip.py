@@ -11,11 +11,11 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from ltl_stack.analysis.suggest import MutualExclusion
-from ltl_stack.spec.english_files import parse_english, read_english
-from ltl_stack.spec.english_writer import append_sentences, clause_to_sentence, sentences_for, spec_sentences
+from ltl_stack.spec.english_files import append_sentences, parse_english, read_english
 from ltl_stack.spec.errors import SpecError
 from ltl_stack.spec.formula import FALSE, TRUE, And, Const, Formula, Iff, Implies, Not, Or, Var, Xor
 from ltl_stack.spec.model import Clause
+from ltl_stack.spec.structured_english.writer import clause_to_sentence, sentences_for, spec_sentences
 
 FILES = [DATA / "thesis_spec1.spec", DATA / "thesis_spec2.spec", DATA / "thesis_spec3.spec",
          CONFIG / "simple" / "simple.spec", CONFIG / "clean_and_patrol" / "clean_and_patrol.spec"]

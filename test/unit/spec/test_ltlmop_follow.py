@@ -140,8 +140,8 @@ def test_a_bit_pattern_is_the_region_with_that_number(n, data):
     """Where the robot is in exactly one of n regions, LTLMoP's pattern of number i (``s.bitJ``
     literals, most significant first) holds exactly in region i, and a number >= n in none."""
     from ltl_stack.spec.activation_completion import exactly_one
-    from ltl_stack.spec.english_reader import Declarations
     from ltl_stack.spec.ltlmop_project import _RawLtl
+    from ltl_stack.spec.structured_english import Declarations
 
     regions = [f"r{k}" for k in range(n)]
     width = (n - 1).bit_length()

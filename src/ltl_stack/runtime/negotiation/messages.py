@@ -41,7 +41,7 @@ class Message:
     session: str                # "<initiator>-><responder>": one negotiation per pair
     round: int = 0              # 1 or 2 for a status (Alg. 4 lines 10 and 18)
     text: str = ""              # offer: structured spec text in the receiver's names
-    english: tuple[str, ...] = ()  # offer: the same clauses in Structured English (for people)
+    english: tuple[str, ...] = ()  # offer: the same clauses in words (for people)
     realizable: bool = False    # status
     reason: str = ""            # abort / status: why
     nonce: str = ""             # authentication (``auth``): when and something unguessable; "" unsigned
@@ -126,7 +126,7 @@ def offer_refusal(text: str) -> str | None:
 
 def report_lines(report: Mapping[str, Any], robot: str = "") -> list[str]:
     """A finished negotiation's report (``Negotiation.report()``) as lines for people: who started or
-    answered it and the outcome, then each clause sent and received (Structured English)."""
+    answered it and the outcome, then each clause sent and received (in words)."""
     role = "started" if report["initiator"] else "answered"
     who = f"{robot} " if robot else ""
     lines = [f"{who}{role} negotiation {report['session']}: {report['outcome']}"

@@ -69,7 +69,7 @@ class Negotiation:
         self.reason = ""
         self.adopted: Adoption | None = None
         self.explanation = ""
-        self.sent: list[str] = []          # Structured English, for ~state / the trace
+        self.sent: list[str] = []          # clauses in words, for ~state / the trace
         self.received: list[str] = []
         self.dropped: list[str] = []       # our goals the peer cannot express (not sent)
         self.log: list[str] = []           # what happened, in order

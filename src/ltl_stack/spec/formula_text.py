@@ -1,6 +1,6 @@
-"""Formulas for people: Structured English sentences, infix text and slugsin prefix text.
+"""Formulas as text for people: in words, as infix text and as slugsin prefix text.
 
-Structured English follows the thesis' phrasing (Spec. 1 and 2, Figs. 3.7-3.8): ``not``, ``and``,
+The words follow the thesis' phrasing (Spec. 1 and 2, Figs. 3.7-3.8): ``not``, ``and``,
 ``or``, ``if … then …``, ``… if and only if …``, ``next x`` for a primed proposition, and a
 section word in front: ``always`` (safety), ``infinitely often`` (liveness), ``initially`` (init)::
 
@@ -8,13 +8,17 @@ section word in front: ``always`` (safety), ``infinitely often`` (liveness), ``i
     always ((not pickup and drop) or (pickup and not drop))
     infinitely often rightLane
 
+This is text to read, not Structured English to write: the Structured English reader
+(``structured_english``) has no ``next``, ``initially`` or ``where $1 = …``. Displays label it "in
+words"; ``structured_english.writer`` writes sentences that read back.
+
 Proposition names are written exactly as declared, so ``not_ready`` stays one word; a name that is
 itself one of the sentence words (``and``, ``next``, …) is quoted. All renderers work bottom-up
 with ``ops.fold`` (no recursion), so deep formulas are fine.
 
 Formulas are DAGs (slugsin ``$`` buffers, integer comparisons share subformulas), and writing a
 shared subformula out at every use can make the text exponentially longer than the clause. A
-shared subformula longer than ``SHARE_LIMIT`` characters is therefore named: the English reads
+shared subformula longer than ``SHARE_LIMIT`` characters is therefore named: the words read
 ``always, if $1 then next y, where $1 = x0 and x1`` (definitions before their uses), and infix text
 falls back to the slugsin prefix line with ``$`` buffers, which ``parse_structured`` reads too. The
 text is built as nested parts joined once at the end, so its size and the work are linear in the
@@ -196,7 +200,7 @@ def _integer_values(args: tuple[Formula, ...], integers: Sequence[IntegerVariabl
 
 
 def formula_to_english(f: Formula, integers: Sequence[IntegerVariable] = ()) -> str:
-    """``f`` as a Structured English phrase (no section word in front).
+    """``f`` in words (no section word in front).
 
     With the spec's ``integers``, a conjunction that fixes every bit of an integer reads
     ``x is 3`` (``next x is 3`` when primed) instead of listing its bits; ``and true`` and
@@ -265,7 +269,7 @@ def _english(f: Formula, integers: Sequence[IntegerVariable], names: _Names) -> 
 
 def clause_to_english(clause_or_formula: Clause | Formula, section: str | None = None,
                       integers: Sequence[IntegerVariable] = ()) -> str:
-    """A Structured English sentence for a clause (or formula) of ``section`` (one of ``SECTIONS``).
+    """A clause (or formula) of ``section`` (one of ``SECTIONS``) in words, the section word in front.
 
     Without a section only the formula is rendered, with no ``always``/``infinitely often``.
     Pass ``spec.integers`` to read integer bits as values (``x is 3``). Long shared subformulas
@@ -289,5 +293,5 @@ def clause_to_english(clause_or_formula: Clause | Formula, section: str | None =
 
 
 def spec_to_english(spec: Spec) -> dict[str, list[str]]:
-    """Every clause of ``spec`` as a sentence, by section (integers read as values)."""
+    """Every clause of ``spec`` in words, by section (integers read as values)."""
     return {name: [clause_to_english(c, name, spec.integers) for c in spec.section(name)] for name in SECTIONS}

@@ -1,4 +1,4 @@
-"""Structured English and infix rendering."""
+"""Formulas in words and as infix text (``spec.formula_text``)."""
 from __future__ import annotations
 
 import pytest
@@ -6,14 +6,14 @@ from hypothesis import given, settings
 from spec_testing import NAMES, SPECS, formulas
 
 from ltl_stack.spec import load_spec, parse_slugsin, parse_structured
-from ltl_stack.spec.english import (
+from ltl_stack.spec.formula import FALSE, TRUE, And, Iff, Implies, Not, Or, Var, Xor
+from ltl_stack.spec.formula_text import (
     clause_to_english,
     formula_to_english,
     formula_to_infix,
     formula_to_slugsin,
     spec_to_english,
 )
-from ltl_stack.spec.formula import FALSE, TRUE, And, Iff, Implies, Not, Or, Var, Xor
 from ltl_stack.spec.model import Clause
 from ltl_stack.spec.ops import evaluate_many, flatten
 

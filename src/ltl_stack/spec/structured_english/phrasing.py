@@ -1,35 +1,17 @@
-"""GR(1) clauses back to Structured English sentences that ``english_reader`` reads again.
+"""Formulas as the parts of Structured English sentences, for one spec's declarations: the
+conditions (``you are sensing a and you were in R``), the requirements (``do a and b``) and the
+goals (``visit R``), in the tense that reads back as the same state (current or next). The sentence
+forms (``forms``) put these parts together; ``writer`` chooses the form.
 
-``clause_to_sentence(clause, section, decl)`` writes one clause as one sentence: ``Always move``,
-``If you are sensing person then do stop``, ``If C then visit R``, ``Assume always …``,
-``Robot starts with …``. Reading the sentence back gives an equivalent clause in the same section
-(the tense says current or next state, ``you are in R`` / ``you have finished a`` the completions).
-``spec_sentences(english)`` renders a read English spec sentence by sentence, recognising the
-forms that give several clauses (memory, lists of goals, ``Start in``, mutual exclusion), so the
-result reads like the input. ``append_sentences(path, sentences)`` adds sentences — suggestions
-of the graph analysis, learned assumptions — to an English spec file, atomically and only if the
-whole file still reads.
-
-Formulas that a sentence cannot say raise ``ValueError``: goals over next-state values (the
-fairness clauses of [75] are generated, not written), and robot guarantees that do not constrain
-anything the robot does next.
+Formulas that a sentence cannot say raise ``ValueError`` (a goal over next-state values).
 """
 from __future__ import annotations
 
-import os
-from collections.abc import Iterable, Sequence
-from pathlib import Path
-
-from ltl_stack.errors import InputError
-from ltl_stack.fileio import write_atomic
-from ltl_stack.inputs import read_text
 from ltl_stack.spec.activation_completion import ACTION_COMPLETION, REGION_COMPLETION
-from ltl_stack.spec.english_files import read_english
-from ltl_stack.spec.english_reader import Declarations, EnglishSpec
-from ltl_stack.spec.errors import SpecError
 from ltl_stack.spec.formula import And, Const, Formula, Iff, Implies, Not, Or, Var, Xor, walk
-from ltl_stack.spec.model import Clause, Spec
+from ltl_stack.spec.model import Spec
 from ltl_stack.spec.ops import fold
+from ltl_stack.spec.structured_english.declarations import Declarations
 
 _PRESENT = {"sensor": "you are sensing", "robot": "you are activating", "region": "you are in",
             "done": "you have finished"}
@@ -89,7 +71,7 @@ def _lower(f: Formula) -> Formula:
     return fold(f, combine)
 
 
-class _Writer:
+class Writer:
     """Renders formulas as sentence parts for one spec's declarations.
 
     ``bare`` style writes a present-tense sensor or robot proposition as its name (``object``,
@@ -229,16 +211,6 @@ class _Writer:
     def requirement(self, f: Formula) -> str:
         return self.do(f) if self.robot_next_only(f) else self.expression(f, "safety")
 
-    def goal(self, f: Formula, env: bool) -> str:
-        """``visit R`` for ``R & R_rc``, else ``infinitely often …`` (``do`` when it mentions sensing)."""
-        region = self.visited(f)
-        if region is not None:
-            return f"visit {region}"
-        text = self.expression(f, "goal", bare=True)
-        if not env and any(isinstance(v, Var) and v.name not in self.outputs for v in walk(f)):
-            return f"infinitely often do ({text})"
-        return f"infinitely often {text}"
-
     def visited(self, f: Formula) -> str | None:
         if isinstance(f, And) and len(f.args) == 2 and all(isinstance(a, Var) and not a.primed for a in f.args):
             a, b = f.args
@@ -248,45 +220,8 @@ class _Writer:
         return None
 
 
-def clause_to_sentence(clause: Clause | Formula, section: str, decl: Declarations | Spec) -> str:
-    """One clause of ``section`` as a sentence that reads back as an equivalent clause there."""
-    if isinstance(decl, Spec):
-        decl = declarations_of(decl)
-    f = clause.formula if isinstance(clause, Clause) else clause
-    env = section.startswith("env_")
-    body = _sentence_body(_Writer(decl), f, section, env)
-    if env and not section.endswith("_init"):
-        return f"Assume {body}"
-    return _capital(body)
 
-
-def _sentence_body(w: _Writer, f: Formula, section: str, env: bool) -> str:
-    if section.endswith("_init"):
-        return f"{'environment' if env else 'robot'} starts with {w.expression(f, 'init', bare=True)}"
-    if section.endswith("_liveness"):
-        condition, goal = _split_condition(f)
-        if condition is not None:
-            g = w.visited(goal)
-            then = f"visit {g}" if g else f"infinitely often {w.expression(goal, 'goal', bare=True)}"
-            return f"if {w.expression(condition, 'goal')} then {then}"
-        return w.goal(f, env)
-    if section not in ("env_safety", "sys_safety"):
-        raise ValueError(f"unknown section {section!r}")
-    robot_next = any(isinstance(v, Var) and v.primed and v.name in w.outputs for v in walk(f))
-    if not env and not robot_next:
-        raise ValueError("a robot guarantee that constrains nothing the robot does next cannot be written as a "
-                         "sentence (it would read as an assumption)")
-    if isinstance(f, Iff):
-        return f"{w.requirement(f.left)} if and only if {w.expression(f.right, 'safety')}"
-    condition, requirement = _split_condition(f)
-    if condition is not None:
-        return f"if {w.expression(condition, 'safety')} then {w.requirement(requirement)}"
-    if w.robot_next_only(f):
-        return f"always {w.expression(f, 'safety', bare=True)}"
-    return f"always {w.expression(f, 'safety')}"
-
-
-def _split_condition(f: Formula) -> tuple[Formula | None, Formula]:
+def split_condition(f: Formula) -> tuple[Formula | None, Formula]:
     """``a -> b`` and slugs' ``!a | b`` as (a, b); anything else as (None, f)."""
     if isinstance(f, Implies):
         return f.left, f.right
@@ -294,119 +229,3 @@ def _split_condition(f: Formula) -> tuple[Formula | None, Formula]:
         rest = f.args[1] if len(f.args) == 2 else Or(f.args[1:])
         return f.args[0].arg, rest
     return None, f
-
-
-def _capital(text: str) -> str:
-    return text[:1].upper() + text[1:]
-
-
-def spec_sentences(english: EnglishSpec) -> list[str]:
-    """The sentences of a read English spec rendered from its GR(1) clauses, one per input sentence.
-
-    Clauses are grouped by the sentence they came from; forms that compile to several clauses
-    (memory, visit lists, ``Start in``, mutual exclusion) are recognised and written as one
-    sentence. Generated clauses (regions, completions) are left out: the declarations make them.
-    """
-    decl = english.declarations
-    by_line: dict[int, list[tuple[str, Clause]]] = {}
-    for section in ("env_init", "sys_init", "env_safety", "sys_safety", "env_liveness", "sys_liveness"):
-        for clause in english.spec.section(section):
-            if clause.line in english.sentences and clause.file == english.spec.source:
-                by_line.setdefault(clause.line, []).append((section, clause))
-    w = _Writer(decl)
-    out = []
-    for line in sorted(by_line):
-        out.extend(_render_group(by_line[line], w, decl))
-    return out
-
-
-def _render_group(group: list[tuple[str, Clause]], w: _Writer, decl: Declarations) -> list[str]:
-    sections = [s for s, _ in group]
-    formulas = [c.formula for _, c in group]
-    start = _start_in(group, decl)
-    if start is not None:
-        return [start]
-    memory = _memory(group, w)
-    if memory is not None:
-        return [memory]
-    if sorted(sections) in (["sys_init", "sys_safety"], ["env_init", "env_safety"]):
-        names = _exclusive(next(f for s, f in zip(sections, formulas) if s.endswith("safety")))
-        if names:
-            listed = ", ".join(names[:-1]) + " and " + names[-1]
-            return [f"{'Assume ' if sections[0].startswith('env') else ''}{listed} are mutually exclusive"]
-    if len(group) > 1 and all(s == sections[0] and s.endswith("liveness") for s in sections):
-        visits = [_split_condition(f) for f in formulas]
-        regions = [w.visited(g) for _, g in visits]
-        conditions = {w.expression(c, "goal") if c is not None else "" for c, _ in visits}
-        if all(regions) and len(conditions) == 1:
-            condition = conditions.pop()
-            listed = ", ".join(regions[:-1]) + " and " + regions[-1]
-            prefix = "Assume " if sections[0].startswith("env") else ""
-            if condition:
-                return [f"{prefix}If {condition} then visit {listed}"]
-            return [f"{prefix}{'v' if prefix else 'V'}isit {listed}"]
-    return [clause_to_sentence(c, s, decl) for s, c in group]
-
-
-def _start_in(group: list[tuple[str, Clause]], decl: Declarations) -> str | None:
-    if len(group) != 2 or [s for s, _ in group] != ["env_init", "sys_init"]:
-        return None
-    env, sys = group[0][1].formula, group[1][1].formula
-    if isinstance(sys, Var) and isinstance(env, Var) and sys.name in decl.regions \
-            and env.name == sys.name + REGION_COMPLETION:
-        return f"Start in {sys.name}"
-    return None
-
-
-def _memory(group: list[tuple[str, Clause]], w: _Writer) -> str | None:
-    """The four clauses of ``P is set on E and reset on F`` (see english_reader._memory)."""
-    if len(group) != 4 or any(s != "sys_safety" for s, _ in group):
-        return None
-    first = group[0][1].formula
-    if not (isinstance(first, Implies) and isinstance(first.right, Var) and isinstance(first.left, And)
-            and len(first.left.args) == 2 and isinstance(first.left.args[1], Not)):
-        return None
-    name = first.right.name
-    set_event, reset_event = first.left.args[0], first.left.args[1].arg
-    return (f"{name} is set on {w.expression(set_event, 'safety', bare=True)} "
-            f"and reset on {w.expression(reset_event, 'safety', bare=True)}")
-
-
-def _exclusive(f: Formula) -> list[str] | None:
-    """Names of an at-most-one formula (the form ``activation_completion.at_most_one`` builds)."""
-    if not isinstance(f, Or) or len(f.args) < 3 or not all(isinstance(t, And) for t in f.args):
-        return None
-    last = f.args[-1]
-    if not all(isinstance(a, Not) and isinstance(a.arg, Var) for a in last.args):
-        return None
-    return [a.arg.name for a in last.args]
-
-
-def append_sentences(path: str | os.PathLike, sentences: Iterable[str]) -> EnglishSpec:
-    """Append ``sentences`` (one per line) to the English spec at ``path``, atomically.
-
-    The whole new text is read first; if it does not read (a sentence that does not parse, an
-    unknown name) the ``SpecError`` is raised and the file is left as it was.
-    """
-    path = Path(path)
-    try:
-        old = read_text(path, "spec file")
-    except InputError as e:
-        raise SpecError(str(path), e.line, 0, e.message) from None
-    added = [s.strip() for s in sentences if s.strip()]
-    for s in added:
-        if "\n" in s or "\r" in s:
-            raise SpecError(str(path), 0, 0, f"a sentence is one line: {s!r}")
-    text = old + ("" if not old or old.endswith("\n") else "\n") + "".join(s + "\n" for s in added)
-    result = read_english(text, str(path))
-    mode = path.stat().st_mode & 0o7777
-    write_atomic(path, text, mode=mode)
-    return result
-
-
-def sentences_for(spec: Spec, clauses: Sequence[tuple[str, Clause]], decl: Declarations | None = None) -> list[str]:
-    """Sentences for (section, clause) pairs added to ``spec`` — analysis suggestions, learned assumptions."""
-    decl = decl or declarations_of(spec)
-    w = _Writer(decl)
-    return _render_group(list(clauses), w, decl) if len(clauses) > 1 else [
-        clause_to_sentence(c, s, decl) for s, c in clauses]
