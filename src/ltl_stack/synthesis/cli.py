@@ -150,6 +150,7 @@ def _synthesize(args: argparse.Namespace) -> int:
             "z_iterations": result.solution.z_iterations,
             "warnings": list(spec.warnings),
             "bdd_backend": BACKEND,
+            "kernel": result.solution.kernel,
         }
         if result.realizable:
             from ltl_stack.synthesis.game import memory_guard

@@ -26,6 +26,9 @@ Techniques (each can be switched off to measure it, see ``Options``):
   every intermediate Y stays below it), so Y needs fewer rounds; on the grid-patrol family this
   halves the number of cpre calls.
 - the first X iterate from ``true`` is ``live | (!asm_i & cpre(true))`` with cpre(true) computed once.
+- *the kernel* (``kernel.py``): a fixpoint that outlasts ``kernel.WARMUP_CPRE`` controllable
+  predecessors in CUDD is redone in oxidd, in the order CUDD has sifted into, and its sets are copied
+  back (basicEvasion 53 -> 8 s CPU); ``Options.kernel`` / ``LTL_STACK_KERNEL`` choose it.
 
 When no liveness formula mentions next-state variables, the equivalent state-based iterates of
 Bloem et al. (JCSS 2012) are used instead: ``X = (goal_j & cpre(Z')) | cpre(Y') | (!asm_i & cpre(X'))``
@@ -42,6 +45,7 @@ import time
 from dataclasses import dataclass, field
 from typing import Callable
 
+from ltl_stack.synthesis import kernel
 from ltl_stack.synthesis.game import BACKEND, BIG_GAME, BIG_GAME_GROWTH, REORDER_THRESHOLD, Game
 from ltl_stack.synthesis.relation import Relation
 
@@ -66,6 +70,9 @@ class Options:
     #: within a round of mu Y, compute the X of assumption i with the Y already grown by the X
     #: sets of assumptions 0..i-1 (chaotic iteration: same fixpoint, fewer rounds)
     gauss_seidel: bool = True
+    #: the fixpoint's BDD kernel: "cudd", "oxidd" or "auto" (``kernel.py``); None: the
+    #: ``LTL_STACK_KERNEL`` variable, "auto" when unset
+    kernel: str | None = None
 
 
 @dataclass
@@ -97,6 +104,8 @@ class Solution:
     #: ``cpre(winning')`` as the last Z iteration computed it (state-based iterates of a complete
     #: solve; None otherwise): the vacuity check reads from it which winning positions have a move
     cpre_winning: object = None
+    #: the kernel the fixpoints ran on ("cudd" or "oxidd"; the sets above are CUDD's either way)
+    kernel: str = "cudd"
 
 
 def init_ok(game: Game, winning, robotics_semantics: bool) -> bool:
@@ -134,13 +143,74 @@ def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = Fa
     ``cooperative`` solves the game where the system may only use moves after which the
     environment still has an admissible input (it never forces a violation of the assumptions).
     Every controllable-predecessor call checks ``game.deadline`` (``TimeLimitReached``).
+
+    The kernel (``kernel.py``): with oxidd available and chosen (``Options.kernel``, the
+    ``LTL_STACK_KERNEL`` variable), the fixpoint first runs ``kernel.WARMUP_CPRE`` controllable
+    predecessors in CUDD, which sifts the order; a game that finishes within them is answered there.
+    Otherwise the game is copied into oxidd in CUDD's order, solved there from the start, and the
+    solution copied back into CUDD (the same sets: the iterates are determined by the game, not the
+    kernel). oxidd running out of its memory share falls back to CUDD (``progress`` says so).
     """
     opts = options or Options()
+    start = time.perf_counter()
+    kind = kernel.requested() if opts.kernel is None else opts.kernel
+    if kind not in kernel.KINDS:
+        raise ValueError(f"unknown BDD kernel {kind!r}; expected one of {', '.join(kernel.KINDS)}")
+    if kind != "cudd" and kernel.available() and BACKEND == "cudd":
+        if kind == "auto":
+            try:
+                return _solve(game, robotics_semantics, early_exit, cooperative, opts, progress,
+                              stop_after=kernel.WARMUP_CPRE)
+            except _WarmedUp:
+                pass
+        try:
+            return _solve_oxidd(game, robotics_semantics, early_exit, cooperative, opts, progress, start)
+        except Exception as e:
+            if not kernel.is_memory_error(e):
+                raise
+            if progress:
+                progress("oxidd ran out of its memory share: solving in CUDD")
+    return _solve(game, robotics_semantics, early_exit, cooperative, opts, progress)
+
+
+class _WarmedUp(Exception):
+    """The CUDD warm-up before the oxidd kernel has made its controllable predecessors."""
+
+
+def _solve_oxidd(game: Game, robotics_semantics: bool, early_exit: bool, cooperative: bool,
+                 opts: Options, progress: Progress | None, start: float) -> Solution:
+    """``_solve`` on a copy of ``game`` in oxidd (in CUDD's current order), its result copied back."""
+    bdd = game.bdd
+    old_reordering = bdd.configure()["reordering"]
+    bdd.configure(reordering=False)  # both managers keep one order while BDDs are copied
+    try:
+        view, copier = kernel.oxidd_game(game, game.max_memory)
+        if progress:
+            progress(f"fixpoint in oxidd ({len(view.bdd)} nodes copied from CUDD)")
+        sol = _solve(view, robotics_semantics, early_exit, cooperative, opts, progress)
+        back = copier.to_cudd
+        layers = [GoalLayers(Y=[back(u) for u in gl.Y], X=[[back(u) for u in xs] for xs in gl.X])
+                  for gl in sol.layers]
+        return Solution(sol.realizable, back(sol.winning), layers,
+                        game.deadlock_free_sys_rel() if cooperative else game.sys_rel,
+                        sol.z_iterations, time.perf_counter() - start, robotics_semantics,
+                        complete=sol.complete, cooperative=cooperative,
+                        cpre_winning=None if sol.cpre_winning is None else back(sol.cpre_winning),
+                        kernel="oxidd")
+    finally:
+        bdd.configure(reordering=old_reordering)
+
+
+def _solve(game: Game, robotics_semantics: bool, early_exit: bool, cooperative: bool, opts: Options,
+           progress: Progress | None, stop_after: int | None = None) -> Solution:
+    """The fixpoints of ``solve`` on ``game``'s kernel (``game.bdd``: CUDD, or ``kernel.OxiddManager``);
+    ``stop_after`` controllable predecessors raise ``_WarmedUp`` (the warm-up before oxidd)."""
     early_exit = early_exit or opts.early_exit
     bdd = game.bdd
     start = time.perf_counter()
+    cudd = BACKEND == "cudd" and getattr(bdd, "kernel", "cudd") == "cudd"
     reorder = opts.reorder and game.may_reorder
-    old_reordering = bdd.configure()["reordering"] if BACKEND == "cudd" else False
+    old_reordering = bdd.configure()["reordering"] if cudd else False
     reordering_on = False
     calls = 0
     threshold = reorder_threshold(game, opts)
@@ -157,13 +227,15 @@ def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = Fa
             if progress:
                 progress(f"dynamic reordering on ({len(bdd)} nodes)")
 
-    if BACKEND == "cudd":
+    if cudd:
         bdd.configure(reordering=False)
     check = game.deadline.check
 
     def cpre(target):
         check()
         maybe_reorder()
+        if stop_after is not None and calls > stop_after:
+            raise _WarmedUp
         return game.cpre_sys(target, sys_rel)
     sys_rel = game.deadlock_free_sys_rel() if cooperative else game.sys_rel
 
@@ -246,5 +318,5 @@ def solve(game: Game, *, robotics_semantics: bool = False, early_exit: bool = Fa
                         time.perf_counter() - start, robotics_semantics, cooperative=cooperative,
                         cpre_winning=cox_z)
     finally:
-        if BACKEND == "cudd":
+        if cudd:
             bdd.configure(reordering=old_reordering)

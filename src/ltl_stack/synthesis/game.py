@@ -58,7 +58,7 @@ from contextlib import contextmanager
 
 from ltl_stack.spec.formula import And, Const, Formula, Iff, Implies, Not, Or, Var, Xor
 from ltl_stack.spec.model import SECTIONS, Clause, Spec
-from ltl_stack.synthesis import order_cache
+from ltl_stack.synthesis import kernel, order_cache
 from ltl_stack.synthesis.errors import MemoryLimitReached
 from ltl_stack.synthesis.options import LOOSE_UP_TO, MANAGER_ESTIMATE, NO_DEADLINE, Deadline, memory_cap
 from ltl_stack.synthesis.relation import Relation
@@ -94,10 +94,11 @@ finally:
 
 
 def backend_line() -> str:
-    """Which BDD package synthesis runs on, in the words a tool prints once; without CUDD also where to
-    read how to get it (dd has no CUDD wheel for Python 3.8; docs/python_versions.md)."""
+    """Which BDD package synthesis runs on, in the words a tool prints once, with the fixpoint kernel
+    (``kernel.describe``); without CUDD also where to read how to get it (dd has no CUDD wheel for
+    Python 3.8; docs/python_versions.md)."""
     if BACKEND == "cudd":
-        return "BDDs: CUDD (dd.cudd)"
+        return f"BDDs: CUDD (dd.cudd), {kernel.describe()}"
     return ("BDDs: dd's pure-Python dd.autoref, as this dd has no CUDD: the same answers, slower; "
             "docs/python_versions.md says how to build dd with CUDD")
 

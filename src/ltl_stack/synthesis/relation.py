@@ -238,7 +238,7 @@ def _and_exists(bdd, u, v, qvars: list):
     """``exists qvars. u & v`` fused when the backend can (dd.cudd), in two steps otherwise."""
     if not qvars:
         return u & v
-    fused = getattr(_module(bdd), "and_exists", None)
+    fused = getattr(bdd, "and_exists", None) or getattr(_module(bdd), "and_exists", None)
     if fused is not None:
         return fused(u, v, qvars)
     return bdd.exist(qvars, u & v)
@@ -248,7 +248,7 @@ def _or_forall(bdd, u, v, qvars: list):
     """``forall qvars. u | v`` fused when the backend can (dd.cudd), in two steps otherwise."""
     if not qvars:
         return u | v
-    fused = getattr(_module(bdd), "or_forall", None)
+    fused = getattr(bdd, "or_forall", None) or getattr(_module(bdd), "or_forall", None)
     if fused is not None:
         return fused(u, v, qvars)
     return bdd.forall(qvars, u | v)
