@@ -74,13 +74,6 @@ ALL_FALSE = ViolationPolicy.ALL_FALSE
 VIOLATION_POLICIES = tuple(p.value for p in ViolationPolicy)
 
 
-class StateLike(Protocol):
-    id: int
-    goal: int
-    inputs: dict[str, bool]
-    outputs: dict[str, bool]
-
-
 class StrategyLike(Protocol):
     inputs: list[str]
     outputs: list[str]

@@ -28,7 +28,7 @@ from dataclasses import dataclass, field, replace
 from typing import Any
 
 from ltl_stack.errors import Exit
-from ltl_stack.runtime.characterize import Counters, ExecutionAborted
+from ltl_stack.runtime.characterize import Counters, ExecutionAborted, Mode
 from ltl_stack.runtime.controller import Controller, Update
 from ltl_stack.runtime.recovery import RecoveringStrategy
 from ltl_stack.runtime.resilient_executor import BackgroundResilience, Busy
@@ -51,8 +51,9 @@ from ltl_stack.synthesis.recovery import (
 #: The levels of diagnostic_msgs/DiagnosticStatus.
 OK, WARN, ERROR = 0, 1, 2
 #: The diagnostic level of each mode (``~state``'s ``mode``).
-MODE_LEVELS = {"normal": OK, "recovering": WARN, "holding": WARN, "characterizing": WARN,
-               "waiting_for_user": WARN, "inputs_unknown": WARN, "aborted": ERROR}
+MODE_LEVELS = {Mode.NORMAL.value: OK, Mode.RECOVERING.value: WARN, Mode.HOLDING.value: WARN,
+               Mode.CHARACTERIZING.value: WARN, Mode.WAITING_FOR_USER.value: WARN, Mode.INPUTS_UNKNOWN.value: WARN,
+               Mode.ABORTED.value: ERROR}
 
 
 @dataclass(frozen=True)
@@ -156,39 +157,38 @@ def safe_initial_outputs(game: Game, inputs: Mapping[str, bool], wanted: Mapping
 
 def current_mode(aborted: bool, violation: bool, resilient: str | None, recovered: bool,
                  unknown: bool = False) -> str:
-    """``~state``'s mode: normal, recovering, holding, characterizing, waiting_for_user,
-    inputs_unknown or aborted.
+    """``~state``'s mode: the value of a ``Mode``.
 
     ``violation``: the controller holds a violation (no recovery move was taken); ``resilient``: the
     resilient strategy's mode (None without characterization); ``recovered``: the latest update
     took a recovery move; ``unknown``: some input is stale (older than its freshness bound), the
     outputs keep rho_s for every value of it, nothing is stepped."""
     if aborted:
-        return "aborted"
+        return Mode.ABORTED.value
     if unknown:
-        return "inputs_unknown"
+        return Mode.INPUTS_UNKNOWN.value
     if resilient is not None:
-        if resilient in ("normal", "recovering") and violation:
-            return "holding"
-        if resilient == "normal" and recovered:
-            return "recovering"
+        if resilient in (Mode.NORMAL.value, Mode.RECOVERING.value) and violation:
+            return Mode.HOLDING.value
+        if resilient == Mode.NORMAL.value and recovered:
+            return Mode.RECOVERING.value
         return resilient
     if violation:
-        return "holding"
-    return "recovering" if recovered else "normal"
+        return Mode.HOLDING.value
+    return Mode.RECOVERING.value if recovered else Mode.NORMAL.value
 
 
 def mode_text(mode: str, policy: str, recovery: bool, aborted: str | None) -> str:
     """The first words of the "mode" diagnostic status."""
-    return {"normal": "normal", "recovering": "recovering: recovery moves keep the system safety",
-            "holding": f"holding: no recovery move; outputs by --on-violation {policy}, kept safe (Lemma 1(a))",
-            "characterizing": "characterizing: resynthesizing (recovery moves meanwhile)"
+    return {Mode.NORMAL: "normal", Mode.RECOVERING: "recovering: recovery moves keep the system safety",
+            Mode.HOLDING: f"holding: no recovery move; outputs by --on-violation {policy}, kept safe (Lemma 1(a))",
+            Mode.CHARACTERIZING: "characterizing: resynthesizing (recovery moves meanwhile)"
             if recovery else "characterizing: resynthesizing (holding meanwhile, kept safe)",
-            "waiting_for_user": "waiting for the user: unrealizable after environment characterization; call "
-                                "~add_env_liveness with an environment liveness assumption, or ~abort",
-            "inputs_unknown": "inputs unknown (no message within their freshness bound): not stepping; outputs "
-                              "keep the system safety for every value of them",
-            "aborted": f"aborted ({aborted}): every output is false"}[mode]
+            Mode.WAITING_FOR_USER: "waiting for the user: unrealizable after environment characterization; call "
+                                   "~add_env_liveness with an environment liveness assumption, or ~abort",
+            Mode.INPUTS_UNKNOWN: "inputs unknown (no message within their freshness bound): not stepping; outputs "
+                                 "keep the system safety for every value of them",
+            Mode.ABORTED: f"aborted ({aborted}): every output is false"}[Mode(mode)]
 
 
 def liveness_refusal(characterize: bool, started: bool, mode: str) -> str | None:
@@ -197,11 +197,11 @@ def liveness_refusal(characterize: bool, started: bool, mode: str) -> str | None
     if not characterize:
         return ("environment characterization is off: start the executor with --characterize or "
                 "--characterized-spec FILE (docs/resilience.md)")
-    if mode == "aborted":
+    if mode == Mode.ABORTED.value:
         return "already aborted: every output is false"
     if not started:
         return "not ready: the controller has not started yet (waiting for every input to report)"
-    if mode != "waiting_for_user":
+    if mode != Mode.WAITING_FOR_USER.value:
         return (f"not waiting for the user (mode {mode}): an environment liveness assumption is taken after "
                 "environment characterization found no realizable specification (docs/resilience.md)")
     return None
@@ -460,7 +460,7 @@ class NodeReports:
         self._recovering = False
         self._violated_now: list[str] = []
         #: the mode of the last mode report
-        self.mode = "normal"
+        self.mode = Mode.NORMAL.value
         #: recovery moves counted at the last publication, and whether the current update took one:
         #: a one-step violation followed by a normal settling step still shows as "recovering" once
         self._seen_recovery_steps = 0
@@ -572,15 +572,15 @@ class NodeReports:
         values += [("violated_clause", c) for c in violated]
         text = mode_text(mode, self.policy, self.recovery, self.controller.aborted)
         level = MODE_LEVELS[mode]
-        if mode == "inputs_unknown":
+        if mode == Mode.INPUTS_UNKNOWN.value:
             values += [("unknown_input", p) for p in self.controller.unknown]
             text += f"; unknown: {', '.join(self.controller.unknown)}"
             if self.controller.unkeepable:  # (before the start every output was false anyway: a WARN)
                 level = ERROR if self.controller.state is not None else WARN
                 text += "; no output valuation keeps it for every value: every output false"
-        if violated and mode in ("recovering", "holding", "characterizing"):
+        if violated and mode in (Mode.RECOVERING.value, Mode.HOLDING.value, Mode.CHARACTERIZING.value):
             text += "; violated: " + "; ".join(violated)
-        if mode == "waiting_for_user" and resilient is not None and resilient.explanation is not None:
+        if mode == Mode.WAITING_FOR_USER.value and resilient is not None and resilient.explanation is not None:
             explanation = resilient.explanation
             core = [clause_line(c, section) for section, c in explanation.core]
             text += f" ({explanation.kind}{': ' + '; '.join(core) if core else ''})"

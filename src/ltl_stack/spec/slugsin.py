@@ -122,7 +122,7 @@ def parse_prefix(line: Line, names: Names) -> Formula:
                                                   "(a slugsin clause is one prefix formula per line)")
                 return settle(value)
             frame = stack[-1]
-            # a ``$`` entry stays a chain until it is used: ``settle`` keeps its result (issue 16)
+            # a ``$`` entry stays a chain until it is used: ``settle`` keeps its result (parsing stays linear)
             if type(value) is Pending and frame.op not in ("&", "|", "$"):
                 value = settle(value)
             frame.args.append(value)

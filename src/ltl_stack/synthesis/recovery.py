@@ -160,18 +160,6 @@ def prefer(game: Game, block, layers: list):
     return result | remaining
 
 
-def keep_current(game: Game, relation):
-    """``relation`` with exactly the move ``SymbolicStrategy._pick`` chooses for each (x, y, x'):
-    outputs keep their current value when they can, decided in the spec's output order."""
-    bdd = game.bdd
-    D = relation
-    for name, name_next in zip(game.outputs, game.outputs_next):
-        keep = bdd.ite(bdd.var(name), bdd.var(name_next), ~bdd.var(name_next))
-        can_keep = bdd.exist(game.outputs_next, D & keep)
-        D = D & (keep | ~can_keep)
-    return D
-
-
 def layered_relation(game: Game, solution: Solution, j: int, trans: Relation, choose=None):
     """Goal j's moves under ``trans``, each (x, y, x') answered by its earliest (Y round c,
     assumption i) pair (thesis Alg. 1; ``SymbolicStrategy`` module docstring):

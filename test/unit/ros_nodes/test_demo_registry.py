@@ -77,7 +77,7 @@ def test_lines_printed_by_many_threads_never_share_a_line():
 
 
 def test_the_launch_log_names_the_first_node_that_died(tmp_path):
-    """The demo stops as soon as roslaunch reports a scenario node's end (issue 28), instead of
+    """The demo stops as soon as roslaunch reports a scenario node's end, instead of
     waiting out --timeout; a line written in two pieces is read whole."""
     from ltl_stack.sim.demo import LaunchLog
 
