@@ -319,14 +319,16 @@ class RosMaster:
     def wait_for_subscriber(self, topic: str, timeout: float = WAIT) -> list[str]:
         return wait_for(lambda: self.subscribers(topic), timeout, f"a subscriber on {topic}")
 
-    def restart_master(self) -> None:
-        """Stop the master and start a new, empty one on the same port; the nodes keep running."""
+    def restart_master(self, run_id: bool = True) -> None:
+        """Stop the master and start a new, empty one on the same port; the nodes keep running.
+        ``run_id``: set ``/run_id`` as roscore does (False: a bare rosmaster, without it)."""
         self._master.stop()
         restarts = len(list(self.workdir.glob("rosmaster*.log")))
         self._master = RosProcess(master_command(self.port), self.env, self.workdir / f"rosmaster-{restarts}.log")
         if not self._answers(self._master, self.uri, 60.0):
             raise RuntimeError(f"no new rosmaster on port {self.port}; logs in {self.workdir}")
-        self.proxy().setParam("/pytest", "/run_id", f"pytest-{self.port}-{restarts}")
+        if run_id:
+            self.proxy().setParam("/pytest", "/run_id", f"pytest-{self.port}-{restarts}")
 
     def run(self, args: Sequence[str], name: str | None = None, cwd: Path | None = None) -> RosProcess:
         """Start a process (e.g. ``['rosrun', 'ltl_stack', 'proposition_monitor', ...]``) on this master."""
