@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The ROS-free unit suite under the other Pythons people run ROS 1 on (issue 27; docs/python_versions.md):
+# The ROS-free unit suite under the other Pythons people run ROS 1 on (docs/python_versions.md):
 # ./tools/test runs it after the main suite. For each version in LTL_STACK_PYTHONS (default "3.12 3.13"):
 # pyenv's newest interpreter of that version (else pythonX.Y on PATH; absent: a clear "skipped" line),
 # a venv of its own in $LTL_STACK_HOME/py<version> with requirements.txt's PyPI packages (made once per

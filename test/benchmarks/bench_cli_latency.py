@@ -1,4 +1,4 @@
-"""Whole-process latency of ``synthesize`` as a user runs it, against slugs in the same run (issue 16).
+"""Whole-process latency of ``synthesize`` as a user runs it, against slugs in the same run.
 
     python test/benchmarks/bench_cli_latency.py --slugs SLUGS
     python test/benchmarks/bench_cli_latency.py --slugs PATH --generated 1.0   # + generated members up to 1 s

@@ -1,9 +1,10 @@
-"""Structured English reader on many regions (issue 24): clauses, formula nodes, time and memory.
+"""Structured English reader on many regions: clauses, formula nodes, time and memory.
 
 Each size runs in a fresh process (peak RSS is per process). Two inputs per size: a ``Regions:``
 declaration (every region touches every other) and a square grid ``.regions`` map (each cell
 touches its four neighbours; adjacency from the geometry). With ``--pythonpath DIR`` the same is
-measured for another checkout's code (the peer: the reader before issue 24), under an address-space
+measured for another checkout's code (the peer: the reader before its clauses became linear in the
+regions), under an address-space
 cap so that a quadratic reader stops instead of swapping.
 
     python test/benchmarks/bench_english_regions.py --sizes 600 3000

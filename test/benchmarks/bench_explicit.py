@@ -1,4 +1,4 @@
-"""Explicit strategy export vs slugs, whole process (run on demand; issue 16).
+"""Explicit strategy export vs slugs, whole process (run on demand).
 
     python test/benchmarks/bench_explicit.py --slugs SLUGS [--repeat 3] [--cooperative]
 
@@ -19,7 +19,7 @@ finishes. Writes docs/benchmarks/explicit.md.
 
 ``--cooperative``: the cooperative strategy on both sides, our default export (``synthesize SPEC
 --no-robotics-semantics --slugs-json OUT``) against ``slugs --cooperativeGR1Strategy --explicitStrategy
---jsonOutput SPEC OUT``, to docs/benchmarks/explicit_cooperative.md (issue 28: the default export is
+--jsonOutput SPEC OUT``, to docs/benchmarks/explicit_cooperative.md (the default export is
 no larger than slugs' in the same mode).
 
 Bytecode (as in ``bench_cli_latency.py``): the session that runs the suite sets

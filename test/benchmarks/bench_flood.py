@@ -1,4 +1,4 @@
-"""Resilient execution under a violation flood (issue 23 item 7, on demand): memory and step latency.
+"""Resilient execution under a violation flood (on demand): memory and step latency.
 
     python test/benchmarks/bench_flood.py [--seconds 60] [--rate 200] [--inputs 9] [--trace]
 
@@ -12,7 +12,7 @@ issue's condition). Measured per configuration, each in a fresh process: RSS at 
 first strategy) and its peak (``/proc/self/statm`` every 0.1 s), the latency of every input step
 (``Controller.report_many``, lock wait included), the resyntheses. The peers, in the same run: the same
 flood as at c79dacd (glibc's mmap threshold left to adjust itself, every EC literal a new object) and
-with ``Characterizer.history`` unbounded as well (before issue 23). Goal: peak RSS growth < 20 MB,
+with ``Characterizer.history`` unbounded as well (as before memory was bounded). Goal: peak RSS growth < 20 MB,
 step latency p99 < 100 ms. ``--trace`` runs this branch's flood alone with tracemalloc and object
 counts and prints what grew (slower: not for the latency figures).
 """
@@ -94,7 +94,7 @@ def flood(seconds: float, rate: float, config: str, n_inputs: int = 9, trace: bo
         characterize.Characterizer._shared = lambda self, values, primed: characterize._literals(
             values, self.original.inputs, primed)
     if config == CONFIGS[2]:
-        characterize.HISTORY_KEPT = None  # deque(maxlen=None): every attempt kept, as before issue 23
+        characterize.HISTORY_KEPT = None  # deque(maxlen=None): every attempt kept, as before memory was bounded
     inputs = [f"i{k}" for k in range(n_inputs)]
     spec = parse_structured(spec_text(inputs), "flood.structuredslugs")
     options = merge_options({"characterize": True, "settle_steps": 0})

@@ -15,7 +15,7 @@
    was there already are not shown, by design), the states shown per second, and whether the last
    state published is the one shown at the end. Peer: the same publisher at 10 Hz. Goal: the view
    never falls behind (the last state is shown, lag p99 well under a second).
-3. Controller view pictures (issue 25), no master: the view attached to ``spheros`` (65,536 states,
+3. Controller view pictures, no master: the view attached to ``spheros`` (65,536 states,
    2.1 M edges) and ``alice`` (30 states, 232 edges) through a stand-in link that hands states straight
    to it. Measured: attach → automaton ready (synthesis) and automaton → first picture; then 200 state
    changes at 20 per second along the automaton's edges, each one's lag from being handed over to its
@@ -301,7 +301,8 @@ def bench_picture(app, spec: Path, rate: float = 20.0, count: int = 200, sketchi
 
 
 def bench_whole_alice() -> float:
-    """Peer: the picture the view drew of alice before issue 25, the whole graph through Graphviz."""
+    """Peer: the picture the view drew of alice before it drew a part around the current state, the whole
+    graph through Graphviz."""
     from ltl_stack.gui import controller_model as cm
     from ltl_stack.gui.dotgraph import layout_plain
 
@@ -409,7 +410,7 @@ def write_pictures_doc(f: dict) -> None:
         for p in f["pictures"])
     a, g, n = f["analysis_stalls"], f["analysis_stalls_collector_on"], f["no_master"]
     h, t = f["analysis_stalls_slow_handover"], f["analysis_stalls_thread"]
-    text = f"""# Controller view pictures and GUI-thread stalls (issue 25)
+    text = f"""# Controller view pictures and GUI-thread stalls
 
 Command: `python test/benchmarks/bench_gui.py --pictures --load {f.get("busy_processes", 0)}` (offscreen Qt, {platform.python_version()}, no master,
 2 shared cores, {f.get('busy_processes', 0)} CPU-bound processes started beside it (`--load N`), load average {f['load']:.1f} at the start,
@@ -469,7 +470,7 @@ in one call that holds the GIL. The controller view's Refresh with no master
 Peer for the stalls: the same meter for 5 s with the GUI thread idle (this machine's own noise): max
 {f['idle']['stall_max_ms']:.0f} ms (p99 {f['idle']['stall_p99_ms']:.0f} ms, {f['idle']['stalls_over_50ms']} over 50 ms).
 
-Goals (issue 25): first picture < 2 s, highlight lag p99 < 100 ms at 20 changes/s, stalls < 50 ms.
+Goals: first picture < 2 s, highlight lag p99 < 100 ms at 20 changes/s, stalls < 50 ms.
 """
     PICTURES_DOC.write_text(text)
 

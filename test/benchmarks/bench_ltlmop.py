@@ -1,4 +1,4 @@
-"""Differential against LTLMoP itself (issue 24; on demand, not in CI).
+"""Differential against LTLMoP itself (on demand, not in CI).
 
 Runs LTLMoP's own compiler (``specCompiler.SpecCompiler(...).compile()``: its structured-English
 parser, its decomposition, JTLV's GR(1) synthesis) and ``synthesize`` on every example project of an

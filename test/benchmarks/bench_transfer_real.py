@@ -32,8 +32,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 SHARED = ROOT.parent / "shared"
 OUT = ROOT / "docs" / "benchmarks" / "transfer.md"
-SECTION = "## Real programs (issue 26)"
-BASELINE = "3ac2d30"   # the transfer before issue 26
+SECTION = "## Real programs"
+BASELINE = "3ac2d30"   # the transfer before it read real programs
 
 # (program path under PROGRAMS, source robot, target robot)
 RUNS = [
@@ -155,7 +155,7 @@ def table(rows: list[dict]) -> str:
 
 def baseline_rows(programs: Path, commit: str) -> list[dict] | None:
     """The same runs with the transfer package of ``commit`` (``git archive`` into a temporary folder,
-    run in a child process): the version before issue 26, as a second peer."""
+    run in a child process): the version before it read real programs, as a second peer."""
     with tempfile.TemporaryDirectory() as folder:
         archive = subprocess.run(["git", "-C", str(ROOT), "archive", commit, "src"], capture_output=True, check=False)
         if archive.returncode:
@@ -186,7 +186,7 @@ def main(argv: list[str]) -> int:
     baseline = baseline_rows(programs, BASELINE)
     if baseline is not None:
         old = [r for r in baseline if r["outcome"] == "written"]
-        summary += (f"\n\nPeer, the transfer before issue 26 (commit {BASELINE[:7]}), same runs: {len(old)} written, "
+        summary += (f"\n\nPeer, the transfer before it read real programs (commit {BASELINE[:7]}), same runs: {len(old)} written, "
                     f"{sum(r['outcome'].startswith('bad input') for r in baseline)} bad input, "
                     f"{sum(r['compiles'].startswith('yes') for r in old)} outputs compile; wrong 'Everything was "
                     f"resolved' claims: {sum(r['wrong_resolved'] for r in old)}; API lines its report does not "

@@ -213,7 +213,7 @@ def test_unreachable_master_is_one_clear_error():
 
 def test_live_fig_3_9_mapping_as_the_thesis_gui_writes_it(clean_and_patrol, tmp_path):
     """Fig. 3.9's accidental mapping written as the thesis' GUI writes it: a second 'pickup:' block
-    naming the drop node. It is analysed (issue 26: it was refused, exit 2)."""
+    naming the drop node. It is analysed (it was refused, exit 2)."""
     master, mapping_path = clean_and_patrol
     second = (f"  pickup:\n    node : '/drop'\n    node_subscribe_topic : '{MGMB}/outputs/pickup'\n"
               "    pkg : 'controller_executor'\n    filename : 'plan_manipulator_path.py'\n\n")
@@ -234,7 +234,7 @@ def relay_and_tester(tmp_path_factory):
 
 def test_live_relay_conflict_and_second_input_publisher(relay_and_tester):
     """move and stop each feed a forwarding node that drives /cmd_vel: they compete there (E2, through
-    the relay); a second publisher on the person input topic is a finding (P1). Issue 26."""
+    the relay); a second publisher on the person input topic is a finding (P1)."""
     spec = Path(__file__).resolve().parents[2] / "config" / "simple" / "simple.structuredslugs"
     done = run_cli(relay_and_tester, "--spec", str(spec), "--mapping", str(DATA / "relay_and_tester_mapping.yaml"),
                    "--live", "--json")

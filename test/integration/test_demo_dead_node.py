@@ -1,5 +1,5 @@
 """The demo reports a scenario node that died, naming it, and exits 1 at once instead of waiting out
-its --timeout (issue 28). The story node of thesis Example 11 is given a story whose user liveness
+its --timeout. The story node of thesis Example 11 is given a story whose user liveness
 does not parse: it ends with one [FATAL] line (exit 2) right after it starts."""
 from __future__ import annotations
 

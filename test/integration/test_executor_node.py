@@ -254,7 +254,7 @@ def test_assumption_violation_is_diagnosed_and_outputs_follow_the_policy(ros_mas
     assert ["clause", f"{lock_spec}:{LOCK_CLAUSE_LINE}: | ! lock lock'"] in diag["values"], diag
     log = executor.wait_output("environment assumption violated")
     assert "Traceback" not in log, log
-    # Lemma 1(a) (issue 23): both policies keep busy' <-> lock' and out' <-> a' (a valuation keeps them):
+    # Lemma 1(a): both policies keep busy' <-> lock' and out' <-> a' (a valuation keeps them):
     # hold changes the one output that breaks them, all-false leaves true only what they need
     probe.wait_value(BUSY, False)
     probe.wait_value(OUT, True)
@@ -292,6 +292,21 @@ def test_init_props_with_true_and_false_values_start_without_waiting(ros_master,
     # Shutting down leaves every output false.
     executor.stop()
     probe.wait_value(OUT, False)
+
+
+def test_the_node_publishes_the_options_it_runs_with(ros_master, lock_spec):
+    start_executor(ros_master, lock_spec, "--rate", "5", "--no-cooperative", "_settle_steps:=3",
+                   "_on_violation:=all-false")
+
+    def effective():
+        code, _msg, value = ros_master.proxy().getParam("/pytest", "/controller_executor/effective_options")
+        return value if code == 1 else None
+
+    options = wait_for(effective, 90, "~effective_options on the parameter server")
+    assert {k: options[k] for k in ("rate", "cooperative", "settle_steps", "on_violation", "robotics_semantics",
+                                    "characterize", "heartbeat")} == {
+        "rate": 5.0, "cooperative": False, "settle_steps": 3, "on_violation": "all-false",
+        "robotics_semantics": True, "characterize": False, "heartbeat": 0.25}, options
 
 
 def test_second_publisher_on_an_input_topic_is_warned_about(ros_master, probes, lock_spec):

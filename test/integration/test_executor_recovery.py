@@ -3,7 +3,7 @@
 The probe spec of the issue: the environment promises the door stays open, the robot must stop when
 it sees a person. person=1 door=0 breaks the promise; with recovery (the default) the executor still
 steps and keeps ``person' -> stop'``; with ``--no-recovery`` it holds the outputs that keep the system
-safety (Lemma 1(a), issue 23): stop=true as well.
+safety (Lemma 1(a)): stop=true as well.
 """
 from __future__ import annotations
 
@@ -77,7 +77,7 @@ def test_violation_is_recovered_and_stop_stays_true(ros_master, probes, tmp_path
         assert states.get(back["state"]) == (back["goal"], back["inputs"], back["outputs"]), (back, states)
 
 
-# The probe of issue 23: two outputs, a goal; door=0 breaks the assumption, then a person appears.
+# The probe: two outputs, a goal; door=0 breaks the assumption, then a person appears.
 TWO_SPEC = "[INPUT]\nperson\ndoor\n\n[OUTPUT]\nstop\npass\n\n[ENV_INIT]\ndoor\n\n[SYS_INIT]\n!pass\n\n" \
            "[ENV_TRANS]\ndoor'\n\n[SYS_TRANS]\nperson' -> stop'\npass' -> door'\n\n[SYS_LIVENESS]\npass\n"
 MODES = {"recovery": [], "hold": ["--no-recovery"], "all-false": ["--no-recovery", "--on-violation", "all-false"],
@@ -112,7 +112,7 @@ def assert_every_state_with_a_person_keeps_the_guarantees(probe) -> None:
 
 @pytest.mark.parametrize("mode", list(MODES))
 def test_person_door_probe_keeps_stop_true_in_every_mode(ros_master, probes, tmp_path, mode):  # noqa: F811
-    """Lemma 1(a) in every mode (issue 23): with door=0 (assumption broken) and person=1 every valuation
+    """Lemma 1(a) in every mode: with door=0 (assumption broken) and person=1 every valuation
     the node publishes afterwards keeps person' -> stop' and pass' -> door' — while holding, while
     characterizing and while waiting for the user."""
     spec = tmp_path / "probe.structuredslugs"
@@ -130,7 +130,7 @@ def test_person_door_probe_keeps_stop_true_in_every_mode(ros_master, probes, tmp
     assert "Traceback" not in executor.output(), executor.output()
 
 
-# Negotiation configured (issue 23): door is the peer P's openDoor (an eAP input, §4.8), so when
+# Negotiation configured: door is the peer P's openDoor (an eAP input, §4.8), so when
 # characterization finds no realizable spec the node negotiates with P (a real party node, Alg. 4),
 # adopts what they agree (4.8.1: P guarantees openDoor, R may assume door infinitely often) and, door
 # still closed, characterizes again on the adopted spec.

@@ -348,7 +348,7 @@ def test_a_one_step_violation_shows_as_recovering_on_state(ros_master, rprobes, 
 
 def test_add_env_liveness_never_traces_back_and_says_not_ready_not_waiting_already_aborted(ros_master, rprobes,
                                                                                             tmp_path):
-    """Issue 23 item 8: before the controller started: exit 1 "not ready" (was a KeyError in the
+    """Before the controller started: exit 1 "not ready" (was a KeyError in the
     service, exit 3); a section header or two formulas joined by U+2028: exit 2, one line; while not
     waiting for the user: exit 1 as the README says; ``--abort`` twice: the second is exit 1."""
     spec = tmp_path / "probe.structuredslugs"
@@ -390,7 +390,7 @@ def test_a_failed_write_of_the_characterized_spec_is_an_error_on_diagnostics(ros
 
 
 def test_with_negotiation_configured_a_violation_no_peer_is_involved_in_asks_the_user(ros_master, rprobes, tmp_path):
-    """Issue 23 item 4 (Alg. 3 by cause, §4.4): the mapping declares a peer, but the broken clause
+    """Alg. 3 by cause (§4.4): the mapping declares a peer, but the broken clause
     (door') names none of its eAP inputs: S.1 — the explanation and ~add_env_liveness — not an abort."""
     spec = tmp_path / "door.structuredslugs"
     spec.write_text(DOOR_SPEC.replace("[INPUT]\ndoor\n", "[INPUT]\ndoor\nbeacon\n"))

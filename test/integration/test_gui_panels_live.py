@@ -94,7 +94,7 @@ def test_mapping_panel_on_the_live_scenario(scenario, qtbot, tmp_path):
 
 
 def test_mapping_panel_save_keeps_what_it_did_not_edit_and_asks_about_changes_on_disk(scenario, qtbot, tmp_path):
-    """Issue 34: Save dropped expected_feedback: and every comment, and overwrote edits made on disk."""
+    """Save keeps expected_feedback: and every comment, and never overwrites edits made on disk."""
     mapping = tmp_path / "clean_and_patrol.yaml"
     original = MAPPING.read_text()
     mapping.write_text(original)
@@ -224,7 +224,7 @@ def test_controller_view_follows_the_executor_and_pauses_it(scenario, qtbot, mon
 
 
 def test_controller_view_follows_alices_resynthesis(qtbot, tmp_path, monkeypatch):
-    """Issue 25 defect 2, live: thesis Example 11's alice characterizes the broken door; the view shows
+    """Live: thesis Example 11's alice characterizes the broken door; the view shows
     the resilience mode and counters and loads the characterized spec the executor reports on ~state."""
     import subprocess
     import sys
@@ -256,7 +256,7 @@ def test_controller_view_follows_alices_resynthesis(qtbot, tmp_path, monkeypatch
 
 
 def test_controller_view_follows_ds_adoption_on_kitchen(qtbot, tmp_path, monkeypatch):
-    """Issue 25 defect 2, live: thesis Example 13 (launch/kitchen.launch). D is blocked at the door,
+    """Live: thesis Example 13 (launch/kitchen.launch). D is blocked at the door,
     negotiates with A and puts the adopted spec in place; the view attached to D loads that spec (the
     strategy generation and spec file D reports on ~state) and goes on placing D's state in it."""
     master = shared_master()  # the view's rospy node is the process's one, on the shared master

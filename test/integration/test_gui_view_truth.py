@@ -258,8 +258,8 @@ def test_the_view_greys_when_the_master_goes_away(tmp_path, specs):
 
 
 def test_before_the_first_state_the_view_says_what_the_executor_says(qtbot, executor, specs):
-    """Issue 34: "waiting for every input to report (ready handshake)" whatever the executor said. The
-    executor names the input it waits for, and says when it is paused: the view shows its words."""
+    """The view shows the executor's words, not always "waiting for every input to report (ready
+    handshake)". The executor names the input it waits for, and says when it is paused: the view shows its words."""
     a, _ = specs
     executor.set(person=False)  # door never reports
     executor.start(a)

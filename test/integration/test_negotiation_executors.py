@@ -57,7 +57,7 @@ def test_example_13_kitchen(ros_master, tmp_path):
     assert "/kitchen/A/controller_executor:   received from C: assumption of C: always, if next ingredientArrived " \
            "then next passIngredient" in log
     assert "Traceback" not in log and "aborted" not in log, log[-6000:]
-    # ownership (issue 23 item 2): A's "D is in exactly one region" and "D never in the kitchen" reach D as
+    # ownership: A's "D is in exactly one region" and "D never in the kitchen" reach D as
     # guarantees over its activations, so D's border crossings (one message per region sensor) never
     # leave it without a safe move
     log = launch.output()

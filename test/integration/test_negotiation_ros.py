@@ -96,7 +96,7 @@ def rogue(ros_master, *messages: dict, ns: str = "/elsewhere", name: str = "rogu
 
 
 def test_a_rogue_node_cannot_abort_stall_or_use_up_a_negotiation(ros_master, tmp_path):
-    """Issue 23 item 6: a node that is not P's negotiating node, posing as P (a FALSE offer, then two
+    """A node that is not P's negotiating node, posing as P (a FALSE offer, then two
     unrealizable statuses), is refused; P's own node name with a 1 MB offer, an offer declaring
     [INPUT], or garbled text: refused in one line each, nothing started. Then the real P negotiates
     with Q as if nothing had happened (4.8.1)."""
@@ -125,7 +125,7 @@ def test_a_rogue_node_cannot_abort_stall_or_use_up_a_negotiation(ros_master, tmp
 
 
 def test_two_robots_that_start_at_once_reach_the_in_turn_outcome(ros_master, tmp_path):
-    """Issue 23 item 3: P and Q both start negotiating with each other at the same moment; P (the name
+    """P and Q both start negotiating with each other at the same moment; P (the name
     that sorts first) initiates, Q answers it; P->Q ends 4.8.1 on both, Q's own attempt FAILED."""
     q = start(ros_master, tmp_path, "initiator", "Q", q_spec(assumes=True), Q_MAP, "--peer", "P", "--inputs",
               '{"p_P": false}', "--start", '{"p_P": true}', "--timeout", "20")
@@ -148,7 +148,7 @@ def test_two_robots_that_start_at_once_reach_the_in_turn_outcome(ros_master, tmp
 
 @pytest.mark.parametrize("broken", ["P", "Q"])
 def test_an_unwritable_adopted_spec_on_either_side_fails_both(ros_master, tmp_path, broken):
-    """Issue 23 item 5: two-phase adoption over ROS. The adopted-spec file of one robot cannot be
+    """Two-phase adoption over ROS. The adopted-spec file of one robot cannot be
     written (its folder is gone): both reports say FAILED, neither robot adopts, nothing is written;
     the responder keeps running its own controller."""
     paths = {r: tmp_path / f"out_{r}" / f"{r}.adopted.structuredslugs" for r in "PQ"}

@@ -1,5 +1,5 @@
 """Every node script of the package starts on a real master without a Python traceback on its output
-(issue 26: timed_proposition_server printed an AttributeError at start-up and kept serving).
+(timed_proposition_server printed an AttributeError at start-up and kept serving).
 
 Each node is started with the parameters it needs, then the test waits until it has registered a
 topic of its own with the master (it has built its publishers, servers and subscribers), stops it,

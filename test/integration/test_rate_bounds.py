@@ -1,4 +1,4 @@
-"""Every rate has an upper bound (issue 28), through the real scripts against a real master.
+"""Every rate has an upper bound, through the real scripts against a real master.
 
 A node's rate or frequency ``~param`` (and ``controller_executor --rate``, ``set_propositions
 --rate``) above ``MAX_RATE`` (1000 Hz) is refused at start-up: one ``[FATAL]`` line naming the

@@ -1,5 +1,5 @@
 """The README's commands that need no master, and docs/chapter2.md's example commands, run as written
-from a clone that has no ``../shared`` beside it (issue 27: a new user's clone), and what they write and
+from a clone that has no ``../shared`` beside it (a new user's clone), and what they write and
 read stays inside the package.
 
 The clone is a folder of links to the repository's top-level entries, so ``../shared`` (relative to

@@ -225,7 +225,7 @@ def test_map_markers_colour_the_robots_region_and_show_the_propositions(ros):
 
 
 def test_robots_with_prefixed_frames_have_their_own_tf_frames_on_one_tree(ros):
-    """Two simulated robots with ~prefix_frames (multi-robot scenarios, issue 27): odometry and tf
+    """Two simulated robots with ~prefix_frames (multi-robot scenarios): odometry and tf
     under each robot's namespace, both below the one map frame; without the prefix both would be
     odom -> base_link."""
     from nav_msgs.msg import Odometry

@@ -15,7 +15,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from helpers import REPO_ROOT, run_script, wait_for
+from helpers import REPO_ROOT, demo_states, run_script, wait_for
 from test_nodes_probe import Recorder, shared_master
 
 from ltl_stack.errors import Exit
@@ -191,7 +191,7 @@ def test_simple_scenario_moves_always_and_stops_for_the_person():
                            "--duration", "8", "--timeout", "200"], capture_output=True, text=True, timeout=300,
                           cwd=REPO_ROOT)
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
-    states = _states([json.loads(line) for line in proc.stdout.splitlines() if line.startswith("{")])
+    states = demo_states(proc.stdout)
     assert any(s["inputs"]["person"] for s in states), "the scripted person never showed up"
     for s in states:
         assert s["outputs"]["move"], s
@@ -298,7 +298,7 @@ def test_every_stretch_of_the_demo_bag_checks_clean(clean_and_patrol_run, demo_b
     from hypothesis import strategies as st
 
     from ltl_stack.ros.check_run import open_states, trace_steps
-    from ltl_stack.runtime.run_check import check_run, distinct_steps
+    from ltl_stack.runtime.conformance import check_run, distinct_steps
     from ltl_stack.spec import load_spec
 
     spec = load_spec(SPEC)
@@ -322,7 +322,7 @@ def test_check_run_names_the_step_and_clause_of_an_injected_violation(clean_and_
     import rosbag
 
     from ltl_stack.ros.check_run import trace_steps
-    from ltl_stack.runtime.run_check import distinct_steps
+    from ltl_stack.runtime.conformance import distinct_steps
 
     broken = tmp_path / "broken.bag"
     kept = []

@@ -1,6 +1,6 @@
 """A node stopped while it waits for a ROS master that is not there (Ctrl-C, or roslaunch's SIGTERM):
 rospy raised ``ROSInitException`` with a traceback; now one ``<node>: error:`` line naming the master,
-exit 130 (issue 28: never a traceback for an environment condition). No master runs: the master URI
+exit 130 (never a traceback for an environment condition). No master runs: the master URI
 names a loopback port bound by this test session and never listened on."""
 from __future__ import annotations
 

@@ -12,7 +12,7 @@ inputs before any work and written only when everything else has succeeded.
 
 --apply on a Structured English spec (``.spec``/``.english``) with an English OUT appends the
 suggestions to the spec's text as English sentences (``a, b and c are mutually exclusive``) and
-reads OUT back as English; any other combination writes ``.slugsin`` (issue 15).
+reads OUT back as English; any other combination writes ``.slugsin`` (a user of English specs keeps reading English).
 
 The live snapshot comes from the ``take_live`` callable given to ``main`` (``scripts/analyze_graph``
 passes ``ltl_stack.ros.graph_snapshot.take_snapshot``), so this module stays free of ROS.

@@ -1,20 +1,16 @@
-"""Reports of a graph analysis: readable text, Markdown tables like the thesis figures, and JSON."""
+"""Reports of a graph analysis: readable text, Markdown tables like the thesis figures, and JSON.
+
+Each check's section comes from its ``graph_checks`` module (title, table, lines), in registry order."""
 from __future__ import annotations
 
+from ltl_stack.analysis import graph_checks
 from ltl_stack.analysis.checks import DECLARED_FEEDBACK, Analysis, E1Finding, feedback_reason, reach_listing
 from ltl_stack.analysis.graph import ACTION
+from ltl_stack.analysis.graph_checks.e1_output_to_input import rows as pair_rows
 from ltl_stack.analysis.reach import PUBLISH, SUBSCRIBE
 from ltl_stack.analysis.suggest import MutualExclusion
 from ltl_stack.spec.model import SLUGSIN_SECTIONS
 
-CHECKS = {
-    "E1": "Output propositions publishing to input proposition nodes (thesis 3.5.2.2)",
-    "E2": "Output propositions publishing to the same topic or action (thesis 3.5.2.3)",
-    "E3": "One output proposition reaching a topic through several of its nodes (thesis 3.5.2.4)",
-    "C1": "Robot topics left behind: reached for some robots but not all (thesis 3.5.2.5)",
-    "C2": "Robots that no output proposition controls (thesis 3.5.2.6)",
-    "P1": "Input proposition topics with other publishers than the input's node (thesis 3.5.1)",
-}
 IN_SPEC_NOTE = "[already guaranteed by the spec: adding it changes nothing]"
 FEEDBACK_TITLE = ("Expected feedback, not findings: activation-completion pairs [75] and what the mapping "
                   "declares")
@@ -57,13 +53,10 @@ def to_dict(a: Analysis, suggestions: list[MutualExclusion], *, reach: bool = Fa
         "unmapped": a.unmapped,
         "robots": a.robots,
         "robot_topics_ignored": a.robot_topics_ignored,
-        "E1": [f.to_dict() for f in a.e1],
+        "checks": [{"code": c.code, "title": c.title, "severity": c.severity, "explanation": c.explanation,
+                    "ran": c.applies(a)} for c in graph_checks.CHECKS],
+        **{c.code: [f.to_dict() for f in a.findings[c.code]] for c in graph_checks.CHECKS},
         "expected_feedback": [f.to_dict() for f in a.feedback],
-        "E2": [f.to_dict() for f in a.e2],
-        "E3": [f.to_dict() for f in a.e3],
-        "C1": [f.to_dict() for f in a.c1],
-        "C2": [f.to_dict() for f in a.c2],
-        "P1": [f.to_dict() for f in a.p1],
         "relays_followed": a.relays,
         "finding_count": a.finding_count,
         "suggestions": [{"id": i, **s.to_dict(), **_forms_or_error(s)} for i, s in enumerate(suggestions, 1)],
@@ -103,17 +96,11 @@ def to_text(a: Analysis, suggestions: list[MutualExclusion], *, reach: bool = Fa
             add(f"  not mapped to any node (left out): {', '.join(a.unmapped)}")
     if a.relays:
         add(f"Relays followed for E2/E3 (not known mergers): {_short_list(a.relays)}")
-    sections = [("P1", a.p1), ("E1", a.e1), ("E2", a.e2), ("E3", a.e3)]
-    if a.robots:
-        sections += [("C1", a.c1), ("C2", a.c2)]
-    for key, findings in sections:
+    for check in (c for c in graph_checks.CHECKS if c.applies(a)):
+        findings = a.findings[check.code]
         add("")
-        add(f"{key}  {CHECKS[key]}: {len(findings) or 'none'}")
-        if key == "E2":
-            out.extend(_e2_lines(findings))
-            continue
-        for f in findings:
-            out.extend("  " + line for line in _finding_lines(key, f))
+        add(f"{check.code}  {check.title}: {len(findings) or 'none'}")
+        out.extend(check.text_lines(findings))
     if a.robots:
         add(f"  (robots: {', '.join(a.robots)}; robot topics ignored: {', '.join(a.robot_topics_ignored) or 'none'})")
     if a.feedback:
@@ -156,27 +143,6 @@ def suggestion_lines(i: int, s: MutualExclusion) -> list[str]:
     return lines
 
 
-def _e2_lines(groups) -> list[str]:
-    """E2 groups; channels where the same pairs compete are named under the first one, not repeated."""
-    alike: dict[tuple, list] = {}
-    for g in groups:
-        alike.setdefault((g.outputs, g.pairs), []).append(g)
-    lines = []
-    for first, *others in alike.values():
-        lines.append(f"  {_channel_text(first)}: {', '.join(first.outputs)}")
-        if not first.complete:
-            lines.append(f"    competing pairs: {', '.join(a + '/' + b for a, b in first.pairs)}")
-        lines.extend(f"    {w.proposition}: {w.text}" for w in first.witnesses)
-        if others:
-            lines.append("    the same outputs also compete on: "
-                         + _short_list([_channel_text(g) for g in others], 6))
-    return lines
-
-
-def _channel_text(f) -> str:
-    return f"({f.channel})" if f.kind == ACTION else f"[{f.channel}]"
-
-
 def feedback_lines(pairs: list[E1Finding]) -> list[str]:
     """Expected feedback: completion pairs one by one with their chain; the pairs the mapping declares
     folded per output, one chain each."""
@@ -195,32 +161,6 @@ def feedback_lines(pairs: list[E1Finding]) -> list[str]:
     return lines
 
 
-def _e1_lines(f: E1Finding) -> list[str]:
-    if len(f.witnesses) == 1:
-        return [f"{f.output} -> {f.input}: {f.witness.text}"]
-    return [f"{f.output} -> {f.input}: {len(f.witnesses)} chains", *(f"  {w.text}" for w in f.witnesses)]
-
-
-def _finding_lines(key: str, f) -> list[str]:
-    if key == "E1":
-        return _e1_lines(f)
-    if key == "E2":
-        name = f"({f.channel})" if f.kind == ACTION else f"[{f.channel}]"
-        return [f"{name}: {', '.join(f.outputs)}", *(f"  {w.proposition}: {w.text}" for w in f.witnesses)]
-    if key == "E3":
-        name = f"({f.channel})" if f.kind == ACTION else f"[{f.channel}]"
-        return [f"{f.output} reaches {name} through {len(f.witnesses)} nodes:",
-                *(f"  {w.node}: {w.text}" for w in f.witnesses)]
-    if key == "P1":
-        return [f"{f.input} [{f.topic}]: also published by {', '.join(f.others)} (the input's node: "
-                f"{', '.join(f.nodes)})"]
-    if key == "C1":
-        return [f"{f.output} {f.suffix}: missing for {', '.join(f.missing)}",
-                *(f"  {r}: {w.text}" for r, w in f.present), *(f"  {r}: -" for r in f.missing)]
-    return [f"{f.robot}: no output reaches any of its topics"
-            + (f" (the other robots get {', '.join(f.suffixes)})" if f.suffixes else "")]
-
-
 def _short_list(items: list[str], limit: int = 8) -> str:
     if not items:
         return "none"
@@ -237,36 +177,19 @@ def to_markdown(a: Analysis, suggestions: list[MutualExclusion]) -> str:
     if a.missing:
         out += ["", "**Mapped nodes not in the graph:** "
                 + ", ".join(f"`{m.node}` ({m.proposition})" for m in a.missing)]
-    out += ["", f"## E1: {CHECKS['E1']}", ""]
-    out += _table(["Output", "Input", "Output-to-input chain"], _e1_rows(a.e1))
+    robots_named = False
+    for check in (c for c in graph_checks.CHECKS if c.applies(a)):
+        if check.needs_robots and not robots_named:
+            out += ["", f"Robots: {', '.join(a.robots)}. Robot topics to ignore: "
+                    f"{', '.join(a.robot_topics_ignored) or 'none'}."]
+            robots_named = True
+        out += ["", f"## {check.code}: {check.title}", ""]
+        out += _table(list(check.columns), [row for f in a.findings[check.code] for row in check.rows(f, True)])
     if a.feedback:
         out += ["", f"## {FEEDBACK_TITLE}", ""]
         out += _table(["Output", "Input", "Why", "Output-to-input chain"],
                       [[*row[:2], feedback_reason(f) if row[0] else "", row[2]]
-                       for f in a.feedback for row in _e1_rows([f])])
-    out += ["", f"## P1: {CHECKS['P1']}", ""]
-    out += _table(["Input", "Topic", "Other publishers", "Mapped node"],
-                  [[f.input, f.topic, ", ".join(f.others), ", ".join(f.nodes)] for f in a.p1])
-    out += ["", f"## E2: {CHECKS['E2']}", ""]
-    out += _table(["Topic", "Output", "Output-to-topic chain"],
-                  [[f.channel if i == 0 else "", w.proposition, f"`{w.text}`"]
-                   for f in a.e2 for i, w in enumerate(f.witnesses)])
-    out += ["", f"## E3: {CHECKS['E3']}", ""]
-    out += _table(["Output", "Topic", "Node", "One existing chain"],
-                  [[f.output if i == 0 else "", f.channel if i == 0 else "", w.node, f"`{w.text}`"]
-                   for f in a.e3 for i, w in enumerate(f.witnesses)])
-    if a.robots:
-        out += ["", f"Robots: {', '.join(a.robots)}. Robot topics to ignore: "
-                f"{', '.join(a.robot_topics_ignored) or 'none'}."]
-        out += ["", f"## C1: {CHECKS['C1']}", ""]
-        rows = []
-        for f in a.c1:
-            cells = [(r, f"`{w.text}`") for r, w in f.present] + [(r, "—") for r in f.missing]
-            for i, (robot, chain) in enumerate(cells):
-                rows.append([f.output if i == 0 else "", f.suffix if i == 0 else "", robot, chain])
-        out += _table(["Output", "Topic", "Robot", "One existing chain"], rows)
-        out += ["", f"## C2: {CHECKS['C2']}", ""]
-        out += _table(["Robot", "Topics the other robots get"], [[f.robot, ", ".join(f.suffixes)] for f in a.c2])
+                       for f in a.feedback for row in pair_rows(f, True)])
     out += ["", "## Suggested additions to the specification", ""]
     if not suggestions:
         out.append("None.")
@@ -282,12 +205,6 @@ def to_markdown(a: Analysis, suggestions: list[MutualExclusion]) -> str:
     out += ["", f"{a.finding_count} finding(s)." + (f" {len(a.feedback)} expected feedback pair(s), not counted."
                                                    if a.feedback else "")]
     return "\n".join(out) + "\n"
-
-
-def _e1_rows(findings: list[E1Finding]) -> list[list[str]]:
-    """One row per chain, the (output, input) cells only on a pair's first row."""
-    return [[f.output if k == 0 else "", f.input if k == 0 else "", f"`{w.text}`"]
-            for f in findings for k, w in enumerate(f.witnesses)]
 
 
 def _table(header: list[str], rows: list[list[str]]) -> list[str]:

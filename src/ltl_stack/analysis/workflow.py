@@ -16,6 +16,7 @@ from dataclasses import dataclass, replace
 from ltl_stack.analysis import report
 from ltl_stack.analysis.checks import Analysis, analyze, e2_groups
 from ltl_stack.analysis.graph import DEFAULT_IGNORED_TOPICS, DEFAULT_MERGERS, ComputationGraph
+from ltl_stack.analysis.graph_checks.p1_input_publishers import CHECK as P1
 from ltl_stack.analysis.snapshot import Snapshot
 from ltl_stack.analysis.suggest import (
     MutualExclusion,
@@ -106,7 +107,7 @@ def problems(analysis: Analysis, mapping: Mapping, issues: Sequence[MappingIssue
     if analysis.unmapped:
         found.append(Problem(UNMAPPED, "warning", f"not mapped to any node (left out): {', '.join(analysis.unmapped)}"))
     for f in analysis.p1:  # P1 (thesis 3.5.1): the same finding the report lists, as a problem to fix first
-        found.append(Problem(PUBLISHERS, "error", f"{INPUT} {f.input}: topic {f.topic} is also published by "
+        found.append(Problem(PUBLISHERS, P1.severity, f"{INPUT} {f.input}: topic {f.topic} is also published by "
                              f"{', '.join(f.others)}; an input topic takes exactly one node (thesis 3.5.1)", f.input))
     found += wrong_types(analysis, mapping, snapshot)
     return found

@@ -1,6 +1,7 @@
 """What the analysis panel shows (thesis §3.6.1.2, §3.6.2.2, Figs. 3.6–3.9, 3.13–3.15), without Qt.
 
-``run_analysis`` does what ``analyze_graph`` does (snapshot, checks E1–E3/C1–C2, suggestions) and
+``run_analysis`` does what ``analyze_graph`` does (snapshot, every check of ``analysis.graph_checks``,
+suggestions) and
 returns an ``AnalysisResult`` whose ``tables()`` are the rows of the panel's tables laid out like the
 thesis figures, with for each row the finding it belongs to (E2 rows of one topic share a group, so
 selecting a topic selects its rows); E1 pairs that are the designed feedback of the
@@ -16,8 +17,9 @@ import re
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 
-from ltl_stack.analysis import report
+from ltl_stack.analysis import graph_checks, report
 from ltl_stack.analysis.checks import Analysis, Witness, feedback_reason
+from ltl_stack.analysis.graph_checks.e1_output_to_input import witnesses as pair_witnesses
 from ltl_stack.analysis.report import IN_SPEC_NOTE
 from ltl_stack.analysis.snapshot import Snapshot
 from ltl_stack.analysis.suggest import MutualExclusion
@@ -34,7 +36,7 @@ from ltl_stack.cli import check_outputs, write_output
 from ltl_stack.gui.dotgraph import DotGraph
 from ltl_stack.spec.model import Spec
 
-CHECK_KEYS = ("E1", "E2", "E3", "C1", "C2")
+CHECK_KEYS = tuple(c.code for c in graph_checks.CHECKS)
 FEEDBACK_KEY = "feedback"
 TAB_KEYS = (*CHECK_KEYS, FEEDBACK_KEY)  # the panel's tabs: the checks, then the expected feedback
 TAB_TITLES = {**{k: k for k in CHECK_KEYS}, FEEDBACK_KEY: "Expected feedback"}
@@ -90,64 +92,36 @@ class AnalysisResult:
         return self._texts[form]
 
     def tables(self) -> dict[str, Table]:
-        """The five tables, laid out like thesis Figs. 3.6, 3.7/3.8, 3.9, 3.14 and 3.15 (built once)."""
+        """A table per check, laid out like thesis Figs. 3.6, 3.7/3.8, 3.9, 3.14 and 3.15, and the expected
+        feedback's (built once)."""
         if self._tables is None:
             self._tables = self._build_tables()
         return self._tables
 
     def _build_tables(self) -> dict[str, Table]:
         a = self.analysis
-        t = {key: Table(key, header) for key, header in (
-            ("E1", ["Output", "Input", "Output-to-input chain"]),
-            ("E2", ["Topic", "Output", "Output-to-topic chain"]),
-            ("E3", ["Output", "Topic", "Node", "One existing chain"]),
-            ("C1", ["Output", "Topic", "Robot", "One existing chain"]),
-            ("C2", ["Robot", "Topics the other robots get"]),
-            (FEEDBACK_KEY, ["Output", "Input", "Why (activation-completion)", "Output-to-input chain"]))}
-        for i, f in enumerate(a.e1):
-            for k, w in enumerate(f.witnesses):  # one row per chain, the pair named on its first
-                _add(t["E1"], i, [f.output if k == 0 else "", f.input if k == 0 else "", w.text])
+        t = {c.code: Table(c.code, list(c.columns)) for c in graph_checks.CHECKS}
+        t[FEEDBACK_KEY] = Table(FEEDBACK_KEY, ["Output", "Input", "Why (activation-completion)", "Output-to-input chain"])
+        for check in graph_checks.CHECKS:
+            for i, f in enumerate(a.findings[check.code]):
+                for row in check.rows(f, False):
+                    _add(t[check.code], i, row)
         for i, f in enumerate(a.feedback):
             for k, w in enumerate(f.witnesses):
                 _add(t[FEEDBACK_KEY], i, [f.output if k == 0 else "", f.input if k == 0 else "",
                                           feedback_reason(f) if k == 0 else "", w.text])
-        for i, g in enumerate(a.e2):
-            for k, w in enumerate(g.witnesses):
-                _add(t["E2"], i, [_channel(g.channel, g.kind) if k == 0 else "", w.proposition, w.text])
-        for i, f in enumerate(a.e3):
-            for k, w in enumerate(f.witnesses):
-                _add(t["E3"], i, [f.output if k == 0 else "", _channel(f.channel, f.kind) if k == 0 else "",
-                                  w.node, w.text])
-        for i, f in enumerate(a.c1):
-            cells = [(r, w.text) for r, w in f.present] + [(r, "— (missing)") for r in f.missing]
-            for k, (robot, chain) in enumerate(cells):
-                _add(t["C1"], i, [f.output if k == 0 else "", f.suffix if k == 0 else "", robot, chain])
-        for i, f in enumerate(a.c2):
-            _add(t["C2"], i, [f.robot, ", ".join(f.suffixes) or "—"])
         return t
 
     def counts(self) -> dict[str, int]:
         """Findings per check, and the expected feedback pairs (``FEEDBACK_KEY``, not findings)."""
         a = self.analysis
-        return {"E1": len(a.e1), "E2": len(a.e2), "E3": len(a.e3), "C1": len(a.c1), "C2": len(a.c2),
-                FEEDBACK_KEY: len(a.feedback)}
+        return {**{c.code: len(a.findings[c.code]) for c in graph_checks.CHECKS}, FEEDBACK_KEY: len(a.feedback)}
 
     def witnesses(self, key: str, index: int) -> tuple[list[Witness], set[str]]:
         """The chains of finding ``index`` of check ``key`` and the channels/nodes in conflict there."""
-        a = self.analysis
-        if key in ("E1", FEEDBACK_KEY):
-            f = (a.e1 if key == "E1" else a.feedback)[index]
-            return list(f.witnesses), set(f.input_nodes)
-        if key == "E2":
-            g = a.e2[index]
-            return list(g.witnesses), {g.channel}
-        if key == "E3":
-            f = a.e3[index]
-            return list(f.witnesses), {f.channel}
-        if key == "C1":
-            f = a.c1[index]
-            return [w for _r, w in f.present], {w.path[-1][1] for _r, w in f.present}
-        return [], set()
+        if key == FEEDBACK_KEY:
+            return pair_witnesses(self.analysis.feedback[index])
+        return graph_checks.BY_CODE[key].witnesses(self.analysis.findings[key][index])
 
     def summary(self) -> str:
         if "summary" not in self._texts:
@@ -157,7 +131,7 @@ class AnalysisResult:
     def _summary(self) -> str:
         g = self.analysis.graph
         c = self.counts()
-        found = ", ".join(f"{k} {c[k]}" for k in CHECK_KEYS if k in ("E1", "E2", "E3") or self.analysis.robots)
+        found = ", ".join(f"{k.code} {c[k.code]}" for k in graph_checks.CHECKS if k.applies(self.analysis))
         feedback = f"; expected feedback: {c[FEEDBACK_KEY]} pair(s)" if c[FEEDBACK_KEY] else ""
         return (f"{len(g.nodes)} nodes, {len(g.channels)} topics/actions, {g.edge_count} edges; "
                 f"findings: {found}{feedback}; {len(self.suggestions)} suggestion(s)")
@@ -175,7 +149,7 @@ class AnalysisResult:
             for start in range(0, len(table.rows), chunk):
                 yield ("rows", key, table.rows[start:start + chunk], table.finding[start:start + chunk])
         counts = self.counts()
-        for key in (k for k in TAB_KEYS if k != "C2"):
+        for key in self.tables():
             for start in range(0, counts[key], chunk):
                 yield ("witnesses", key, [self.witnesses(key, i) for i in range(start, min(counts[key], start + chunk))])
 
@@ -241,10 +215,6 @@ class AnalysisView:
 def _add(table: Table, finding: int, row: list[str]) -> None:
     table.rows.append(row)
     table.finding.append(finding)
-
-
-def _channel(name: str, kind: str) -> str:
-    return f"({name})" if kind == "action" else f"[{name}]"
 
 
 def run_analysis(spec_path: str, mapping_path: str, *, snapshot: Snapshot | None = None,

@@ -35,7 +35,8 @@ from python_qt_binding.QtWidgets import (
     QWidget,
 )
 
-from ltl_stack.analysis.report import CHECKS, FEEDBACK_TITLE
+from ltl_stack.analysis.graph_checks import BY_CODE
+from ltl_stack.analysis.report import FEEDBACK_TITLE
 from ltl_stack.gui.analysis_model import (
     CHECK_KEYS,
     FEEDBACK_KEY,
@@ -150,7 +151,8 @@ class AnalysisPanel(QWidget):
             self.models[key], self.views[key] = model, view
             self.findings_tab_widget.addTab(view, TAB_TITLES[key])
             self.findings_tab_widget.setTabToolTip(self.findings_tab_widget.count() - 1,
-                                                   FEEDBACK_TITLE if key == FEEDBACK_KEY else f"{key}: {CHECKS[key]}")
+                                                   FEEDBACK_TITLE if key == FEEDBACK_KEY else
+                                                   f"{key}: {BY_CODE[key].title}\n{BY_CODE[key].explanation}")
         self.findings_tab_widget.currentChanged.connect(lambda _i: self._on_selection(self.current_key()))
         self.graph_view = GraphView()
         self.graph_view.setObjectName("conflict_graphics_view")

@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 
 from ltl_stack.errors import Exit, UserError
 from ltl_stack.gui.dotgraph import DotGraph
+from ltl_stack.runtime.node_mode import Mode
 from ltl_stack.runtime.running_spec import RunningSpec, read_spec
 from ltl_stack.spec import load_spec
 from ltl_stack.synthesis import Automaton, synthesize
@@ -298,16 +299,19 @@ def liveness(now: float, heard: float, state_heard: float | None, connected: boo
     return True, text
 
 
-MODES = {  # the executor's ~state mode -> (what it means, colour)
-    "normal": ("normal: following the strategy", "#2e9e44"),
-    "recovering": ("recovering: recovery moves after an environment-assumption violation (thesis §4.4)", "#e08a00"),
-    "holding": ("holding: a violation without a recovery move; safe outputs until the inputs are admissible",
-                "#d05000"),
-    "characterizing": ("characterizing: resynthesizing with the observed environment (thesis §4.5)", "#3a7bd5"),
-    "waiting_for_user": ("waiting for the user: unrealizable; add an environment liveness or abort", "#c00000"),
-    "inputs_unknown": ("inputs unknown: stale readings (a partition?); outputs safe for every value of them",
-                       "#b05000"),
-    "aborted": ("aborted: every output false", "#800000"),
+MODES = {  # the executor's ~state mode (runtime.characterize.Mode) -> (what it means, colour)
+    Mode.NORMAL.value: ("normal: following the strategy", "#2e9e44"),
+    Mode.RECOVERING.value: ("recovering: recovery moves after an environment-assumption violation (thesis §4.4)",
+                            "#e08a00"),
+    Mode.HOLDING.value: ("holding: a violation without a recovery move; safe outputs until the inputs are admissible",
+                         "#d05000"),
+    Mode.CHARACTERIZING.value: ("characterizing: resynthesizing with the observed environment (thesis §4.5)",
+                                "#3a7bd5"),
+    Mode.WAITING_FOR_USER.value: ("waiting for the user: unrealizable; add an environment liveness or abort",
+                                  "#c00000"),
+    Mode.INPUTS_UNKNOWN.value: ("inputs unknown: stale readings (a partition?); outputs safe for every value of them",
+                                "#b05000"),
+    Mode.ABORTED.value: ("aborted: every output false", "#800000"),
 }
 
 
@@ -335,8 +339,8 @@ def mode_text(update: StateUpdate | None, violation: str, statuses: Mapping[str,
     if update.state_id < 0:
         controller = statuses.get("controller")
         inputs = statuses.get("inputs")
-        if update.mode == "aborted":
-            return MODES["aborted"][0]
+        if update.mode == Mode.ABORTED.value:
+            return MODES[Mode.ABORTED.value][0]
         if controller is not None and (controller[0] >= 2 or not update.running):
             return "executor: " + controller[1]
         if not update.running:
@@ -346,7 +350,7 @@ def mode_text(update: StateUpdate | None, violation: str, statuses: Mapping[str,
         if controller is not None:
             return "executor: " + controller[1]
         return "no state yet (the executor has not reported why)"
-    if update.mode in MODES and update.mode != "normal":
+    if update.mode in MODES and update.mode != Mode.NORMAL.value:
         return MODES[update.mode][0] + ("" if update.running else " (paused)")
     if update.mode and update.mode not in MODES:  # a mode this view does not know: as the executor says it
         return update.mode.replace("_", " ") + ("" if update.running else " (paused)")

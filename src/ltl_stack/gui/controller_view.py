@@ -73,6 +73,7 @@ from ltl_stack.gui.widgets import (
     status_row,
 )
 from ltl_stack.gui.worker_process import WorkerProcess, controller_model
+from ltl_stack.runtime.executor_options import EFFECTIVE_OPTIONS
 from ltl_stack.runtime.running_spec import RunningSpec
 from ltl_stack.synthesis.automaton import goal_text
 
@@ -217,7 +218,11 @@ class RosLink:
             self._on_diagnostic(level, status.message, what)
 
     def params(self) -> dict[str, object]:
-        """The executor's private parameters that change the synthesis, where it has them."""
+        """The options the executor runs with (its ``~effective_options``, defaults filled in); from an
+        executor that does not publish them, its private parameters that change the synthesis."""
+        effective = rospy.get_param(f"{self.executor}/{EFFECTIVE_OPTIONS}", None)
+        if isinstance(effective, dict):
+            return effective
         found = {}
         for name in ("robotics_semantics", "cooperative"):
             key = f"{self.executor}/{name}"

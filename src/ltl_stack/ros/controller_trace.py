@@ -24,6 +24,7 @@ from ltl_stack.msg import ControllerState
 from ltl_stack.ros.master import init_node, master_uri, ros_name, wait_for_master
 from ltl_stack.ros.valuation import MalformedValuation, step_of
 from ltl_stack.runtime.negotiation import report_lines
+from ltl_stack.runtime.node_mode import Mode
 from ltl_stack.runtime.trace import GoalCycles, TraceStep, describe
 from ltl_stack.spec import load_spec
 
@@ -39,7 +40,7 @@ class ControllerTrace:
         self.json_lines = json_lines
         self.out = out
         self.steps: list[TraceStep] = []
-        self.mode = "normal"
+        self.mode = Mode.NORMAL.value
         self.resyntheses = (0, 0, 0, 0)
         self.cycles = GoalCycles(goals) if goals else None
         self.changed = threading.Condition()
@@ -99,7 +100,7 @@ class ControllerTrace:
 
     def _resilience(self, msg) -> None:
         """A line when the mode or the resynthesis counters change."""
-        mode = msg.mode or "normal"
+        mode = msg.mode or Mode.NORMAL.value
         counts = (msg.resyntheses, msg.resyntheses_ec1, msg.resyntheses_ec2, msg.resyntheses_user)
         if (mode, counts) == (self.mode, self.resyntheses):
             return

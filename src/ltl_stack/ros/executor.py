@@ -14,6 +14,7 @@ and violation reports of ``~state`` and /diagnostics); this module only wires th
 * optional fixed-rate stepping (``--rate``) for specs that progress without input changes;
 * the heartbeat: every output topic republished every ``--heartbeat`` s (output nodes' deadman);
 * the ready handshake: the timer ``--ready-timeout`` reports the inputs that have never reported;
+  from then on those with a freshness bound are unknown (a peer's host down at the start);
 * a node owning several inputs (region localization) publishes their valuation at once on
   ``<node>/valuation``; once it has, that message is their reading (one step for one region change)
   and their Bool topics only count for freshness;
@@ -21,6 +22,8 @@ and violation reports of ``~state`` and /diagnostics); this module only wires th
   bound unknown (``Controller.set_unknown``), a message makes them known again;
 * run/pause: service ``~set_running`` (``std_srvs/SetBool``) and topic ``~running`` (``std_msgs/Bool``);
 * violations are confirmed after ``--violation-grace`` by one worker thread, whatever the input rate;
+* ``~effective_options``: the options the node runs with (every one, defaults filled in), so that a
+  viewer synthesizes the same automaton;
 * ``/diagnostics``: the node's statuses once a second, and at once when one changes;
 * a master restart is detected and every topic, service and parameter is registered again;
 * resilient execution (thesis ch. 4, docs/resilience.md): recovery moves (``--recovery``, default on),
@@ -51,12 +54,13 @@ from std_srvs.srv import SetBool, SetBoolResponse, Trigger, TriggerResponse
 from ltl_stack import cli
 from ltl_stack.errors import Exit, UserError
 from ltl_stack.msg import ControllerSource, ControllerState, PropositionValuation
-from ltl_stack.ros.master import init_node, timed_proxy
+from ltl_stack.ros.master import init_node, master_call, private_params
 from ltl_stack.ros.master_watch import MasterWatch
 from ltl_stack.ros.negotiation import NegotiationEndpoint, prepare_negotiation
 from ltl_stack.ros.valuation import msg_to_valuation, valuation_to_msg
 from ltl_stack.runtime.characterize import Counters, Event, Mode, Negotiate
-from ltl_stack.runtime.controller import VIOLATION_POLICIES, Controller, Update
+from ltl_stack.runtime.controller import Controller, Update
+from ltl_stack.runtime.executor_options import EFFECTIVE_OPTIONS, add_option_arguments, effective_params
 from ltl_stack.runtime.executor_setup import (
     NODE_NAME,
     ExecutorError,
@@ -105,85 +109,20 @@ POLL_PERIOD = 0.1
 
 
 def build_parser() -> cli.ToolParser:
+    """The command line: SPEC, MAPPING, one flag per option of ``runtime.executor_options`` and
+    ``--check``/``--json``."""
     parser = cli.ToolParser(
         prog=PROG,
         description="Run a synthesized GR(1) controller as a ROS node (thesis 3.5.1): input propositions "
                     "arrive as std_msgs/Bool topics, output propositions leave as latched std_msgs/Bool topics.",
         epilog="Every option also reads the private parameter of the same name (~rate, ~on_violation, ...); "
-               "a flag on the command line wins. Every value is checked at start-up.",
+               "a flag on the command line wins. Every value is checked at start-up. The node publishes the "
+               "options it runs with, defaults filled in, as ~effective_options.",
         exit_codes=(Exit.OK, Exit.BAD_INPUT, Exit.LIMIT, Exit.UNREALIZABLE))
     parser.add_argument("spec", help="specification (.slugsin or structured)")
     parser.add_argument("mapping", nargs="?", help="proposition mapping YAML (default: every proposition on its "
                                                    "default topic <ns>/inputs/<p>, <ns>/outputs/<p>)")
-    parser.add_argument("--namespace", help="scenario namespace of the proposition topics (relative names resolve "
-                                            "in the node's namespace; default: the node's namespace when it is "
-                                            "not /, else the mapping's, else the spec's file name)")
-    parser.add_argument("--robotics-semantics", dest="robotics_semantics", action="store_true", default=None,
-                        help="every position satisfying env_init & sys_init must be winning")
-    parser.add_argument("--no-robotics-semantics", dest="robotics_semantics", action="store_false",
-                        help="slugs' initial-state semantics")
-    parser.add_argument("--cooperative", dest="cooperative", action="store_true", default=None,
-                        help="cooperative strategy: prefer moves that help the environment meet its goals")
-    parser.add_argument("--no-cooperative", dest="cooperative", action="store_false")
-    parser.add_argument("--strategy", metavar="FILE", help="load a saved strategy JSON instead of synthesizing")
-    parser.add_argument("--init-props", metavar="a=1,b=0", help="initial values of inputs (used until their "
-                        "topic reports) and outputs (constrain the initial state); true and false values")
-    parser.add_argument("--rate", type=float, metavar="HZ", help="also step at this rate (at most 1000; "
-                                                                 "default 0: only on input changes)")
-    parser.add_argument("--ready-timeout", type=float, metavar="S", help="report inputs that have not "
-                        "published after S seconds, and again every S seconds (default 10; 0 = never)")
-    parser.add_argument("--freshness", type=float, metavar="S", help="an input reading older than S seconds makes "
-                        "the input unknown, for inputs whose bound neither the mapping's freshness: nor their node's "
-                        "rate gives (default 0: never); unknown inputs: outputs safe for every value of them")
-    parser.add_argument("--heartbeat", type=float, metavar="S", help="republish every output topic every S seconds "
-                        "(default 0.25; 0: only on change): output nodes go to their safe state when their topic "
-                        "stays silent for their ~deadman (default 1 s)")
-    parser.add_argument("--on-violation", choices=VIOLATION_POLICIES, help="outputs after an environment-"
-                        "assumption violation: hold the last safe valuation (default) or drive all false")
-    parser.add_argument("--recovery", dest="recovery", action="store_true", default=None,
-                        help="answer an environment-assumption violation with a recovery step (thesis §4.6; default)")
-    parser.add_argument("--no-recovery", dest="recovery", action="store_false",
-                        help="hold (or --on-violation) until the inputs are admissible again from the last state")
-    parser.add_argument("--characterize", dest="characterize", action="store_true", default=None,
-                        help="environment characterization (thesis §4.7): when the environment breaks its "
-                             "assumptions, learn the observed behaviour and resynthesize, keeping the robot "
-                             "safe meanwhile (default: on exactly when --characterized-spec is given)")
-    parser.add_argument("--no-characterize", dest="characterize", action="store_false",
-                        help="never resynthesize")
-    parser.add_argument("--characterize-after-transitions", type=int, metavar="N",
-                        help="with recovery: characterize once a violation lasted more than N transitions "
-                             "(thesis §4.10.2; default 0: not used; with no limit at all: at once)")
-    parser.add_argument("--characterize-after-seconds", type=float, metavar="T",
-                        help="with recovery: characterize once a violation lasted more than T seconds "
-                             "(default 0: not used)")
-    parser.add_argument("--characterized-spec", metavar="FILE",
-                        help="write the characterized spec to FILE (atomically) after each resynthesis; "
-                             "synthesize and controller_executor load it (turns --characterize on)")
-    parser.add_argument("--start-paused", action="store_true", default=None, help="start paused")
-    parser.add_argument("--publisher-check-period", type=float, metavar="S",
-                        help="how often to look for extra publishers on input topics (default 2; 0 = never)")
-    parser.add_argument("--settle-steps", type=int, metavar="N",
-                        help="after a step, keep stepping with unchanged inputs while the state changes, at most "
-                             "N times (default 16), so the robot starts its next move without waiting for an input "
-                             "change; 0 takes exactly one step per input change")
-    parser.add_argument("--violation-grace", type=float, metavar="S",
-                        help="report a violation only when the inputs stay inadmissible this long (default 0.2): "
-                             "one sensor change often arrives as several topic messages, e.g. leaving one region "
-                             "and entering the next; the output policy applies at once either way")
-    parser.add_argument("--input-window", type=float, metavar="S",
-                        help="after an input change, wait S seconds for more before stepping once with all of them "
-                             "(default 0: step on every message); one sensor change often arrives as several "
-                             "messages (leaving a region, entering the next), and a step between them sees inputs "
-                             "the environment assumptions forbid, which characterization would learn")
-    parser.add_argument("--timeout", type=float, metavar="S",
-                        help="give up synthesizing after S seconds with exit 5 (default 0: no limit)")
-    parser.add_argument("--negotiation-timeout", type=float, metavar="S",
-                        help="integrative negotiation with the robots the mapping's negotiation: key names "
-                             "(thesis §4.8, docs/negotiation.md; needs characterization): seconds one message "
-                             "exchange may take (default 5)")
-    parser.add_argument("--max-explicit-states", type=int, metavar="N",
-                        help="run the explicit automaton, whose state ids and goals are those of synthesize "
-                             "--json/--dot, when it has at most N states (default 20000; 0: always symbolic)")
+    add_option_arguments(parser)
     parser.add_argument("--check", action="store_true", help="load, validate and synthesize, print a summary "
                         "and exit without ROS")
     parser.add_argument("--json", action="store_true", help="the --check summary as JSON on stdout; running: "
@@ -311,6 +250,8 @@ class ExecutorNode:
         self._update_mode(publish=False)
         self._update_health(publish=False)
         self.diagnostics_timer = rospy.Timer(rospy.Duration(DIAGNOSTICS_PERIOD), lambda _e: self.publish_diagnostics())
+        # the options it runs with, defaults filled in, for viewers (before MasterWatch: set again after a restart)
+        rospy.set_param("~" + EFFECTIVE_OPTIONS, effective_params(options))
         self.master_watch = MasterWatch(on_restart=self._on_master_restart) if watch_master else None
         rospy.on_shutdown(self._on_shutdown)
         rospy.loginfo("%s: %d inputs (%s), %d outputs (%s); %s", self.name, len(prepared.input_topics),
@@ -412,16 +353,20 @@ class ExecutorNode:
         controller resumes when none is left); say so on /diagnostics and in the log."""
         with self.controller.lock:
             now = time.monotonic()
-            stale = self.freshness.stale(now)
+            waited = self.options.ready_timeout > 0 and now - self._started_at >= self.options.ready_timeout
+            stale = self.freshness.stale(now, self.controller.missing_inputs() if waited else ())
             if stale == self.controller.unknown:
                 return
             update = self.controller.set_unknown(stale)
             status = self.reports.unknown_report(update, unknown_text(stale, self.prepared.input_topics,
                                                                       self.freshness, now))
             self._publish(update, force_state=True)
+            if update.started and self.ready_timer is not None:
+                self.ready_timer.shutdown()
         log = {0: rospy.loginfo, 1: rospy.logwarn}.get(status.level, rospy.logerr)
         log("%s: %s", self.name, status.message)
         self._set_status(status)
+        self._update_health()
 
     def _on_set_running(self, request: Any) -> SetBoolResponse:
         self.set_running(request.data)
@@ -526,6 +471,8 @@ class ExecutorNode:
                 print(json.dumps(report.event), flush=True)
 
     def _on_ready_timeout(self, _event: Any) -> None:
+        if self.freshness.active:
+            self.check_freshness()  # silent inputs with a freshness bound are unknown from now on
         text = self.reports.silent_inputs(time.monotonic() - self._started_at)
         if text is None:
             return
@@ -550,10 +497,7 @@ class ExecutorNode:
     def check_publishers(self) -> list[str]:
         """Warn about input topics with more than one publisher; returns the warnings issued now."""
         try:
-            code, message, state = timed_proxy(rosgraph.get_master_uri()).getSystemState(self.name)
-            if code != 1:
-                raise rosgraph.MasterException(message)
-            publishers = state[0]
+            publishers = master_call("getSystemState", caller=self.name)[0]
         except Exception as err:  # noqa: BLE001 - the master may be going away
             rospy.logdebug("%s: cannot ask the master for publishers: %s", self.name, err)
             return []
@@ -710,6 +654,7 @@ class ExecutorNode:
 
 
 def _cli_values(args: argparse.Namespace) -> dict[str, Any]:
+    """The options given on the command line (every flag but the arguments and ``--check``/``--json``)."""
     return {name: value for name, value in vars(args).items() if name not in ("spec", "mapping", "check", "json")}
 
 
@@ -732,12 +677,6 @@ def _check(args: argparse.Namespace) -> int:
     return Exit.OK
 
 
-def _private_params() -> dict[str, Any]:
-    """Every ``~param`` of the node, in one call to the master ({} when none is set)."""
-    params = rospy.get_param("~", {})
-    return params if isinstance(params, dict) else {}
-
-
 def _run(args: argparse.Namespace, negotiate: Negotiate | None = None,
          setup: Callable[[ExecutorNode], None] | None = None) -> int:
     """Load the files (errors before touching ROS), then start the node; errors after ``init_node``
@@ -750,7 +689,7 @@ def _run(args: argparse.Namespace, negotiate: Negotiate | None = None,
     try:
         if refused:
             raise ExecutorError(refused)
-        options = merge_options(_cli_values(args), params_lookup(_private_params()))
+        options = merge_options(_cli_values(args), params_lookup(private_params()))
         check_characterized_spec(options, [args.spec, args.mapping, options.strategy or None])
         namespace = scenario_namespace(options.namespace, rospy.get_namespace(), mapping, args.spec)
         in_topics, out_topics = resolve_topics(mapping, spec.inputs, spec.outputs, namespace.strip("/"))

@@ -22,6 +22,7 @@ from ltl_stack import cli
 from ltl_stack.errors import Exit, UserError
 from ltl_stack.ros.master import init_node, master_uri, ros_name, wait_for_master
 from ltl_stack.ros.proposition_tools import add_master_options
+from ltl_stack.runtime.node_mode import Mode
 from ltl_stack.srv import AddEnvLiveness
 
 PROG = "add_env_liveness"
@@ -66,7 +67,7 @@ def _call(args) -> int:
     try:
         if args.abort:
             answer = rospy.ServiceProxy(service, Trigger)()
-            code, mode = (Exit.OK if answer.success else Exit.NEGATIVE), "aborted"
+            code, mode = (Exit.OK if answer.success else Exit.NEGATIVE), Mode.ABORTED.value
         else:
             answer = rospy.ServiceProxy(service, AddEnvLiveness)(args.formula)
             code, mode = Exit(answer.code) if answer.code in set(Exit) else Exit.NEGATIVE, answer.mode

@@ -2,7 +2,7 @@
 
 Applied by ``import ltl_stack.ros``, which every node of ours does before anything else of ROS:
 
-- **Start-up** (issue 16): ``genpy.message``, which every message class and ``rospy`` import, tries
+- **Start-up time**: ``genpy.message``, which every message class and ``rospy`` import, tries
   ``import numpy`` only to list numpy's scalar types among the values a float field accepts when it
   words a serialization error; with the venv's numpy that costs ~80 ms CPU in every node, and none
   of our nodes puts numpy values into messages. numpy is marked absent while genpy is first imported

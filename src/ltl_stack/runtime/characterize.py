@@ -38,11 +38,11 @@ import time
 from collections import deque
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from enum import Enum
 from pathlib import Path
 from typing import Any, Callable, Optional
 
 from ltl_stack.fileio import write_atomic
+from ltl_stack.runtime.node_mode import Mode
 from ltl_stack.spec import (
     SpecError,
     formula_to_infix,
@@ -61,21 +61,11 @@ from ltl_stack.synthesis.recovery import StepKind, StepResult, UnsafeStep
 from ltl_stack.synthesis.strategy import State, SymbolicStrategy
 
 EC1, EC2 = "EC1", "EC2"
-#: attempts and events a resilient strategy keeps (issue 23: bounded memory under a violation flood)
+#: attempts and events a resilient strategy keeps (memory stays bounded under a flood of violations)
 HISTORY_KEPT = 1
 EVENTS_KEPT = 1000
 #: the characters ``str.splitlines`` breaks a line at
 LINE_BREAKS = "\n\r\x0b\x0c\x1c\x1d\x1e\x85\u2028\u2029"
-
-
-class Mode(Enum):
-    """What a resilient controller is doing (for ``~state`` / diagnostics)."""
-
-    NORMAL = "normal"
-    RECOVERING = "recovering"
-    CHARACTERIZING = "characterizing"
-    WAITING_FOR_USER = "waiting_for_user"
-    ABORTED = "aborted"
 
 
 class ExecutionAborted(AssumptionViolation):
@@ -158,7 +148,7 @@ class Characterizer:
         #: ``HISTORY_KEPT`` are kept, so memory stays flat over hundreds of resyntheses)
         self.history: deque[Attempt] = deque(maxlen=HISTORY_KEPT)
         #: each input literal once (name, primed, value): the EC conjunctions share them, so a disjunct
-        #: holds one And and its tuple instead of 2-3 objects per input (issue 23: bounded memory)
+        #: holds one And and its tuple instead of 2-3 objects per input (bounded memory under a flood of violations)
         self._literals: dict[tuple[str, bool, bool], Formula] = {}
 
     # --- Alg. 2 -----------------------------------------------------------------------------------
@@ -311,7 +301,7 @@ class Characterizer:
 
 
 def _variables(formula: Formula) -> list[Var]:
-    return list(variables(formula))  # each shared subformula once: linear in the DAG (issue 28)
+    return list(variables(formula))  # each shared subformula once: work linear in the DAG, not the tree
 
 
 class Threshold:

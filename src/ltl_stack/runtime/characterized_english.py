@@ -1,4 +1,5 @@
-"""The characterized spec of a Structured English spec, in English (issue 15; thesis §4.7). ROS-free.
+"""The characterized spec of a Structured English spec, in English (thesis §4.7), so that
+the user reads what was learned in the language the spec was written in. ROS-free.
 
 ``Characterizer`` renders phi' (Alg. 2) in the structured format, which is what is parsed and
 synthesized. When the running spec is a ``.spec`` in Structured English and the user's file is a

@@ -1,8 +1,8 @@
 """Everything the controller executor does before ROS: options, spec and mapping, topics, strategy.
 
 ROS-free, so ``controller_executor --check`` and the unit tests run it without a master; the node
-(``ltl_stack.ros.executor``) only adds the wiring. The executor's parameters are one ``Param``
-schema (``EXECUTOR_PARAMS``): a command-line flag wins over the ``~param`` of the same name, which
+(``ltl_stack.ros.executor``) only adds the wiring. The executor's options are declared once
+(``runtime.executor_options``): a command-line flag wins over the ``~param`` of the same name, which
 wins over the default, and every value is checked (type, range, choices) before anything starts.
 
 Strategy ids: when the explicit automaton of the synthesized strategy has at most
@@ -38,7 +38,15 @@ from typing import Any, Callable, Tuple
 from ltl_stack import cli
 from ltl_stack.errors import Exit, UserError
 from ltl_stack.runtime.characterize import Threshold
-from ltl_stack.runtime.controller import VIOLATION_POLICIES, Controller, ViolationPolicy
+from ltl_stack.runtime.controller import Controller, ViolationPolicy
+from ltl_stack.runtime.executor_options import (
+    EXECUTOR_PARAMS,
+    MAX_EXPLICIT_STATES,
+    PARAMS_BY_NAME,
+    Options,
+    characterization_on,
+    flag_of,
+)
 from ltl_stack.runtime.explicit import AutomatonStrategy
 from ltl_stack.runtime.mapping import Mapping as PropositionMapping
 from ltl_stack.runtime.mapping import (
@@ -50,7 +58,7 @@ from ltl_stack.runtime.mapping import (
     valuation_topics,
 )
 from ltl_stack.runtime.modes import OutputGuard
-from ltl_stack.runtime.node_params import Bound, NodeConfigError, Param, coerce_param
+from ltl_stack.runtime.node_params import NodeConfigError, coerce_param
 from ltl_stack.runtime.recovery import RecoveringStrategy
 from ltl_stack.runtime.resilient_executor import BackgroundResilience
 from ltl_stack.runtime.ros_names import check_proposition_names, is_legal_name
@@ -62,88 +70,10 @@ from ltl_stack.synthesis.explicit import TooManyStates
 from ltl_stack.synthesis.game import backend_line
 
 NODE_NAME = "controller_executor"
-#: The explicit automaton is extracted (and its ids used) up to this many states by default.
-MAX_EXPLICIT_STATES = 20000
 
 
 class ExecutorError(UserError):
     """A problem the user can fix (bad file, argument or parameter); ``code`` is the exit code."""
-
-
-EXECUTOR_PARAMS = [
-    Param("namespace", "", "scenario namespace of the proposition topics (relative: in the node's namespace; "
-          "default: the node's namespace when it is not /, else the mapping's, else the spec's file name)",
-          ros_name=True),
-    Param("robotics_semantics", None, "init semantics of the synthesis (default: the library's)", kind=bool),
-    Param("cooperative", None, "cooperative strategy (default: the library's)", kind=bool),
-    Param("strategy", "", "run this saved strategy JSON instead of synthesizing"),
-    Param("init_props", "", "initial values a=1,b=0 (string) or {a: true, b: false} (dict)", kind=(str, dict)),
-    Param("rate", 0.0, "also step at this rate (Hz; 0: only on input changes)", bound=Bound.RATE_OR_ZERO),
-    Param("ready_timeout", 10.0, "report silent inputs every S seconds (0: never)", bound=Bound.PERIOD_OR_ZERO),
-    Param("freshness", 0.0, "seconds an input reading stays valid when neither the mapping's freshness: nor its "
-          "node's rate gives a bound (0: forever); an older one makes the input unknown (docs/several_machines.md)",
-          bound=Bound.NON_NEGATIVE),
-    Param("heartbeat", 0.25, "republish every output topic this often (s; 0: only on change): the heartbeat of "
-          "the output nodes' deadman (~deadman, default 1 s)", bound=Bound.PERIOD_OR_ZERO),
-    Param("on_violation", ViolationPolicy.HOLD.value, "outputs after an assumption violation",
-          choices=VIOLATION_POLICIES),
-    Param("recovery", True, "after an environment-assumption violation take a recovery step (thesis §4.6) "
-          "instead of holding; the violation policy applies only when no step keeps the guarantees"),
-    Param("characterize", None, "environment characterization (thesis §4.7): resynthesize when the environment "
-          "breaks its assumptions (default: on exactly when ~characterized_spec is given)", kind=bool),
-    Param("characterize_after_transitions", 0, "with recovery: characterize once a violation lasted more than N "
-          "transitions (thesis §4.10.2; 0: not used; with ~characterize_after_seconds also 0: at once)",
-          bound=Bound.NON_NEGATIVE, kind=int),
-    Param("characterize_after_seconds", 0.0, "with recovery: characterize once a violation lasted more than S "
-          "seconds (0: not used)", bound=Bound.NON_NEGATIVE),
-    Param("characterized_spec", "", "write the characterized spec to this file (atomically) after each "
-          "resynthesis; .slugsin: slugsin, else the structured format (English sentences for a .spec spec)"),
-    Param("start_paused", False, "start paused"),
-    Param("publisher_check_period", 2.0, "how often to look for extra publishers on input topics (s; 0: never)",
-          bound=Bound.PERIOD_OR_ZERO),
-    Param("violation_grace", 0.2, "report a violation only if it lasts this long (s)", bound=Bound.NON_NEGATIVE),
-    Param("settle_steps", 16, "steps with unchanged inputs after a step, at most", bound=Bound.NON_NEGATIVE),
-    Param("input_window", 0.0, "after an input change, wait this long (s) for more before stepping once "
-          "(0: step on every message)", bound=Bound.NON_NEGATIVE),
-    Param("timeout", 0.0, "give up synthesizing after S seconds: exit 5, Exit.LIMIT (0: no limit)",
-          bound=Bound.NON_NEGATIVE),
-    Param("negotiation_timeout", 5.0, "integrative negotiation (thesis §4.8; the mapping's negotiation: key): "
-          "seconds one message exchange with a peer may take", bound=Bound.POSITIVE),
-    Param("max_explicit_states", MAX_EXPLICIT_STATES, "run the explicit automaton (ids of synthesize --strategy-json) "
-          "when it has at most this many states (0: always the symbolic strategy)", bound=Bound.NON_NEGATIVE),
-]
-PARAMS_BY_NAME = {p.name: p for p in EXECUTOR_PARAMS}
-
-
-@dataclass
-class Options:
-    """Settings of the node (see ``EXECUTOR_PARAMS``); None means "the library's default"."""
-
-    namespace: str = ""
-    robotics_semantics: bool | None = None
-    cooperative: bool | None = None
-    strategy: str = ""
-    init_props: str = ""
-    rate: float = 0.0
-    ready_timeout: float = 10.0
-    freshness: float = 0.0
-    heartbeat: float = 0.25
-    on_violation: ViolationPolicy = ViolationPolicy.HOLD
-    recovery: bool = True
-    characterize: bool | None = None
-    characterize_after_transitions: int = 0
-    characterize_after_seconds: float = 0.0
-    characterized_spec: str = ""
-    start_paused: bool = False
-    publisher_check_period: float = 2.0
-    violation_grace: float = 0.2
-    settle_steps: int = 16
-    input_window: float = 0.0
-    timeout: float = 0.0
-    negotiation_timeout: float = 5.0
-    max_explicit_states: int = MAX_EXPLICIT_STATES
-    #: where each value came from: "--flag", "~param" or "default"
-    sources: dict[str, str] = field(default_factory=dict)
 
 
 #: Looks up a private parameter: (is it set, its value).
@@ -165,15 +95,19 @@ def params_lookup(params: Mapping[str, Any]) -> ParamLookup:
     return lookup
 
 
-def merge_options(cli: Mapping[str, Any], lookup: ParamLookup = no_params) -> Options:
-    """CLI value if given (not None), else the ``~param`` if set, else the default; each checked
-    against its ``Param``. Raises ``ExecutorError`` naming the flag or parameter."""
+def merge_options(given: Mapping[str, Any], lookup: ParamLookup = no_params) -> Options:
+    """The command line's value if given (not None), else the ``~param`` if set, else the default;
+    each checked against its ``Param``. Raises ``ExecutorError`` naming the flag or parameter (also for a
+    command-line value that is no option: a flag the parser has but no ``Options`` field)."""
+    unknown = sorted(set(given) - set(PARAMS_BY_NAME))
+    if unknown:
+        raise ExecutorError(f"{NODE_NAME}: {flag_of(unknown[0])} is not an option of the executor")
     values: dict[str, Any] = {}
     sources: dict[str, str] = {}
     for param in EXECUTOR_PARAMS:
-        flag = "--" + param.name.replace("_", "-")
-        if cli.get(param.name) is not None:
-            raw, source = cli[param.name], flag
+        flag = flag_of(param.name)
+        if given.get(param.name) is not None:
+            raw, source = given[param.name], flag
         else:
             found, raw = lookup(param.name)
             source = f"~{param.name}" if found else "default"
@@ -208,11 +142,6 @@ def merge_options(cli: Mapping[str, Any], lookup: ParamLookup = no_params) -> Op
 def _label(options: Options, name: str) -> str:
     source = options.sources.get(name, "default")
     return source if source.startswith("--") else f"parameter ~{name}"
-
-
-def characterization_on(options: Options) -> bool:
-    """``~characterize`` if given, else on exactly when ``~characterized_spec`` names a file."""
-    return bool(options.characterized_spec) if options.characterize is None else options.characterize
 
 
 def threshold_of(options: Options) -> Threshold:

@@ -11,6 +11,7 @@ from typing import Tuple
 from shapely.geometry import Polygon
 from shapely.ops import triangulate
 
+from ltl_stack.runtime.node_mode import Mode
 from ltl_stack.runtime.regions import RegionMap
 from ltl_stack.spec.region_map import BOUNDARY, Point
 from ltl_stack.synthesis.automaton import goal_text
@@ -64,7 +65,7 @@ def region_shapes(regions: RegionMap, current: str | None, heading: set[str]) ->
 
 
 def valuation_text(inputs: Mapping[str, bool], outputs: Mapping[str, bool], state: int, goal: int,
-                   goals: int | None = None, mode: str = "normal", running: bool = True) -> str:
+                   goals: int | None = None, mode: str = Mode.NORMAL.value, running: bool = True) -> str:
     """The controller's state in a few lines: state, goal (counted from 1, as every display does:
     ``synthesis.automaton.goal_text``), mode (the executor's: recovering, stale inputs, aborted, …; paused
     when it is not running), the true inputs and outputs."""
@@ -76,10 +77,10 @@ def valuation_text(inputs: Mapping[str, bool], outputs: Mapping[str, bool], stat
 
 def mode_label(mode: str, running: bool = True) -> str:
     """The executor's ``~state`` mode in words ("normal" when it reports none), "paused" when not running."""
-    words = (mode or "normal").replace("_", " ")
+    words = (mode or Mode.NORMAL.value).replace("_", " ")
     if running:
         return words
-    return "paused" if words == "normal" else f"{words}, paused"
+    return "paused" if words == Mode.NORMAL.value else f"{words}, paused"
 
 
 def region_from_inputs(regions: RegionMap, inputs: Mapping[str, bool], suffix: str = "_rc") -> str | None:

@@ -66,8 +66,8 @@ _FIXED_MMAP_THRESHOLD: list[bool] = []
 
 def fix_mmap_threshold() -> bool:
     """Keep glibc's mmap threshold at its default, so that a freed BDD manager's tables go back to
-    the system (issue 23 item 7). glibc raises the threshold to the largest mmapped block freed (up
-    to 32 MiB); after the first replaced manager every later manager's tables (MiBs) came from the
+    the system (memory stays bounded under a flood of violations). glibc raises the threshold to the
+    largest mmapped block freed (up to 32 MiB); after the first replaced manager every later manager's tables (MiBs) came from the
     heap and, once freed, stayed in the process as fragmented free memory: ``bench_flood.py --trace``
     found 16-19 MiB of freed heap kept after 26-136 resyntheses. Setting the threshold explicitly stops that
     adjustment. Process-wide, once; False where there is no glibc ``mallopt``."""

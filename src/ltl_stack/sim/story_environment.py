@@ -23,6 +23,7 @@ from std_msgs.msg import Bool, String
 from ltl_stack.msg import ControllerState
 from ltl_stack.ros.proposition_node import NodeConfigError, NodeSpec, Param, run_node
 from ltl_stack.ros.valuation import MalformedValuation, state_valuations
+from ltl_stack.runtime.node_mode import Mode
 from ltl_stack.runtime.node_params import Bound
 from ltl_stack.runtime.story import StoryError, StoryPlayer, load_story, region_of
 from ltl_stack.spec import SpecError, load_spec
@@ -47,7 +48,7 @@ STORY_ENVIRONMENT = NodeSpec(
 
 
 #: modes in which the controller observed the inputs but has not moved on them yet
-BUSY = ("characterizing", "waiting_for_user")
+BUSY = (Mode.CHARACTERIZING.value, Mode.WAITING_FOR_USER.value)
 
 
 class StoryEnvironment:
@@ -110,7 +111,7 @@ class StoryEnvironment:
                 self.announced = True
                 self._say("story: complete")
                 self.complete_pub.publish(Bool(True))
-            if mode == "waiting_for_user" and self.story.user and not self.asked:
+            if mode == Mode.WAITING_FOR_USER.value and self.story.user and not self.asked:
                 self.asked = True
                 threading.Thread(target=self._user, daemon=True).start()
 

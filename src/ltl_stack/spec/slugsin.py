@@ -209,7 +209,7 @@ def parse_prefix(line: Line, names: Names) -> Formula:
                                                   "(a slugsin clause is one prefix formula per line)")
                 return settle(value)
             op = frames.op[-1]
-            # a ``$`` entry stays a chain until it is used: ``settle`` keeps its result (issue 16)
+            # a ``$`` entry stays a chain until it is used: ``settle`` keeps its result (parsing stays linear)
             if type(value) is Pending and op not in ("&", "|", "$"):
                 value = settle(value)
             frames.args.append(value)

@@ -4,7 +4,7 @@
 - slugs' ``--explicitStrategy --jsonOutput`` layout (``version``, ``slugs``, ``variables``, ``nodes``
   keyed by state number with ``rank``, ``state`` bit list and ``trans``): ``to_slugs_json`` /
   ``from_slugs_json``;
-- Graphviz DOT (``to_dot``) and PNG through the ``dot`` program (``write_png``).
+- Graphviz DOT (``to_dot``) and PNG through the ``dot`` program (``to_png``).
 
 Recovery transitions (thesis §4.6, ``explicit(recovery=True)``) are ordinary successors that are
 also listed in ``AutomatonState.recovery``: key ``recovery`` of a state (our JSON) or node (slugs
@@ -22,7 +22,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ltl_stack.errors import InputError
-from ltl_stack.fileio import write_atomic
 from ltl_stack.inputs import load_json
 from ltl_stack.synthesis.errors import StrategyFileError
 
@@ -207,10 +206,6 @@ class Automaton:
         if data.returncode != 0:
             raise RuntimeError(f"{program} failed: {data.stderr.decode(errors='replace').strip()}")
         return data.stdout
-
-    def write_png(self, path: str | Path, timeout: float = 120.0) -> None:
-        """``to_png`` written atomically to ``path``."""
-        write_atomic(path, self.to_png(timeout))
 
 
 def _esc(text: str) -> str:

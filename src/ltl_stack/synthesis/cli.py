@@ -109,7 +109,7 @@ def main(argv: list[str] | None = None) -> int:
 def script() -> NoReturn:
     """``synthesize`` as a process (``scripts/synthesize``, ``python -m``): ``main``, then the
     process ends without Python's teardown (``cli.imports_done``, ``cli.exit_now``: ~13 ms of a
-    run on a small spec; issue 16)."""
+    run on a small spec)."""
     cli.imports_done()
     cli.exit_now(main())
 

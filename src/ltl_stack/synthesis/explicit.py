@@ -12,7 +12,7 @@ automaton stays small:
 2. otherwise, for a move that reaches the current goal, one into a position from which the goal it
    advances to is reached soonest (the earliest of that goal's Y iterates, ``GoalLayers.Y``): slugs'
    twoDimensionalCost simple1 exported 20 states against slugs' 18 when the move kept an output the
-   next goal needs changed (issue 16);
+   next goal needs changed;
 3. then the outputs ``SymbolicStrategy.step`` picks (each output keeps its current value when it
    may, in the spec's output order).
 
@@ -25,7 +25,7 @@ in that chain when that state has the smaller goal.
 
 Each state's moves are computed at once as a BDD over the next inputs and outputs (the relation
 restricted to the state) and enumerated as integer codes (input k is bit k, output k bit
-n_in + k; ``_codes``), never one dict per valuation.
+n_in + k; ``_Codes``), never one dict per valuation.
 
 With ``recovery=True`` (Alg. 1 lines 19-25, ``ltl_stack.synthesis.recovery``) every (state, input)
 for which some move satisfies sys safety gets one edge: inputs that break env safety, and every
@@ -74,18 +74,6 @@ class SymbolicStrategy(Protocol):
     def _skip_satisfied(self, inputs: dict[str, bool], outputs: dict[str, bool], goal: int) -> int: ...
 
 
-def initial_states(strategy: SymbolicStrategy) -> list[State]:
-    """Every winning initial position (goal 0 unless already met there), ordered by ``State.id``."""
-    game = strategy.game
-    bdd = game.bdd
-    result = []
-    for a in bdd.pick_iter(strategy.initial, care_vars=set(game.variables)):
-        result.append(strategy.start_state({n: bool(a[n]) for n in game.inputs},
-                                           {n: bool(a[n]) for n in game.outputs}))
-    result.sort(key=lambda s: s.id)
-    return result
-
-
 def extract(strategy: SymbolicStrategy, *, max_states: int | None = None, progress: Progress | None = None,
             recovery: bool = False) -> Automaton:
     """The explicit automaton of ``strategy`` (with recovery edges when ``recovery``);
@@ -102,16 +90,6 @@ def traps_environment(game: Any, automaton: Automaton) -> bool:
     plain = automaton.metadata.get("states_without_recovery", len(automaton.states))
     return any(bdd.let(game.assignment({**s.inputs, **s.outputs}), alive) != bdd.true
                for s in automaton.states[:plain])
-
-
-def _codes(bdd, u, bit_of: dict[str, int]) -> list[int]:
-    """Every satisfying valuation of ``u`` over the variables of ``bit_of`` (which must cover its
-    support) as an integer with bit ``bit_of[v]`` set when v is true (see ``_Codes``)."""
-    codes = _Codes(bdd, bit_of)
-    try:
-        return codes(u)
-    finally:
-        codes.clear()
 
 
 class _Codes:
@@ -343,7 +321,8 @@ class _Extraction:
         """One move per next input of ``moves`` (a BDD over the next inputs and outputs): into an
         existing state when one is allowed; else, for a move that reaches the current goal, into a
         position from which the goal it advances to is reached soonest (``closer``); then each
-        output keeping its current value when it may (``keep_current`` restricted to this position)."""
+        output keeping its current value when it may, decided in the spec's output order (as
+        ``SymbolicStrategy`` steps)."""
         bdd = self.bdd
         game = self.game
         reuse = bdd.false
@@ -410,7 +389,8 @@ class _Extraction:
         strategy = self.strategy
         game = self.game
         bdd = self.bdd
-        # ``initial_states`` as codes: ordered by ``State.id`` (goal, then the position's bits)
+        # every winning initial position (goal 0 unless already met there) as codes, ordered by
+        # ``State.id`` (goal, then the position's bits)
         starts = _Codes(bdd, self.current_bit)(strategy.initial)
         for goal, code in sorted((self.skip(code, 0), code) for code in starts):
             self.number(code, goal)

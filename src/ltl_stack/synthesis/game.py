@@ -30,8 +30,7 @@ Stable API (other modules, ``explain.py`` and the differential tests rely on it)
                                   into ``target`` (Eq. 4.2's controllable predecessor)
 - ``cpre_env(target)``            positions from which the environment can force it (dual operator)
 - ``deadlock_free_sys_rel()``     ``sys_rel`` restricted to moves after which the environment
-                                  still has an admissible input (used by the cooperative strategy);
-                                  ``deadlock_free_sys_trans()`` as one BDD
+                                  still has an admissible input (used by the cooperative strategy)
 - ``alive()``                     positions with an admissible next input (``exists next. env_trans``)
 - ``admissible(values)``          ``env_trans`` restricted to a valuation (stepping: false = violated)
 - ``joint_rel(sys_rel)``          ``env_trans & sys_trans`` as one relation (cooperative analyses)
@@ -587,10 +586,6 @@ class Game:
             return bdd.exist(self.inputs_next, self.env_trans & moves)
         moves = trans.exist_and(target, self.outputs_next)
         return self.env_rel.exist_and(moves, self.inputs_next)
-
-    def deadlock_free_sys_trans(self):
-        """``deadlock_free_sys_rel`` as one BDD."""
-        return self.deadlock_free_sys_rel().conjunction()
 
     def admissible(self, values: Mapping[str, bool]):
         """``env_trans`` restricted to a valuation (current variables, maybe next inputs): false

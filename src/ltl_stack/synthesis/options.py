@@ -25,7 +25,7 @@ from ltl_stack.synthesis.errors import TimeLimitReached
 DEFAULT_MAX_MEMORY = 4 * 2**30
 #: CUDD's own estimate for sizing its tables. Creating a manager also reserves a "stash" of 1/64
 #: of it (kept for running out of memory): 2**30 cost ~1-7 ms of every ``synthesize`` process
-#: (issue 16). The estimate also sizes CUDD's computed table and unique-table policies, so it must
+#: (start-up time). The estimate also sizes CUDD's computed table and unique-table policies, so it must
 #: not be small: 2**24 made factory_assembly_7x5_2_0 3x slower (7.0 -> 22 s CPU), 2**27 made
 #: basicEvasion 1.3x slower (21-27 s at 2**30, 28-36 s at 2**27, 21-29 s at 2**28, load ~1).
 #: 2**28: a 4 MiB stash, ~0.5 ms to create. The cap itself is ``max_memory``.

@@ -45,6 +45,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from enum import Enum
+from typing import Any
 
 from ltl_stack.spec.model import Clause
 from ltl_stack.synthesis.errors import AssumptionViolation
@@ -159,18 +160,6 @@ def prefer(game: Game, block, layers: list):
     return result | remaining
 
 
-def keep_current(game: Game, relation):
-    """``relation`` with exactly the move ``SymbolicStrategy._pick`` chooses for each (x, y, x'):
-    outputs keep their current value when they can, decided in the spec's output order."""
-    bdd = game.bdd
-    D = relation
-    for name, name_next in zip(game.outputs, game.outputs_next):
-        keep = bdd.ite(bdd.var(name), bdd.var(name_next), ~bdd.var(name_next))
-        can_keep = bdd.exist(game.outputs_next, D & keep)
-        D = D & (keep | ~can_keep)
-    return D
-
-
 def layered_relation(game: Game, solution: Solution, j: int, trans: Relation, choose=None):
     """Goal j's moves under ``trans``, each (x, y, x') answered by its earliest (Y round c,
     assumption i) pair (thesis Alg. 1; ``SymbolicStrategy`` module docstring):
@@ -278,6 +267,12 @@ def unkeepable_clauses(game: Game, assign: dict, unknown_next: Sequence[str] = (
     restricted = [(c, bdd.let(assign, u)) for c, u in game.clauses("sys_safety")]
     if unknown_next:  # forall distributes over the conjunction of the clauses
         restricted = [(c, bdd.forall(list(unknown_next), u)) for c, u in restricted]
+    return unsatisfiable_core(bdd, restricted)
+
+
+def unsatisfiable_core(bdd: Any, restricted: Sequence[tuple[Clause, Any]]) -> list[Clause]:
+    """Of ``(clause, BDD)`` pairs whose BDDs have no common satisfying valuation: the clauses false
+    on their own when there are any, else a subset minimal by deletion."""
     alone = [c for c, u in restricted if u == bdd.false]
     if alone:
         return alone

@@ -38,7 +38,6 @@ from ltl_stack.synthesis.recovery import (
     StepKind,
     StepResult,
     UnsafeStep,
-    keep_current,
     layered_relation,
     prefer,
     unkeepable_clauses,
@@ -119,14 +118,6 @@ class SymbolicStrategy:
             seen |= near
         cache[i] = layers
         return layers
-
-    def deterministic(self, j: int):
-        """Goal j's relation with exactly the move ``step`` picks for each (x, y, x'): outputs keep
-        their current value when they can, decided in the spec's output order (computed once)."""
-        cache = self.__dict__.setdefault("_deterministic", {})
-        if j not in cache:
-            cache[j] = keep_current(self.game, self.relations[j])
-        return cache[j]
 
     # --- execution --------------------------------------------------------------------------
     def _full(self, values: Mapping[str, bool] | None, names: list[str], what: str) -> dict[str, bool]:
@@ -332,7 +323,7 @@ class SymbolicStrategy:
         same solution (no preference for moves that help the environment's liveness): the smaller
         is returned, provided that it never leaves the environment without an admissible input
         (``traps_environment``), so the default export is never larger than it needs to be for
-        that promise (fastslow_ICRA 599 -> 270 states, slugs 552; issue 28)."""
+        that promise (fastslow_ICRA 599 -> 270 states, slugs 552)."""
         with memory_guard(self.game.max_memory):
             if not self.cooperative:
                 return extract(self, max_states=max_states, progress=progress, recovery=recovery)

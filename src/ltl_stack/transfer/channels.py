@@ -80,11 +80,6 @@ class ChannelUse:
         return KIND_WORDS[self.kind]
 
 
-def name_spans(src: SourceFile, node: ast.expr | None) -> list[Span]:
-    """Every literal that a change of this name must edit (all bindings of the variable)."""
-    return resolve_name(src, node).spans
-
-
 def message_type(src: SourceFile, node: ast.expr | None, subst: Subst | None = None) -> str | None:
     """``geometry_msgs.msg.Twist`` -> ``geometry_msgs/Twist`` (also ``.srv``); a bare unresolved ``Twist``
     stays ``Twist``; type aliases (``TwistMsg = Twist``) give their first binding."""

@@ -1,4 +1,4 @@
-"""Open-loop motion under B.2 speed scaling (thesis §2.5.2; issue 26).
+"""Open-loop motion under B.2 speed scaling (thesis §2.5.2).
 
 A program that drives for a fixed time (``rospy.Rate``, ``rospy.sleep``, ``time.sleep``,
 ``rospy.Duration``) covers speed × duration. When B.2 scales its speeds by r, every such distance or

@@ -67,7 +67,7 @@ def test_activation_completion_pairs_are_expected_feedback_not_findings():
         ("a", "a_rc", REGION_FEEDBACK), ("b", "b_rc", REGION_FEEDBACK), ("pick", "pick_ac", ACTION_FEEDBACK)]
     assert a.feedback[0].witness.text == ("(/nav_a) -> (navigate/action_topics) -> (/navigation) -> [/cmd_vel] "
                                           "-> (/base) -> [/current_region] -> (/a_rc)")
-    # exactly the thesis' pairs: a motion output reaching another region's sensor is a finding (issue 26)
+    # exactly the thesis' pairs: a motion output reaching another region's sensor is a finding
     assert [(f.output, f.input) for f in a.e1] == [("a", "b_rc"), ("b", "a_rc"), ("stop", "a_rc"), ("stop", "b_rc")]
     assert a.finding_count == len(a.e2) + 4
 
@@ -329,7 +329,7 @@ TWIST = "geometry_msgs/Twist"
 
 
 def relay_graph(relay: str) -> dict:
-    """move and stop each feed a node that forwards their velocity commands to /cmd_vel (issue 26)."""
+    """move and stop each feed a node that forwards their velocity commands to /cmd_vel."""
     return {"/move": {"pub": ["/move_vel"]}, "/stop": {"pub": ["/stop_vel"]},
             relay: {"sub": ["/move_vel", "/stop_vel"], "pub": ["/cmd_vel"]}, "/base": {"sub": ["/cmd_vel"]}}
 

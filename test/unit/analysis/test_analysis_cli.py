@@ -170,7 +170,7 @@ def test_bad_input_is_one_line_and_exit_2(snapshots, tmp_path, capsys, case):
     assert captured.out == ""
     errors = [line for line in captured.err.splitlines() if "error:" in line]
     assert len(errors) == 1 and errors[0].startswith("analyze_graph: error: ") and expect in errors[0], captured.err
-    assert errors[0].count("error:") == 1, errors  # issue 28: it once said "error:" twice
+    assert errors[0].count("error:") == 1, errors  # it once said "error:" twice
     assert "Traceback" not in captured.err
     assert not (tmp_path / "o.slugsin").exists()
     assert {p: p.read_bytes() for p in before} == before
@@ -247,7 +247,7 @@ def test_thesis_example_9_on_the_shared_sphero_mapping(tmp_path, capsys):
         assert clause["line"] > 0 and lines[clause["line"] - 1].startswith("| & move_left'"), clause
 
 
-# --- --apply on a Structured English spec appends English sentences (issue 15) --------------------
+# --- --apply on a Structured English spec appends English sentences --------------------
 
 ENGLISH = Path(__file__).resolve().parents[2] / "data" / "english"
 SPEC3_MOVES = ["moveLeft", "moveRight", "moveUp", "moveDown", "stop"]

@@ -1,4 +1,4 @@
-"""Endless and special files through the real scripts (issue 28): where a tool expects a file, a
+"""Endless and special files through the real scripts: where a tool expects a file, a
 device (``/dev/zero``), a FIFO or a folder is refused before a byte is read (never a read until
 memory runs out, never a blocked open), also for a ``Map:`` inside a ``.spec``; an output naming a
 FIFO or a folder is refused, never replaced by a regular file. Each case: its exit code, exactly one

@@ -76,7 +76,7 @@ def test_write_outputs_refuses_a_folder_and_leaves_no_temporary_file(tmp_path):
                  st.sampled_from([1000.0, 1000.0000001, 0.0, 1e17])))
 def test_rates_take_exactly_0_and_1e_9_to_1000_hz_as_option_and_param(x):
     """A rate (``cli.rate_or_zero``, a node's ``Bound.RATE``/``RATE_OR_ZERO`` ``~param``) is finite, at
-    most ``MAX_RATE`` (a faster loop only spins a core: ``_rate:=1e17``, issue 28) and not below ROS'
+    most ``MAX_RATE`` (a faster loop only spins a core: ``_rate:=1e17``) and not below ROS'
     nanoseconds; 0 means "off" where the bound allows it."""
     in_range = math.isfinite(x) and 1e-9 <= x <= cli.MAX_RATE
     for ok_zero, parse in ((True, cli.rate_or_zero),

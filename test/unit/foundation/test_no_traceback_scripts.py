@@ -1,4 +1,4 @@
-"""Never a traceback, through the real scripts (issue 28): every tool and node started with its
+"""Never a traceback, through the real scripts: every tool and node started with its
 stdout closed (``tool >&-``), integer literals past Python's 4300-digit limit in specs, and numbers
 of more than 18 digits in options. Each is one ``<tool>: error:`` line on stderr and the exit code of
 the one table. No ROS master is needed (every script and node: test/integration/test_tools_bad_input.py)."""

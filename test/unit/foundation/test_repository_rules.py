@@ -1,4 +1,4 @@
-"""Rules for the whole repository that keep CI green on any machine (issue 28).
+"""Rules for the whole repository that keep CI green on any machine.
 
 - No test asserts a measured time or a ratio of times: on a loaded 2-core machine any clock comparison
   fails sometimes. Speed and linearity are checked by counting work (``helpers.work``).

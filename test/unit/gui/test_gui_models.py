@@ -400,7 +400,7 @@ def test_neighbourhood_of_a_large_automaton(clean_model):
     g = model.graph(center)
     assert center in g.key and all(isinstance(k, int) for k in g.key)
     crowded = ControllerModel(clean_model.spec_path, clean_model.automaton, ViewOptions(full_limit=1000))
-    assert not crowded.whole  # 64 states but 224 edges: more than a readable picture (issue 25)
+    assert not crowded.whole  # 64 states but 224 edges: more than a readable picture
     assert len(crowded.graph(center).edges) <= MAX_DRAWN_EDGES
     assert crowded.needs_new_layout(set(), None) and crowded.needs_new_layout({1}, 5)
     assert model.needs_new_layout(set(shown), 10**6) and not model.needs_new_layout(set(shown), center)
@@ -424,8 +424,9 @@ def test_mode_and_executor_name():
 
 
 def test_before_the_first_state_the_status_is_the_executors_own():
-    """Issue 34: "waiting for every input to report" while the executor said every input had reported
-    and no initial state matched, or that it was paused. The text is the executor's /diagnostics."""
+    """The view says why no state came (it said "waiting for every input to report" while the executor
+    said every input had reported and no initial state matched, or that it was paused). The text is the
+    executor's /diagnostics."""
     waiting, paused = StateUpdate(-1, -1, {}, {}, True), StateUpdate(-1, -1, {}, {}, False)
     no_init = {"inputs": (0, "every input has reported"),
                "controller": (2, "no initial state: no initial state matches person=1")}
@@ -439,7 +440,7 @@ def test_before_the_first_state_the_status_is_the_executors_own():
 
 
 def test_goals_are_numbered_from_1_in_every_display():
-    """Issue 34: one state had "goal 3" in RViz and controller_trace --spec, "goal 2" in rqt and controller_trace."""
+    """One state has one goal number in RViz, rqt and controller_trace (it was "goal 3" in some, "goal 2" in others)."""
     from ltl_stack.runtime.map_view import valuation_text
     from ltl_stack.runtime.trace import TraceStep, describe
     from ltl_stack.synthesis.automaton import goal_text
@@ -456,7 +457,7 @@ def test_goals_are_numbered_from_1_in_every_display():
 
 
 def test_rviz_text_says_paused_aborted_and_stale_modes():
-    """Issue 34: RViz showed a paused executor as "mode normal"."""
+    """RViz shows a paused executor as paused, not "mode normal"."""
     from ltl_stack.runtime.map_view import valuation_text
 
     assert "mode paused" in valuation_text({}, {}, 1, 0, None, "normal", running=False)
@@ -494,7 +495,7 @@ def _comments(text: str) -> list[str]:
 
 
 def test_saving_without_an_edit_writes_the_file_unchanged(tmp_path):
-    """Issue 34: Save with no edit dropped expected_feedback: (36 E1 conflicts afterwards) and every comment."""
+    """Save with no edit keeps expected_feedback: (without it: 36 E1 conflicts) and every comment."""
     out = tmp_path / "m.yaml"
     out.write_text(CLEAN_MAPPING.read_text())
     doc = MappingDocument.load(str(CLEAN_SPEC), str(out))

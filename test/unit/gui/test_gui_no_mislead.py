@@ -1,4 +1,4 @@
-"""Issue 25: the panels never show a wrong answer without a warning (offscreen, pytest-qt, no master).
+"""The panels never show a wrong answer without a warning (offscreen, pytest-qt, no master).
 
 Each test names the defect of the issue it covers; each fails on the panels as they were before."""
 from __future__ import annotations
@@ -836,7 +836,8 @@ def test_closing_the_mapping_panel_with_unsaved_edits_asks(mapping_panel):
 @pytest.mark.parametrize("pair", [("mapping_panel", "controller_view"), ("analysis_panel", "controller_view"),
                                   ("mapping_panel", "analysis_panel")])
 def test_two_panels_docked_side_by_side_fit_a_1280_px_screen(qtbot, pair):
-    """Issue 34: two panels docked side by side made rqt's window 1353-1510 px wide. Docked as rqt docks
+    """Two panels docked side by side fit a 1280 px screen (they made rqt's window 1353-1510 px wide).
+    Docked as rqt docks
     plugins (a QDockWidget each in a QMainWindow), the window opens and can be made at most 1280 px wide."""
     from python_qt_binding.QtCore import Qt
     from python_qt_binding.QtWidgets import QDockWidget, QMainWindow

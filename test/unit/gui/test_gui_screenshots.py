@@ -1,4 +1,4 @@
-"""The README's pictures show what today's code shows (issue 25): they are 1280×800, and the analysis
+"""The README's pictures show what today's code shows: they are 1280×800, and the analysis
 panel, run now on the graph the picture was made from, shows the same tabs (labels and counts) and the
 same problems as ``docs/images/screenshots.json`` says the picture shows. When this fails, make the
 pictures again: ``tools/rqt_host.sh run python -m ltl_stack.gui.screenshots``."""
@@ -47,7 +47,7 @@ def test_the_analysis_picture_shows_what_the_panel_shows_today(qtbot):
 
 def test_the_controller_view_picture_shows_todays_counters_line():
     """The counters line of the picture (an executor in normal mode, nothing counted yet) is the one the
-    view writes today for the same state (issue 25: the negotiation counters were added after a picture)."""
+    view writes today for the same state (the negotiation counters were added after a picture)."""
     import re
 
     from ltl_stack.gui.controller_model import StateUpdate, resilience_text

@@ -95,7 +95,7 @@ def test_every_event_fires_once_in_time_order_whatever_the_polling(times, polls)
     ("events:\n  - {at: 1, topic: /a, value: 1}\n  - {at: 2, topic: /a, type: std_msgs/Int32, value: 1}\n",
      "s.yaml:3: event #1: topic /a was given type std_msgs/Bool at line 2, now std_msgs/Int32"),
     ("loop: true\nevents: []\n", "'loop: true' needs events and a period of at least 0.01 s"),
-    # issue 28: a string is not a Boolean; a period that would spin a core; times of more than 18 digits
+    # a string is not a Boolean; a period that would spin a core; times of more than 18 digits
     ("loop: 'false'\nevents:\n  - {at: 1, topic: /a, value: 1}\n", "'loop' must be true or false (unquoted), got 'false'"),
     ("loop: 'no'\nevents:\n  - {at: 1, topic: /a, value: 1}\n", "'loop' must be true or false"),
     ("loop: 1\nevents:\n  - {at: 0, topic: /a, value: 1}\n", "'loop' must be true or false"),

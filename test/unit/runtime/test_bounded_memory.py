@@ -1,4 +1,4 @@
-"""Bounded memory under a violation flood (issue 23 item 7), by counting what is kept, never RSS or time.
+"""Bounded memory under a violation flood, by counting what is kept, never RSS or time.
 
 ``test/benchmarks/bench_flood.py --trace`` found what still grew after the history was bounded: the
 EC sets' literals (every disjunct held new ``Var``/``Not`` objects for every input) and, most of it,

@@ -302,7 +302,7 @@ def test_threshold_by_transitions_and_by_seconds():
 def test_collaborative_robot_goes_to_negotiation_instead_of_the_user(applies):
     """Alg. 3 S.2: the extension point for integrative negotiation (§4.8) is called; when the robots
     cannot agree the execution aborts; when negotiation does not apply (no peer involved, silent,
-    already negotiated: the hook gives None) Alg. 3 S.1 asks the user (issue 23 item 4)."""
+    already negotiated: the hook gives None) Alg. 3 S.1 asks the user."""
     calls = []
 
     def negotiate(strategy, observation):

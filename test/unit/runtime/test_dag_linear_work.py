@@ -1,4 +1,4 @@
-"""Formula evaluation is linear in the formula's DAG (issue 28): a clause whose subformulas are shared
+"""Formula evaluation is linear in the formula's DAG: a clause whose subformulas are shared
 (slugsin's ``$`` buffers) is evaluated once per distinct node, never by expanding the sharing. The
 executor evaluates env-safety clauses after a violation while it holds the controller lock; a DAG
 of depth 16 with three uses of each level expanded to 3^16 calls (24-40 s without a step).

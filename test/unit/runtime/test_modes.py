@@ -27,7 +27,7 @@ def test_strategy_source_names_the_original_then_the_written_spec_and_counts_gen
     assert strategy_source("probe.structuredslugs", rs) == ("", 2)
 
 
-# --- issue 23 item 8: the user's liveness and the characterized spec never trace back ------------------
+# --- the user's liveness and the characterized spec never trace back ------------------
 @pytest.mark.parametrize("text, needle", [
     ("[ENV_TRANS]", "is a section header, not a formula"),
     ("[INPUT]", "is a section header, not a formula"),
@@ -70,7 +70,7 @@ def test_characterized_spec_naming_a_fifo_or_a_device_is_refused(tmp_path, kind)
 
 
 def test_history_and_events_stay_bounded_over_many_resyntheses():
-    """Issue 23 item 7: each attempt holds a strategy and its BDD manager; only the last is kept."""
+    """Each attempt holds a strategy and its BDD manager; only the last is kept."""
     import itertools
 
     from ltl_stack.runtime.characterize import EVENTS_KEPT, HISTORY_KEPT

@@ -295,7 +295,7 @@ def test_nobody_adopts_without_a_realizable_spec_and_the_peers_status(pi, qi, st
         assert a.outcome.adopts == b.outcome.adopts
 
 
-# --- issue 23: negotiation that can neither deadlock nor be abused ---------------------------------------
+# --- negotiation that can neither deadlock nor be abused ---------------------------------------
 def q_side_answering(q_text: str = q_spec()):
     q = parse_structured(q_text, "Q")
     side = Negotiator(Q_CLASSES)
@@ -396,7 +396,7 @@ class Held:
 
 
 def test_hook_by_cause_s1_unless_the_robots_negotiated_and_disagree():
-    """Alg. 3 by cause (issue 23 item 4): no peer involved, a silent peer, an already negotiated pair:
+    """Alg. 3 by cause: no peer involved, a silent peer, an already negotiated pair:
     None (S.1: explanation and the user); 4.8.3: NegotiationAbort."""
     from ltl_stack.runtime.characterize import NegotiationAbort, Observation
 
@@ -420,7 +420,7 @@ def test_hook_by_cause_s1_unless_the_robots_negotiated_and_disagree():
 
 @pytest.mark.parametrize("broken", ["P", "Q"])
 def test_adoption_is_two_phase_a_write_failure_on_either_side_fails_both(tmp_path, broken):
-    """Issue 23 item 5: each party writes its adopted spec aside before its realizable status 2; one
+    """Each party writes its adopted spec aside before its realizable status 2; one
     that cannot (its folder is gone) says so, and both end FAILED with nothing adopted and nothing
     written; with both folders there, both files are written and both adopt."""
     p = parse_structured(p_spec(), "P")
@@ -453,7 +453,7 @@ def test_adoption_is_two_phase_a_write_failure_on_either_side_fails_both(tmp_pat
 
 
 def test_serve_handles_a_message_off_the_controllers_lock_and_refuses_once_aborted():
-    """Issue 23 items 3, 6: while the responder parses and synthesizes an offer, another thread can
+    """While the responder parses and synthesizes an offer, another thread can
     take the controller's lock (the robot keeps stepping); an aborted responder answers with an
     abort and adopts nothing."""
     import threading

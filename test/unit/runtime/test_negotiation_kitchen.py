@@ -53,7 +53,7 @@ def test_example_13_narrative(tmp_path):
     assert first["peer"] == "A" and first["session"] == "D->A" and first["case"] == Outcome.BOTH_ADOPT.name
     assert "always, if next road_c_D or next storage_c_D then next openDoor" in " ".join(first["sent"])
     # A's assumption "D never in the kitchen" is over D's completion sensors: D keeps it by its activations
-    # (ownership, issue 23 item 2), never as a guarantee over what it senses
+    # (ownership), never as a guarantee over what it senses
     assert any("not (next cookingArea or next prepArea)" in r for r in first["received"]), first["received"]
     # C negotiates with A to pass the ingredients; both adopt
     assert second["peer"] == "A" and second["session"] == "C->A" and second["case"] == Outcome.BOTH_ADOPT.name

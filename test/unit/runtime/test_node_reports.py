@@ -1,4 +1,4 @@
-"""The executor node's decisions in the pure layer (issue 23 item 9, ``runtime.modes.NodeReports``):
+"""The executor node's decisions in the pure layer (``runtime.modes.NodeReports``, testable without ROS):
 what one controller update publishes, the counters, the mode, health and violation reports, the
 publisher warnings. In process, as the node builds its controller (``build_strategy`` +
 ``make_controller``), no ROS. The texts are the node's (docs/executor.md, docs/resilience.md)."""
@@ -12,7 +12,7 @@ from ltl_stack.runtime.modes import ERROR, MODE_LEVELS, OK, WARN, NodeReports, s
 from ltl_stack.runtime.resilient_executor import BackgroundResilience
 from ltl_stack.spec import parse_structured
 
-# the person/door probe of issue 23
+# the person/door probe of test_executor_recovery
 SPEC = "[INPUT]\nperson\ndoor\n\n[OUTPUT]\nstop\npass\n\n[ENV_INIT]\ndoor\n\n[SYS_INIT]\n!pass\n\n" \
        "[ENV_TRANS]\ndoor'\n\n[SYS_TRANS]\nperson' -> stop'\npass' -> door'\n\n[SYS_LIVENESS]\npass\n"
 TOPICS = {"person": "/probe/inputs/person", "door": "/probe/inputs/door"}

@@ -261,7 +261,7 @@ def test_build_strategy_unrealizable_is_exit_10():
     assert int(err.value.code) == 10
 
 
-# --- the characterized spec of a Structured English spec (issue 15) ---------------------------------
+# --- the characterized spec of a Structured English spec ---------------------------------
 ENGLISH = ("# the issue's probe in Structured English\nSensors: person, door\nActions: stop\n\n"
            "Environment starts with door\nAssume always you are sensing door\n"
            "If you are sensing person then do stop\n")
@@ -338,7 +338,7 @@ def closed_door_until(rs, controller, jobs, done) -> None:
 @pytest.mark.parametrize("agree", [True, False, None])
 def test_negotiation_hook_runs_in_the_job_and_its_spec_is_installed_or_the_run_aborts(agree):
     """agree: an agreed spec runs; False: no agreement (4.8.3 / line 20), abort; None: negotiation does
-    not apply (no peer involved, absent or silent, already negotiated): S.1, the user (issue 23 item 4)."""
+    not apply (no peer involved, absent or silent, already negotiated): S.1, the user."""
     agreed = parse_structured(DOOR.replace("[ENV_TRANS]\ndoor'", "[ENV_LIVENESS]\ndoor"), "agreed")
     calls: list = []
 

@@ -1,4 +1,4 @@
-"""Lemma 1(a) in every executor configuration (issue 23): whatever the mode and phase — normal,
+"""Lemma 1(a) in every executor configuration: whatever the mode and phase — normal,
 recovering, holding, characterizing, waiting for the user, right after a resynthesis or an adopted
 spec — every output valuation the controller publishes keeps the system safety rho_s whenever some
 valuation does. In process, as the node builds it (``build_strategy`` + ``make_controller``), no ROS.
@@ -64,7 +64,7 @@ def keeps(clauses, valuation, before=None) -> bool:
                if next_only or before is not None)
 
 
-MODES = [  # (name, options): the mode matrix of issue 23
+MODES = [  # (name, options): every executor configuration
     ("recovery (default)", {}),
     ("recovery, all-false", {"on_violation": "all-false"}),
     ("recovery, symbolic", {"max_explicit_states": 0}),

@@ -59,7 +59,7 @@ def test_beats_fire_in_order_once_their_condition_holds():
     ("beats:\n  - {set: {}}", "expected a mapping with a 'name'"),
     ("threshold: yes\nbeats: []", "'threshold' must be a number"),
     ("beats: [\n", "s.yaml:"),
-    # issue 28: the user's env liveness must parse and name a proposition of the story
+    # the user's env liveness must parse and name a proposition of the story
     ("inputs: {door: true}\nuser: 'TRUE'\nbeats: []", "s.yaml:2: 'user': 'TRUE' names no proposition"),
     ("inputs: {door: true}\nuser: '1'\nbeats: []", "s.yaml:2: 'user': '1' names no proposition"),
     ("inputs: {door: true}\nuser: 'door |'\nbeats: []", "s.yaml:2: 'user': 'door |' does not parse (column"),

@@ -1,4 +1,4 @@
-"""Structured English II (issue 24): LTLMoP's timing and the sentence forms of its structured parser.
+"""Structured English II: LTLMoP's timing and the sentence forms of its structured parser.
 
 Each expected formula is what LTLMoP's ``parseEnglishToLTL`` makes of the sentence (read for the
 facts: which names it wraps in next()), written in the structured format's infix."""

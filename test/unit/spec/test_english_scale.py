@@ -1,4 +1,4 @@
-"""n regions give O(n) clauses and formula nodes (issue 24: 600 declared regions made 360,000
+"""n regions give O(n) clauses and formula nodes (600 declared regions made 360,000
 clauses). Work is counted, never timed."""
 from __future__ import annotations
 

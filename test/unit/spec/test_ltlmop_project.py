@@ -1,4 +1,4 @@
-"""LTLMoP project files as LTLMoP ships them (issue 24): the container, enabled flags, compile options,
+"""LTLMoP project files as LTLMoP ships them: the container, enabled flags, compile options,
 both .regions formats and the free space LTLMoP's decomposition turns into regions."""
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""A spec's parse costs work linear in its size (issue 16): doubling a spec doubles the work.
+"""A spec's parse costs work linear in its size: doubling a spec doubles the work.
 
 Work is counted, not timed (the machine is shared): the Python function calls and C calls the
 reader makes, seen through ``sys.setprofile``, plus the operands of every ``And``/``Or`` node it
@@ -65,7 +65,7 @@ def scaled(n: int, shape: str) -> str:
         trans = f"$ {n} " + " ".join(entries), left("|", ys)
     elif shape == "and-buffers":  # $ n entries, each the one before it & one more: an entry stays a
         # chain until used, so only the last (used) one becomes a flat And; flattening every entry
-        # into the next copied 1 + 2 + ... + n operands (issue 16)
+        # into the next copied 1 + 2 + ... + n operands
         entries = [f"& {xs[0]} {xs[1]}'"] + [f"& ? {i} {x}'" for i, x in enumerate(xs[2:])]
         trans = f"$ {n - 1} " + " ".join(entries), left("|", ys)
     else:  # many short lines

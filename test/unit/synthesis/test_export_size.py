@@ -1,4 +1,4 @@
-"""The explicit export is no larger than slugs' in the same mode (issue 28). Our default is the
+"""The explicit export is no larger than slugs' in the same mode. Our default is the
 cooperative strategy, slugs' ``--cooperativeGR1Strategy``: of its automaton and the one of the plain
 relations of the same solution the smaller is exported, provided that it never leaves the environment
 without an admissible input. ``--no-cooperative`` is slugs' default (any winning move). Sizes are

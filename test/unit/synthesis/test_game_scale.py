@@ -1,4 +1,4 @@
-"""Game construction for specs with thousands of propositions (issue 16): the variable order the
+"""Game construction for specs with thousands of propositions: the variable order the
 game declares, n-ary conjunctions combined as balanced trees, and verdicts of a scalable family."""
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The adaptive dynamic-reordering policy of ``fixpoint.solve`` (issue 16): a game that is already
+"""The adaptive dynamic-reordering policy of ``fixpoint.solve``: a game that is already
 big after construction starts its fixpoint without reordering, a small one reorders from a small
 threshold; the verdicts never depend on it, on every shared spec and a few generated members."""
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""What a ``synthesize`` call loads and computes when it only has to print a verdict (issue 16).
+"""What a ``synthesize`` call loads and computes when it only has to print a verdict.
 
 The realizability-only path (no export asked) must give the verdict of the full path on every
 shared spec; the start-up must not import what the common path does not need (networkx through dd,

@@ -122,7 +122,7 @@ def check_automaton(spec, automaton):
 @pytest.mark.parametrize("folder, name, slugs_states", [
     # slugs' explicit strategies (--explicitStrategy, same machine): 472 and 1,142 states. Which
     # output valuation each extractor picks and when it advances the goal counter differ, so the
-    # automata differ; ours re-uses existing states where the strategy allows (issue 16: no
+    # automata differ; ours re-uses existing states where the strategy allows (no
     # larger than slugs'), and is checked independently below.
     ("move_group_and_move_base", "move_group_and_move_base.slugsin", 472),
     ("firefighting", "firefighting.slugsin", 1142),

@@ -1,4 +1,4 @@
-"""Vacuity is never silent (issue 24): ``synthesize`` warns about a realizable spec whose assumptions
+"""Vacuity is never silent: ``synthesize`` warns about a realizable spec whose assumptions
 no play can meet or that has no guarantees; an empty spec file is an error."""
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Names followed through aliases, wrappers and every channel API of ROS 1 Python (issue 26)."""
+"""Names followed through aliases, wrappers and every channel API of ROS 1 Python."""
 import textwrap
 from pathlib import Path
 

@@ -297,7 +297,7 @@ def test_a_failed_report_write_leaves_no_program(tmp_path, capsys):
     (tmp_path / "report_dir").mkdir()
     code = main(args(tmp_path, "keyboard_jackal.py", "jackal", "turtlebot", "--non-interactive",
                      "--json-report", str(tmp_path / "report_dir")))
-    assert code == Exit.BAD_INPUT, capsys.readouterr().err  # a folder is refused before any work (issue 28)
+    assert code == Exit.BAD_INPUT, capsys.readouterr().err  # a folder is refused before any work
     assert (tmp_path / "out.py").read_text() == "old\n" and list((tmp_path / "report_dir").iterdir()) == []
 
 

@@ -1,4 +1,4 @@
-"""MoveIt's Python APIs beyond the group name, and joint arrays of one length per trajectory (issue 26)."""
+"""MoveIt's Python APIs beyond the group name, and joint arrays of one length per trajectory."""
 import ast
 import textwrap
 from pathlib import Path

@@ -1,4 +1,4 @@
-"""The arms' joints and MoveIt groups shipped in the package (our YAML, transfer/robot_data.py; issue 27):
+"""The arms' joints and MoveIt groups shipped in the package (our YAML, transfer/robot_data.py):
 they agree with the URDF/SRDF of ../shared, give the same transfers, and bad files are one clear line."""
 from __future__ import annotations
 

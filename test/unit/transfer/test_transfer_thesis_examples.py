@@ -273,7 +273,7 @@ def test_bad_choose_values_are_bad_input(tmp_path, capsys, bad):
 # ---- Table 2.5 ----
 
 def test_table_2_5_command_reproduces_the_seven_rows(capsys):
-    # the package's robot profiles: no ../shared needed (issue 27)
+    # the package's robot profiles: no ../shared needed
     assert table_main(["--json"]) == Exit.OK
     rows = json.loads(capsys.readouterr().out)
     assert [r["example"] for r in rows] == [row.label for row in ROWS] and len(rows) == 7

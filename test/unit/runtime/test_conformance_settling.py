@@ -8,8 +8,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from ltl_stack.runtime.conformance import check_run
 from ltl_stack.runtime.controller import Controller
-from ltl_stack.runtime.run_check import check_run
 from ltl_stack.runtime.trace import TraceStep
 from ltl_stack.spec import load_spec
 from ltl_stack.synthesis import synthesize

@@ -1,11 +1,12 @@
-"""check_run's logic: a recorded run read as a play of the GR(1) game (ROS-free)."""
+"""Conformance of a recorded run to its spec (``runtime.conformance``, what check_run reports): a run read
+as a play of the GR(1) game (ROS-free)."""
 from __future__ import annotations
 
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from ltl_stack.runtime.run_check import check_run, distinct_steps
+from ltl_stack.runtime.conformance import check_run, distinct_steps
 from ltl_stack.runtime.trace import TraceStep
 from ltl_stack.spec import load_spec
 

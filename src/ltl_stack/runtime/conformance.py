@@ -1,4 +1,5 @@
-"""Check a recorded run against its specification, ROS-free: the post-mortem of a field test.
+"""Conformance: whether a recorded run kept its specification, ROS-free (the post-mortem of a field
+test; the ``check_run`` tool, ``ros.check_run``, reads the bag and prints this report).
 
 A run is the controller's sequence of states (``TraceStep``: inputs and outputs, as the executor
 published them on ``~state``). Read as a play of the GR(1) game (thesis §3.2), each state ``v_i`` and
