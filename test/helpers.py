@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import http.client
 import importlib.util
+import json
 import os
 import random
 import signal
@@ -104,6 +105,19 @@ def wait_for(predicate: Callable[[], object], timeout: float = WAIT, what: str =
         if time.monotonic() > deadline:
             raise AssertionError(f"timed out after {timeout:.1f} s waiting for {what}")
         time.sleep(interval)
+
+
+def demo_states(stdout: str) -> list[dict]:
+    """The states a ``demo --json`` run gave the robot, from its output. A state the controller
+    settled through at once (its outputs never published; e.g. the initial one, whose outputs the
+    spec may leave free) is told with ``"settling": true`` and the stamp of the state reached after
+    it; whether the trace saw it depends on when it connected, so it is checked and left out."""
+    states = [e for e in (json.loads(line) for line in stdout.splitlines() if line.startswith("{"))
+              if e["event"] == "state"]
+    for s in states:
+        if s.get("settling"):
+            assert any(o["time"] == s["time"] and not o.get("settling") for o in states), states
+    return [s for s in states if not s.get("settling")]
 
 
 def work(fn: Callable[[], object], weigh: Callable[[object], int] | None = None) -> int:
@@ -318,14 +332,16 @@ class RosMaster:
     def wait_for_subscriber(self, topic: str, timeout: float = WAIT) -> list[str]:
         return wait_for(lambda: self.subscribers(topic), timeout, f"a subscriber on {topic}")
 
-    def restart_master(self) -> None:
-        """Stop the master and start a new, empty one on the same port; the nodes keep running."""
+    def restart_master(self, run_id: bool = True) -> None:
+        """Stop the master and start a new, empty one on the same port; the nodes keep running.
+        ``run_id``: set ``/run_id`` as roscore does (False: a bare rosmaster, without it)."""
         self._master.stop()
         restarts = len(list(self.workdir.glob("rosmaster*.log")))
         self._master = RosProcess(master_command(self.port), self.env, self.workdir / f"rosmaster-{restarts}.log")
         if not self._answers(self._master, self.uri, 60.0):
             raise RuntimeError(f"no new rosmaster on port {self.port}; logs in {self.workdir}")
-        self.proxy().setParam("/pytest", "/run_id", f"pytest-{self.port}-{restarts}")
+        if run_id:
+            self.proxy().setParam("/pytest", "/run_id", f"pytest-{self.port}-{restarts}")
 
     def run(self, args: Sequence[str], name: str | None = None, cwd: Path | None = None) -> RosProcess:
         """Start a process (e.g. ``['rosrun', 'ltl_stack', 'proposition_monitor', ...]``) on this master."""

@@ -5,7 +5,7 @@ bridge in a "switch" namespace; nothing is created in this process's own namespa
 entries are permanent, so a partition is silent as on a real network (no ARP failure tells the
 sender at once). ``cut(host)`` takes the host's port off the bridge (its processes keep running,
 their packets go nowhere, connects hang until their timeout); ``heal(host)`` puts it back. Processes run in a host with ``ip netns exec``, their
-ROS_IP set to the host's address. Names contain ``i32``, the xdist worker and this process id, so
+ROS_IP set to the host's address. Names contain ``$LTL_STACK_NETNS_TAG`` (default ``i32``), the xdist worker and this process id, so
 concurrent workers never share one; ``close`` removes every namespace (and with it every link).
 """
 from __future__ import annotations
@@ -44,7 +44,7 @@ class Hosts:
 
     def __init__(self, workdir: Path, count: int) -> None:
         worker = os.environ.get("PYTEST_XDIST_WORKER", "gw0")
-        self.prefix = f"i32{worker}p{os.getpid()}"
+        self.prefix = f"{os.environ.get('LTL_STACK_NETNS_TAG', 'i32')}{worker}p{os.getpid()}"
         self.workdir = workdir
         self.count = count
         self.processes: list[RosProcess] = []

@@ -5,12 +5,11 @@ The scenario launch files take the spec as the ``spec`` argument; the demo passe
 """
 from __future__ import annotations
 
-import json
 import subprocess
 import sys
 
 import pytest
-from helpers import REPO_ROOT
+from helpers import REPO_ROOT, demo_states
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
 
@@ -23,14 +22,7 @@ def _demo(scenario: str, spec, *extra: str, timeout: float = 60) -> list[dict]:
                            "--launch-arg", f"spec:={spec}", "--timeout", str(timeout), *extra],
                           capture_output=True, text=True, timeout=timeout + 120, cwd=REPO_ROOT)
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
-    events = [json.loads(line) for line in proc.stdout.splitlines() if line.startswith("{")]
-    states = [e for e in events if e["event"] == "state"]
-    # a state the controller settled through at once (the initial one, whose outputs the spec leaves
-    # free) was never published to the robot; whether the trace saw it depends on when it connected
-    for s in states:
-        if s.get("settling"):  # and the state reached is told with the same stamp
-            assert any(o["time"] == s["time"] and not o.get("settling") for o in states), states
-    return [s for s in states if not s.get("settling")]
+    return demo_states(proc.stdout)
 
 
 def test_simple_scenario_from_the_english_spec_moves_always_and_stops_for_the_person():

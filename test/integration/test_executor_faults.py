@@ -196,6 +196,43 @@ def test_after_a_master_restart_new_nodes_reach_the_executor_and_the_nodes(ros_m
     assert "the ROS master restarted" in executor.output() and node.running()
 
 
+LATER_LAUNCH = """<launch>
+  <node pkg="ltl_stack" type="set_velocity" name="{name}">
+    <param name="proposition_topic" value="/later/{name}"/>
+    <param name="topic" value="/later/cmd_vel"/>
+  </node>
+</launch>
+"""
+
+
+def test_after_a_bare_master_restart_run_id_is_back_and_later_roslaunches_start_together(ros_master, probes,
+                                                                                          lock_spec, tmp_path):
+    """A bare rosmaster started in place of the old one has no ``/run_id``: two roslaunches joining it
+    together each made one up and one failed ("run_id on parameter server does not match"). Our nodes
+    set the old value again when they re-register."""
+    executor = start_executor(ros_master, lock_spec)
+    ros_master.run(["rosrun", "ltl_stack", "set_velocity", f"proposition:={OUT}", "_topic:=/robot/cmd_vel",
+                    "_vx:=0.5"], name="set_velocity")
+    ros_master.wait_for_subscriber(OUT)
+    run_id = ros_master.proxy().getParam("/pytest", "/run_id")[2]
+    ros_master.restart_master(run_id=False)
+    wait_for(lambda: ros_master.proxy().getParam("/pytest", "/run_id")[0] == 1, 90, "/run_id set again")
+    assert ros_master.proxy().getParam("/pytest", "/run_id")[2] == run_id
+    launches = []
+    for name in ("later_a", "later_b"):
+        path = tmp_path / f"{name}.launch"
+        path.write_text(LATER_LAUNCH.format(name=name))
+        launches.append(ros_master.run(["roslaunch", str(path)], name=name))
+    for name in ("later_a", "later_b"):
+        ros_master.wait_for_subscriber(f"/later/{name}")
+    assert all(launch.running() and "does not match" not in launch.output() for launch in launches)
+    probe = probes(LISTEN)  # the executor and the proposition node still answer an input change
+    probe.publish(A, True)
+    probe.publish(LOCK, True)
+    probe.wait_value(OUT, True, timeout=60)
+    assert "the ROS master restarted" in executor.output()
+
+
 @pytest.mark.parametrize("spec_file, steps", [
     ("config/simple/simple.structuredslugs", [{"person": False}, {"person": True}, {"person": False},
                                               {"person": True}]),

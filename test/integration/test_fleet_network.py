@@ -240,3 +240,125 @@ def test_over_a_slow_lossy_link_a_region_change_is_no_assumption_violation(hosts
     last = "!a_rc b_rc -> outputs !x" if crossings % 2 else "a_rc !b_rc -> outputs x"
     steps = [line for line in executor.output().splitlines() if "step to state" in line]
     assert steps[-1].endswith(last), executor.output()[-3000:]  # (other lines, e.g. a WARN, may follow)
+
+
+PEER_SPEC = """[INPUT]
+peer_in_hall
+
+[OUTPUT]
+enter
+wait
+
+[SYS_INIT]
+!enter
+
+[SYS_TRANS]
+peer_in_hall' -> !enter'
+wait' <-> !enter'
+
+[ENV_LIVENESS]
+!peer_in_hall
+
+[SYS_LIVENESS]
+enter
+"""
+PEER_MAPPING = """namespace: r
+inputs:
+  peer_in_hall:
+    node: /peer/inputs/in_hall
+    node_publish_topic: /peer/inputs/in_hall
+    type: topic_threshold_sensor
+outputs:
+  enter:
+    node: /r/outputs/enter
+    node_subscribe_topic: /r/outputs/enter
+    type: set_velocity
+  wait:
+    node: /r/outputs/wait
+    node_subscribe_topic: /r/outputs/wait
+    type: set_velocity
+"""
+#: The peer's world: its distance to the hall, read from a file, at 10 Hz.
+PEER_WORLD = '''
+import sys
+import ltl_stack.ros  # noqa: F401
+import rospy
+from std_msgs.msg import Float32
+
+rospy.init_node("peer_world", disable_signals=True)
+pub = rospy.Publisher("/peer/distance", Float32, queue_size=10)
+rate = rospy.Rate(10)
+while not rospy.is_shutdown():
+    pub.publish(Float32(float(open(sys.argv[1]).read())))
+    rate.sleep()
+'''
+
+
+def test_a_robot_starts_while_its_peers_host_is_down_and_runs_normally_once_the_peer_reports(hosts_factory, tmp_path):
+    """The robot (host 1) reads whether its peer is in the hall from the peer's sensor (host 2), whose
+    host is down when the robot starts: after --ready-timeout the peer's proposition is unknown, the
+    robot's outputs are those safe for every value of it (wait, not enter) and the executor says so;
+    once the peer's host is up and its sensor reports, the strategy starts and the robot enters."""
+    hosts = hosts_factory(3)
+    start_master(hosts, 0, PORT)
+    spec, mapping, distance = tmp_path / "r.structuredslugs", tmp_path / "r.yaml", tmp_path / "peer_distance"
+    spec.write_text(PEER_SPEC)
+    mapping.write_text(PEER_MAPPING)
+    distance.write_text("5.0")
+    env = hosts.env(1, 0, PORT)
+    script = tmp_path / "world.py"
+    script.write_text(WORLD)
+    (tmp_path / "own_distance").write_text("5.0")  # (the world also publishes a distance nobody reads here)
+    world = hosts.run(1, [sys.executable, str(script), str(tmp_path / "own_distance")], env, "world")
+    for name, vx in (("enter", "0.3"), ("wait", "0.0")):
+        hosts.run(1, ["rosrun", "ltl_stack", "set_velocity", f"__name:={name}", f"_proposition_topic:=/r/outputs/{name}",
+                      "_topic:=/r/cmd_vel", f"_vx:={vx}"], env, name)
+    executor = hosts.run(1, ["rosrun", "ltl_stack", "controller_executor", str(spec), str(mapping),
+                             "--ready-timeout", "3"], env, "executor")
+
+    executor.wait_output("input(s) unknown: peer_in_hall (/peer/inputs/in_hall, no message yet)", timeout=120)
+    wait_for(lambda: "mode inputs_unknown" in executor.output(), 60, "mode inputs_unknown")
+    assert "publishing outputs !enter wait" in executor.output(), executor.output()[-3000:]
+    wait_for(lambda: 0.0 in commands(world), 90, "the wait node's zero cmd_vel (the safe outputs)")
+    assert 0.3 not in commands(world)  # never entered while the peer might be in the hall
+    assert "no message after" not in executor.output()  # the start no longer waits for it: no ERROR
+
+    peer_env = hosts.env(2, 0, PORT)  # the peer's host comes up
+    peer = tmp_path / "peer_world.py"
+    peer.write_text(PEER_WORLD)
+    hosts.run(2, [sys.executable, str(peer), str(distance)], peer_env, "peer-world")
+    hosts.run(2, ["rosrun", "ltl_stack", "topic_threshold_sensor", "__name:=in_hall", "_topic:=/peer/distance",
+                  "_type:=std_msgs/Float32", "_comparison:=<", "_threshold:=2.0",
+                  "_proposition_topic:=/peer/inputs/in_hall"], peer_env, "peer-sensor")
+    executor.wait_output("every input has reported; started in state", timeout=120)
+    wait_for(lambda: 0.3 in commands(world), 90, "the robot entering once the peer reported")
+    entered = commands(world).index(0.3)
+    distance.write_text("1.0")  # the peer enters the hall: the robot waits (a normal step)
+    wait_for(lambda: 0.0 in commands(world)[entered:], 90, "the robot waiting for the peer")
+
+
+def test_example_8_split_over_two_hosts_tells_the_thesis_story(hosts_factory, tmp_path):
+    """Clean and patrol (Example 8) with the controller on host 2 and the robot — the simulated youBot,
+    move_base and arm servers, the camera and every proposition node — on host 1, started by the demo
+    with the documented per-host commands: the demo tells the whole Fig. 3.10 story from the remote
+    controller's ~state."""
+    import json
+
+    from ltl_stack.sim.narration import KEYS
+
+    hosts = hosts_factory(3)
+    start_master(hosts, 0, PORT)
+    controller = hosts.run(2, ["roslaunch", "ltl_stack", "clean_and_patrol_propositions.launch", "start_inputs:=false",
+                               "start_outputs:=false", "executor_args:=--input-window 0.05"], hosts.env(2, 0, PORT),
+                           "controller")
+    controller.wait_output("waiting for every input to report", timeout=180)
+    uri = hosts.env(1, 0, PORT)["ROS_MASTER_URI"]
+    demo = hosts.run(1, [sys.executable, "-m", "ltl_stack.sim.demo", "--master-uri", uri, "--launch-arg",
+                         "start_executor:=false", "--json", "--timeout", "900"], hosts.env(1, 0, PORT), "demo")
+    demo.wait_output('"event": "summary"', timeout=960)
+    summary = json.loads(next(line for line in demo.output().splitlines() if '"event": "summary"' in line))
+    assert summary["ok"] and summary["story"] == list(KEYS), demo.output()[-4000:]
+    told = [json.loads(line) for line in demo.output().splitlines() if line.startswith("{") and '"story"' in line
+            and '"chapter"' in line]
+    regions = {e["chapter"]: e["region"] for e in told}
+    assert regions["pickup"] == "bottomLane" and regions["drop"] == "rightGround", told

@@ -15,7 +15,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from helpers import REPO_ROOT, run_script, wait_for
+from helpers import REPO_ROOT, demo_states, run_script, wait_for
 from test_nodes_probe import Recorder, shared_master
 
 from ltl_stack.errors import Exit
@@ -191,7 +191,7 @@ def test_simple_scenario_moves_always_and_stops_for_the_person():
                            "--duration", "8", "--timeout", "200"], capture_output=True, text=True, timeout=300,
                           cwd=REPO_ROOT)
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
-    states = _states([json.loads(line) for line in proc.stdout.splitlines() if line.startswith("{")])
+    states = demo_states(proc.stdout)
     assert any(s["inputs"]["person"] for s in states), "the scripted person never showed up"
     for s in states:
         assert s["outputs"]["move"], s

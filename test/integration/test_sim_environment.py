@@ -65,6 +65,30 @@ def test_clock_starts_on_the_first_message_of_start_on(ros, tmp_path):
     door.wait(lambda ms: [m.data for m in ms] == [True], what="the door event after the start message")
 
 
+def test_the_clock_waits_until_every_controller_it_drives_has_started(ros, tmp_path):
+    """A controller on another host starting later must not miss the first events: a ~state counts
+    once its controller has started (state_id >= 0), and the clock waits for each start_on topic."""
+    from std_msgs.msg import Bool
+
+    from ltl_stack.msg import ControllerState
+
+    schedule = tmp_path / "env.yaml"
+    schedule.write_text(f"events:\n  - {{at: 0.0, topic: {ros.topic('env/door')}, value: true, name: door}}\n")
+    door = ros.record(ros.topic("env/door"), Bool)
+    first, second = ros.topic("r1/controller_executor/state"), ros.topic("r2/controller_executor/state")
+    node = ros.run("scripted_environment", f"_schedule:={schedule}", f"_start_on:={first} {second}",
+                   "_wait_for_subscribers:=60", name="env")
+    node.wait_output("waiting for the first message on", 60)
+    ros.publish(first, ControllerState(state_id=-1))  # r1's executor is up, waiting for its inputs
+    node.wait_output(f"{first}: the controller has not started yet", 60)
+    ros.publish(first, ControllerState(state_id=0))  # r1 has started; r2 has not said anything yet
+    ros.publish(second, ControllerState(state_id=-1))
+    node.wait_output(f"{second}: the controller has not started yet", 60)
+    assert door.messages == [] and "playing" not in node.output(), node.output()
+    ros.publish(second, ControllerState(state_id=3))
+    door.wait(lambda ms: [m.data for m in ms] == [True], what="the door event once both controllers started")
+
+
 def test_when_events_wait_for_the_count_th_change_on_a_topic(ros, tmp_path):
     """clean_and_patrol's camera: the object shows up the second time the robot is in a region."""
     from std_msgs.msg import Bool, Float64

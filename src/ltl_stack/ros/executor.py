@@ -14,6 +14,7 @@ and violation reports of ``~state`` and /diagnostics); this module only wires th
 * optional fixed-rate stepping (``--rate``) for specs that progress without input changes;
 * the heartbeat: every output topic republished every ``--heartbeat`` s (output nodes' deadman);
 * the ready handshake: the timer ``--ready-timeout`` reports the inputs that have never reported;
+  from then on those with a freshness bound are unknown (a peer's host down at the start);
 * a node owning several inputs (region localization) publishes their valuation at once on
   ``<node>/valuation``; once it has, that message is their reading (one step for one region change)
   and their Bool topics only count for freshness;
@@ -53,7 +54,7 @@ from std_srvs.srv import SetBool, SetBoolResponse, Trigger, TriggerResponse
 from ltl_stack import cli
 from ltl_stack.errors import Exit, UserError
 from ltl_stack.msg import ControllerSource, ControllerState, PropositionValuation
-from ltl_stack.ros.master import init_node, timed_proxy
+from ltl_stack.ros.master import init_node, master_call, private_params
 from ltl_stack.ros.master_watch import MasterWatch
 from ltl_stack.ros.negotiation import NegotiationEndpoint, prepare_negotiation
 from ltl_stack.ros.valuation import msg_to_valuation, valuation_to_msg
@@ -352,16 +353,20 @@ class ExecutorNode:
         controller resumes when none is left); say so on /diagnostics and in the log."""
         with self.controller.lock:
             now = time.monotonic()
-            stale = self.freshness.stale(now)
+            waited = self.options.ready_timeout > 0 and now - self._started_at >= self.options.ready_timeout
+            stale = self.freshness.stale(now, self.controller.missing_inputs() if waited else ())
             if stale == self.controller.unknown:
                 return
             update = self.controller.set_unknown(stale)
             status = self.reports.unknown_report(update, unknown_text(stale, self.prepared.input_topics,
                                                                       self.freshness, now))
             self._publish(update, force_state=True)
+            if update.started and self.ready_timer is not None:
+                self.ready_timer.shutdown()
         log = {0: rospy.loginfo, 1: rospy.logwarn}.get(status.level, rospy.logerr)
         log("%s: %s", self.name, status.message)
         self._set_status(status)
+        self._update_health()
 
     def _on_set_running(self, request: Any) -> SetBoolResponse:
         self.set_running(request.data)
@@ -466,6 +471,8 @@ class ExecutorNode:
                 print(json.dumps(report.event), flush=True)
 
     def _on_ready_timeout(self, _event: Any) -> None:
+        if self.freshness.active:
+            self.check_freshness()  # silent inputs with a freshness bound are unknown from now on
         text = self.reports.silent_inputs(time.monotonic() - self._started_at)
         if text is None:
             return
@@ -490,10 +497,7 @@ class ExecutorNode:
     def check_publishers(self) -> list[str]:
         """Warn about input topics with more than one publisher; returns the warnings issued now."""
         try:
-            code, message, state = timed_proxy(rosgraph.get_master_uri()).getSystemState(self.name)
-            if code != 1:
-                raise rosgraph.MasterException(message)
-            publishers = state[0]
+            publishers = master_call("getSystemState", caller=self.name)[0]
         except Exception as err:  # noqa: BLE001 - the master may be going away
             rospy.logdebug("%s: cannot ask the master for publishers: %s", self.name, err)
             return []
@@ -673,12 +677,6 @@ def _check(args: argparse.Namespace) -> int:
     return Exit.OK
 
 
-def _private_params() -> dict[str, Any]:
-    """Every ``~param`` of the node, in one call to the master ({} when none is set)."""
-    params = rospy.get_param("~", {})
-    return params if isinstance(params, dict) else {}
-
-
 def _run(args: argparse.Namespace, negotiate: Negotiate | None = None,
          setup: Callable[[ExecutorNode], None] | None = None) -> int:
     """Load the files (errors before touching ROS), then start the node; errors after ``init_node``
@@ -691,7 +689,7 @@ def _run(args: argparse.Namespace, negotiate: Negotiate | None = None,
     try:
         if refused:
             raise ExecutorError(refused)
-        options = merge_options(_cli_values(args), params_lookup(_private_params()))
+        options = merge_options(_cli_values(args), params_lookup(private_params()))
         check_characterized_spec(options, [args.spec, args.mapping, options.strategy or None])
         namespace = scenario_namespace(options.namespace, rospy.get_namespace(), mapping, args.spec)
         in_topics, out_topics = resolve_topics(mapping, spec.inputs, spec.outputs, namespace.strip("/"))

@@ -5,14 +5,15 @@ register a node, so the snapshot does not contain the tool itself.
 """
 from __future__ import annotations
 
-import socket
+import http.client
+import xmlrpc.client
 from datetime import datetime, timezone
 
 import rosgraph.masterapi
 
 from ltl_stack.analysis.snapshot import Snapshot, SnapshotError
 from ltl_stack.errors import Exit
-from ltl_stack.ros.master import check_master_uri
+from ltl_stack.ros.master import check_master_uri, master_call
 from ltl_stack.ros.master import master_uri as resolve_master_uri
 
 CALLER_ID = "/ltl_stack_analyze_graph"
@@ -28,15 +29,10 @@ def take_snapshot(master_uri: str | None = None, timeout: float = 5.0) -> Snapsh
     # a URI given here is for this snapshot only: never put in the process's environment (a panel's
     # Master field must not move the whole rqt process to another master)
     uri = check_master_uri(master_uri) if master_uri is not None else resolve_master_uri(None)
-    master = rosgraph.masterapi.Master(CALLER_ID, master_uri=uri)
-    previous = socket.getdefaulttimeout()
-    socket.setdefaulttimeout(timeout)
     try:
-        publishers, subscribers, services = master.getSystemState()
-        topic_types = master.getTopicTypes()
-    except (OSError, rosgraph.masterapi.MasterException) as e:
+        publishers, subscribers, services = master_call("getSystemState", caller=CALLER_ID, uri=uri, timeout=timeout)
+        topic_types = master_call("getTopicTypes", caller=CALLER_ID, uri=uri, timeout=timeout)
+    except (OSError, http.client.HTTPException, xmlrpc.client.Error, rosgraph.masterapi.MasterException) as e:
         raise SnapshotError(f"cannot read the graph from the ROS master at {uri}: {e}", Exit.NO_ROS) from None
-    finally:
-        socket.setdefaulttimeout(previous)
     taken = datetime.now(timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
     return Snapshot.from_system_state(publishers, subscribers, services, topic_types, master=uri, taken=taken)

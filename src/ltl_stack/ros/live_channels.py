@@ -8,12 +8,14 @@ An action ``ns`` shows up as the five topics ``ns/goal``, ``ns/cancel``, ``ns/st
 """
 from __future__ import annotations
 
+import http.client
 import os
-import socket
+import xmlrpc.client
 
 import rosgraph
 
 from ltl_stack.errors import Exit
+from ltl_stack.ros.master import master_call
 from ltl_stack.transfer.channels import actions_from_topics, channel_listing
 from ltl_stack.transfer.errors import TransferError
 
@@ -29,13 +31,9 @@ def list_live_channels(master_uri: str | None = None, timeout: float = 3.0) -> l
     if not uri:
         raise TransferError("ROS_MASTER_URI is not set; start a master or drop --live", "<environment>",
                             code=Exit.NO_ROS)
-    master = rosgraph.Master("/ltl_stack_code_transfer", master_uri=uri)
-    old = socket.getdefaulttimeout()
-    socket.setdefaulttimeout(timeout)
     try:
-        topics = [(name, msg_type) for name, msg_type in master.getTopicTypes()]
-    except (OSError, rosgraph.MasterException) as err:
+        topics = [(name, msg_type) for name, msg_type in master_call("getTopicTypes", caller="/ltl_stack_code_transfer",
+                                                                     uri=uri, timeout=timeout)]
+    except (OSError, http.client.HTTPException, xmlrpc.client.Error, rosgraph.MasterException) as err:
         raise TransferError(f"cannot reach the ROS master: {err}", uri, code=Exit.NO_ROS) from None
-    finally:
-        socket.setdefaulttimeout(old)
     return channel_listing(topics)

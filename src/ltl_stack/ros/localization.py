@@ -18,6 +18,7 @@ from std_msgs.msg import String
 
 from ltl_stack.msg import PropositionValuation
 from ltl_stack.ros.action_proposition import ACTION_PROPOSITION, ActionProposition
+from ltl_stack.ros.master import read_param
 from ltl_stack.ros.proposition_node import (
     INPUT_PARAMS,
     NodeConfigError,
@@ -70,7 +71,7 @@ REGION_LOCALIZATION = NodeSpec(
 
 def load_map(config: dict[str, Any]) -> RegionMap:
     """The RegionMap of ``~regions_file``; NodeConfigError naming the file when it is bad."""
-    path = config["regions_file"] or str(rospy.get_param("regions_file", ""))
+    path = config["regions_file"] or str(read_param("regions_file", ""))
     if not path:
         raise NodeConfigError(f"{rospy.get_name()}: set ~regions_file (or regions_file in the node's namespace)")
     try:

@@ -28,6 +28,7 @@ from std_msgs.msg import ColorRGBA, String
 
 from ltl_stack.msg import ControllerState
 from ltl_stack.ros.localization import MAP_PARAMS, load_map
+from ltl_stack.ros.master import read_param
 from ltl_stack.ros.proposition_node import NodeSpec, Param, run_node
 from ltl_stack.ros.valuation import state_valuations
 from ltl_stack.runtime.map_view import (
@@ -173,7 +174,7 @@ class MapMarkers:
         from visualization_msgs.msg import MarkerArray
 
         self.config = config
-        has_map = bool(config["regions_file"] or rospy.get_param("regions_file", ""))
+        has_map = bool(config["regions_file"] or read_param("regions_file", ""))
         regions = load_map(config) if has_map else RegionMap(regions={})
         for warning in regions.warnings:
             rospy.logwarn("%s: %s", rospy.get_name(), warning)

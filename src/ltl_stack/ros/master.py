@@ -89,6 +89,57 @@ def timed_proxy(uri: str, timeout: float = CALL_TIMEOUT) -> xmlrpc.client.Server
     return xmlrpc.client.ServerProxy(uri, transport=TimedTransport(timeout))
 
 
+#: Seconds a start-up read of parameters may take: far longer than any answer of a working master on
+#: a loaded machine, bounded so that a master cut off at start-up is one line, not a hang.
+STARTUP_TIMEOUT = 30.0
+
+
+def master_call(method: str, *args: Any, caller: str | None = None, uri: str | None = None,
+                timeout: float = CALL_TIMEOUT) -> Any:
+    """One call of the master's XML-RPC API (``getSystemState``, ``getParam``, ...) as ``caller`` (this
+    node by default) with ``timeout``: its value. A refusal (code != 1, e.g. an unset parameter) raises
+    ``rosgraph.MasterException``; no answer within ``timeout`` raises ``OSError`` (``socket.timeout``)."""
+    if caller is None:
+        import rospy
+
+        caller = rospy.get_name()
+    code, message, value = getattr(timed_proxy(uri or rosgraph.get_master_uri(), timeout), method)(caller, *args)
+    if code != 1:
+        raise rosgraph.MasterException(f"{method}: {message}")
+    return value
+
+
+#: The parameters outside the node's private namespace it read (``read_param``), by resolved name:
+#: ``MasterWatch`` sets them again on a restarted master that lacks them (a launch file's namespace
+#: parameters are gone with the old master, and a node started later needs them too).
+SHARED_READ: dict[str, Any] = {}
+
+
+def read_param(name: str, default: Any = None, timeout: float = STARTUP_TIMEOUT) -> Any:
+    """The parameter ``name`` (resolved as rospy does: ``~x`` private, ``x`` in the node's namespace),
+    ``default`` when it is not set. A master that does not answer within ``timeout`` s is a
+    ``UserError`` with ``Exit.NO_ROS`` (rospy's own ``get_param`` would wait for ever)."""
+    import rospy
+
+    resolved = rospy.resolve_name(name)
+    try:
+        value = master_call("getParam", resolved, timeout=timeout)
+        if not resolved.startswith(rospy.get_name() + "/") and resolved != rospy.get_name() + "/":
+            SHARED_READ[resolved] = value
+        return value
+    except rosgraph.MasterException:
+        return default
+    except (OSError, http.client.HTTPException, xmlrpc.client.Error) as err:
+        raise UserError(f"cannot read {resolved} from the ROS master at {rosgraph.get_master_uri()} ({err})",
+                        Exit.NO_ROS) from None
+
+
+def private_params(timeout: float = STARTUP_TIMEOUT) -> dict[str, Any]:
+    """Every ``~param`` of this node, in one call ({} when none is set); see ``read_param``."""
+    value = read_param("~", {}, timeout)
+    return value if isinstance(value, dict) else {}
+
+
 def master_online(uri: str) -> bool:
     """True when a ROS master answers at ``uri`` within ``PROBE_TIMEOUT`` seconds.
 

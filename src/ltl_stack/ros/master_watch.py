@@ -5,8 +5,12 @@ dies and a new one comes up on the same URI, the new master knows nothing about 
 never connect to its topics, its services cannot be found, its parameters are gone. ``MasterWatch``
 polls the master's process id (``getPid``) once a period in one daemon thread; when a different
 master answers, it registers everything the node has — through rospy's own topic and service
-managers, so nothing is created twice — sets the node's private parameters again, and connects the
-node's subscribers to the publishers the new master knows. Every call has a timeout
+managers, so nothing is created twice — sets the node's private parameters again, sets ``/run_id``
+and the shared parameters the node read (``ros.master.read_param``) where the new master lacks them,
+and connects the node's subscribers to the publishers the new master knows. ``/run_id`` matters to
+roslaunch: one joining a master without it makes up its own and sets it, so two started together
+race and one fails ("run_id on parameter server does not match declared run_id"), and one started
+with ``--wait`` waits for ever; every node of ours re-sets the same value, the old master's. Every call has a timeout
 (``ros.master.CALL_TIMEOUT``): an unreachable master never holds the thread for longer.
 """
 from __future__ import annotations
@@ -20,7 +24,10 @@ import rosgraph
 import rospy
 from rospy.impl.registration import get_service_manager, get_topic_manager
 
-from ltl_stack.ros.master import timed_proxy
+from ltl_stack.ros.master import SHARED_READ, timed_proxy
+
+#: The launch's run id (roscore sets it; roslaunch checks it against its own).
+RUN_ID = "/run_id"
 
 
 class MasterWatch:
@@ -33,6 +40,7 @@ class MasterWatch:
         self.caller_id = rospy.get_name()
         self.master = timed_proxy(rosgraph.get_master_uri())
         self.params = self._private_params()
+        self.run_id = self._param(RUN_ID)
         self.pid = self._master_pid()
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._run, name="master_watch", daemon=True)
@@ -45,11 +53,15 @@ class MasterWatch:
         except (OSError, rosgraph.MasterException, xmlrpc.client.Error, ValueError, TypeError):
             return None
 
-    def _private_params(self) -> dict[str, Any]:
+    def _param(self, name: str) -> Any:
+        """The parameter ``name`` on the master (None: unset, or no answer)."""
         try:
-            value = _ok(self.master.getParam(self.caller_id, rospy.resolve_name("~")), "~")
+            return _ok(self.master.getParam(self.caller_id, name), name)
         except (OSError, rosgraph.MasterException, xmlrpc.client.Error, TypeError, ValueError):
-            return {}
+            return None
+
+    def _private_params(self) -> dict[str, Any]:
+        value = self._param(rospy.resolve_name("~"))
         return value if isinstance(value, dict) else {}
 
     def _run(self) -> None:
@@ -82,6 +94,10 @@ class MasterWatch:
             services = sm.get_services()
         if self.params:
             _ok(master.setParam(self.caller_id, rospy.resolve_name("~"), self.params), "~")
+        shared = {**SHARED_READ, **({RUN_ID: self.run_id} if self.run_id is not None else {})}
+        for name, value in shared.items():
+            if not _ok(master.hasParam(self.caller_id, name), name):
+                _ok(master.setParam(self.caller_id, name, value), name)
         for name, msg_type in publications:
             _ok(master.registerPublisher(self.caller_id, name, msg_type, uri), name)
         node = timed_proxy(uri)

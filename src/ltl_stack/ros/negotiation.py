@@ -40,6 +40,7 @@ import rospy
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from std_msgs.msg import String
 
+from ltl_stack.ros.master import timed_proxy
 from ltl_stack.runtime.characterize import ResilientStrategy
 from ltl_stack.runtime.negotiation import (
     Classes,
@@ -312,15 +313,7 @@ class RegistrationWatch:
         self.hijacks = 0
 
     def _master(self) -> xmlrpc.client.ServerProxy:
-        timeout = self.timeout
-
-        class Transport(xmlrpc.client.Transport):
-            def make_connection(self, host):  # noqa: ANN001, ANN202 - xmlrpc's own signature
-                connection = super().make_connection(host)
-                connection.timeout = timeout
-                return connection
-
-        return xmlrpc.client.ServerProxy(rosgraph.get_master_uri(), transport=Transport())
+        return timed_proxy(rosgraph.get_master_uri(), self.timeout)
 
     def check(self) -> bool:
         """True when the master names our service (or cannot be asked now)."""

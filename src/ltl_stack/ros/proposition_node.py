@@ -39,7 +39,7 @@ from std_msgs.msg import Bool
 
 from ltl_stack import cli
 from ltl_stack.errors import Exit, UserError
-from ltl_stack.ros.master import init_node
+from ltl_stack.ros.master import init_node, private_params
 from ltl_stack.ros.master_watch import MasterWatch
 from ltl_stack.runtime.edges import FALLING, RISING, EdgeDetector, StaleWatch
 from ltl_stack.runtime.node_params import (
@@ -79,12 +79,13 @@ def parse_node_cli(prog: str, kind: str, description: str, params: Sequence[Para
 def read_params(params: Sequence[Param], node: str = "") -> dict[str, Any]:
     """Read each ``~name`` (or the first alias that is set), coerced to its type."""
     values: dict[str, Any] = {}
+    given = private_params()  # one call, with a timeout (rospy's has_param/get_param have none)
     for p in params:
         value = None
         found = False
         for name in (p.name, *p.aliases):
-            if rospy.has_param("~" + name):
-                value = rospy.get_param("~" + name)
+            if name in given:
+                value = given[name]
                 found = True
                 break
         if not found:

@@ -35,7 +35,9 @@ strategy at once; a repeated reading does nothing.
   Update carries them).
 
 * Unknown inputs (``set_unknown``): inputs whose last reading is older than their freshness bound
-  (``runtime.freshness``; a partition, a dead sensor). Nothing is stepped while there are any (a step
+  (``runtime.freshness``; a partition, a dead sensor), or, before the start, inputs never heard of
+  that the node stopped waiting for (a peer's host down when the robot starts): the outputs until
+  they report keep ``[SYS_INIT]`` for every value of them, and the strategy starts when they have. Nothing is stepped while there are any (a step
   would take a stale reading for the truth); the outputs are those nearest to the ones published
   that keep rho_s for *every* value of the unknown inputs (the guard, from the position last
   published), else every output false with ``unkeepable`` naming the clauses. When every input is
@@ -190,8 +192,10 @@ class Controller:
         """``current_outputs`` for a move from the position ``published`` (None: the last state's)."""
         with self.lock:
             self.unkeepable = []
-            if not self.running or self.state is None or self.aborted is not None:
+            if not self.running or self.aborted is not None:
                 return dict.fromkeys(self.outputs, False)
+            if self.state is None:
+                return self._initial_for_unknown() if self.unknown else dict.fromkeys(self.outputs, False)
             last = {p: bool(self.state.outputs[p]) for p in self.outputs}
             if self.unknown and self.guard is not None:
                 return self._outputs_for_unknown(published, last)
@@ -211,6 +215,20 @@ class Controller:
         position = {**self.state.inputs, **self.state.outputs, **(published or {})}
         wanted = {p: bool(position.get(p, last[p])) for p in self.outputs}
         guarded = self.guard(position, self.readings, wanted, unknown=self.unknown)
+        if guarded.unkeepable:
+            self.unkeepable = list(guarded.unkeepable)
+            return dict.fromkeys(self.outputs, False)
+        return dict(guarded.outputs)
+
+    def _initial_for_unknown(self) -> dict[str, bool]:
+        """Before the start, with never-heard inputs unknown: the outputs nearest to all false (or
+        ``init_props``' outputs) that keep ``[SYS_INIT]`` for every value of them; all false when
+        none does (``unkeepable`` says why)."""
+        wanted = {p: bool(self.init_outputs.get(p, False)) for p in self.outputs}
+        initial = getattr(self.guard, "initial", None)
+        if initial is None:
+            return dict.fromkeys(self.outputs, False)
+        guarded = initial(self.readings, wanted, self.unknown)
         if guarded.unkeepable:
             self.unkeepable = list(guarded.unkeepable)
             return dict.fromkeys(self.outputs, False)
@@ -264,17 +282,19 @@ class Controller:
             return self._result()
 
     def set_unknown(self, props: Any) -> Update:
-        """Mark the inputs ``props`` unknown (stale) and every other one known. While any is unknown
-        nothing is stepped; when the last one is known again, step from the last state with the
-        current readings (``tick``), as if the execution had never stopped."""
+        """Mark the inputs ``props`` unknown (stale, or never heard of) and every other one known.
+        While any is unknown nothing is stepped; when the last one is known again, step from the last
+        state with the current readings (``tick``), as if the execution had never stopped — or, before
+        the start, start once every input has reported (preferring an initial state with the outputs
+        published meanwhile, which the robot already has)."""
         with self.lock:
             unknown = [p for p in self.inputs if p in set(props)]
             if unknown == self.unknown:
                 return self._result()
             self.unknown = unknown
-            if unknown or self.state is None:
+            if unknown:
                 return self._result()
-            return self._advance(force=True)
+            return self._advance(force=self.state is not None)
 
     def restart_from(self, state: Any) -> Update:
         """Continue from ``state`` (of a strategy just put in place): step once with the current
@@ -292,12 +312,12 @@ class Controller:
 
     # --- internals ---------------------------------------------------------------------------
     def _advance(self, force: bool) -> Update:
-        if not self.running or not self.ready or self.aborted is not None or (self.unknown and self.state is not None):
+        if not self.running or not self.ready or self.aborted is not None or self.unknown:
             return self._result()
         readings = self.readings
         if self.state is None:
             try:
-                self.state = self.strategy.initial_state(inputs=readings, outputs=self.init_outputs or None)
+                self.state = self._initial_state(readings)
             except NoInitialState as err:
                 self.init_error = str(err)
                 return self._result(error=self.init_error)
@@ -319,6 +339,17 @@ class Controller:
         self.violation = None
         self.state = new_state
         return self._result(stepped=True, passed=self._settle(readings))
+
+    def _initial_state(self, readings: dict[str, bool]) -> Any:
+        """The strategy's initial state for ``readings``: one whose outputs are those published while
+        inputs were unknown before the start, when the strategy has one; else as ``init_props`` say."""
+        published = self._published
+        if published is not None and any(published.values()):
+            try:
+                return self.strategy.initial_state(inputs=readings, outputs=published)
+            except NoInitialState:
+                pass
+        return self.strategy.initial_state(inputs=readings, outputs=self.init_outputs or None)
 
     def _settle(self, readings: dict[str, bool]) -> tuple:
         """Step with unchanged readings while the state changes (at most ``settle_steps`` times);

@@ -13,6 +13,11 @@ The bound of an input, in this order:
   periods, at least ``MIN_BOUND`` s (a busy machine delays timers); rate 0 (only on change): none;
 * else the executor's ``--freshness`` (default 0: none — a publisher of unknown rate may well
   publish only on change).
+
+An input with a bound that has *never* reported holds the start for ``--ready-timeout`` s (the ready
+handshake); after that it is unknown too, so that a robot starts while a peer's host is down, its
+outputs keeping ``[SYS_INIT]`` (and then rho_s) for every value of the peer's propositions. An input
+without a bound goes on holding the start (its node may publish only on change).
 """
 from __future__ import annotations
 
@@ -72,10 +77,14 @@ class Freshness:
         """A message of ``prop`` arrived at ``now``."""
         self._seen[prop] = now
 
-    def stale(self, now: float) -> list[str]:
-        """The inputs that reported once and not within their bound, in the bounds' order (inputs
-        that never reported are the ready handshake's concern)."""
-        return [p for p, b in self.bounds.items() if b > 0 and p in self._seen and now - self._seen[p] > b]
+    def stale(self, now: float, unheard: Iterable[str] = ()) -> list[str]:
+        """The inputs that reported once and not within their bound, in the bounds' order; with them
+        the inputs of ``unheard`` that have a bound (never reported, and the start no longer waits
+        for them: the executor passes them after ``--ready-timeout``). An input without a bound (0)
+        is never stale, and one that never reported holds the start (the ready handshake)."""
+        unheard = set(unheard)
+        return [p for p, b in self.bounds.items()
+                if b > 0 and (now - self._seen[p] > b if p in self._seen else p in unheard)]
 
     def age(self, prop: str, now: float) -> float | None:
         """Seconds since ``prop`` last reported (None: never)."""
@@ -92,6 +101,7 @@ def unknown_text(unknown: Iterable[str], topics: Mapping[str, str], freshness: F
     parts = []
     for prop in unknown:
         age = freshness.age(prop, now)
-        since = f"no message for {age:.1f} s > {freshness.bounds.get(prop, 0):.1f} s" if age is not None else "no message"
+        since = f"no message for {age:.1f} s > {freshness.bounds.get(prop, 0):.1f} s" if age is not None \
+            else "no message yet"
         parts.append(f"{prop} ({topics.get(prop, '?')}, {since})")
     return ", ".join(parts)

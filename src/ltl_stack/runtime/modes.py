@@ -40,7 +40,13 @@ from ltl_stack.synthesis.automaton import goal_text
 from ltl_stack.synthesis.errors import AssumptionViolation
 from ltl_stack.synthesis.explain_render import clause_line, explanation_text
 from ltl_stack.synthesis.game import Game, prime_name
-from ltl_stack.synthesis.recovery import StepKind, StepResult, UnsafeStep, unkeepable_clauses
+from ltl_stack.synthesis.recovery import (
+    StepKind,
+    StepResult,
+    UnsafeStep,
+    unkeepable_clauses,
+    unsatisfiable_core,
+)
 
 #: The levels of diagnostic_msgs/DiagnosticStatus.
 OK, WARN, ERROR = 0, 1, 2
@@ -85,11 +91,17 @@ def nearest_safe_outputs(game: Game, position: Mapping[str, bool], inputs: Mappi
         return Guarded(wanted)
     if allowed == bdd.false:
         return Guarded(wanted, unkeepable_clauses(game, assign, unknown_next))
+    return Guarded(_nearest(bdd, allowed, wanted, game.outputs, prime_name))
+
+
+def _nearest(bdd: Any, allowed: Any, wanted: dict[str, bool], outputs: Sequence[str], name_of: Any) -> dict[str, bool]:
+    """The valuation of ``outputs`` (BDD variables ``name_of(p)``) in ``allowed`` (not false) that
+    differs from ``wanted`` in the fewest outputs; ties: ``wanted``'s value in spec order."""
     support = bdd.support(allowed)
-    names = [p for p in game.outputs if prime_name(p) in support]
+    names = [p for p in outputs if name_of(p) in support]
     exact = [bdd.true]  # exact[j]: the valuations of the names seen so far with j changes
     for name in names:
-        same = bdd.var(prime_name(name)) if wanted[name] else ~bdd.var(prime_name(name))
+        same = bdd.var(name_of(name)) if wanted[name] else ~bdd.var(name_of(name))
         grown = [bdd.false] * (len(exact) + 1)
         for j, u in enumerate(exact):
             grown[j] |= u & same
@@ -102,13 +114,45 @@ def nearest_safe_outputs(game: Game, position: Mapping[str, bool], inputs: Mappi
     chosen = dict(wanted)
     for name in names:  # wanted's value first, in spec order: deterministic
         value = wanted[name]
-        rest = bdd.let({prime_name(name): value}, candidates)
+        rest = bdd.let({name_of(name): value}, candidates)
         if rest == bdd.false:
             value = not value
-            rest = bdd.let({prime_name(name): value}, candidates)
+            rest = bdd.let({name_of(name): value}, candidates)
         chosen[name] = value
         candidates = rest
-    return Guarded(chosen)
+    return chosen
+
+
+def safe_initial_outputs(game: Game, inputs: Mapping[str, bool], wanted: Mapping[str, bool],
+                         unknown: Sequence[str]) -> Guarded:
+    """Before the start, with the inputs ``unknown`` never heard of: the output valuation nearest to
+    ``wanted`` that the robot may hold whatever they do — it keeps ``[SYS_INIT]`` for every value of
+    them, and rho_s for every move that keeps these outputs, the known ``inputs`` and changes only
+    them (``forall u. sys_init  &  forall u, u'. rho_s[o' := o]``, exact BDD quantifications, no
+    environment assumption relied on: their values are not known). When none does, ``wanted`` with
+    the clauses that cannot be kept together (``synthesis.recovery.unsatisfiable_core``)."""
+    bdd = game.bdd
+    known = {p: bool(inputs[p]) for p in game.inputs if p not in unknown and p in inputs}
+    free = [p for p in game.inputs if p not in known]
+    assign = game.assignment(known, known)
+    held = {prime_name(p): bdd.var(p) for p in game.outputs}  # o' := o
+
+    def restricted(u: Any, kept: bool) -> Any:
+        u = bdd.let(assign, u) if assign else u
+        if kept:
+            u = bdd.let(held, u)
+        names = free + [prime_name(p) for p in free] if kept else free
+        return bdd.forall(names, u) if names else u
+
+    clauses = [(c, restricted(u, False)) for c, u in game.clauses("sys_init")]
+    clauses += [(c, restricted(u, True)) for c, u in game.clauses("sys_safety")]
+    allowed = bdd.true
+    for _, u in clauses:
+        allowed &= u
+    wanted = {p: bool(wanted[p]) for p in game.outputs}
+    if allowed == bdd.false:
+        return Guarded(wanted, unsatisfiable_core(bdd, clauses))
+    return Guarded(_nearest(bdd, allowed, wanted, game.outputs, lambda p: p))
 
 
 def current_mode(aborted: bool, violation: bool, resilient: str | None, recovered: bool,
@@ -274,6 +318,14 @@ class OutputGuard:
             return Guarded(dict(wanted))
         return nearest_safe_outputs(game, position, inputs, wanted, unknown)
 
+    def initial(self, inputs: Mapping[str, bool], wanted: Mapping[str, bool], unknown: Sequence[str]) -> Guarded:
+        """``wanted`` made to keep ``[SYS_INIT]`` for every value of the never-heard ``unknown`` inputs
+        (``safe_initial_outputs``); ``wanted`` as it is without a game."""
+        game = self.game()
+        if game is None:
+            return Guarded(dict(wanted))
+        return safe_initial_outputs(game, inputs, wanted, unknown)
+
 
 def strategy_source(original: str, resilient: Any | None) -> tuple[str, int]:
     """``~state``'s ``spec_file`` and ``strategy_generation``: the file the running strategy was
@@ -427,7 +479,7 @@ class NodeReports:
             return current_mode(controller.aborted is not None, controller.violation is not None,
                                 self.resilient.mode.value if self.resilient is not None else None,
                                 self._recovered_in_update if self.resilient is not None else self._recovering,
-                                bool(controller.unknown) and controller.state is not None)
+                                bool(controller.unknown))
 
     def violated_clauses(self) -> list[str]:
         """The env-safety clauses the current inputs violate, ``file:line: text (English)``."""
@@ -523,8 +575,8 @@ class NodeReports:
         if mode == Mode.INPUTS_UNKNOWN.value:
             values += [("unknown_input", p) for p in self.controller.unknown]
             text += f"; unknown: {', '.join(self.controller.unknown)}"
-            if self.controller.unkeepable:
-                level = ERROR
+            if self.controller.unkeepable:  # (before the start every output was false anyway: a WARN)
+                level = ERROR if self.controller.state is not None else WARN
                 text += "; no output valuation keeps it for every value: every output false"
         if violated and mode in (Mode.RECOVERING.value, Mode.HOLDING.value, Mode.CHARACTERIZING.value):
             text += "; violated: " + "; ".join(violated)
@@ -555,33 +607,47 @@ class NodeReports:
         WARN when the outputs keep rho_s for every value of them, ERROR when no valuation does (every
         output false, the clauses named), OK when every input is fresh again."""
         if not update.unknown:
+            if update.started:
+                return Status(OK, "input freshness", f"every input has reported; started in state {update.state.id}")
             state = f"; resuming from state {update.state.id}" if update.state is not None else ""
             return Status(OK, "input freshness", f"every input is fresh again{state}")
         values = [("unknown_input", p) for p in update.unknown] + [("outputs", format_valuation(update.outputs))]
         if update.unkeepable:
             clauses = [f"{c.location}: {c.text}" for c in update.unkeepable]
             values += [("unsafe_clause", c) for c in clauses]
+            if update.state is None:  # not started: every output was false already (a WARN, not a failure)
+                return Status(WARN, "input freshness", f"input(s) unknown: {named}; not starting until they report; "
+                              f"no output valuation keeps the system safety for every value of them "
+                              f"({'; '.join(clauses)}): every output false", values)
             return Status(ERROR, "input freshness", f"input(s) unknown: {named}; no output valuation keeps the system "
                           f"safety for every value of them ({'; '.join(clauses)}): every output false", values)
-        return Status(WARN, "input freshness", f"input(s) unknown: {named}; not stepping, publishing outputs "
+        doing = "not stepping" if update.state is not None else "not starting until they report"
+        return Status(WARN, "input freshness", f"input(s) unknown: {named}; {doing}, publishing outputs "
                       f"{format_valuation(update.outputs)} (they keep the system safety for every value of them)",
                       values)
 
     def health(self, waited: float) -> list[Status]:
         """The "inputs" and "controller" statuses, ``waited`` seconds after the node started."""
         controller = self.controller
-        missing = controller.missing_inputs()
+        missing = [p for p in controller.missing_inputs() if p not in controller.unknown]
+        unheard = [p for p in controller.missing_inputs() if p in controller.unknown]
         if missing:
             late = self.ready_timeout > 0 and waited >= self.ready_timeout
             topics = ", ".join(self.input_topics[p] for p in missing)
             inputs = Status(WARN if late else OK, "inputs", f"waiting for input(s) {', '.join(missing)}",
                             [("silent_inputs", " ".join(missing)), ("topics", topics)])
+        elif unheard:
+            inputs = Status(WARN, "inputs", f"input(s) {', '.join(unheard)} never reported: unknown, outputs safe "
+                            "for every value of them", [("unknown_input", p) for p in unheard])
         else:
             inputs = Status(OK, "inputs", "every input has reported", quiet=True)
         if controller.init_error:
             state = Status(ERROR, "controller", f"no initial state: {controller.init_error}")
         elif not controller.running:
             state = Status(OK, "controller", "paused: every output is false")
+        elif controller.state is None and unheard and not missing:
+            state = Status(WARN, "controller", f"not started: input(s) {', '.join(unheard)} unknown; starting when "
+                           "they report")
         elif controller.state is None:
             state = Status(OK, "controller", "waiting for every input to report")
         else:
@@ -625,8 +691,8 @@ class NodeReports:
 
     def silent_inputs(self, waited: float) -> str | None:
         """The ``--ready-timeout`` error line, None when every input has reported."""
-        missing = self.controller.missing_inputs()
-        if not missing:
+        missing = [p for p in self.controller.missing_inputs() if p not in self.controller.unknown]
+        if not missing:  # (inputs unknown since the timeout have their own WARN: "input freshness")
             return None
         topics = ", ".join(f"{p} ({self.input_topics[p]})" for p in missing)
         return (f"no message after {waited:.0f} s from input(s) {topics}; not stepping until every input "

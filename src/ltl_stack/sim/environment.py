@@ -34,9 +34,10 @@ SCRIPTED_ENVIRONMENT = NodeSpec(
         Param("wait_for_subscribers", 0.0, "wait up to this long (s) for every topic to have a "
               "subscriber before the clock starts (0: start at once)", bound=Bound.NON_NEGATIVE),
         Param("rate", 50.0, "how often (Hz) to check for due events", bound=Bound.RATE),
-        Param("start_on", "", "start the clock at the first message on this topic (e.g. the controller's "
-              "state topic, so a late controller misses no event; relative to the node's namespace); "
-              "empty: do not wait", kind=str),
+        Param("start_on", "", "start the clock once each of these topics (space-separated, relative to the "
+              "node's namespace) has had a message; a controller's ~state (ltl_stack/ControllerState) counts "
+              "once the controller has started (state_id >= 0: every input reported), so a controller on "
+              "another host that starts later misses no event; empty: do not wait", kind=str),
     ],
 )
 
@@ -109,23 +110,45 @@ class ScriptedEnvironment:
         if missing:
             rospy.logwarn("%s: starting although nobody listens to %s", rospy.get_name(), ", ".join(missing))
 
-    def _wait_for_start_message(self, topic: str) -> None:
+    def _wait_for_start_messages(self, topics: list[str]) -> None:
+        """Return once every topic of ``topics`` has had a message that starts the clock
+        (``starts_clock``), or on shutdown."""
         import rospy
 
-        name = rospy.resolve_name(topic)
-        rospy.loginfo("%s: waiting for the first message on %s to start the clock", rospy.get_name(), name)
-        try:
-            rospy.wait_for_message(name, rospy.AnyMsg)
-        except rospy.ROSInterruptException:
-            return
+        names = [rospy.resolve_name(t) for t in topics]
+        waiting = set(names)
+        told: set[str] = set()
+        cond = threading.Condition()
+
+        def heard(msg: Any, name: str) -> None:
+            with cond:
+                if name not in waiting:
+                    return
+                if not starts_clock(msg):
+                    if name not in told:  # once per topic
+                        told.add(name)
+                        rospy.loginfo("%s: %s: the controller has not started yet (waiting for every input to "
+                                      "report); the clock waits", rospy.get_name(), name)
+                    return
+                waiting.discard(name)
+                cond.notify_all()
+
+        rospy.loginfo("%s: waiting for the first message on %s to start the clock", rospy.get_name(),
+                      ", ".join(names))
+        subscribers = [rospy.Subscriber(n, rospy.AnyMsg, heard, callback_args=n, queue_size=10) for n in names]
+        with cond:
+            while waiting and not rospy.is_shutdown():
+                cond.wait(0.5)
+        for sub in subscribers:
+            sub.unregister()
 
     def spin(self) -> None:
         import rospy
 
         if self.config["wait_for_subscribers"] > 0:
             self._wait_for_subscribers()
-        if self.config["start_on"]:
-            self._wait_for_start_message(self.config["start_on"])
+        if self.config["start_on"].split():
+            self._wait_for_start_messages(self.config["start_on"].split())
         with self._lock:
             self._start = time.monotonic()
         rate = rospy.Rate(self.config["rate"])
@@ -149,6 +172,22 @@ class ScriptedEnvironment:
                 rate.sleep()
             except rospy.ROSInterruptException:
                 return
+
+
+def starts_clock(msg: Any) -> bool:
+    """Whether a message (``rospy.AnyMsg``) on a ``start_on`` topic starts the clock: any message,
+    except a controller's ``~state`` before its controller has started (``state_id`` < 0)."""
+    header = getattr(msg, "_connection_header", None) or {}
+    if header.get("type") != "ltl_stack/ControllerState":
+        return True
+    from ltl_stack.msg import ControllerState
+
+    state = ControllerState()
+    try:
+        state.deserialize(msg._buff)
+    except Exception:  # noqa: BLE001 - another version of the message: do not hold the clock for it
+        return True
+    return state.state_id >= 0
 
 
 def scripted_environment_main() -> None:

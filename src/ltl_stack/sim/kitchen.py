@@ -28,6 +28,7 @@ from std_msgs.msg import Bool, String
 
 from ltl_stack.ros.proposition_node import NodeSpec, Param, run_node
 from ltl_stack.runtime.node_params import Bound
+from ltl_stack.sim.environment import starts_clock
 
 REGIONS = ("company", "road", "storage", "prepArea", "cookingArea")
 NEIGHBOURS = {"company": {"road"}, "road": {"company", "storage"}, "storage": {"road", "prepArea"},
@@ -45,7 +46,8 @@ KITCHEN_WORLD = NodeSpec(
               bound=Bound.NON_NEGATIVE),
         Param("rate", 20.0, "how often (Hz) the world advances", bound=Bound.RATE),
         Param("start_on", "D/controller_executor/state", "start the clock at the first message on this topic "
-              "(relative to the node's namespace)", kind=str),
+              "(relative to the node's namespace; a controller's ~state once the controller has started)",
+              kind=str),
     ],
 )
 
@@ -74,8 +76,8 @@ class KitchenWorld:
     def _on_output(self, msg: Bool, topic: str) -> None:
         self.outputs[topic] = bool(msg.data)
 
-    def _on_start(self, _msg: Any) -> None:
-        if self.started is None:
+    def _on_start(self, msg: Any) -> None:
+        if self.started is None and starts_clock(msg):  # D's controller has started, wherever it runs
             self.started = time.monotonic()
 
     def set(self, topic: str, value: bool) -> None:

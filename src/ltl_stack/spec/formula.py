@@ -2,7 +2,8 @@
 
 Every reader produces these nodes and every consumer (synthesis, rendering, analysis) reads them.
 Integer variables never appear here: readers bit-blast them into Boolean variables first
-(see ``ltl_stack.spec.model.IntegerVariable``).
+(see ``ltl_stack.spec.model.IntegerVariable``). Nodes have ``__slots__`` (no per-node ``__dict__``): a
+formula read from an 8 MB line has millions of them.
 """
 from __future__ import annotations
 
@@ -10,7 +11,10 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Union
 
+from ltl_stack.compat import slotted
 
+
+@slotted
 @dataclass(frozen=True)
 class Var:
     """A Boolean variable; ``primed`` means its value in the next state (``x'``)."""
@@ -19,16 +23,19 @@ class Var:
     primed: bool = False
 
 
+@slotted
 @dataclass(frozen=True)
 class Const:
     value: bool
 
 
+@slotted
 @dataclass(frozen=True)
 class Not:
     arg: Formula
 
 
+@slotted
 @dataclass(frozen=True)
 class And:
     """Conjunction of two or more formulas (an empty tuple means true)."""
@@ -36,6 +43,7 @@ class And:
     args: tuple[Formula, ...]
 
 
+@slotted
 @dataclass(frozen=True)
 class Or:
     """Disjunction of two or more formulas (an empty tuple means false)."""
@@ -43,18 +51,21 @@ class Or:
     args: tuple[Formula, ...]
 
 
+@slotted
 @dataclass(frozen=True)
 class Xor:
     left: Formula
     right: Formula
 
 
+@slotted
 @dataclass(frozen=True)
 class Implies:
     left: Formula
     right: Formula
 
 
+@slotted
 @dataclass(frozen=True)
 class Iff:
     left: Formula

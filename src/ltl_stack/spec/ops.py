@@ -222,6 +222,16 @@ class Pending:
         self.parts = [settle(p) if isinstance(p, Pending) and p.kind is not kind else p for p in (left, right)]
         self.formula: Formula | None = None  # ``settle``'s result, kept: a slugsin ``? i`` may settle it again
 
+    @classmethod
+    def of(cls, kind: type, parts: list) -> Pending:
+        """A chain of any number of ``parts`` (the list is kept, not copied)."""
+        chain = cls.__new__(cls)
+        for k, p in enumerate(parts):
+            if isinstance(p, Pending) and p.kind is not kind:
+                parts[k] = settle(p)
+        chain.kind, chain.parts, chain.formula = kind, parts, None
+        return chain
+
 
 def settle(x: Formula | Pending) -> Formula:
     """The formula of a parser value: a ``Pending`` chain becomes one flat ``And``/``Or``.

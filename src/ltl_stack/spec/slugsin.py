@@ -11,7 +11,10 @@ no Python stack, and chains of ``&``/``|`` are flattened into one ``And``/``Or``
 """
 from __future__ import annotations
 
+import itertools
 import re
+from array import array
+from collections.abc import Iterator
 
 from ltl_stack.spec.errors import SpecError
 from ltl_stack.spec.formula import FALSE, TRUE, And, Const, Formula, Iff, Implies, Not, Or, Var, Xor, children
@@ -38,76 +41,159 @@ def parse_slugsin(text: str, file: str = "<string>") -> Spec:
     return read_spec(text, file, valid_name, NAME_RULE, parse_prefix)
 
 
-class _Frame:
-    """An operator (or ``$`` buffer) still waiting for operands; ``token`` is its word's index."""
-
-    __slots__ = ("op", "token", "need", "args")
-
-    def __init__(self, op: str, token: int, need: int):
-        self.op = op
-        self.token = token
-        self.need = need
-        self.args: list[Formula] = []
-
-
 def tokens_of(line: Line) -> list[tuple[str, int]]:
     """Whitespace-separated words of a line with their 1-based columns."""
     return [(m.group(), m.start() + 1) for m in _TOKEN.finditer(line.text)]
 
 
-class _Columns:
-    """The 1-based column of each word of a line (or of the line's end), computed on first use:
-    only an error message needs one, so a correct line is split once with ``str.split``."""
+#: characters of a line split at a time: a correct line is read in pieces, never held as one list of words
+CHUNK = 1 << 16
+_SPACE = re.compile(r"\s")
 
-    __slots__ = ("line", "_starts")
+
+def words_of(text: str) -> Iterator[str]:
+    """The words of ``text`` (``str.split()``'s), a piece of the text at a time: an 8 MB line of
+    two-letter words would otherwise be a list of millions of strings at once."""
+    start, n = 0, len(text)
+    while start < n:
+        cut = start + CHUNK
+        if cut < n:  # cut at whitespace, so that no word is split
+            space = _SPACE.search(text, cut)
+            cut = space.start() if space else n
+        yield from text[start:cut].split()
+        start = cut
+
+
+class _Columns:
+    """The 1-based column of word ``token`` of a line (or of the line's end), found by scanning the
+    line again: only an error message needs one, so a correct line is split once."""
+
+    __slots__ = ("line",)
 
     def __init__(self, line: Line):
         self.line = line
-        self._starts: list[int] | None = None
 
     def __getitem__(self, token: int) -> int:
-        if self._starts is None:
-            self._starts = [column for _, column in tokens_of(self.line)]
-        return self._starts[token] if token < len(self._starts) else len(self.line.text) + 1
+        match = next(itertools.islice(_TOKEN.finditer(self.line.text), token, None), None)
+        return match.start() + 1 if match else len(self.line.text) + 1
+
+
+class _Frames:
+    """The operators (and ``$`` buffers) still waiting for operands, as parallel arrays: an open
+    operator costs a few machine words, not an object and a list (a line of 4 million ``!`` opens
+    4 million of them).
+
+    Chains are merged as they are read, which keeps the frames and the ``Pending`` parts few: an
+    ``&`` that is the last operand of an open ``&`` extends that frame (``& a & b c`` is one frame of
+    three operands; ``token`` becomes the inner ``&``'s, which messages name), a completed ``&`` hands
+    its operands to the open ``&`` it is an operand of (the same for ``|``), and a ``!`` right after
+    a ``!`` counts in ``times``."""
+
+    __slots__ = ("op", "token", "need", "base", "times", "args", "buffers")
+
+    def __init__(self) -> None:
+        self.op: list[str] = []
+        self.token = array("q")  # word index of the (innermost) operator, for messages
+        self.need = array("q")  # operands (entries) the frame takes
+        self.base = array("q")  # where its operands start in ``args``
+        self.times = array("q")  # a ``!`` frame: how many ``!`` in a row
+        self.args: list[Formula | Pending] = []  # the operands of every open frame, in order
+        self.buffers = array("q")  # the open ``$`` frames, by position
+
+    def have(self) -> int:
+        """Operands the innermost frame has."""
+        return len(self.args) - self.base[-1]
+
+    def open(self, op: str, token: int, need: int) -> None:
+        if self.op and self.op[-1] == op and self.have() == self.need[-1] - 1:
+            if op == "!":
+                self.times[-1] += 1
+                self.token[-1] = token
+                return
+            if op in _KIND:
+                self.need[-1] += 1
+                self.token[-1] = token
+                return
+        if op == "$":
+            self.buffers.append(len(self.op))
+        self.op.append(op)
+        self.token.append(token)
+        self.need.append(need)
+        self.base.append(len(self.args))
+        self.times.append(1)
+
+    def merge_down(self) -> bool:
+        """A complete ``&`` (``|``) that is an operand of an open ``&`` (``|``) leaves its operands
+        where they are, as that frame's: no copy, whatever the nesting."""
+        if len(self.op) < 2 or self.op[-1] not in _KIND or self.op[-2] != self.op[-1]:
+            return False
+        self.op.pop()
+        self.token.pop()
+        self.base.pop()
+        self.times.pop()
+        operands = self.need.pop()
+        self.need[-1] += operands - 1
+        return True
+
+    def close(self) -> tuple[str, list, int]:
+        """Remove the innermost frame: its operator, operands and repeat count."""
+        op = self.op.pop()
+        self.token.pop()
+        self.need.pop()
+        start = self.base.pop()
+        times = self.times.pop()
+        args = self.args[start:]
+        del self.args[start:]
+        if op == "$":
+            self.buffers.pop()
+        return op, args, times
+
+    def entries(self, buffer: int) -> tuple[int, int]:
+        """Where the complete entries of the ``$`` frame at ``buffer`` are in ``args``: (start, end)."""
+        end = self.base[buffer + 1] if buffer + 1 < len(self.base) else len(self.args)
+        return self.base[buffer], end
+
+
+_KIND = {"&": And, "|": Or}
 
 
 def parse_prefix(line: Line, names: Names) -> Formula:
-    """One prefix formula that must fill the whole line (time linear in the line's length)."""
-    words = line.text.split()  # the same words as ``tokens_of``: both split at Unicode whitespace
+    """One prefix formula that must fill the whole line: time linear in the line's length, memory a
+    small multiple of it (the words are split a piece of the line at a time, see ``_Frames``)."""
+    words = words_of(line.text)  # the same words as ``tokens_of``: both split at Unicode whitespace
     columns = _Columns(line)
     known = names.known_variables()
-    stack: list[_Frame] = []
-    n = len(words)
-    i = 0
+    frames = _Frames()
+    i = 0  # index of the next word
     while True:
-        if i >= n:
-            raise _incomplete(stack, names, columns, n)
-        word = words[i]
+        word = next(words, None)
+        if word is None:
+            raise _incomplete(frames, names, columns, i)
+        token = i
         i += 1
         value = known.get(word)  # a variable this spec's clauses already used
         if value is None:
             need = OPERATORS.get(word)
             if need is not None:
-                stack.append(_Frame(word, i - 1, need))
+                frames.open(word, token, need)
                 continue
-            token = i - 1
             glued = _GLUED.match(word) if word[0] in "$?" else None
             # the count's column: that of word ``count_at`` plus ``count_shift`` (1 when glued, as in $3)
             if glued:
                 word, count_word, count_at, count_shift = glued[1], glued[2], token, 1
             elif word in ("$", "?"):
-                if i >= n:
-                    raise names.error(columns[n], f"expected a number after '{word}'")
-                count_word, count_at, count_shift = words[i], i, 0
+                count_word, count_at, count_shift = next(words, None), i, 0
+                if count_word is None:
+                    raise names.error(columns[i], f"expected a number after '{word}'")
                 i += 1
             if word == "$":
                 if not _COUNT.match(count_word) or int(count_word) < 1:
                     raise names.error(columns[count_at] + count_shift,
                                       f"expected a positive number of entries after '$', got '{count_word}'")
-                stack.append(_Frame("$", token, int(count_word)))
+                frames.open("$", token, int(count_word))
                 continue
             if word == "?":
-                value = _recall(stack, count_word, (count_at, count_shift), token, columns, names)
+                value = _recall(frames, count_word, (count_at, count_shift), token, columns, names)
             elif word == "1":
                 value = TRUE
             elif word == "0":
@@ -116,56 +202,59 @@ def parse_prefix(line: Line, names: Names) -> Formula:
                 value = known[word] = _variable(word, token, columns, names)
         # Reduce: hand the finished operand to the operators waiting for it.
         while True:
-            if not stack:
-                if i < n:
-                    raise names.error(columns[i], f"unexpected '{words[i]}' after a complete formula "
+            if not frames.op:
+                extra = next(words, None)
+                if extra is not None:
+                    raise names.error(columns[i], f"unexpected '{extra}' after a complete formula "
                                                   "(a slugsin clause is one prefix formula per line)")
                 return settle(value)
-            frame = stack[-1]
+            op = frames.op[-1]
             # a ``$`` entry stays a chain until it is used: ``settle`` keeps its result (parsing stays linear)
-            if type(value) is Pending and frame.op not in ("&", "|", "$"):
+            if type(value) is Pending and op not in ("&", "|", "$"):
                 value = settle(value)
-            frame.args.append(value)
-            if len(frame.args) < frame.need:
+            frames.args.append(value)
+            while frames.have() == frames.need[-1] and frames.merge_down():
+                pass
+            if frames.have() < frames.need[-1]:
                 break
-            stack.pop()
-            value = _build(frame)
+            value = _build(*frames.close())
 
 
-def _build(frame: _Frame) -> Formula:
-    op, args = frame.op, frame.args
+def _build(op: str, args: list, times: int) -> Formula | Pending:
     if op == "!":
-        return Not(args[0])
-    if op == "&":
-        return Pending(And, args[0], args[1])
-    if op == "|":
-        return Pending(Or, args[0], args[1])
+        value = settle(args[0])
+        for _ in range(times):
+            value = Not(value)
+        return value
+    if op in _KIND:
+        return Pending.of(_KIND[op], args)
     if op == "^":
-        return Xor(args[0], args[1])
+        return Xor(settle(args[0]), settle(args[1]))
     return args[-1]  # a $ buffer is worth its last entry
 
 
-def _recall(stack: list[_Frame], index_word: str, index_at: tuple[int, int], token: int, columns: _Columns,
+def _recall(frames: _Frames, index_word: str, index_at: tuple[int, int], token: int, columns: _Columns,
             names: Names) -> Formula:
     """Entry ``index_word`` of the innermost ``$`` buffer; ``index_at`` is (word, shift) of its column."""
     def index_column() -> int:
         return columns[index_at[0]] + index_at[1]
 
-    buffer = next((f for f in reversed(stack) if f.op == "$"), None)
-    if buffer is None:
+    if not frames.buffers:
         raise names.error(columns[token], "'?' outside a '$' buffer (? i refers to entry i of the enclosing $ n)")
     if not _COUNT.match(index_word):
         raise names.error(index_column(), f"expected an entry number after '?', got '{index_word}'")
     index = int(index_word)
-    if index >= len(buffer.args):
-        done = len(buffer.args)
-        at = columns[buffer.token]
+    buffer = frames.buffers[-1]
+    start, end = frames.entries(buffer)
+    done = end - start
+    if index >= done:
+        at = columns[frames.token[buffer]]
         raise names.error(index_column(), f"'? {index}' refers to an entry that is not complete yet: the buffer "
                                           f"at column {at} has {done} complete "
                                           f"entr{'y' if done == 1 else 'ies'} (0...{done - 1})"
                           if done else f"'? {index}' used before the buffer at column {at} "
                                        "has any complete entry")
-    return buffer.args[index]
+    return frames.args[start + index]
 
 
 def _variable(word: str, token: int, columns: _Columns, names: Names) -> Var:
@@ -180,19 +269,19 @@ def _variable(word: str, token: int, columns: _Columns, names: Names) -> Var:
     return names.boolean(name, primed, 0 if names.allowed(name, primed) else columns[token])
 
 
-def _incomplete(stack: list[_Frame], names: Names, columns: _Columns, token: int) -> SpecError:
+def _incomplete(frames: _Frames, names: Names, columns: _Columns, token: int) -> SpecError:
     column = columns[token]
-    if not stack:
+    if not frames.op:
         return names.error(column, "expected a formula")
-    frame = stack[-1]
-    at = columns[frame.token]
-    if frame.op == "$":
-        missing = frame.need - len(frame.args)
+    op, need = frames.op[-1], frames.need[-1]
+    at = columns[frames.token[-1]]
+    missing = need - frames.have()
+    if op == "$":
         return names.error(column, f"expected {missing} more entr{'y' if missing == 1 else 'ies'} "
-                                   f"of the '$ {frame.need}' buffer at column {at}")
-    if not frame.args:
-        return names.error(column, f"expected an operand after '{frame.op}' at column {at}")
-    return names.error(column, f"expected a second operand for '{frame.op}' at column {at}")
+                                   f"of the '$ {need}' buffer at column {at}")
+    if op == "!" or missing > 1:
+        return names.error(column, f"expected an operand after '{op}' at column {at}")
+    return names.error(column, f"expected a second operand for '{op}' at column {at}")
 
 
 # -- writer -------------------------------------------------------------------------------------

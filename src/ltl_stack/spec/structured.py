@@ -19,6 +19,7 @@ The parser is an operator-precedence (shunting-yard) loop: no recursion, whateve
 from __future__ import annotations
 
 import re
+from array import array
 
 from ltl_stack.spec.errors import SpecError
 from ltl_stack.spec.formula import FALSE, TRUE, And, Formula, Iff, Implies, Not, Or, Xor
@@ -81,8 +82,32 @@ class _Token:
 MAX_NUMBER_DIGITS = 18
 
 
-def tokenize(line: Line, names: Names) -> list[_Token]:
-    out: list[_Token] = []
+_KIND_CODE = {"op": 0, "number": 1, "name": 2}
+
+
+class _Tokens:
+    """The tokens of a line as parallel lists, each name's text stored once: a ``_Token`` object per
+    token would cost some 60 times the line (``tokens[i]`` makes one when asked)."""
+
+    __slots__ = ("kinds", "texts", "columns")
+
+    KINDS = ("op", "number", "name")
+
+    def __init__(self) -> None:
+        self.kinds = bytearray()  # index in KINDS
+        self.texts: list[str] = []
+        self.columns = array("i")  # 32 bits: a line of up to 2 GB
+
+    def __len__(self) -> int:
+        return len(self.texts)
+
+    def __getitem__(self, i: int) -> _Token:
+        return _Token(self.KINDS[self.kinds[i]], self.texts[i], self.columns[i])
+
+
+def tokenize(line: Line, names: Names) -> _Tokens:
+    out = _Tokens()
+    seen: dict[str, str] = {}
     text = line.text
     position = 0
     while position < len(text):
@@ -95,7 +120,10 @@ def tokenize(line: Line, names: Names) -> list[_Token]:
             word = m.group()
             if m.lastgroup == "number" and len(word) > MAX_NUMBER_DIGITS:
                 raise names.error(position + 1, f"a number of {len(word)} digits (at most {MAX_NUMBER_DIGITS})")
-            out.append(_Token(m.lastgroup, _SPELLING.get(word, word), position + 1))
+            word = _SPELLING.get(word, word)
+            out.kinds.append(_KIND_CODE[m.lastgroup])
+            out.texts.append(seen.setdefault(word, word))
+            out.columns.append(position + 1)
         position = m.end()
     return out
 
@@ -103,23 +131,25 @@ def tokenize(line: Line, names: Names) -> list[_Token]:
 def parse_infix(line: Line, names: Names) -> Formula:
     tokens = tokenize(line, names)
     values: list[Formula] = []
-    operators: list[_Token] = []  # '!', '(' and binary operators waiting for operands
+    operators = array("i")  # the tokens '!', '(' and binary operators waiting for operands
     expect_operand = True
     previous: _Token | None = None
     i = 0
 
     def reduce() -> None:
-        op = operators.pop()
+        op = tokens[operators.pop()]
         if op.text == "!":
             values.append(Not(settle(values.pop())))
             return
         right = values.pop()
         left = values.pop()
-        if op.text == "&":
-            values.append(Pending(And, left, right))
-            return
-        if op.text == "|":
-            values.append(Pending(Or, left, right))
+        if op.text in ("&", "|"):
+            kind = And if op.text == "&" else Or
+            if type(left) is Pending and left.kind is kind:  # the chain so far grows (no copy, no new part)
+                left.parts.append(settle(right) if type(right) is Pending and right.kind is not kind else right)
+                values.append(left)
+            else:
+                values.append(Pending(kind, left, right))
             return
         left, right = settle(left), settle(right)
         if op.text == "^":
@@ -133,7 +163,7 @@ def parse_infix(line: Line, names: Names) -> Formula:
         token = tokens[i]
         if expect_operand:
             if token.text in ("!", "("):
-                operators.append(token)
+                operators.append(i)
                 previous = token
                 i += 1
             elif token.kind in ("name", "number"):
@@ -147,19 +177,19 @@ def parse_infix(line: Line, names: Names) -> Formula:
             continue
         if token.text in BINARY:
             precedence, associativity = BINARY[token.text]
-            while operators and operators[-1].text != "(":
-                top = operators[-1].text
+            while operators and tokens.texts[operators[-1]] != "(":
+                top = tokens.texts[operators[-1]]
                 if top == "!" or BINARY[top][0] > precedence or (
                         BINARY[top][0] == precedence and associativity == "left"):
                     reduce()
                 else:
                     break
-            operators.append(token)
+            operators.append(i)
             previous = token
             expect_operand = True
             i += 1
         elif token.text == ")":
-            while operators and operators[-1].text != "(":
+            while operators and tokens.texts[operators[-1]] != "(":
                 reduce()
             if not operators:
                 raise names.error(token.column, "unexpected ')' without a matching '('")
@@ -177,8 +207,8 @@ def parse_infix(line: Line, names: Names) -> Formula:
             raise names.error(end, "expected a formula")
         raise names.error(end, f"expected an operand after '{previous.text}' at column {previous.column}")
     while operators:
-        if operators[-1].text == "(":
-            raise names.error(end, f"expected ')' to close the '(' at column {operators[-1].column}")
+        if tokens.texts[operators[-1]] == "(":
+            raise names.error(end, f"expected ')' to close the '(' at column {tokens.columns[operators[-1]]}")
         reduce()
     return settle(values[0])
 
@@ -192,7 +222,7 @@ def _split_prime(token: _Token, names: Names) -> tuple[str, bool]:
     return name, False
 
 
-def _operator_hint(tokens: list[_Token], i: int) -> str:
+def _operator_hint(tokens: _Tokens, i: int) -> str:
     """A hint for a Boolean operator written as a comparison: ``=>`` (implication is ``->``), ``=``
     or ``==`` between propositions (equivalence is ``<->``), ``>=``/``<=`` for ``->``/``<-``."""
     op = tokens[i]
@@ -210,7 +240,7 @@ def _operator_hint(tokens: list[_Token], i: int) -> str:
     return ""
 
 
-def _atom(tokens: list[_Token], i: int, names: Names) -> tuple[Formula, int]:
+def _atom(tokens: _Tokens, i: int, names: Names) -> tuple[Formula, int]:
     """A proposition, a constant or a comparison starting at ``tokens[i]``; returns the next index."""
     token = tokens[i]
     nxt = tokens[i + 1].text if i + 1 < len(tokens) else None
@@ -244,7 +274,7 @@ def _atom(tokens: list[_Token], i: int, names: Names) -> tuple[Formula, int]:
     return compare(op, left, right), i
 
 
-def _sum(tokens: list[_Token], i: int, names: Names, after: str | None = None) -> tuple[IntExpr, int]:
+def _sum(tokens: _Tokens, i: int, names: Names, after: str | None = None) -> tuple[IntExpr, int]:
     """``term (+ term)*`` where a term is a number or an integer variable, possibly primed."""
     total = IntExpr()
     while True:

@@ -87,7 +87,7 @@ def synthesize(spec: Spec, *, robotics_semantics: bool = DEFAULT_OPTIONS.robotic
     """
     start = time.perf_counter()
     limit = deadline if deadline is not None else Deadline(timeout)
-    game = Game(spec, max_memory=max_memory, deadline=limit)
+    game = Game(spec, max_memory=max_memory, deadline=limit, progress=progress)
     with memory_guard(game.max_memory):
         if not strategy:
             solution = solve(game, robotics_semantics=robotics_semantics, early_exit=True, options=options,

@@ -52,12 +52,13 @@ from __future__ import annotations
 import operator
 import sys
 import warnings
-from collections.abc import Iterator, Mapping
+from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
 
 from ltl_stack.spec.formula import And, Const, Formula, Iff, Implies, Not, Or, Var, Xor
 from ltl_stack.spec.model import SECTIONS, Clause, Spec
 from ltl_stack.synthesis import kernel, order_cache
+from ltl_stack.synthesis.build_progress import BuildProgress
 from ltl_stack.synthesis.errors import MemoryLimitReached
 from ltl_stack.synthesis.options import LOOSE_UP_TO, MANAGER_ESTIMATE, NO_DEADLINE, Deadline, memory_cap
 from ltl_stack.synthesis.relation import Relation
@@ -180,7 +181,8 @@ class Game:
 
     def __init__(self, spec: Spec, *, bdd=None, interleave: bool | None = None,
                  fused: bool = True, max_memory: int | None = None, deadline: Deadline = NO_DEADLINE,
-                 partition: bool = True, reuse_order: bool = True) -> None:
+                 partition: bool = True, reuse_order: bool = True,
+                 progress: Callable[[str], None] | None = None) -> None:
         """``interleave=None`` chooses the variable order (see ``_conjoin``): interleaved unless the
         safety conjunctions are much smaller with all current variables before all next ones.
         ``True``/``False`` force one order and ``fused=False`` quantifies after conjoining; those
@@ -189,7 +191,8 @@ class Game:
         and every later computation on the game. ``partition=False`` keeps each safety section as
         one BDD conjoined in file order (the monolithic engine, to measure partitioning and to test
         against). ``reuse_order`` starts a fresh manager in the order saved for this spec (or for
-        one with the same propositions) by an earlier run (``order_cache``; see ``keep_order``)."""
+        one with the same propositions) by an earlier run (``order_cache``; see ``keep_order``).
+        ``progress`` gets a line now and then while the BDDs are built (``build_progress``)."""
         self.partition = partition
         self.reuse_order = reuse_order and bdd is None
         #: "exact" (the saved order of this very spec: no sifting at all), "propositions" (one of a
@@ -197,6 +200,9 @@ class Game:
         self.order_reused: str | None = None
         self.max_memory = memory_cap(max_memory)
         self.deadline = deadline
+        self._building: BuildProgress | None = None
+        if progress is not None:
+            self._building = BuildProgress(progress, sum(len(spec.section(name)) for name in SECTIONS))
         # the rival order of the race is sifted freely and built clause by clause; with thousands of
         # variables one clause such as x_i -> x_i' over all i is exponential in the block order
         race = (interleave is None and bdd is None and BACKEND == "cudd"
@@ -206,6 +212,7 @@ class Game:
                 self._build(spec, bdd, interleave is not False, fused, race)
             except _BlockOrderWins:
                 self._build(spec, None, False, fused, False)
+        self._building = None
 
     def _setup(self, spec: Spec, bdd, interleave: bool) -> None:
         self.spec = spec
@@ -251,7 +258,7 @@ class Game:
         self.false = self.bdd.false
 
         self._clauses: dict[str, list[tuple[Clause, object]]] = {
-            name: [(c, self.to_bdd(c.formula)) for c in spec.section(name)] for name in SECTIONS
+            name: [self._clause_bdd(name, c) for c in spec.section(name)] for name in SECTIONS
         }
         self.env_init = self._conjoin("env_init")
         self.sys_init = self._conjoin("sys_init")
@@ -269,6 +276,22 @@ class Game:
         self.nodes = len(self.bdd)
         # slugs forbids primed outputs in env safety; if a spec has them, use the general cpre.
         self._env_sees_outputs_next = any(v in self.env_rel.support for v in self.outputs_next)
+
+    def _clause_bdd(self, section: str, clause: Clause) -> tuple[Clause, object]:
+        building = getattr(self, "_building", None)
+        if building is not None:
+            building.at(f"{section} line {clause.line}")
+        u = self.to_bdd(clause.formula)
+        if building is not None:
+            building.clause_done()
+        return clause, u
+
+    def _check(self) -> None:
+        """Between two BDD operations: the deadline, and the construction's progress."""
+        self.deadline.check()
+        building = getattr(self, "_building", None)
+        if building is not None:
+            building.tick()
 
     @property
     def env_trans(self):
@@ -327,7 +350,7 @@ class Game:
         is linear in the formula's nodes plus the BDD operations (``deadline`` checked before each).
         """
         bdd = self.bdd
-        check = self.deadline.check
+        check = self._check
         variables = self._variable_bdds
         done: dict[int, object] = {}
         stack: list[Formula] = [formula]
@@ -400,8 +423,10 @@ class Game:
         rival = rival_acc = None
         streak = 0
         clauses = self._clauses[section]
+        if getattr(self, "_building", None) is not None:
+            self._building.at(f"conjoining {section}")
         for k, (_, u) in enumerate(clauses):
-            self.deadline.check()
+            self._check()
             acc &= u
             if self._race and section == RACE_SECTION and rival is None and len(acc) > RACE_START:
                 rival = Game.__new__(Game)
@@ -434,6 +459,8 @@ class Game:
         clauses = [u for _, u in self._clauses[section]]
         if not self.partition:
             return Relation(self.bdd, [self._conjoin(section)], check=self.deadline.check)
+        if getattr(self, "_building", None) is not None:
+            self._building.at(f"clustering {section}")
         reordering = []
 
         def grown(nodes: int) -> None:
@@ -443,7 +470,7 @@ class Game:
 
         try:
             shrink = (lambda: _backend.reorder(self.bdd)) if self.may_reorder else None
-            return Relation.from_clauses(self.bdd, clauses, quantified, check=self.deadline.check,
+            return Relation.from_clauses(self.bdd, clauses, quantified, check=self._check,
                                          grown=grown, shrink=shrink)
         finally:
             if reordering:

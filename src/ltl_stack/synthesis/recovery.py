@@ -45,6 +45,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from enum import Enum
+from typing import Any
 
 from ltl_stack.spec.model import Clause
 from ltl_stack.synthesis.errors import AssumptionViolation
@@ -266,6 +267,12 @@ def unkeepable_clauses(game: Game, assign: dict, unknown_next: Sequence[str] = (
     restricted = [(c, bdd.let(assign, u)) for c, u in game.clauses("sys_safety")]
     if unknown_next:  # forall distributes over the conjunction of the clauses
         restricted = [(c, bdd.forall(list(unknown_next), u)) for c, u in restricted]
+    return unsatisfiable_core(bdd, restricted)
+
+
+def unsatisfiable_core(bdd: Any, restricted: Sequence[tuple[Clause, Any]]) -> list[Clause]:
+    """Of ``(clause, BDD)`` pairs whose BDDs have no common satisfying valuation: the clauses false
+    on their own when there are any, else a subset minimal by deletion."""
     alone = [c for c, u in restricted if u == bdd.false]
     if alone:
         return alone

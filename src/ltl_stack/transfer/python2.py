@@ -10,9 +10,9 @@ keeps the program's own tabs). Two Python 2 statements are read by blanking them
 from __future__ import annotations
 
 import ast
-import io
 import re
 import tokenize
+from collections.abc import Callable, Iterator
 
 from ltl_stack.errors import InputError
 
@@ -51,11 +51,27 @@ def _blank(lines: list[str], start: tuple[int, int], end: tuple[int, int], keep:
         lines[row - 1] = line[:a] + fill + line[b:]
 
 
-def _from(tokens: list, start: int):
-    """``tokens[start:]`` one by one without copying or skipping through the list (``islice`` walks
-    from the beginning: a print statement per line made the transfer quadratic)."""
-    for index in range(start, len(tokens)):
-        yield tokens[index]
+def _with_following(tokens: Iterator[tokenize.TokenInfo]) -> Iterator[tuple[tokenize.TokenInfo,
+                                                                                tokenize.TokenInfo | None]]:
+    """Each token with the one after it (None at the end), read as the tokenizer makes them: the
+    whole token list of a large program is some 75 times its size."""
+    tok = next(tokens, None)
+    while tok is not None:
+        following = next(tokens, None)
+        yield tok, following
+        tok = following
+
+
+def _ends_print(t: tokenize.TokenInfo) -> bool:
+    return t.type in (tokenize.NEWLINE, tokenize.ENDMARKER) or (t.type == tokenize.OP and t.string == ";")
+
+
+def _ends_line(t: tokenize.TokenInfo) -> bool:
+    return t.type in (tokenize.NEWLINE, tokenize.ENDMARKER)
+
+
+def _ends_except(t: tokenize.TokenInfo) -> bool:
+    return t.type in (tokenize.NEWLINE, tokenize.ENDMARKER) or (t.type == tokenize.OP and t.string == ":")
 
 
 def python2_parse_text(text: str, filename: str) -> tuple[str, list[int]]:
@@ -63,18 +79,33 @@ def python2_parse_text(text: str, filename: str) -> tuple[str, list[int]]:
     indentation shifts returned beside it); InputError naming the line for what it cannot read."""
     expanded, shifts = expand_indentation(text)
     lines = expanded.splitlines(keepends=True)
+    del expanded
     try:
-        tokens = list(tokenize.generate_tokens(io.StringIO(expanded).readline))
+        _blank_python2(lines, filename)
     except (tokenize.TokenError, SyntaxError) as err:
         line = err.lineno if isinstance(err, SyntaxError) else err.args[1][0]
         raise InputError(filename, f"not valid Python 2 or 3: {err.args[0]}", line or 0) from None
+    return "".join(lines), shifts
+
+
+def _blank_python2(lines: list[str], filename: str) -> None:
+    """Blank the Python 2 statements of ``lines`` in place, one token at a time (a statement's blank
+    is made when the token that ends it comes); Python2Unsupported for what cannot be read."""
     logical_start = True
     depth = 0
     statement = None    # 'except' or 'raise' while inside one at bracket depth 0
-    for i, tok in enumerate(tokens):
+    open_blanks: list[tuple[tuple[int, int], str, Callable[[tokenize.TokenInfo], bool]]] = []
+    for tok, following in _with_following(tokenize.generate_tokens(iter(lines).__next__)):
+        if open_blanks:  # a print statement or an ``except E, name`` that ends here
+            still = []
+            for start, keep, ends in open_blanks:
+                if ends(tok):
+                    _blank(lines, start, tok.start, keep)
+                else:
+                    still.append((start, keep, ends))
+            open_blanks = still
         if tok.string == "`" and tok.type in (tokenize.OP, tokenize.ERRORTOKEN):
             raise Python2Unsupported(filename, "backquotes (repr)", tok.start[0])
-        following = tokens[i + 1] if i + 1 < len(tokens) else None
         adjacent = following is not None and following.start == tok.end
         # up to Python 3.11 tokenize splits '<>' into '<' '>' and 0755 into 0 755; 3.12 keeps each one token
         if tok.string == "<>" or (adjacent and tok.string == "<" and following.string == ">"):
@@ -101,18 +132,13 @@ def python2_parse_text(text: str, filename: str) -> tuple[str, list[int]]:
                 raise Python2Unsupported(filename, "the exec statement", tok.start[0])
             if tok.string == "print" and following is not None and not (
                     following.type == tokenize.OP and following.string in ("(", "=", ".", "[")):
-                end = next(t for t in _from(tokens, i) if t.type in (tokenize.NEWLINE, tokenize.ENDMARKER)
-                           or (t.type == tokenize.OP and t.string == ";"))
-                _blank(lines, tok.start, end.start, "pass")
+                open_blanks.append((tok.start, "pass", _ends_print))
             if tok.string in ("except", "raise"):
                 statement = tok.string
         elif statement and depth == 0 and tok.type == tokenize.OP and tok.string == ",":
-            end = next(t for t in _from(tokens, i) if t.type in (tokenize.NEWLINE, tokenize.ENDMARKER)
-                       or (t.type == tokenize.OP and t.string == ":" and statement == "except"))
-            _blank(lines, tok.start, end.start)
+            open_blanks.append((tok.start, "", _ends_except if statement == "except" else _ends_line))
             statement = None
         logical_start = False
-    return "".join(lines), shifts
 
 
 def parse_python2(text: str, filename: str) -> tuple[ast.Module, list[int]]:

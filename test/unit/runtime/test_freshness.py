@@ -155,3 +155,68 @@ outputs: {}
     assert valuation_topics(mapping, ["a_rc", "b_rc", "c_rc", "person"], "kitchen") == {
         "/kitchen/localization/valuation": ["a_rc", "b_rc"]}
     assert valuation_topics(None, ["a_rc"], "kitchen") == {}
+
+
+PEER = """[INPUT]
+peer_in_hall
+door_open
+[OUTPUT]
+enter
+wait
+[SYS_INIT]
+!enter
+[SYS_TRANS]
+peer_in_hall' -> !enter'
+wait' <-> !enter'
+enter' -> door_open'
+[ENV_LIVENESS]
+!peer_in_hall & door_open
+[SYS_LIVENESS]
+enter
+"""
+
+
+def test_an_input_never_heard_of_is_unknown_only_when_passed_as_no_longer_waited_for():
+    fresh = Freshness({"a": 1.0, "b": 0.0, "c": 2.0})
+    assert fresh.stale(5.0) == []  # c never reported: the start waits for it
+    assert fresh.stale(5.0, unheard=["b", "c"]) == ["c"]  # b has no bound: it goes on holding the start
+    fresh.seen("c", 5.0)
+    assert fresh.stale(5.5, unheard=["c"]) == []
+    assert "c (/t/c, no message yet)" in unknown_text(["c"], {"c": "/t/c"}, Freshness({"c": 2.0}), 1.0)
+
+
+def test_a_robot_starts_while_its_peer_is_silent_with_outputs_safe_for_every_value_then_runs_when_it_reports():
+    controller = controller_of(PEER)
+    reports = NodeReports(controller, "hold", True, {"peer_in_hall": "/peer/in_hall", "door_open": "/me/door"}, 10.0)
+    controller.report("door_open", True)
+    assert controller.missing_inputs() == ["peer_in_hall"]
+    update = controller.set_unknown(["peer_in_hall"])
+    # the peer may be in the hall: never enter; wait' <-> !enter' then asks for wait (not all false)
+    assert update.outputs == {"enter": False, "wait": True} and not update.unkeepable and not update.started
+    assert reports.current_mode() == "inputs_unknown"
+    status = reports.unknown_report(update, "peer_in_hall (/peer/in_hall, no message yet)")
+    assert status.level == WARN and "not starting until they report" in status.message
+    assert reports.silent_inputs(10.0) is None  # the ready handshake no longer holds it: it is unknown
+    assert [s.level for s in reports.health(10.0)] == [WARN, WARN]
+    assert controller.report("door_open", False).outputs == {"enter": False, "wait": True}  # nothing started
+    assert controller.state is None
+    controller.report("peer_in_hall", False)
+    started = controller.set_unknown([])  # it reported: start, from the outputs the robot already has
+    assert started.started and controller.state is not None and started.unknown == []
+    assert controller.state.outputs == {"enter": False, "wait": True}
+    assert reports.unknown_report(started, "").message.startswith("every input has reported; started in state")
+    controller.report("door_open", True)
+    assert controller.current_outputs()["enter"]  # running normally
+
+
+def test_a_silent_peer_with_no_output_safe_for_every_value_keeps_every_output_false_with_the_clauses():
+    controller = controller_of(CMD_VEL)
+    update = controller.set_unknown(["person"])
+    assert update.outputs == {"move": False, "stop": False}
+    assert {c.text for c in update.unkeepable} == {"move' <-> !person'", "stop' <-> person'"}
+    reports = NodeReports(controller, "hold", True, {"person": "/r/inputs/person"}, 10.0)
+    status = reports.unknown_report(update, "person")  # not started: every output was false already
+    assert status.level == WARN and "no output valuation keeps the system safety" in status.message
+    assert reports.mode_report().status.level == WARN
+    controller.report("person", False)
+    assert controller.set_unknown([]).outputs == {"move": True, "stop": False}

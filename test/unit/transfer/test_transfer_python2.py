@@ -1,5 +1,6 @@
 """Python 2 sources: tabs as Python 2 expands them, print statements, refusals naming the construct."""
 import ast
+import tracemalloc
 from pathlib import Path
 
 import pytest
@@ -92,3 +93,16 @@ def test_every_literal_is_found_at_its_own_bytes_however_the_indentation_mixes(p
     literals = [n for n in ast.walk(src.tree) if isinstance(getattr(n, "value", None), str)
                 and n.value.startswith("t")]
     assert sorted(src.segment(n) for n in literals) == sorted(f"'t{i}'" for i in range(len(block)))
+
+
+def test_many_print_statements_are_read_in_memory_a_small_multiple_of_the_program():
+    # memory is measured (tracemalloc's peak while reading), time is not; the whole token list was ~80x
+    text = "import sys\n" + "".join(f"print 'line', {i}\n" for i in range(5000))
+    tracemalloc.start()
+    try:
+        parse_text, _ = python2_parse_text(text, "prints.py")
+        _, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    assert parse_text.count("pass") == 5000, parse_text[:200]
+    assert peak <= 20 * len(text), peak / len(text)
