@@ -62,11 +62,11 @@ def test_rviz_config_shows_the_markers_in_the_map_frame(launch):
     classes = {d["Class"] for d in displays}
     # map_markers' topics, relative: one per map_markers node of the launch file (kitchen: one per robot)
     text = launch.read_text()
-    marker_nodes = re.findall(r'<group ns="(\w+)">\s*<node name="map_markers"', text)
+    marker_nodes = re.findall(r'<group ns="(\w+)"[^>]*>\s*<node name="map_markers"', text)
     want_markers = [f"{ns}/markers" for ns in marker_nodes] or ["markers"]
     # and the static map (region_markers, latched once) of the node that draws the regions, when there is a map
     if list(rviz_config(launch).parent.glob("*.regions")):
-        drawing = [ns for ns, body in re.findall(r'<group ns="(\w+)">\s*<node name="map_markers"(.*?)</node>', text,
+        drawing = [ns for ns, body in re.findall(r'<group ns="(\w+)"[^>]*>\s*<node name="map_markers"(.*?)</node>', text,
                                                  re.S) if 'name="draw_regions" value="false"' not in body]
         want_markers += [f"{ns}/region_markers" for ns in drawing] or ["region_markers"]
     assert sorted(d["Marker Topic"] for d in displays if d["Class"] == "rviz/MarkerArray") == sorted(want_markers)
