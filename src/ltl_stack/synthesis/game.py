@@ -49,8 +49,10 @@ the environment breaks its safety assumptions first, so
 """
 from __future__ import annotations
 
+import gc
 import operator
 import sys
+import threading
 import warnings
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
@@ -145,17 +147,53 @@ class _BlockOrderWins(Exception):
     """Raised inside ``Game`` construction when the block variable order won the order race."""
 
 
+#: Every CUDD manager made by ``new_manager`` that may still have nodes in use (see ``_release_managers``).
+_MANAGERS: list = []
+_MANAGERS_LOCK = threading.Lock()
+
+
+def _release_managers(*_gc_info: object) -> None:
+    """Let go of the managers nobody else holds and that hold no node any more.
+
+    A game, its strategy and the nodes it made often sit in reference cycles (bound methods kept as
+    attributes, exceptions kept with their frames). The collector then clears a node's reference to
+    its manager before it frees the node, so the manager could be freed first: dd refuses that with
+    "Still N nodes referenced upon shutdown" (printed as an ignored exception, a traceback in a node's
+    log) and leaves CUDD's memory behind. Held here, a manager outlives its last node; this releases
+    it after the collection that freed the nodes (a ``gc.callbacks`` hook) or at the next manager."""
+    if (_gc_info and _gc_info[0] != "stop") or not _MANAGERS_LOCK.acquire(blocking=False):
+        return  # (before a collection; or another thread is at it)
+    try:
+        kept = []
+        while _MANAGERS:
+            manager = _MANAGERS.pop()
+            # references: ``manager`` here and getrefcount's argument
+            if len(manager) == 0 and sys.getrefcount(manager) <= 2:
+                continue
+            kept.append(manager)
+        manager = None
+        _MANAGERS.extend(kept)
+    finally:
+        _MANAGERS_LOCK.release()
+
+
 def new_manager(max_memory: int):
     """A BDD manager whose memory cap is ``max_memory`` bytes from its first node on.
 
     CUDD starts with a small cache (it grows on demand) to start fast; past the cap an operation
-    fails and ``memory_guard`` turns that into ``MemoryLimitReached``.
+    fails and ``memory_guard`` turns that into ``MemoryLimitReached``. The manager is kept alive
+    until its last node is freed (``_release_managers``).
     """
     if BACKEND != "cudd":  # pragma: no cover
         return _backend.BDD()
     with memory_guard(max_memory):
         bdd = _backend.BDD(memory_estimate=min(max_memory, MANAGER_ESTIMATE), initial_cache_size=2**16)
         bdd.configure(max_memory=max_memory, loose_up_to=LOOSE_UP_TO)
+    _release_managers()
+    with _MANAGERS_LOCK:
+        if _release_managers not in gc.callbacks:
+            gc.callbacks.append(_release_managers)
+        _MANAGERS.append(bdd)
     return bdd
 
 

@@ -160,14 +160,18 @@ class Negotiator:
                 self.current = None
 
     def initiate(self, star: Spec, peer: str, incoming: Mapping[str, bool], outputs: Mapping[str, bool],
-                 hold: bool = False) -> Negotiation:
+                 hold: bool = False, epoch: int | None = None) -> Negotiation:
         """Run Alg. 4 as the robot that detected the conflict. ``hold``: an adoption keeps this robot
-        busy until the caller has installed it (``release``)."""
+        busy until the caller has installed it (``release``). ``epoch``: ours when ``star`` was read;
+        an adoption installed since (a peer's negotiation we answered) makes ``star`` stale, and
+        this one fails as busy so that the caller reads the spec again."""
         n = Negotiation(star, self.classes, peer, incoming=incoming, outputs=outputs, initiator=True,
                         synthesis_options=self.synthesis_options, session=self.session_for(peer))
         n.stage = self._stager(n)
         with self.lock:
             busy = self._busy()
+            if busy is None and epoch is not None and epoch != self.epoch:
+                busy = f"{BUSY} {self.classes.robot} has just adopted a new specification; reading it again"
             if busy is not None:  # we answer someone else: no negotiation of ours, nothing used up
                 n.fail(busy)
                 return n
@@ -395,12 +399,14 @@ class Negotiator:
         current = {**observation.current_inputs, **observation.current_outputs}
         deadline = time.monotonic() + self.answer_wait
         while True:
+            with self.lock:
+                epoch = self.epoch
             with strategy.lock:
                 star = strategy.negotiation_base()
             peer = self.choose(star, current, observation.incoming)
             if peer is None:
                 return None
-            n = self.initiate(star, peer, observation.incoming, observation.current_outputs, hold=True)
+            n = self.initiate(star, peer, observation.incoming, observation.current_outputs, hold=True, epoch=epoch)
             if not (n.outcome is Outcome.FAILED and BUSY in n.reason) or time.monotonic() > deadline:
                 break
             time.sleep(self.random.uniform(*self.retry))
