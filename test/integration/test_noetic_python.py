@@ -7,7 +7,7 @@ sys.path holds that venv's site-packages and then Debian's /usr/lib/python3/dist
 file, as a ``--system-site-packages`` venv would place them), and the workspace's devel space (our
 generated messages) on PYTHONPATH. The test itself and the master run on the main Python.
 
-tools/python_matrix.sh runs it after the 3.8 unit suite, with LTL_STACK_NOETIC_VENV naming that venv;
+tools/python_matrix.sh runs it on every run (the 3.8 unit suite only when asked), with LTL_STACK_NOETIC_VENV naming that venv;
 the main run skips it, saying so.
 """
 from __future__ import annotations
