@@ -51,6 +51,7 @@ def test_move_base_region_drives_there_completes_and_localization_from_tf_follow
             f"proposition:={ros.topic('outputs/rightLane')}", f"completion:={ros.topic('inputs/rightLane_done')}")
     region.wait_last(lambda s: s.data == "topLane", what="localization: topLane from tf")
     ros.master.wait_for_subscriber(ros.topic("move_base/result"))
+    goals.wait_connected()  # the goal is published once, not latched: hear it
     ros.set_bool(ros.topic("outputs/rightLane"), True)
     completion.wait_last(lambda b: b.data is True, timeout=90, what="move_base goal reached")
     region.wait_last(lambda s: s.data == "rightLane", what="localization: rightLane")
@@ -110,6 +111,7 @@ def test_region_localization_from_amcl_pose_does_not_chatter_on_a_border(ros):
     whole = ros.record(f"{ros.ns}/{ros.ns.strip('/')}_region_localization/valuation", PropositionValuation)
     ros.run("region_localization", f"_regions_file:={REGIONS}", "_source:=topic", "_hysteresis:=0.2",
             "_pose_type:=geometry_msgs/PoseWithCovarianceStamped", f"__ns:={ros.ns}")
+    whole.wait_connected()  # latched: one connecting late would hear only the last valuation
     (x1, y1), (x2, y2) = shared_border(MAP.find("topLane"), MAP.find("rightLane"))
     mx, my = (x1 + x2) / 2, (y1 + y2) / 2
     length = ((x2 - x1) ** 2 + (y2 - y1) ** 2) ** 0.5
