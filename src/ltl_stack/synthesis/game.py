@@ -167,8 +167,9 @@ def _release_managers(*_gc_info: object) -> None:
         kept = []
         while _MANAGERS:
             manager = _MANAGERS.pop()
-            # references: ``manager`` here and getrefcount's argument
-            if len(manager) == 0 and sys.getrefcount(manager) <= 2:
+            # references: ``manager`` here and getrefcount's argument (tested first: len() walks
+            # CUDD's whole node table, and this runs after every collection)
+            if sys.getrefcount(manager) <= 2 and len(manager) == 0:
                 continue
             kept.append(manager)
         manager = None
