@@ -245,9 +245,14 @@ def test_controller_view_follows_alices_resynthesis(qtbot, tmp_path, monkeypatch
         view.topic_combo_box.setEditText(state)
         assert view.attach()
         qtbot.waitUntil(lambda: view.model is not None and view.shown is not None, timeout=WAIT)
-        qtbot.waitUntil(lambda: view.model is not None and view.model.generation >= 1 and view.model.spec_path == str(characterized),
-                        timeout=180_000)
-        assert "new strategies" in view.resilience_label.text() and view.shown.resyntheses >= 1
+
+        def characterized_strategy_loaded_and_a_state_shown() -> bool:
+            # after loading the new strategy the view shows the next state it is given, a tick later
+            model, shown = view.model, view.shown
+            return (model is not None and model.generation >= 1 and model.spec_path == str(characterized)
+                    and shown is not None and shown.resyntheses >= 1)
+        qtbot.waitUntil(characterized_strategy_loaded_and_a_state_shown, timeout=180_000)
+        assert "new strategies" in view.resilience_label.text()
         assert view.shown.mode and "strategy" in view.strategy_label.text()
         view.shutdown()
     finally:
@@ -275,9 +280,14 @@ def test_controller_view_follows_ds_adoption_on_kitchen(qtbot, tmp_path, monkeyp
         view.topic_combo_box.setEditText(state)
         assert view.attach()
         qtbot.waitUntil(lambda: view.model is not None and view.shown is not None, timeout=120_000)
-        qtbot.waitUntil(lambda: view.model is not None and view.model.generation >= 1 and view.model.spec_path == str(adopted),
-                        timeout=120_000)
-        assert view.shown.generation >= 1 and view.shown.spec_file == str(adopted)
+
+        def adopted_strategy_loaded_and_a_state_of_it_shown() -> bool:
+            # the view loads the new strategy, then shows the next state it is given (a tick later); until
+            # D reports a state of the new strategy, the last one shown may be of the old
+            model, shown = view.model, view.shown
+            return (model is not None and model.generation >= 1 and model.spec_path == str(adopted)
+                    and shown is not None and shown.generation >= 1 and shown.spec_file == str(adopted))
+        qtbot.waitUntil(adopted_strategy_loaded_and_a_state_of_it_shown, timeout=120_000)
         assert view.shown.negotiations >= 1 and view.shown.negotiated >= 1  # D negotiated with A and adopted
         assert f"negotiations {view.shown.negotiations}" in view.resilience_label.text()
         assert view.strategy_label.text().startswith(f"strategy {view.model.generation}: {adopted} (")
