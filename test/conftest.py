@@ -33,7 +33,13 @@ UNIT = Path(__file__).resolve().parent / "unit"
 settings.register_profile("suite", derandomize=True, database=None, deadline=None, print_blob=True)
 settings.register_profile("explore", max_examples=1000, deadline=None,
                           suppress_health_check=[HealthCheck.too_slow])
-settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "suite"))
+#: the suite's fixed examples where the BDDs are dd's pure-Python ones (Python 3.8, no CUDD wheel), fewer
+#: of them: there every BDD operation costs tens of times the CPU, and the same properties run with all
+#: their examples on CUDD in the other legs; tests that ask for more get this many (see below)
+PURE_PYTHON_DD_PROFILE = "suite_pure_python_dd"
+settings.register_profile(PURE_PYTHON_DD_PROFILE, parent=settings.get_profile("suite"), max_examples=10)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", PURE_PYTHON_DD_PROFILE if helpers.BDD_BACKEND != "cudd"
+                                     else "suite"))
 # saved variable orders (ltl_stack.synthesis.order_cache) would make a test depend on the runs
 # before it and write into the user's cache: off unless a test points it at a folder of its own
 os.environ["LTL_STACK_ORDER_CACHE"] = "off"
@@ -81,12 +87,38 @@ def pytest_collection_modifyitems(session: pytest.Session, config: pytest.Config
         w = 2 if item.get_closest_marker("slow") else 1 if item.get_closest_marker("ros") else 0
         weight[module] = max(weight.get(module, 0), w)
     items.sort(key=lambda item: -weight[item.nodeid.split("::")[0]])
+    if helpers.BDD_BACKEND != "cudd":
+        heavy = pytest.mark.skip(reason=helpers.HEAVY_GAME_REASON)
+        for item in items:
+            if item.get_closest_marker("heavy_game"):
+                item.add_marker(heavy)
+    if settings.default is settings.get_profile(PURE_PYTHON_DD_PROFILE):
+        _cap_examples(items, settings.default.max_examples)
     if not helpers.ROS_PYTHON:
         skip = pytest.mark.skip(reason="needs Debian's ROS Python modules (rospy, rosgraph), which this Python "
                                        "cannot import; the main run (Python 3.11) runs it")
         for item in items:
             if item.get_closest_marker("ros_python"):
                 item.add_marker(skip)
+
+
+def _cap_examples(items: list[pytest.Item], cap: int) -> None:
+    """Hypothesis tests that set their own ``max_examples`` above ``cap`` run ``cap`` examples (the
+    pure-Python dd profile): their settings object, which ``@settings`` stores on the test function, is
+    replaced by one that differs only there."""
+    for item in items:
+        test = getattr(item, "obj", None)
+        own = getattr(test, "_hypothesis_internal_use_settings", None)
+        if own is not None and own.max_examples > cap:
+            test._hypothesis_internal_use_settings = settings(own, max_examples=cap)
+
+
+def pytest_report_header(config: pytest.Config) -> str:
+    if helpers.BDD_BACKEND == "cudd":
+        return "BDDs: CUDD"
+    examples = (f"Hypothesis profile {PURE_PYTHON_DD_PROFILE} (at most {settings.default.max_examples} examples a "
+                f"test)" if settings.default is settings.get_profile(PURE_PYTHON_DD_PROFILE) else "")
+    return f"BDDs: dd's pure-Python dd.autoref (no CUDD here): {examples}; tests marked heavy_game skipped"
 
 
 @pytest.fixture(scope="session", autouse=True)

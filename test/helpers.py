@@ -52,11 +52,23 @@ def _bdd_backend() -> str:
     return BACKEND
 
 
+#: the BDD package synthesis runs on here: "cudd", or "autoref" (dd's pure-Python BDDs: Python 3.8,
+#: whose dd has no CUDD wheel; docs/python_versions.md)
+BDD_BACKEND = _bdd_backend()
+
 #: a test of what only CUDD does (the memory cap of --max-memory, dynamic reordering and its counts, the
 #: manager's statistics); Python 3.8's dd has no CUDD (docs/python_versions.md), and there synthesis
 #: runs on dd.autoref, which the rest of the suite tests
-needs_cudd = pytest.mark.skipif(_bdd_backend() != "cudd",
+needs_cudd = pytest.mark.skipif(BDD_BACKEND != "cudd",
                                 reason="needs dd.cudd (CUDD), which this Python's dd wheel lacks")
+
+#: a test that solves large games (or many): on dd.autoref each takes minutes of a busy machine's CPU,
+#: more than the whole rest of the 3.8 unit leg; test/conftest.py skips it there, saying why (the same
+#: code runs on CUDD in every other leg, and dd.autoref's answers are compared with CUDD's by
+#: test_pure_python_dd.py)
+heavy_game = pytest.mark.heavy_game
+HEAVY_GAME_REASON = ("solves large games: on pure-Python dd (dd.autoref; this Python's dd has no CUDD) that takes "
+                     "minutes, beyond the 3.8 leg's budget; the runs with CUDD (Python 3.9-3.13) check it")
 
 
 def script_marks(tool: str) -> list[pytest.MarkDecorator]:
