@@ -8,8 +8,10 @@
 # scripts need Debian's Python 3.11 modules and stay in the main run. Then the Noetic leg (unless
 # LTL_STACK_NOETIC_LEG=0): test/integration/test_noetic_python.py runs the controller executor and a
 # proposition node under 3.8 (ROS Noetic's Python) with that venv's packages first and Debian's ROS
-# modules after them, on a master of its own. The 3.8 unit suite (pure-Python dd: about an hour on a
-# busy 2-core machine) runs only when asked: LTL_STACK_PYTHONS="3.8". Exit status: the first failing
+# modules after them, on a master of its own. The 3.8 unit suite runs only when asked
+# (LTL_STACK_PYTHONS="3.8"): dd has no CUDD there, so it runs the Hypothesis profile
+# suite_pure_python_dd (fewer examples) and skips the tests marked heavy_game (test/conftest.py),
+# and still takes several minutes of CPU (docs/python_versions.md). Exit status: the first failing
 # leg's pytest code.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -84,6 +86,8 @@ for version in $LEGS; do
   case " $VERSIONS " in
     *" $version "*)
       say "Python $version ($("$venv/bin/python" --version 2>&1)): ROS-free unit suite"
+      [ "$version" != "$NOETIC" ] || say "Python $version: dd without CUDD (pure-Python dd.autoref): Hypothesis" \
+        "profile suite_pure_python_dd (fewer examples), tests marked heavy_game skipped (test/conftest.py)"
       # pytest-timeout is a hang guard (pytest.ini: 600 s a test); without CUDD (3.8: dd.autoref) a
       # characterization test's resyntheses take tens of times the CPU, over 10 min on a loaded machine
       timeout=600

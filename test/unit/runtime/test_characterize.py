@@ -7,6 +7,7 @@ import itertools
 from pathlib import Path
 
 import pytest
+from helpers import heavy_game
 
 from ltl_stack.runtime.characterize import (
     EC1,
@@ -187,6 +188,7 @@ def patrol_run(rs: ResilientStrategy, spill_steps: int, user: str) -> list[dict]
     return trace
 
 
+@heavy_game  # its resyntheses took over 600 s on pure-Python dd under load (docs/python_versions.md)
 def test_patrol_with_characterization_only_resynthesizes_on_every_violation():
     rs = ResilientStrategy(load_spec(PATROL), recovery=False)
     trace = patrol_run(rs, spill_steps=8, user="!spill")

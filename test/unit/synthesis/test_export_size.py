@@ -7,7 +7,7 @@ in the suite: ``test/benchmarks/bench_explicit.py --slugs SLUGS [--cooperative]`
 from __future__ import annotations
 
 import pytest
-from helpers import require_shared
+from helpers import heavy_game, require_shared
 
 from ltl_stack.spec import load_spec
 from ltl_stack.synthesis import synthesize
@@ -24,13 +24,21 @@ SLUGS_PLAIN = {"fastslow__fastslow_ICRA": 552, "move_group_and_move_base": 472, 
                "single_robot_scenario": 52}
 
 
+#: fastslow_ICRA's game is the largest here (~15 s of CPU per synthesis on pure-Python dd)
+HEAVY = "fastslow__fastslow_ICRA"
+
+
+def cases(sizes: dict[str, int]) -> list:
+    return [pytest.param(name, marks=heavy_game) if name == HEAVY else name for name in sizes]
+
+
 def spec_path(name: str):
     if name == "move_group_and_move_base":
         return require_shared("specs", name, f"{name}.slugsin")
     return require_shared("specs", "benchmarks", "slugsin", f"{name}.slugsin")
 
 
-@pytest.mark.parametrize("name", list(SLUGS_COOPERATIVE))
+@pytest.mark.parametrize("name", cases(SLUGS_COOPERATIVE))
 def test_the_default_export_is_no_larger_than_slugs_cooperative_one(name):
     result = synthesize(load_spec(spec_path(name)))
     automaton = result.strategy.explicit()
@@ -41,7 +49,7 @@ def test_the_default_export_is_no_larger_than_slugs_cooperative_one(name):
     assert len(automaton.states) <= len(extract(result.strategy).states)
 
 
-@pytest.mark.parametrize("name", list(SLUGS_PLAIN))
+@pytest.mark.parametrize("name", cases(SLUGS_PLAIN))
 def test_the_no_cooperative_export_is_no_larger_than_slugs_default_one(name):
     result = synthesize(load_spec(spec_path(name)), cooperative=False)
     automaton = result.strategy.explicit()
@@ -62,17 +70,19 @@ def test_a_smaller_automaton_that_traps_the_environment_is_not_taken():
     assert len(default.states) > len(plain.states)
 
 
+@heavy_game
 def test_the_executor_and_the_export_step_the_same_automaton():
     """``explicit`` is deterministic: the executor's automaton (~state ids) is the export's."""
-    spec = load_spec(spec_path("fastslow__fastslow_ICRA"))
+    spec = load_spec(spec_path(HEAVY))
     a = synthesize(spec).strategy.explicit()
     b = synthesize(spec).strategy.explicit()
     assert [(s.inputs, s.outputs, s.goal, s.successors) for s in a.states] == \
         [(s.inputs, s.outputs, s.goal, s.successors) for s in b.states]
 
 
+@heavy_game
 def test_plain_relations_keep_the_cooperative_solution():
-    result = synthesize(load_spec(spec_path("fastslow__fastslow_ICRA")))
+    result = synthesize(load_spec(spec_path(HEAVY)))
     plain = SymbolicStrategy(result.game, result.solution, cooperative=False)
     assert result.solution.cooperative and plain.winning == result.strategy.winning
 
