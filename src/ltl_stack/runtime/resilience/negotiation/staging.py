@@ -6,7 +6,7 @@ import contextlib
 from pathlib import Path
 
 from ltl_stack.fileio import write_atomic
-from ltl_stack.runtime.negotiation.messages import Adoption
+from ltl_stack.runtime.resilience.negotiation.messages import Adoption
 from ltl_stack.spec import write_slugsin
 from ltl_stack.spec.model import Spec
 

@@ -2,7 +2,7 @@
 
 The ``Controller`` owns a strategy (anything with ``inputs``, ``outputs``, ``initial_state(inputs=,
 outputs=)`` and ``step(state, inputs)``, such as ``ltl_stack.synthesis.SymbolicStrategy`` or
-``ltl_stack.runtime.explicit.AutomatonStrategy``), the current state, the latest input readings,
+``ltl_stack.runtime.executor.explicit.AutomatonStrategy``), the current state, the latest input readings,
 and the run/pause switch. It is event driven: a reading that changes the input valuation steps the
 strategy at once; a repeated reading does nothing.
 
@@ -20,11 +20,11 @@ strategy at once; a repeated reading does nothing.
   its last state, remembers the violation, and — by ``on_violation`` — holds the last outputs or drives
   all outputs false. Each later change of the readings is tried again from the last state, so the
   controller resumes on its own once the inputs are admissible again. A ``recovery`` callable
-  (``ltl_stack.runtime.recovery.RecoveringStrategy.recover``, thesis §4.6) may return a state to
+  (``ltl_stack.runtime.executor.recovery.RecoveringStrategy.recover``, thesis §4.6) may return a state to
   continue from instead: the controller takes it like a step (the Update says ``recovered``, the
   outputs are the new state's, no policy applies); None means no recovery, and the policy applies.
 
-* Lemma 1(a) (thesis ch. 4): a ``guard`` (``ltl_stack.runtime.modes.OutputGuard``, installed by
+* Lemma 1(a) (thesis ch. 4): a ``guard`` (``ltl_stack.runtime.executor.modes.OutputGuard``, installed by
   ``make_controller``) turns the policy's valuation into one that keeps the system safety rho_s for
   the move the world sees: from the position last *published* (the readings then and the outputs
   published then, which differ from the last state's after an earlier policy valuation) to the
@@ -35,7 +35,7 @@ strategy at once; a repeated reading does nothing.
   Update carries them).
 
 * Unknown inputs (``set_unknown``): inputs whose last reading is older than their freshness bound
-  (``runtime.freshness``; a partition, a dead sensor), or, before the start, inputs never heard of
+  (``runtime.executor.freshness``; a partition, a dead sensor), or, before the start, inputs never heard of
   that the node stopped waiting for (a peer's host down when the robot starts): the outputs until
   they report keep ``[SYS_INIT]`` for every value of them, and the strategy starts when they have. Nothing is stepped while there are any (a step
   would take a stale reading for the truth); the outputs are those nearest to the ones published
@@ -46,7 +46,7 @@ strategy at once; a repeated reading does nothing.
 
 * Abort (``abort``; thesis Alg. 3 line 11, the executor's ``~abort``): every output false, nothing
   stepped any more; the node stays up. ``restart_from(state)`` continues from a state of a strategy
-  that was put in place meanwhile (environment characterization, ``runtime.resilient_executor``).
+  that was put in place meanwhile (environment characterization, ``runtime.resilience.resilient_executor``).
 
 Every method takes ``lock`` (re-entrant), and callers that publish the result should hold it too, so
 that the order of published outputs is the order of the steps.

@@ -27,8 +27,8 @@ from typing import Any
 
 from ltl_stack.errors import InputError
 from ltl_stack.inputs import parse_yaml
-from ltl_stack.runtime.node_params import shown
-from ltl_stack.runtime.sensing import COMPARISONS, extract_field, parse_field_path
+from ltl_stack.runtime.config.node_params import shown
+from ltl_stack.runtime.propositions.sensing import COMPARISONS, extract_field, parse_field_path
 
 #: Operators beyond the comparisons.
 VECTOR_OPS = ("within", "beyond")

@@ -1,7 +1,7 @@
 """Scripted environments that react to the robot: the narratives of thesis Examples 10-12 (§4.10).
 
 A *story* is what the environment and the user do in one example, written once in YAML and played
-both in process (``ltl_stack.runtime.resilience_table``, through ``runtime.Controller`` and
+both in process (``ltl_stack.runtime.resilience.resilience_table``, through ``runtime.Controller`` and
 ``ResilientStrategy``) and on a real master (the ``story_environment`` node of a scenario launch)::
 
     regions: [company, road, storage]   # activation-completion (§4.5): output r = heading to r,

@@ -6,7 +6,7 @@ comments, ``namespace:``, ``expected_feedback:``, ``negotiation:`` and per-entry
 ruamel.yaml's round-trip loader and only the edited values are changed in it, so comments, key order,
 quoting and untouched sections come back as they were (``rows_text``). A file ruamel.yaml cannot
 take (a proposition key written twice, as the thesis' mapping GUI does for two nodes) is ``None``:
-the caller writes the whole mapping instead (``runtime.mapping.format_mapping``).
+the caller writes the whole mapping instead (``runtime.config.mapping.format_mapping``).
 """
 from __future__ import annotations
 
@@ -16,7 +16,7 @@ import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from ltl_stack.runtime.mapping import _TOPIC_KEY, INPUT
+from ltl_stack.runtime.config.mapping import _TOPIC_KEY, INPUT
 
 
 @dataclass(frozen=True)

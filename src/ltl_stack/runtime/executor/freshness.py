@@ -43,7 +43,7 @@ def bound_for_rate(rate: float) -> float:
 
 def freshness_bounds(mapping: Any, inputs: Iterable[str], default: float = 0.0) -> dict[str, float]:
     """Every input's freshness bound (seconds; 0: never stale), from ``mapping`` (a
-    ``runtime.mapping.Mapping`` or None) as the module docstring says."""
+    ``runtime.config.mapping.Mapping`` or None) as the module docstring says."""
     bounds = {}
     for prop in inputs:
         entries = (mapping.inputs.get(prop) or []) if mapping is not None else []

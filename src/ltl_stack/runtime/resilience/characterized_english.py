@@ -25,7 +25,7 @@ from pathlib import Path
 
 from ltl_stack.errors import InputError
 from ltl_stack.inputs import read_text
-from ltl_stack.runtime.characterize import EC1, Characterizer, Observation
+from ltl_stack.runtime.resilience.characterize import EC1, Characterizer, Observation
 from ltl_stack.spec.english_files import read_english
 from ltl_stack.spec.errors import SpecError
 from ltl_stack.spec.formula import And, Formula, Not, Or, Var

@@ -7,7 +7,7 @@ current at any time, and the current region changes only once the robot is ``hys
 past its border, so a robot standing on a border does not make the propositions chatter.
 ``region_goal`` gives the pose a navigation goal for a region aims at (``move_base``'s target pose).
 
-The polygons are those of ``ltl_stack.runtime.regions.RegionMap`` (read by the Structured English
+The polygons are those of ``ltl_stack.runtime.propositions.regions.RegionMap`` (read by the Structured English
 reader's map code), as shapely geometries.
 """
 from __future__ import annotations
@@ -20,7 +20,7 @@ from shapely import STRtree
 from shapely.geometry import Point as ShapelyPoint
 from shapely.geometry import Polygon
 
-from ltl_stack.runtime.regions import RegionMap, RegionsError
+from ltl_stack.runtime.propositions.regions import RegionMap, RegionsError
 
 
 @dataclass(frozen=True)

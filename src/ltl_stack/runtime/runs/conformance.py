@@ -16,7 +16,7 @@ from __future__ import annotations
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 
-from ltl_stack.runtime.trace import TraceStep
+from ltl_stack.runtime.runs.trace import TraceStep
 from ltl_stack.spec.formula import evaluate
 from ltl_stack.spec.model import Clause, Spec
 

@@ -2,7 +2,7 @@
 
 ROS-free, so ``controller_executor --check`` and the unit tests run it without a master; the node
 (``ltl_stack.ros.executor``) only adds the wiring. The executor's options are declared once
-(``runtime.executor_options``): a command-line flag wins over the ``~param`` of the same name, which
+(``runtime.executor.options``): a command-line flag wins over the ``~param`` of the same name, which
 wins over the default, and every value is checked (type, range, choices) before anything starts.
 
 Strategy ids: when the explicit automaton of the synthesized strategy has at most
@@ -17,7 +17,7 @@ violation is answered by a recovery-mode step instead of holding forever. A save
 has no symbolic strategy to recover with: recovery is off then.
 
 Environment characterization (``--characterize``; thesis §4.7, Alg. 2-3, §4.10.2; docs/resilience.md):
-the strategy is a ``runtime.resilient_executor.BackgroundResilience`` (monitor, recovery moves,
+the strategy is a ``runtime.resilience.resilient_executor.BackgroundResilience`` (monitor, recovery moves,
 resynthesis in a worker thread, the user's env liveness, abort). Off by default; on when
 ``~characterized_spec`` names the file that keeps what was learned (``characterization_on``): a
 resynthesis the user cannot see afterwards would be a surprise. The threshold (more than
@@ -37,19 +37,8 @@ from typing import Any, Callable, Tuple
 
 from ltl_stack import cli
 from ltl_stack.errors import Exit, UserError
-from ltl_stack.runtime.characterize import Threshold
-from ltl_stack.runtime.controller import Controller, ViolationPolicy
-from ltl_stack.runtime.executor_options import (
-    EXECUTOR_PARAMS,
-    MAX_EXPLICIT_STATES,
-    PARAMS_BY_NAME,
-    Options,
-    characterization_on,
-    flag_of,
-)
-from ltl_stack.runtime.explicit import AutomatonStrategy
-from ltl_stack.runtime.mapping import Mapping as PropositionMapping
-from ltl_stack.runtime.mapping import (
+from ltl_stack.runtime.config.mapping import Mapping as PropositionMapping
+from ltl_stack.runtime.config.mapping import (
     MappingError,
     check_mapping,
     load_mapping,
@@ -57,11 +46,22 @@ from ltl_stack.runtime.mapping import (
     resolve_topics,
     valuation_topics,
 )
-from ltl_stack.runtime.modes import OutputGuard
-from ltl_stack.runtime.node_params import NodeConfigError, coerce_param
-from ltl_stack.runtime.recovery import RecoveringStrategy
-from ltl_stack.runtime.resilient_executor import BackgroundResilience
-from ltl_stack.runtime.ros_names import check_proposition_names, is_legal_name
+from ltl_stack.runtime.config.node_params import NodeConfigError, coerce_param
+from ltl_stack.runtime.config.ros_names import check_proposition_names, is_legal_name
+from ltl_stack.runtime.executor.controller import Controller, ViolationPolicy
+from ltl_stack.runtime.executor.explicit import AutomatonStrategy
+from ltl_stack.runtime.executor.modes import OutputGuard
+from ltl_stack.runtime.executor.options import (
+    EXECUTOR_PARAMS,
+    MAX_EXPLICIT_STATES,
+    PARAMS_BY_NAME,
+    Options,
+    characterization_on,
+    flag_of,
+)
+from ltl_stack.runtime.executor.recovery import RecoveringStrategy
+from ltl_stack.runtime.resilience.characterize import Threshold
+from ltl_stack.runtime.resilience.resilient_executor import BackgroundResilience
 from ltl_stack.spec import SpecError, load_spec
 from ltl_stack.spec.valuation import parse_valuation
 from ltl_stack.synthesis import Automaton, synthesize
@@ -192,7 +192,7 @@ class Prepared:
     warnings: list[str] = field(default_factory=list)
     #: the spec file as given ("" when it was not read from a file)
     spec_path: str = ""
-    #: ``<node>/valuation`` -> the inputs that node owns (``runtime.mapping.valuation_topics``)
+    #: ``<node>/valuation`` -> the inputs that node owns (``runtime.config.mapping.valuation_topics``)
     valuation_topics: dict[str, list[str]] = field(default_factory=dict)
 
 
@@ -333,7 +333,7 @@ def _primary(strategy: Any, spec: Any, options: Options, log: Callable[[str], No
 
 def make_controller(strategy: Any, options: Options, init: Mapping[str, bool]) -> Controller:
     """The Controller for ``strategy``; a ``RecoveringStrategy`` also becomes its recovery hook, and the
-    ``OutputGuard`` keeps the policy's outputs safe (Lemma 1(a), ``runtime.modes``)."""
+    ``OutputGuard`` keeps the policy's outputs safe (Lemma 1(a), ``runtime.executor.modes``)."""
     recovery = strategy.recover if isinstance(strategy, RecoveringStrategy) else None
     try:
         controller = Controller(strategy, on_violation=options.on_violation, init_props=init,

@@ -12,8 +12,8 @@ import time
 from collections.abc import Callable, Mapping
 from typing import Any
 
-from ltl_stack.runtime.negotiation.classes import Classes, assumptions_about, rename
-from ltl_stack.runtime.negotiation.messages import (
+from ltl_stack.runtime.resilience.negotiation.classes import Classes, assumptions_about, rename
+from ltl_stack.runtime.resilience.negotiation.messages import (
     ABORT,
     COMMIT,
     OFFER,
@@ -26,7 +26,7 @@ from ltl_stack.runtime.negotiation.messages import (
     ProtocolFault,
     offer_refusal,
 )
-from ltl_stack.runtime.negotiation.ownership import Ownership, split_by_ownership
+from ltl_stack.runtime.resilience.negotiation.ownership import Ownership, split_by_ownership
 from ltl_stack.spec import SpecError, clause_to_english, parse_structured
 from ltl_stack.spec.formula import And, Not, Var, variables
 from ltl_stack.spec.model import SECTIONS, Clause, Spec

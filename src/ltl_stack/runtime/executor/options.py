@@ -4,7 +4,7 @@ Every option is one field of ``Options`` made with ``option(...)``: its default,
 values that make sense (``Bound``, choices, a ROS name) and the placeholder of its flag. Everything
 else is derived from these fields, so the copies cannot drift:
 
-* ``EXECUTOR_PARAMS``, the ``Param`` schema that checks every value (``runtime.node_params``);
+* ``EXECUTOR_PARAMS``, the ``Param`` schema that checks every value (``runtime.config.node_params``);
 * the flags of ``controller_executor`` and their ``--help`` (``add_option_arguments``);
 * the ``~param`` of each option, which the node reads (``executor_setup.merge_options``);
 * the effective values the node publishes as ``~effective_options`` (``effective_params``), which
@@ -19,8 +19,8 @@ from dataclasses import MISSING, Field, dataclass, field, fields
 from enum import Enum
 from typing import Any
 
-from ltl_stack.runtime.controller import VIOLATION_POLICIES, ViolationPolicy
-from ltl_stack.runtime.node_params import Bound, Param
+from ltl_stack.runtime.config.node_params import Bound, Param
+from ltl_stack.runtime.executor.controller import VIOLATION_POLICIES, ViolationPolicy
 from ltl_stack.synthesis.options import options_from
 
 #: The explicit automaton is extracted (and its ids used) up to this many states by default.
@@ -220,7 +220,7 @@ def add_option_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 #: The lines around the generated table in docs/executor.md.
-TABLE_START = "<!-- options table: generated from runtime/executor_options.py by tools/write_options_table.py -->"
+TABLE_START = "<!-- options table: generated from runtime/executor/options.py by tools/write_options_table.py -->"
 TABLE_END = "<!-- end of the options table -->"
 
 

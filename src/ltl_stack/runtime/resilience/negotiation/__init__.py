@@ -49,8 +49,8 @@ own spec. A robot is in one negotiation at a time (``sessions.Negotiator``), so 
 on the spec it runs after every earlier adoption. Messages may be signed (``auth``).
 """
 
-from ltl_stack.runtime.negotiation.auth import Authenticator
-from ltl_stack.runtime.negotiation.classes import (
+from ltl_stack.runtime.resilience.negotiation.auth import Authenticator
+from ltl_stack.runtime.resilience.negotiation.classes import (
     Classes,
     NegotiationError,
     Peer,
@@ -62,7 +62,7 @@ from ltl_stack.runtime.negotiation.classes import (
     negotiation_classes,
     rename,
 )
-from ltl_stack.runtime.negotiation.messages import (
+from ltl_stack.runtime.resilience.negotiation.messages import (
     ABORT,
     BUSY,
     MAX_OFFER_BYTES,
@@ -80,10 +80,20 @@ from ltl_stack.runtime.negotiation.messages import (
     offer_refusal,
     report_lines,
 )
-from ltl_stack.runtime.negotiation.ownership import Ownership, split_by_ownership
-from ltl_stack.runtime.negotiation.party import Negotiation, answer, drive
-from ltl_stack.runtime.negotiation.sessions import Negotiator, Transport, count_negotiation, violated_clauses
-from ltl_stack.runtime.negotiation.staging import commit_adopted, discard_staged, stage_adopted, write_adopted
+from ltl_stack.runtime.resilience.negotiation.ownership import Ownership, split_by_ownership
+from ltl_stack.runtime.resilience.negotiation.party import Negotiation, answer, drive
+from ltl_stack.runtime.resilience.negotiation.sessions import (
+    Negotiator,
+    Transport,
+    count_negotiation,
+    violated_clauses,
+)
+from ltl_stack.runtime.resilience.negotiation.staging import (
+    commit_adopted,
+    discard_staged,
+    stage_adopted,
+    write_adopted,
+)
 
 __all__ = ["ABORT", "BUSY", "MAX_OFFER_BYTES", "MAX_OFFER_CLAUSES", "OFFER", "OFFER_SECTIONS", "SIMULTANEOUS",
            "STATUS", "WRITE_FAILED", "Adoption", "Authenticator", "Classes", "Message", "Negotiation",

@@ -13,13 +13,13 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from ltl_stack.errors import UserError
-from ltl_stack.runtime.negotiation.auth import Authenticator, load_authenticator
+from ltl_stack.runtime.resilience.negotiation.auth import Authenticator, load_authenticator
 from ltl_stack.spec.formula import Formula, Var, variables
 from ltl_stack.spec.model import Clause, Spec
 from ltl_stack.spec.ops import map_vars
 
 if TYPE_CHECKING:  # the mapping reader checks this section with this module: no import back at run time
-    from ltl_stack.runtime.mapping import Mapping as MappingFile
+    from ltl_stack.runtime.config.mapping import Mapping as MappingFile
 
 
 class NegotiationError(UserError):

@@ -11,8 +11,8 @@ from typing import Tuple
 from shapely.geometry import Polygon
 from shapely.ops import triangulate
 
-from ltl_stack.runtime.node_mode import Mode
-from ltl_stack.runtime.regions import RegionMap
+from ltl_stack.runtime.executor.node_mode import Mode
+from ltl_stack.runtime.propositions.regions import RegionMap
 from ltl_stack.spec.region_map import BOUNDARY, Point
 from ltl_stack.synthesis.automaton import goal_text
 

@@ -21,7 +21,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from ltl_stack.runtime.explicit import AutomatonStrategy, ExplicitState
+from ltl_stack.runtime.executor.explicit import AutomatonStrategy, ExplicitState
 from ltl_stack.synthesis.errors import AssumptionViolation, SynthesisError
 from ltl_stack.synthesis.recovery import StepResult
 from ltl_stack.synthesis.state import State

@@ -1,6 +1,6 @@
 """Environment characterization inside a running executor: resynthesis off the stepping thread. ROS-free.
 
-``ResilientStrategy`` (``runtime.characterize``) resynthesizes inside ``step``, so whoever steps it
+``ResilientStrategy`` (``runtime.resilience.characterize``) resynthesizes inside ``step``, so whoever steps it
 waits for the synthesizer. The executor node steps in its subscriber callbacks, under the
 controller's lock; a resynthesis there would hold every input callback for as long as synthesis
 takes. ``BackgroundResilience`` keeps the same monitor, threshold, EC sets and Alg. 2/3 logic, but:
@@ -39,7 +39,7 @@ from collections.abc import Mapping
 from typing import Any, Callable
 
 from ltl_stack.fileio import write_atomic
-from ltl_stack.runtime.characterize import (
+from ltl_stack.runtime.resilience.characterize import (
     EC1,
     EC2,
     Attempt,
@@ -50,7 +50,7 @@ from ltl_stack.runtime.characterize import (
     ResilientStrategy,
     _Pending,
 )
-from ltl_stack.runtime.characterized_english import english_text, is_english
+from ltl_stack.runtime.resilience.characterized_english import english_text, is_english
 from ltl_stack.spec import SpecError
 from ltl_stack.spec.model import Clause
 from ltl_stack.synthesis import synthesize

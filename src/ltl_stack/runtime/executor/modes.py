@@ -28,10 +28,10 @@ from dataclasses import dataclass, field, replace
 from typing import Any
 
 from ltl_stack.errors import Exit
-from ltl_stack.runtime.characterize import Counters, ExecutionAborted, Mode
-from ltl_stack.runtime.controller import Controller, Update
-from ltl_stack.runtime.recovery import RecoveringStrategy
-from ltl_stack.runtime.resilient_executor import BackgroundResilience, Busy
+from ltl_stack.runtime.executor.controller import Controller, Update
+from ltl_stack.runtime.executor.recovery import RecoveringStrategy
+from ltl_stack.runtime.resilience.characterize import Counters, ExecutionAborted, Mode
+from ltl_stack.runtime.resilience.resilient_executor import BackgroundResilience, Busy
 from ltl_stack.spec import SpecError
 from ltl_stack.spec.formula_text import clause_to_english
 from ltl_stack.spec.model import Clause
@@ -603,7 +603,7 @@ class NodeReports:
 
     def unknown_report(self, update: Update, named: str) -> Status:
         """The "input freshness" status after the set of unknown (stale) inputs changed to
-        ``update.unknown`` (``named``: them with topic and age, ``runtime.freshness.unknown_text``):
+        ``update.unknown`` (``named``: them with topic and age, ``runtime.executor.freshness.unknown_text``):
         WARN when the outputs keep rho_s for every value of them, ERROR when no valuation does (every
         output false, the clauses named), OK when every input is fresh again."""
         if not update.unknown:

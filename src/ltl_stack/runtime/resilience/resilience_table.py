@@ -11,7 +11,7 @@ fired), resyntheses (EC1, EC2, after the user's liveness), times the spec was un
 the transitions taken while the original environment assumptions were violated; next to the
 figures the thesis gives. ROS-free and deterministic::
 
-    python -m ltl_stack.runtime.resilience_table [--example alice] [--json] [--trace]
+    python -m ltl_stack.runtime.resilience.resilience_table [--example alice] [--json] [--trace]
 """
 from __future__ import annotations
 
@@ -23,9 +23,9 @@ from pathlib import Path
 
 from ltl_stack import cli
 from ltl_stack.errors import Exit, UserError
-from ltl_stack.runtime.characterize import Mode, ResilientStrategy, Threshold
-from ltl_stack.runtime.controller import Controller
-from ltl_stack.runtime.story import Story, StoryPlayer, load_story, region_of
+from ltl_stack.runtime.executor.controller import Controller
+from ltl_stack.runtime.resilience.characterize import Mode, ResilientStrategy, Threshold
+from ltl_stack.runtime.resilience.story import Story, StoryPlayer, load_story, region_of
 from ltl_stack.spec import load_spec
 from ltl_stack.spec.formula import evaluate
 from ltl_stack.spec.model import Spec
@@ -110,7 +110,7 @@ class Run:
 
 def package_dir() -> Path:
     """The ltl_stack package folder (where config/ is)."""
-    return Path(__file__).resolve().parents[3]
+    return Path(__file__).resolve().parents[4]
 
 
 def violates(spec: Spec, current: dict[str, bool], incoming: dict[str, bool]) -> bool:

@@ -20,9 +20,9 @@ subscribe to its output topic::
         - {node: '/ns/outputs/r1/stop', node_subscribe_topic: '/ns/outputs/stop', ...}
 
 Compatible extensions: an optional top-level ``namespace:``; ``negotiation:`` (the proposition
-classes for integrative negotiation, read by ``runtime.negotiation``, docs/negotiation.md); per node ``type:`` (the executable,
+classes for integrative negotiation, read by ``runtime.resilience.negotiation``, docs/negotiation.md); per node ``type:`` (the executable,
 otherwise taken from ``filename``) and ``args:`` (command-line arguments for the launch file); per input
-``freshness:`` (seconds a reading stays valid; 0: forever; ``runtime.freshness``).
+``freshness:`` (seconds a reading stays valid; 0: forever; ``runtime.executor.freshness``).
 
 ``load_mapping`` reads a file as it is (structure errors raise ``MappingError`` naming file and line);
 ``check_mapping`` compares it with a spec's propositions and returns errors and warnings.
@@ -88,7 +88,7 @@ class NodeEntry:
     type: str | None = None
     args: str = ""
     line: int = 0
-    #: seconds a reading of this input stays valid (None: derived, ``runtime.freshness``; 0: forever)
+    #: seconds a reading of this input stays valid (None: derived, ``runtime.executor.freshness``; 0: forever)
     freshness: float | None = None
 
     @property
@@ -113,7 +113,7 @@ class Mapping:
     outputs: dict[str, list[NodeEntry]] = field(default_factory=dict)
     lines: dict[tuple[str, str], int] = field(default_factory=dict)
     namespace: str | None = None
-    #: the ``negotiation:`` section as written (proposition classes, read by ``runtime.negotiation``)
+    #: the ``negotiation:`` section as written (proposition classes, read by ``runtime.resilience.negotiation``)
     negotiation: Any = None
     negotiation_line: int = 0
     #: ``expected_feedback:`` — (output pattern, input pattern, line): E1 pairs the user declares designed
@@ -273,10 +273,10 @@ def _entry(file: str, kind: str, prop: str, value: Any, node: yaml.Node) -> Node
 
 
 def _check_negotiation(mapping: Mapping) -> None:
-    """The ``negotiation:`` section has the shape ``runtime.negotiation`` reads (robot:, peers: …),
+    """The ``negotiation:`` section has the shape ``runtime.resilience.negotiation`` reads (robot:, peers: …),
     checked when the file is read, so every reader of mappings (the executor's ``--check``,
     ``generate_launch``, the mapping panel) refuses a wrong one, not only a running executor."""
-    from ltl_stack.runtime.negotiation import NegotiationError, classes_from_data
+    from ltl_stack.runtime.resilience.negotiation import NegotiationError, classes_from_data
 
     try:
         classes_from_data(mapping.negotiation, mapping.file, mapping.negotiation_line)

@@ -19,7 +19,7 @@ from typing import Any
 
 from ltl_stack.cli import MAX_RATE
 from ltl_stack.errors import Exit, UserError
-from ltl_stack.runtime.ros_names import is_legal_name
+from ltl_stack.runtime.config.ros_names import is_legal_name
 
 
 class NodeConfigError(UserError):

@@ -13,9 +13,9 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any, Callable, Protocol
 
-from ltl_stack.runtime.characterize import NegotiationAbort
-from ltl_stack.runtime.negotiation.classes import Classes, Peer
-from ltl_stack.runtime.negotiation.messages import (
+from ltl_stack.runtime.resilience.characterize import NegotiationAbort
+from ltl_stack.runtime.resilience.negotiation.classes import Classes, Peer
+from ltl_stack.runtime.resilience.negotiation.messages import (
     ABORT,
     BUSY,
     COMMIT,
@@ -27,14 +27,19 @@ from ltl_stack.runtime.negotiation.messages import (
     Phase,
     offer_refusal,
 )
-from ltl_stack.runtime.negotiation.party import Negotiation, answer, confirm, drive
-from ltl_stack.runtime.negotiation.staging import commit_adopted, discard_staged, stage_adopted, write_adopted
+from ltl_stack.runtime.resilience.negotiation.party import Negotiation, answer, confirm, drive
+from ltl_stack.runtime.resilience.negotiation.staging import (
+    commit_adopted,
+    discard_staged,
+    stage_adopted,
+    write_adopted,
+)
 from ltl_stack.spec.formula import evaluate
 from ltl_stack.spec.model import Clause, Spec
 
 
 class NegotiationHost(Protocol):
-    """What negotiation needs of a robot's resilient strategy (``runtime.characterize.ResilientStrategy``
+    """What negotiation needs of a robot's resilient strategy (``runtime.resilience.characterize.ResilientStrategy``
     and the executor's ``BackgroundResilience`` implement it)."""
 
     lock: Any
@@ -384,7 +389,7 @@ class Negotiator:
     def reports(self) -> list[dict[str, Any]]:
         return [n.report() for n in self.history]
 
-    # --- with a ResilientStrategy (runtime.characterize) -------------------------------------------------
+    # --- with a ResilientStrategy (runtime.resilience.characterize) -------------------------------------------------
     def hook(self, strategy: Any, observation: Any) -> Spec | None:
         """``ResilientStrategy(negotiate=negotiator.hook)`` (the executor's negotiation hook,
         docs/resilience.md): Alg. 3 line 9. Negotiates with the peer whose eAP inputs the violated

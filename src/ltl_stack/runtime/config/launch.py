@@ -33,7 +33,7 @@ import yaml
 
 from ltl_stack import cli
 from ltl_stack.errors import Exit, UserError
-from ltl_stack.runtime.mapping import (
+from ltl_stack.runtime.config.mapping import (
     INPUT,
     Mapping,
     MappingError,
@@ -42,7 +42,7 @@ from ltl_stack.runtime.mapping import (
     load_mapping,
     misfit,
 )
-from ltl_stack.runtime.ros_names import check_proposition_names, is_legal_base_name, is_legal_name
+from ltl_stack.runtime.config.ros_names import check_proposition_names, is_legal_base_name, is_legal_name
 from ltl_stack.spec import SpecError, load_spec
 
 PROG = "generate_launch"

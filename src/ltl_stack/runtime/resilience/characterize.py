@@ -42,7 +42,7 @@ from pathlib import Path
 from typing import Any, Callable, Optional
 
 from ltl_stack.fileio import write_atomic
-from ltl_stack.runtime.node_mode import Mode
+from ltl_stack.runtime.executor.node_mode import Mode
 from ltl_stack.spec import (
     SpecError,
     formula_to_infix,
@@ -518,7 +518,7 @@ class ResilientStrategy:
         self._event("adopted the specification negotiated with a collaborative robot (Alg. 4)")
         return state
 
-    # --- integrative negotiation (the interface ``runtime.negotiation.sessions.NegotiationHost``) ----
+    # --- integrative negotiation (the interface ``runtime.resilience.negotiation.sessions.NegotiationHost``) ----
     def negotiation_base(self) -> Spec:
         """phi*_r (Alg. 4): the spec a negotiation starts from — the original, or the one adopted last."""
         return self.characterizer.original

@@ -1,0 +1,1 @@
+"""The cores of the proposition nodes, ROS-free: edges, sensing, predicates, regions and localization."""

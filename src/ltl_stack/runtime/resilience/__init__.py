@@ -1,0 +1,1 @@
+"""Resilient execution (thesis ch. 4), ROS-free: characterization, resynthesis, stories, negotiation."""
