@@ -6,7 +6,7 @@ It synthesizes the spec (or loads a saved strategy JSON), subscribes to every in
 
 The ROS-free parts are ``ltl_stack.runtime.executor.controller.Controller`` (stepping, pause, violation
 policy), ``ltl_stack.runtime.executor.setup`` (options, spec, mapping, topics, strategy) and
-``ltl_stack.runtime.executor.modes.NodeReports`` (what each update publishes, the counters, the mode, health
+``ltl_stack.runtime.executor.node_reports.NodeReports`` (what each update publishes, the counters, the mode, health
 and violation reports of ``~state`` and /diagnostics); this module only wires them:
 
 * stepping happens in the subscriber callback that changed the input valuation (under the
@@ -62,7 +62,8 @@ from ltl_stack.runtime.config.mapping import resolve_topics, valuation_topics
 from ltl_stack.runtime.config.node_params import split_param_args
 from ltl_stack.runtime.executor.controller import Controller, Update
 from ltl_stack.runtime.executor.freshness import Freshness, freshness_bounds, unknown_text
-from ltl_stack.runtime.executor.modes import (
+from ltl_stack.runtime.executor.node_mode import Mode
+from ltl_stack.runtime.executor.node_reports import (
     INITIAL_STATUSES,
     USER_ABORT,
     NodeReports,
@@ -92,7 +93,7 @@ from ltl_stack.runtime.executor.setup import (
     prepare,
     scenario_namespace,
 )
-from ltl_stack.runtime.resilience.characterize import Counters, Event, Mode, Negotiate
+from ltl_stack.runtime.resilience.characterize import Counters, Event, Negotiate
 from ltl_stack.runtime.resilience.negotiation import classes_authenticator, negotiation_classes
 from ltl_stack.runtime.resilience.resilient_executor import BackgroundResilience, thread_runner
 from ltl_stack.srv import AddEnvLiveness, AddEnvLivenessResponse

@@ -12,7 +12,7 @@ from ltl_stack.runtime.executor.freshness import (
     freshness_bounds,
     unknown_text,
 )
-from ltl_stack.runtime.executor.modes import ERROR, OK, WARN, NodeReports
+from ltl_stack.runtime.executor.node_reports import ERROR, OK, WARN, NodeReports
 from ltl_stack.runtime.executor.setup import build_strategy, make_controller, merge_options
 from ltl_stack.spec import parse_structured
 

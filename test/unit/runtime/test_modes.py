@@ -1,4 +1,4 @@
-"""What the executor publishes in each mode and phase (``runtime.executor.modes``), no ROS."""
+"""What the executor publishes in each mode and phase (``runtime.executor.node_reports``), no ROS."""
 from __future__ import annotations
 
 import os
@@ -6,7 +6,7 @@ import re
 
 import pytest
 
-from ltl_stack.runtime.executor.modes import liveness_refusal, strategy_source
+from ltl_stack.runtime.executor.node_reports import liveness_refusal, strategy_source
 from ltl_stack.runtime.executor.setup import ExecutorError, check_characterized_spec, merge_options
 from ltl_stack.runtime.resilience.characterize import Mode
 from ltl_stack.runtime.resilience.resilient_executor import BackgroundResilience, NotReady
@@ -92,7 +92,7 @@ def test_history_and_events_stay_bounded_over_many_resyntheses():
 def test_violation_report_names_the_broken_and_the_unkeepable_clauses():
     """Item 9: the violation report is ROS-free; without a safe valuation it says so and names the
     guarantees (file:line)."""
-    from ltl_stack.runtime.executor.modes import violation_report
+    from ltl_stack.runtime.executor.node_reports import violation_report
     from ltl_stack.synthesis.errors import AssumptionViolation
 
     spec = parse_structured("[INPUT]\np\n\n[OUTPUT]\nx\n\n[ENV_TRANS]\n!p'\n\n[SYS_TRANS]\np' -> x'\np' -> !x'\n", "s")

@@ -8,8 +8,8 @@ from pathlib import Path
 import pytest
 
 from ltl_stack.gui.controller_model import MODES
-from ltl_stack.runtime.executor.modes import ERROR, MODE_LEVELS, OK, current_mode, mode_text
 from ltl_stack.runtime.executor.node_mode import Mode
+from ltl_stack.runtime.executor.node_reports import ERROR, MODE_LEVELS, OK, current_mode, mode_text
 from ltl_stack.runtime.runs.map_view import mode_label
 
 REPO = Path(__file__).resolve().parents[3]

@@ -17,7 +17,7 @@ from hypothesis import HealthCheck, assume, example, given, settings
 from hypothesis import strategies as st
 from queued_jobs import Jobs
 
-from ltl_stack.runtime.executor.modes import nearest_safe_outputs
+from ltl_stack.runtime.executor.output_guard import nearest_safe_outputs
 from ltl_stack.runtime.executor.setup import build_strategy, make_controller, merge_options
 from ltl_stack.runtime.resilience.characterize import Observation
 from ltl_stack.runtime.resilience.resilient_executor import BackgroundResilience

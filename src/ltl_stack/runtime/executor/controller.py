@@ -24,7 +24,7 @@ strategy at once; a repeated reading does nothing.
   continue from instead: the controller takes it like a step (the Update says ``recovered``, the
   outputs are the new state's, no policy applies); None means no recovery, and the policy applies.
 
-* Lemma 1(a) (thesis ch. 4): a ``guard`` (``ltl_stack.runtime.executor.modes.OutputGuard``, installed by
+* Lemma 1(a) (thesis ch. 4): a ``guard`` (``ltl_stack.runtime.executor.output_guard.OutputGuard``, installed by
   ``make_controller``) turns the policy's valuation into one that keeps the system safety rho_s for
   the move the world sees: from the position last *published* (the readings then and the outputs
   published then, which differ from the last state's after an earlier policy valuation) to the

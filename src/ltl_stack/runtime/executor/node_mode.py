@@ -7,7 +7,7 @@ from enum import Enum
 
 class Mode(Enum):
     """What the controller executor is doing: the ``mode`` of ``~state`` and of its "mode" status on
-    /diagnostics (``runtime.executor.modes.current_mode``), spelled by its value everywhere (the GUI, the
+    /diagnostics (``runtime.executor.node_reports.current_mode``), spelled by its value everywhere (the GUI, the
     trace, docs/executor.md). A resilient strategy takes NORMAL, RECOVERING, CHARACTERIZING,
     WAITING_FOR_USER and ABORTED itself; the node adds HOLDING (a violation no recovery move answers)
     and INPUTS_UNKNOWN (stale inputs)."""

@@ -13,7 +13,7 @@ import os
 from dataclasses import dataclass
 from typing import Any
 
-from ltl_stack.runtime.executor.modes import strategy_source
+from ltl_stack.runtime.executor.node_reports import strategy_source
 from ltl_stack.synthesis import DEFAULT_OPTIONS
 
 #: The largest spec text sent on ~source (a larger one is sent by path and digest only).

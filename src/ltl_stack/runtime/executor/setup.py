@@ -50,7 +50,6 @@ from ltl_stack.runtime.config.node_params import NodeConfigError, coerce_param
 from ltl_stack.runtime.config.ros_names import check_proposition_names, is_legal_name
 from ltl_stack.runtime.executor.controller import Controller, ViolationPolicy
 from ltl_stack.runtime.executor.explicit import AutomatonStrategy
-from ltl_stack.runtime.executor.modes import OutputGuard
 from ltl_stack.runtime.executor.options import (
     EXECUTOR_PARAMS,
     MAX_EXPLICIT_STATES,
@@ -59,6 +58,7 @@ from ltl_stack.runtime.executor.options import (
     characterization_on,
     flag_of,
 )
+from ltl_stack.runtime.executor.output_guard import OutputGuard
 from ltl_stack.runtime.executor.recovery import RecoveringStrategy
 from ltl_stack.runtime.resilience.characterize import Threshold
 from ltl_stack.runtime.resilience.resilient_executor import BackgroundResilience
@@ -333,7 +333,7 @@ def _primary(strategy: Any, spec: Any, options: Options, log: Callable[[str], No
 
 def make_controller(strategy: Any, options: Options, init: Mapping[str, bool]) -> Controller:
     """The Controller for ``strategy``; a ``RecoveringStrategy`` also becomes its recovery hook, and the
-    ``OutputGuard`` keeps the policy's outputs safe (Lemma 1(a), ``runtime.executor.modes``)."""
+    ``OutputGuard`` keeps the policy's outputs safe (Lemma 1(a), ``runtime.executor.output_guard``)."""
     recovery = strategy.recover if isinstance(strategy, RecoveringStrategy) else None
     try:
         controller = Controller(strategy, on_violation=options.on_violation, init_props=init,

@@ -1,36 +1,25 @@
-"""What the executor node publishes in each mode and phase, free of ROS (thesis ch. 4, Lemma 1(a)).
+"""What the executor node reports, free of ROS: the mode of the node and its words and levels on
+/diagnostics, what one controller update publishes, the violation report, the counters, the answers of
+its services and the ``--json`` events (thesis ch. 4).
 
-Lemma 1(a) asks that every move the robot makes keeps the system safety rho_s whenever some move
-does. Strategy moves (normal steps, recovery moves, thesis §4.6) keep it by construction; the
-outputs the node publishes when it does *not* take a strategy move — a violation with recovery off
-(``--no-recovery``: holding, characterizing, waiting for the user), a violation no recovery move
-answers, the phases of negotiation — come from the ``--on-violation`` policy, and ``OutputGuard``
-makes them keep rho_s too:
-
-* ``hold``: the outputs of the controller's last state when they keep rho_s with the current inputs
-  from the position last *published* (not the last state: after a policy valuation the two differ,
-  and guarantees tying consecutive outputs, ``stop -> brake'``, are about what the robot did), else
-  the valuation that keeps rho_s with the fewest outputs changed;
-* ``all-false``: the valuation that keeps rho_s with the fewest outputs true;
-* only when no output valuation keeps rho_s the policy's valuation is published as it is, and the
-  guard names the clauses that cannot be kept together (``file:line``; the node logs them as ERROR).
-
-``NodeReports`` holds the node's other decisions: what one controller update publishes, how
-violations, recovery moves and unsafe steps are counted, the mode and health statuses of
-/diagnostics (texts and levels), the violation report and the ``--json`` events. The node
+``NodeReports`` holds the node's decisions: what one controller update publishes, how violations,
+recovery moves and unsafe steps are counted, the mode and health statuses of /diagnostics (texts and
+levels), the violation report and the ``--json`` events. The outputs published while the node takes
+no strategy move are the output guard's (``output_guard``, Lemma 1(a)). The node
 (``ltl_stack.ros.executor``) only wires these decisions to topics, timers, logs and /diagnostics.
 """
 from __future__ import annotations
 
 import os
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from typing import Any
 
 from ltl_stack.errors import Exit
 from ltl_stack.runtime.executor.controller import Controller, Update
+from ltl_stack.runtime.executor.node_mode import Mode
 from ltl_stack.runtime.executor.recovery import RecoveringStrategy
-from ltl_stack.runtime.resilience.characterize import Counters, ExecutionAborted, Mode
+from ltl_stack.runtime.resilience.characterize import Counters, ExecutionAborted
 from ltl_stack.runtime.resilience.resilient_executor import BackgroundResilience, Busy
 from ltl_stack.spec import SpecError
 from ltl_stack.spec.formula_text import clause_to_english
@@ -39,14 +28,16 @@ from ltl_stack.spec.valuation import format_valuation
 from ltl_stack.synthesis.automaton import goal_text
 from ltl_stack.synthesis.errors import AssumptionViolation
 from ltl_stack.synthesis.explain_render import clause_line, explanation_text
-from ltl_stack.synthesis.game import Game, prime_name
 from ltl_stack.synthesis.recovery import (
     StepKind,
     StepResult,
     UnsafeStep,
-    unkeepable_clauses,
-    unsatisfiable_core,
 )
+
+__all__ = ["ERROR", "INITIAL_STATUSES", "MODE_LEVELS", "OK", "USER_ABORT", "WARN", "Answer", "ModeReport",
+           "NodeReports", "Publication", "Status", "ViolationReport", "aborted_report", "counters_event",
+           "current_mode", "english", "liveness_refusal", "mode_text", "policy_text", "readings_key", "shown",
+           "step_report", "strategy_source", "violation_report", "waiting_text"]
 
 #: The levels of diagnostic_msgs/DiagnosticStatus.
 OK, WARN, ERROR = 0, 1, 2
@@ -54,105 +45,6 @@ OK, WARN, ERROR = 0, 1, 2
 MODE_LEVELS = {Mode.NORMAL.value: OK, Mode.RECOVERING.value: WARN, Mode.HOLDING.value: WARN,
                Mode.CHARACTERIZING.value: WARN, Mode.WAITING_FOR_USER.value: WARN, Mode.INPUTS_UNKNOWN.value: WARN,
                Mode.ABORTED.value: ERROR}
-
-
-@dataclass(frozen=True)
-class Guarded:
-    """The outputs to publish; ``unkeepable`` names the rho_s clauses no valuation keeps (then
-    ``outputs`` is the wanted valuation, unchanged)."""
-
-    outputs: dict[str, bool]
-    unkeepable: list[Clause] = field(default_factory=list)
-
-    @property
-    def safe(self) -> bool:
-        return not self.unkeepable
-
-
-def nearest_safe_outputs(game: Game, position: Mapping[str, bool], inputs: Mapping[str, bool],
-                         wanted: Mapping[str, bool], unknown: Sequence[str] = ()) -> Guarded:
-    """The output valuation keeping rho_s (``game.sys_trans``) for the move from ``position`` (every
-    input and output) to (``inputs``, outputs) that differs from ``wanted`` in the fewest outputs
-    (ties: ``wanted``'s value in spec order); ``wanted`` itself when it keeps rho_s. The search
-    counts differences over the outputs rho_s constrains here: O(k^2) BDD operations for k of them.
-
-    ``unknown``: inputs whose next value is not known (stale readings): the valuation must keep rho_s
-    for *every* value of them — the next outputs allowed are ``forall unknown'. rho_s`` with the
-    known values put in, one exact BDD quantification."""
-    bdd = game.bdd
-    unknown_next = [prime_name(p) for p in game.inputs if p in unknown]
-    assign = game.assignment({p: bool(position[p]) for p in game.variables},
-                             {p: bool(inputs[p]) for p in game.inputs if p not in unknown})
-    allowed = game.sys_rel.restrict(assign)  # over the next outputs (and the unknown next inputs)
-    if unknown_next:
-        allowed = bdd.forall(unknown_next, allowed)
-    wanted = {p: bool(wanted[p]) for p in game.outputs}
-    if bdd.let({prime_name(p): v for p, v in wanted.items()}, allowed) == bdd.true:
-        return Guarded(wanted)
-    if allowed == bdd.false:
-        return Guarded(wanted, unkeepable_clauses(game, assign, unknown_next))
-    return Guarded(_nearest(bdd, allowed, wanted, game.outputs, prime_name))
-
-
-def _nearest(bdd: Any, allowed: Any, wanted: dict[str, bool], outputs: Sequence[str], name_of: Any) -> dict[str, bool]:
-    """The valuation of ``outputs`` (BDD variables ``name_of(p)``) in ``allowed`` (not false) that
-    differs from ``wanted`` in the fewest outputs; ties: ``wanted``'s value in spec order."""
-    support = bdd.support(allowed)
-    names = [p for p in outputs if name_of(p) in support]
-    exact = [bdd.true]  # exact[j]: the valuations of the names seen so far with j changes
-    for name in names:
-        same = bdd.var(name_of(name)) if wanted[name] else ~bdd.var(name_of(name))
-        grown = [bdd.false] * (len(exact) + 1)
-        for j, u in enumerate(exact):
-            grown[j] |= u & same
-            grown[j + 1] |= u & ~same
-        exact = grown
-    for u in exact:
-        candidates = allowed & u
-        if candidates != bdd.false:
-            break
-    chosen = dict(wanted)
-    for name in names:  # wanted's value first, in spec order: deterministic
-        value = wanted[name]
-        rest = bdd.let({name_of(name): value}, candidates)
-        if rest == bdd.false:
-            value = not value
-            rest = bdd.let({name_of(name): value}, candidates)
-        chosen[name] = value
-        candidates = rest
-    return chosen
-
-
-def safe_initial_outputs(game: Game, inputs: Mapping[str, bool], wanted: Mapping[str, bool],
-                         unknown: Sequence[str]) -> Guarded:
-    """Before the start, with the inputs ``unknown`` never heard of: the output valuation nearest to
-    ``wanted`` that the robot may hold whatever they do — it keeps ``[SYS_INIT]`` for every value of
-    them, and rho_s for every move that keeps these outputs, the known ``inputs`` and changes only
-    them (``forall u. sys_init  &  forall u, u'. rho_s[o' := o]``, exact BDD quantifications, no
-    environment assumption relied on: their values are not known). When none does, ``wanted`` with
-    the clauses that cannot be kept together (``synthesis.recovery.unsatisfiable_core``)."""
-    bdd = game.bdd
-    known = {p: bool(inputs[p]) for p in game.inputs if p not in unknown and p in inputs}
-    free = [p for p in game.inputs if p not in known]
-    assign = game.assignment(known, known)
-    held = {prime_name(p): bdd.var(p) for p in game.outputs}  # o' := o
-
-    def restricted(u: Any, kept: bool) -> Any:
-        u = bdd.let(assign, u) if assign else u
-        if kept:
-            u = bdd.let(held, u)
-        names = free + [prime_name(p) for p in free] if kept else free
-        return bdd.forall(names, u) if names else u
-
-    clauses = [(c, restricted(u, False)) for c, u in game.clauses("sys_init")]
-    clauses += [(c, restricted(u, True)) for c, u in game.clauses("sys_safety")]
-    allowed = bdd.true
-    for _, u in clauses:
-        allowed &= u
-    wanted = {p: bool(wanted[p]) for p in game.outputs}
-    if allowed == bdd.false:
-        return Guarded(wanted, unsatisfiable_core(bdd, clauses))
-    return Guarded(_nearest(bdd, allowed, wanted, game.outputs, lambda p: p))
 
 
 def current_mode(aborted: bool, violation: bool, resilient: str | None, recovered: bool,
@@ -275,56 +167,6 @@ def violation_report(violation: Any, result: Any, unkeepable: list[Clause], read
     if unsafe:
         event["unsafe"] = unsafe
     return ViolationReport(text, values, event, WARN if recovered else ERROR)
-
-
-def game_of(strategy: Any) -> Game | None:
-    """The game whose rho_s the running strategy keeps: the symbolic strategy's (for a resilient
-    one, the strategy in place now), else one built from an explicit strategy's spec."""
-    inner = getattr(strategy, "strategy", None)  # ResilientStrategy / BackgroundResilience
-    if inner is not None and getattr(inner, "game", None) is not None:
-        return inner.game
-    symbolic = getattr(strategy, "symbolic", None)  # RecoveringStrategy
-    if symbolic is not None:
-        return symbolic.game
-    if getattr(strategy, "game", None) is not None:
-        return strategy.game
-    spec = getattr(strategy, "spec", None)
-    return Game(spec) if spec is not None else None
-
-
-class OutputGuard:
-    """The Controller's ``guard``: the policy's outputs made to keep rho_s (module docstring)."""
-
-    def __init__(self, strategy: Any) -> None:
-        self.strategy = strategy
-        self._game: Game | None = None
-        self._explicit = getattr(strategy, "strategy", None) is None and getattr(strategy, "symbolic", None) is None \
-            and getattr(strategy, "game", None) is None
-
-    def game(self) -> Game | None:
-        if self._explicit:  # a saved automaton: build its game once
-            if self._game is None:
-                self._game = game_of(self.strategy)
-            return self._game
-        return game_of(self.strategy)
-
-    def __call__(self, position: Mapping[str, bool], inputs: Mapping[str, bool],
-                 wanted: Mapping[str, bool], unknown: Sequence[str] = ()) -> Guarded:
-        """``wanted`` made to keep rho_s for the move from ``position`` (the inputs and outputs
-        last published) to ``inputs``, for every value of the ``unknown`` inputs."""
-        game = self.game()
-        if game is None or any(p not in inputs and p not in unknown for p in game.inputs) \
-                or any(p not in position for p in game.variables):
-            return Guarded(dict(wanted))
-        return nearest_safe_outputs(game, position, inputs, wanted, unknown)
-
-    def initial(self, inputs: Mapping[str, bool], wanted: Mapping[str, bool], unknown: Sequence[str]) -> Guarded:
-        """``wanted`` made to keep ``[SYS_INIT]`` for every value of the never-heard ``unknown`` inputs
-        (``safe_initial_outputs``); ``wanted`` as it is without a game."""
-        game = self.game()
-        if game is None:
-            return Guarded(dict(wanted))
-        return safe_initial_outputs(game, inputs, wanted, unknown)
 
 
 def strategy_source(original: str, resilient: Any | None) -> tuple[str, int]:
@@ -716,10 +558,3 @@ class NodeReports:
             return issued, Status(WARN, "input publishers", text, [("topic", t) for _, t, _ in crowded],
                                   quiet=not issued)
         return issued, INITIAL_STATUSES[1]
-
-
-__all__ = ["ERROR", "INITIAL_STATUSES", "MODE_LEVELS", "OK", "USER_ABORT", "WARN", "Answer", "Guarded", "ModeReport",
-           "NodeReports", "aborted_report", "waiting_text",
-           "OutputGuard", "Publication", "Status", "ViolationReport", "counters_event", "current_mode", "english",
-           "game_of", "liveness_refusal", "mode_text", "nearest_safe_outputs", "policy_text", "readings_key",
-           "shown", "step_report", "strategy_source", "violation_report"]
