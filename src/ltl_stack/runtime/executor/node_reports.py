@@ -22,7 +22,7 @@ from ltl_stack.runtime.executor.recovery import RecoveringStrategy
 from ltl_stack.runtime.resilience.characterize import Counters, ExecutionAborted
 from ltl_stack.runtime.resilience.resilient_executor import BackgroundResilience, Busy
 from ltl_stack.spec import SpecError
-from ltl_stack.spec.formula_text import clause_to_english
+from ltl_stack.spec.formula_text import clause_in_words
 from ltl_stack.spec.model import Clause
 from ltl_stack.spec.valuation import format_valuation
 from ltl_stack.synthesis.automaton import goal_text
@@ -36,7 +36,7 @@ from ltl_stack.synthesis.recovery import (
 
 __all__ = ["ERROR", "INITIAL_STATUSES", "MODE_LEVELS", "OK", "USER_ABORT", "WARN", "Answer", "ModeReport",
            "NodeReports", "Publication", "Status", "ViolationReport", "aborted_report", "counters_event",
-           "current_mode", "english", "liveness_refusal", "mode_text", "policy_text", "readings_key", "shown",
+           "current_mode", "in_words", "liveness_refusal", "mode_text", "policy_text", "readings_key", "shown",
            "step_report", "strategy_source", "violation_report", "waiting_text"]
 
 #: The levels of diagnostic_msgs/DiagnosticStatus.
@@ -108,17 +108,17 @@ def policy_text(policy: str, unsafe: bool) -> str:
     return "the fewest outputs true that keep the system safety"
 
 
-def english(clause: Any) -> str:
+def in_words(clause: Any) -> str:
     """The env-safety clause in words (``formula_text``), or "" when it cannot be rendered."""
     try:
-        return clause_to_english(clause, "env_safety")
+        return clause_in_words(clause, "env_safety")
     except Exception:  # noqa: BLE001 - a rendering problem must not hide the violation itself
         return ""
 
 
 def shown(clause: Any) -> str:
     """``file:line: text`` and, when it says more, the clause in words in parentheses."""
-    words = english(clause)
+    words = in_words(clause)
     text = f"{clause.location}: {clause.text}"
     return f"{text} ({words})" if words and words.strip() != (clause.text or "").strip() else text
 
@@ -144,7 +144,7 @@ def violation_report(violation: Any, result: Any, unkeepable: list[Clause], read
     kept (the recovery's, else the policy guard's ``unkeepable``)."""
     broken = violation.clauses or (result.violated if result is not None else [])
     clauses = [f"{c.location}: {c.text}" for c in broken] or ["(no single clause)"]
-    meanings = [english(c) for c in broken]
+    meanings = [in_words(c) for c in broken]
     parts = [f"{c} ({m})" if m else c for c, m in zip(clauses, meanings + [""] * len(clauses))]
     unsafe = [f"{c.location}: {c.text}" for c in (result.unsafe if result is not None else unkeepable)]
     kind = result.kind.value if result is not None else None

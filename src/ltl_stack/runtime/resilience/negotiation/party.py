@@ -27,7 +27,7 @@ from ltl_stack.runtime.resilience.negotiation.messages import (
     offer_refusal,
 )
 from ltl_stack.runtime.resilience.negotiation.ownership import Ownership, split_by_ownership
-from ltl_stack.spec import SpecError, clause_to_english, parse_structured
+from ltl_stack.spec import SpecError, clause_in_words, parse_structured
 from ltl_stack.spec.formula import And, Not, Var, variables
 from ltl_stack.spec.model import SECTIONS, Clause, Spec
 from ltl_stack.spec.writer import Entry, write_spec_text
@@ -129,7 +129,7 @@ class Negotiation:
                 renamed = rename(clause.formula, table)
                 lines.append(f"# {self.me} {clause.location}: {' '.join(clause.text.split())}")
                 lines.append(renamed)
-                english.append(f"{what} ({clause.location}): {clause_to_english(renamed, section)}")
+                english.append(f"{what} ({clause.location}): {clause_in_words(renamed, section)}")
         text = write_spec_text(entries, header=header)
         self.sent = english
         self._offer = Message(OFFER, self.me, self.session, 0, text, tuple(english))
@@ -193,11 +193,11 @@ class Negotiation:
             raise ProtocolFault(f"{where}: only [SYS_TRANS] and [ENV_LIVENESS] may be sent")
         owned = split_by_ownership(received.sys_safety, self.star, {**self.incoming, **self.outputs})
         self.ownership = owned
-        self.received = [f"assumption of {self.peer.name}: {clause_to_english(c, 'sys_safety')}"
+        self.received = [f"assumption of {self.peer.name}: {clause_in_words(c, 'sys_safety')}"
                          for c in owned.by_move + owned.rewritten]
         self.received += [f"assumption of {self.peer.name} over what this robot senses, kept as sent (a guarantee "
-                          f"only if its moves can keep it): {clause_to_english(c, 'sys_safety')}" for c in owned.literal]
-        self.received += [f"goal of {self.peer.name}: {clause_to_english(c, 'env_liveness')}"
+                          f"only if its moves can keep it): {clause_in_words(c, 'sys_safety')}" for c in owned.literal]
+        self.received += [f"goal of {self.peer.name}: {clause_in_words(c, 'env_liveness')}"
                           for c in received.env_liveness]
         self._note(f"received {len(received.sys_safety)} assumption(s) ({len(owned.rewritten)} kept through our "
                    f"activations, {len(owned.literal)} over our sensors kept as sent) and "
