@@ -6,7 +6,7 @@ else is derived from these fields, so the copies cannot drift:
 
 * ``EXECUTOR_PARAMS``, the ``Param`` schema that checks every value (``runtime.config.node_params``);
 * the flags of ``controller_executor`` and their ``--help`` (``add_option_arguments``);
-* the ``~param`` of each option, which the node reads (``executor_setup.merge_options``);
+* the ``~param`` of each option, which the node reads (``setup.merge_options``);
 * the effective values the node publishes as ``~effective_options`` (``effective_params``), which
   the controller view reads;
 * the options table of docs/executor.md (``options_table``; a unit test keeps them equal and

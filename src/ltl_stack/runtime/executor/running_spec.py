@@ -58,7 +58,7 @@ def read_spec(path: str) -> tuple[str, str]:
 
 def running_spec(original: str, resilient: Any | None, options: Any) -> RunningSpec:
     """What the executor runs: ``original`` is the spec it was started with, ``resilient`` its
-    ``BackgroundResilience`` (None without characterization), ``options`` its ``executor_setup.Options``
+    ``BackgroundResilience`` (None without characterization), ``options`` its ``setup.Options``
     (unset synthesis options take the library's defaults, as ``build_strategy`` synthesizes)."""
     path, generation = strategy_source(original, resilient)
     text, digest = read_spec(path)
