@@ -12,12 +12,11 @@ Figures go to docs/BENCHMARKS.md ("One long formula line").
 """
 from __future__ import annotations
 
-import argparse
 import random
 import tempfile
 from pathlib import Path
 
-from old_code import child_code, measure, old_src
+from old_code import arguments, cells, child_code, measure, old_src, table_head
 
 BASE = "d195746"  # main before the readers' memory work
 NAMES = [f"p{k}" for k in range(60)]
@@ -52,22 +51,16 @@ def write_line(path: Path, shape: str, size: int) -> int:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--sizes", default="1,2,4,8", help="line sizes in MiB, comma-separated")
-    parser.add_argument("--base", default=BASE, help="the commit whose readers are the peer")
-    args = parser.parse_args()
+    args = arguments(__doc__, BASE, "--sizes", "1,2,4,8", "line sizes in MiB, comma-separated")
     old = old_src(args.base, "bench_long_line_")
     folder = Path(tempfile.mkdtemp(prefix="bench_long_line_"))
-    print("| shape | file | before: CPU s | before: peak | after: CPU s | after: peak |")
-    print("| --- | --- | --- | --- | --- | --- |")
+    table_head("shape", "file")
     for shape in ("chain", "random"):
         for mib in (float(s) for s in args.sizes.split(",")):
             path = folder / f"{shape}.slugsin"
             size = write_line(path, shape, int(mib * 2**20))
             before, after = measure(CHILD, str(path), old), measure(CHILD, str(path), "-")
-            cells = [f"{r['seconds']:.1f} | {r['peak'] / 2**20:.0f} MB ({r['peak'] / size:.1f}x)"
-                     for r in (before, after)]
-            print(f"| {shape} | {size / 2**20:.1f} MB | {cells[0]} | {cells[1]} |", flush=True)
+            print(f"| {shape} | {size / 2**20:.1f} MB | {cells(before, after, size, 1)} |", flush=True)
 
 
 if __name__ == "__main__":

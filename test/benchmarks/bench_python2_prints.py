@@ -9,9 +9,7 @@ the Python allocations (``tracemalloc``) in the other. Figures go to docs/BENCHM
 """
 from __future__ import annotations
 
-import argparse
-
-from old_code import child_code, measure, old_src
+from old_code import arguments, cells, child_code, measure, old_src, table_head
 
 BASE = "d195746"  # main before the streaming reader
 
@@ -21,18 +19,13 @@ CHILD = child_code(SETUP, 'python2_parse_text(text, "prints.py")', '{"bytes": le
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--counts", default="10000,20000,40000", help="print statements, comma-separated")
-    parser.add_argument("--base", default=BASE, help="the commit whose reader is the peer")
-    args = parser.parse_args()
+    args = arguments(__doc__, BASE, "--counts", "10000,20000,40000", "print statements, comma-separated")
     old = old_src(args.base, "bench_python2_")
-    print("| prints | program | before: CPU s | before: peak | after: CPU s | after: peak |")
-    print("| --- | --- | --- | --- | --- | --- |")
+    table_head("prints", "program")
     for count in (int(c) for c in args.counts.split(",")):
         before, after = measure(CHILD, str(count), old), measure(CHILD, str(count), "-")
         size = after["bytes"]
-        cells = [f"{r['seconds']:.2f} | {r['peak'] / 2**20:.0f} MB ({r['peak'] / size:.1f}x)" for r in (before, after)]
-        print(f"| {count:,} | {size / 1e3:.0f} KB | {cells[0]} | {cells[1]} |", flush=True)
+        print(f"| {count:,} | {size / 1e3:.0f} KB | {cells(before, after, size, 2)} |", flush=True)
 
 
 if __name__ == "__main__":

@@ -8,6 +8,7 @@ the ``src`` folder to import ``ltl_stack`` from (``-``: the installed one), ``MO
 """
 from __future__ import annotations
 
+import argparse
 import json
 import subprocess
 import sys
@@ -17,6 +18,27 @@ from io import BytesIO
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
+
+
+def arguments(doc: str, base: str, option: str, default: str, meaning: str) -> argparse.Namespace:
+    """The command line: ``option`` (the sizes to measure) and ``--base`` (the commit of the peer)."""
+    parser = argparse.ArgumentParser(description=doc.splitlines()[0])
+    parser.add_argument(option, default=default, help=meaning)
+    parser.add_argument("--base", default=base, help="the commit whose code is the peer")
+    return parser.parse_args()
+
+
+def table_head(*columns: str) -> None:
+    """The head of the Markdown table: ``columns``, then CPU and peak before and after."""
+    names = [*columns, "before: CPU s", "before: peak", "after: CPU s", "after: peak"]
+    print("| " + " | ".join(names) + " |")
+    print("|" + " --- |" * len(names))
+
+
+def cells(before: dict, after: dict, size: int, digits: int) -> str:
+    """CPU seconds and the peak (MB, and as a multiple of ``size`` bytes) before and after, as table cells."""
+    return " | ".join(f"{r['seconds']:.{digits}f} | {r['peak'] / 2**20:.0f} MB ({r['peak'] / size:.1f}x)"
+                      for r in (before, after))
 
 
 def old_src(base: str, prefix: str) -> str:

@@ -14,48 +14,9 @@ group does not import the others.
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 from ltl_stack.lazy import lazy_exports
 
-if TYPE_CHECKING:  # pragma: no cover - for type checkers and readers only
-    from ltl_stack.runtime.config.launch import LaunchError, generate_launch
-    from ltl_stack.runtime.config.mapping import (
-        INPUT,
-        OUTPUT,
-        Mapping,
-        MappingError,
-        MappingIssue,
-        NodeEntry,
-        check_mapping,
-        default_topic,
-        format_mapping,
-        load_mapping,
-        misfit,
-        parse_mapping,
-        resolve_name,
-        resolve_node_name,
-        resolve_topics,
-        valuation_topics,
-    )
-    from ltl_stack.runtime.config.mapping_edit import EditedRow, rows_text, text_digest
-    from ltl_stack.runtime.config.node_params import (
-        Bound,
-        NodeConfigError,
-        Param,
-        coerce_param,
-        describe_params,
-        params_help,
-        shown,
-        split_param_args,
-    )
-    from ltl_stack.runtime.config.ros_names import (
-        PropositionNameError,
-        check_proposition_names,
-        is_legal_base_name,
-        is_legal_name,
-    )
-
+#: The public API: each name and the module that defines it.
 _EXPORTS = {
     "mapping": ("INPUT", "OUTPUT", "Mapping", "MappingError", "MappingIssue", "NodeEntry", "check_mapping",
         "default_topic", "format_mapping", "load_mapping", "misfit", "parse_mapping", "resolve_name",
@@ -68,11 +29,6 @@ _EXPORTS = {
 }
 _MODULE_OF = {name: module for module, names in _EXPORTS.items() for name in names}
 
-__all__ = ["Bound", "EditedRow", "INPUT", "LaunchError", "Mapping", "MappingError", "MappingIssue",
-    "NodeConfigError", "NodeEntry", "OUTPUT", "Param", "PropositionNameError", "check_mapping",
-    "check_proposition_names", "coerce_param", "default_topic", "describe_params", "format_mapping",
-    "generate_launch", "is_legal_base_name", "is_legal_name", "load_mapping", "misfit", "params_help",
-    "parse_mapping", "resolve_name", "resolve_node_name", "resolve_topics", "rows_text", "shown",
-    "split_param_args", "text_digest", "valuation_topics"]
+__all__ = sorted(_MODULE_OF)
 
 __getattr__, __dir__ = lazy_exports(__name__, _MODULE_OF, __all__)

@@ -15,66 +15,9 @@ group does not import the others.
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 from ltl_stack.lazy import lazy_exports
 
-if TYPE_CHECKING:  # pragma: no cover - for type checkers and readers only
-    from ltl_stack.runtime.executor.controller import ALL_FALSE, HOLD, Controller, Update, ViolationPolicy
-    from ltl_stack.runtime.executor.explicit import AutomatonStrategy, ExplicitState
-    from ltl_stack.runtime.executor.freshness import Freshness, freshness_bounds, unknown_text
-    from ltl_stack.runtime.executor.node_mode import Mode
-    from ltl_stack.runtime.executor.node_reports import (
-        ERROR,
-        INITIAL_STATUSES,
-        MODE_LEVELS,
-        OK,
-        USER_ABORT,
-        WARN,
-        NodeReports,
-        Status,
-        aborted_report,
-        counters_event,
-        current_mode,
-        liveness_refusal,
-        mode_text,
-        readings_key,
-        step_report,
-        strategy_source,
-        violation_report,
-        waiting_text,
-    )
-    from ltl_stack.runtime.executor.options import (
-        EFFECTIVE_OPTIONS,
-        EXECUTOR_PARAMS,
-        Options,
-        add_option_arguments,
-        effective_params,
-    )
-    from ltl_stack.runtime.executor.output_guard import (
-        Guarded,
-        OutputGuard,
-        nearest_safe_outputs,
-        safe_initial_outputs,
-    )
-    from ltl_stack.runtime.executor.recovery import RecoveringStrategy
-    from ltl_stack.runtime.executor.running_spec import RunningSpec, read_spec
-    from ltl_stack.runtime.executor.setup import (
-        NODE_NAME,
-        ExecutorError,
-        Prepared,
-        build_strategy,
-        check_characterized_spec,
-        check_summary,
-        load_inputs,
-        make_controller,
-        merge_options,
-        params_lookup,
-        parse_init_props,
-        prepare,
-        scenario_namespace,
-    )
-
+#: The public API: each name and the module that defines it.
 _EXPORTS = {
     "controller": ("ALL_FALSE", "HOLD", "Controller", "Update", "ViolationPolicy"),
     "node_mode": ("Mode",),
@@ -93,14 +36,6 @@ _EXPORTS = {
 }
 _MODULE_OF = {name: module for module, names in _EXPORTS.items() for name in names}
 
-__all__ = ["ALL_FALSE", "AutomatonStrategy", "Controller", "EFFECTIVE_OPTIONS", "ERROR", "EXECUTOR_PARAMS",
-    "ExecutorError", "ExplicitState", "Freshness", "Guarded", "HOLD", "INITIAL_STATUSES", "MODE_LEVELS", "Mode",
-    "NODE_NAME", "NodeReports", "OK", "Options", "OutputGuard", "Prepared", "RecoveringStrategy", "RunningSpec",
-    "Status", "USER_ABORT", "Update", "ViolationPolicy", "WARN", "aborted_report", "add_option_arguments",
-    "build_strategy", "check_characterized_spec", "check_summary", "counters_event", "current_mode",
-    "effective_params", "freshness_bounds", "liveness_refusal", "load_inputs", "make_controller", "merge_options",
-    "mode_text", "nearest_safe_outputs", "params_lookup", "parse_init_props", "prepare", "read_spec",
-    "readings_key", "safe_initial_outputs", "scenario_namespace", "step_report", "strategy_source", "unknown_text",
-    "violation_report", "waiting_text"]
+__all__ = sorted(_MODULE_OF)
 
 __getattr__, __dir__ = lazy_exports(__name__, _MODULE_OF, __all__)

@@ -13,39 +13,9 @@ group does not import the others.
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 from ltl_stack.lazy import lazy_exports
 
-if TYPE_CHECKING:  # pragma: no cover - for type checkers and readers only
-    from ltl_stack.runtime.resilience.characterize import (
-        Characterizer,
-        Counters,
-        Event,
-        ExecutionAborted,
-        Negotiate,
-        NegotiationAbort,
-        Observation,
-        ResilientStrategy,
-        Threshold,
-    )
-    from ltl_stack.runtime.resilience.characterized_english import english_text, is_english
-    from ltl_stack.runtime.resilience.resilience_table import run_example, table
-    from ltl_stack.runtime.resilience.resilient_executor import (
-        BackgroundResilience,
-        Busy,
-        NotReady,
-        thread_runner,
-    )
-    from ltl_stack.runtime.resilience.story import (
-        Story,
-        StoryError,
-        StoryPlayer,
-        load_story,
-        parse_story,
-        region_of,
-    )
-
+#: The public API: each name and the module that defines it.
 _EXPORTS = {
     "characterize": ("Characterizer", "Counters", "Event", "ExecutionAborted", "Negotiate", "NegotiationAbort",
         "Observation", "ResilientStrategy", "Threshold"),
@@ -56,9 +26,6 @@ _EXPORTS = {
 }
 _MODULE_OF = {name: module for module, names in _EXPORTS.items() for name in names}
 
-__all__ = ["BackgroundResilience", "Busy", "Characterizer", "Counters", "Event", "ExecutionAborted", "Negotiate",
-    "NegotiationAbort", "NotReady", "Observation", "ResilientStrategy", "Story", "StoryError", "StoryPlayer",
-    "Threshold", "english_text", "is_english", "load_story", "parse_story", "region_of", "run_example", "table",
-    "thread_runner"]
+__all__ = sorted(_MODULE_OF)
 
 __getattr__, __dir__ = lazy_exports(__name__, _MODULE_OF, __all__)

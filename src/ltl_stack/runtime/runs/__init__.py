@@ -9,25 +9,9 @@ group does not import the others.
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 from ltl_stack.lazy import lazy_exports
 
-if TYPE_CHECKING:  # pragma: no cover - for type checkers and readers only
-    from ltl_stack.runtime.runs.conformance import check_run
-    from ltl_stack.runtime.runs.map_view import (
-        CURRENT,
-        HEADING,
-        IDLE,
-        fill_triangles,
-        heading_regions,
-        mode_label,
-        region_from_inputs,
-        region_shapes,
-        valuation_text,
-    )
-    from ltl_stack.runtime.runs.trace import GoalCycles, TraceStep, describe
-
+#: The public API: each name and the module that defines it.
 _EXPORTS = {
     "trace": ("GoalCycles", "TraceStep", "describe"),
     "conformance": ("check_run",),
@@ -36,7 +20,6 @@ _EXPORTS = {
 }
 _MODULE_OF = {name: module for module, names in _EXPORTS.items() for name in names}
 
-__all__ = ["CURRENT", "GoalCycles", "HEADING", "IDLE", "TraceStep", "check_run", "describe", "fill_triangles",
-    "heading_regions", "mode_label", "region_from_inputs", "region_shapes", "valuation_text"]
+__all__ = sorted(_MODULE_OF)
 
 __getattr__, __dir__ = lazy_exports(__name__, _MODULE_OF, __all__)
