@@ -9,7 +9,8 @@ from pathlib import Path
 import pytest
 from helpers import heavy_game
 
-from ltl_stack.runtime.characterize import (
+from ltl_stack.runtime.executor.controller import Controller
+from ltl_stack.runtime.resilience.characterize import (
     EC1,
     EC2,
     Characterizer,
@@ -20,7 +21,6 @@ from ltl_stack.runtime.characterize import (
     ResilientStrategy,
     Threshold,
 )
-from ltl_stack.runtime.controller import Controller
 from ltl_stack.spec import SpecError, load_spec, parse_structured
 from ltl_stack.spec.formula import evaluate
 from ltl_stack.synthesis import synthesize
