@@ -201,9 +201,12 @@ def test_every_published_valuation_keeps_rho_s_when_one_can(spec_and_clauses, mo
 
 
 def test_the_property_test_checks_many_runs():
-    """Runs after the property test (same module, in file order): most generated specs were realizable."""
+    """Runs after the property test (same module, in file order): most generated specs were realizable,
+    at least a fifth of the examples it ran (300; 10 under the pure-Python dd profile, test/conftest.py)."""
+    examples = test_every_published_valuation_keeps_rho_s_when_one_can._hypothesis_internal_use_settings.max_examples
     if CHECKED:  # the property test ran in this process
-        assert len(CHECKED) >= 60
+        assert len(CHECKED) >= examples // 5
+        assert examples == 300 or examples == settings.get_profile("suite_pure_python_dd").max_examples
 
 
 def test_nearest_safe_outputs_changes_fewest_outputs_and_names_clauses_when_none_is_safe():
