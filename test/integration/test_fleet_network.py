@@ -362,3 +362,77 @@ def test_example_8_split_over_two_hosts_tells_the_thesis_story(hosts_factory, tm
             and '"chapter"' in line]
     regions = {e["chapter"]: e["region"] for e in told}
     assert regions["pickup"] == "bottomLane" and regions["drop"] == "rightGround", told
+
+
+#: What sphero_wpw's host hears: every cmd_vel (vx vy), every deadman status, and a tick of its own
+#: every 0.5 s (the test waits for ticks, never for a duration).
+SPHERO_WATCH = '''
+import ltl_stack.ros  # noqa: F401
+import rospy
+from diagnostic_msgs.msg import DiagnosticArray
+from geometry_msgs.msg import Twist
+
+rospy.init_node("watch", disable_signals=True)
+rospy.Subscriber("/spheros/sphero_wpw/cmd_vel", Twist,
+                 lambda m: print("cmd", m.linear.x, m.linear.y, flush=True), queue_size=100)
+rospy.Subscriber("/diagnostics", DiagnosticArray, lambda m: [print("diag", s.level, s.name, flush=True)
+                 for s in m.status if s.name.endswith(": deadman")], queue_size=100)
+while not rospy.is_shutdown():
+    print("tick", flush=True)
+    rospy.sleep(0.5)
+'''
+#: The tag detector shows the left arrow for ever: the spheros move left (move_left, vy 0.3).
+LEFT_FOR_EVER = """events:
+  - {at: 0.0, topic: tags/right_arrow, value: false}
+  - {at: 0.0, topic: tags/up_arrow, value: false}
+  - {at: 0.0, topic: tags/down_arrow, value: false}
+  - {at: 0.0, topic: tags/stop_sign, value: false}
+  - {at: 0.0, topic: tags/left_arrow, value: true}
+"""
+
+
+def sphero_lines(watch) -> list[str]:
+    return [line for line in watch.output().splitlines() if line.startswith(("cmd ", "tick", "diag "))]
+
+
+def moving(line: str) -> bool:
+    return line.startswith("cmd ") and any(float(v) != 0.0 for v in line.split()[1:])
+
+
+def stopped_for_ticks(lines: list[str], ticks: int) -> bool:
+    """The last moving command is followed by a zero one and then ``ticks`` ticks (no move since)."""
+    last_move = max((i for i, line in enumerate(lines) if moving(line)), default=-1)
+    rest = lines[last_move + 1:]
+    zero = next((i for i, line in enumerate(rest) if line.startswith("cmd ")), None)
+    return zero is not None and sum(line == "tick" for line in rest[zero:]) >= ticks
+
+
+def test_spheros_one_per_host_a_cut_spheros_own_output_nodes_stop_it_on_their_deadman(hosts_factory, tmp_path):
+    """Example 9 split as docs/several_machines.md says: the controller, the tag inputs and the tag
+    detector on host 0, sphero_wpw's simulated robot and its output nodes on host 1. Host 1 is cut off:
+    its own move_left node's deadman sends the zero Twist and says so; after the partition it follows
+    the controller again. (With the output nodes on the controller's host, as before, the robot's last
+    command went on standing: nothing on the robot's host stopped it.)"""
+    hosts = hosts_factory(2)
+    start_master(hosts, 0, PORT)
+    schedule, watch_script = tmp_path / "left.yaml", tmp_path / "watch.py"
+    schedule.write_text(LEFT_FOR_EVER)
+    watch_script.write_text(SPHERO_WATCH)
+    robot_env = hosts.env(1, 0, PORT)
+    watch = hosts.run(1, [sys.executable, str(watch_script)], robot_env, "watch")
+    wait_for(lambda: "tick" in watch.output(), 120, "the watcher on sphero_wpw's host")
+    hosts.run(1, ["roslaunch", "ltl_stack", "spheros.launch", "robots:=sphero_wpw", "start_executor:=false",
+                  "start_shared:=false", "start_world:=false"], robot_env, "sphero_wpw")
+    hosts.run(0, ["roslaunch", "ltl_stack", "spheros.launch", "robots:=none", f"environment:={schedule}"],
+              hosts.env(0, 0, PORT), "controller")
+    wait_for(lambda: any(moving(line) for line in sphero_lines(watch)), 180, "sphero_wpw moving left")
+
+    hosts.cut(1)
+    wait_for(lambda: stopped_for_ticks(sphero_lines(watch), 4), 90, "sphero_wpw stopped by its own output nodes")
+    lines = sphero_lines(watch)
+    assert any(line.startswith("diag 1 ") and "sphero_wpw_move_left: deadman" in line for line in lines), lines[-40:]
+
+    hosts.heal(1)
+    seen = len(sphero_lines(watch))
+    wait_for(lambda: any(moving(line) for line in sphero_lines(watch)[seen:]), 120,
+             "sphero_wpw following the controller again after the partition")
