@@ -12,6 +12,7 @@ partition and a lost master do to the guarantee the stack exists for.
 """
 from __future__ import annotations
 
+import subprocess
 import sys
 
 import pytest
@@ -436,3 +437,74 @@ def test_spheros_one_per_host_a_cut_spheros_own_output_nodes_stop_it_on_their_de
     seen = len(sphero_lines(watch))
     wait_for(lambda: any(moving(line) for line in sphero_lines(watch)[seen:]), 120,
              "sphero_wpw following the controller again after the partition")
+
+
+#: topic_threshold_sensor, held between its registration and its start-up parameter read until the
+#: file argv[1] exists (so that the test cuts the master off exactly there).
+HELD_SENSOR = '''
+import os, sys, time
+import ltl_stack.ros  # noqa: F401
+from ltl_stack.ros import proposition_node
+from ltl_stack.ros.sensors import threshold_sensor_main
+
+registered = proposition_node.init_node
+
+def init_then_wait(*args, **kwargs):
+    registered(*args, **kwargs)
+    print("registered", flush=True)
+    while not os.path.exists(go):
+        time.sleep(0.05)
+    print("reading its parameters", flush=True)
+
+go = sys.argv.pop(1)
+proposition_node.init_node = init_then_wait
+threshold_sensor_main()
+'''
+
+
+def held_sensor(hosts, tmp_path, name: str):
+    script, go = tmp_path / "held_sensor.py", tmp_path / f"go-{name}"
+    script.write_text(HELD_SENSOR)
+    node = hosts.run(1, [sys.executable, str(script), str(go), f"__name:={name}", "_topic:=/r/distance",
+                         "_type:=std_msgs/Float32", "_comparison:=<", "_threshold:=2.0",
+                         f"_proposition_topic:=/r/inputs/{name}"], hosts.env(1, 0, PORT), name)
+    node.wait_output("registered", timeout=120)
+    return node, go
+
+
+def test_a_master_cut_during_the_start_up_parameter_read(hosts_factory, tmp_path):
+    """A node reads its parameters from the master at start-up (``ros.master.read_param``, bounded):
+    cut off from the master right then, it starts normally when the master is back within the
+    bound, and otherwise stops with one line naming the master, a non-zero exit, no traceback."""
+    hosts = hosts_factory(2)
+    start_master(hosts, 0, PORT)
+    back, go_back = held_sensor(hosts, tmp_path, "back")
+    away, go_away = held_sensor(hosts, tmp_path, "away")
+
+    hosts.cut(1)
+    wait_for(lambda: not reachable(hosts, 1, hosts.address(0), PORT), 60, "host 1 cut off from the master")
+    go_away.touch()  # its master stays away beyond the bound
+    away.wait_output("reading its parameters", timeout=60)
+    try:
+        wait_for(lambda: not away.running(), 120, "the node whose master stays away to stop")
+    except AssertionError as err:
+        raise AssertionError(f"{err}\n--- its output ---\n{away.output()[-4000:]}") from None
+    assert away.popen.returncode != 0, away.output()
+    errors = [line for line in away.output().splitlines() if "cannot read" in line]
+    assert len(errors) == 1 and hosts.address(0) in errors[0], away.output()
+    assert "Traceback" not in away.output(), away.output()
+
+    go_back.touch()  # its master comes back while it waits for the answer
+    back.wait_output("reading its parameters", timeout=60)
+    wait_for(lambda: connecting(hosts, 1, hosts.address(0), PORT), 60, "the node's read waiting for the master")
+    hosts.heal(1)
+    echo = hosts.run(0, ["rostopic", "echo", "-n", "1", "/r/inputs/back"], hosts.env(0, 0, PORT), "echo")
+    echo.wait_output("data: False", timeout=120)  # it started normally: its proposition is published
+    assert back.running() and "cannot read" not in back.output(), back.output()
+
+
+def connecting(hosts, host: int, address: str, port: int) -> bool:
+    """A TCP connection from ``host`` to ``address:port`` is being opened (SYN sent, no answer yet)."""
+    out = subprocess.run(["ip", "netns", "exec", hosts.ns(host), "ss", "-tnH", "state", "syn-sent",
+                          "dst", f"{address}:{port}"], capture_output=True, text=True, timeout=30).stdout
+    return bool(out.strip())

@@ -503,8 +503,9 @@ def run_node(spec: NodeSpec, build: Callable[[dict[str, Any]], Any],
     """Entry point shared by the node scripts: CLI, ``init_node``, params, build, spin.
 
     A ``NodeConfigError`` (at start-up, or in ``spin`` once e.g. a topic's type is known) ends the node
-    with one ``[FATAL]`` line naming the parameter and exit code ``Exit.BAD_INPUT``. A ``MasterWatch``
-    registers the node again when the master restarts.
+    with one ``[FATAL]`` line naming the parameter and exit code ``Exit.BAD_INPUT``; a master that does
+    not answer the start-up parameter read within ``ros.master.STARTUP_TIMEOUT`` s, with one line naming
+    it and ``Exit.NO_ROS``. A ``MasterWatch`` registers the node again when the master restarts.
     """
     args = rospy.myargv(argv=list(sys.argv if argv is None else argv))
     parse_node_cli(spec.name, spec.kind, spec.description, spec.params, args[1:])
@@ -525,3 +526,7 @@ def run_node(spec: NodeSpec, build: Callable[[dict[str, Any]], Any],
         rospy.logfatal(str(error))
         rospy.signal_shutdown("bad parameters")
         sys.exit(int(EXIT_BAD_CONFIG))
+    except UserError as error:  # the master did not answer a start-up read (ros.master.read_param)
+        cli.error(spec.name, str(error))
+        rospy.signal_shutdown("no master")
+        sys.exit(int(error.code))
