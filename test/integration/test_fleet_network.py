@@ -476,6 +476,10 @@ def test_a_master_cut_during_the_start_up_parameter_read(hosts_factory, tmp_path
     """A node reads its parameters from the master at start-up (``ros.master.read_param``, bounded):
     cut off from the master right then, it starts normally when the master is back within the
     bound, and otherwise stops with one line naming the master, a non-zero exit, no traceback."""
+    import shutil
+
+    if shutil.which("ss") is None:
+        pytest.skip("the test sees the node's read waiting for the master with ss (iproute2)")
     hosts = hosts_factory(2)
     start_master(hosts, 0, PORT)
     back, go_back = held_sensor(hosts, tmp_path, "back")
