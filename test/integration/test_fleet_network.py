@@ -9,6 +9,9 @@ partition and a lost master do to the guarantee the stack exists for.
 * A master cut: the executor and its sensor and actuator on host 1, the master on host 0. With host 1
   cut off from the master, an input change still reaches the outputs (nothing of ours waits for the
   master on the way: the log line of the step used to ask it).
+* The spheros one per host (Example 9): a sphero's host cut off, its own output nodes stop it.
+* A master cut during a node's start-up parameter read: back within the bound, the node starts;
+  away, one error line and a non-zero exit.
 """
 from __future__ import annotations
 
