@@ -16,6 +16,9 @@ HOSTS = {
                 ["start_world:=false", "start_D:=false", "start_C:=false"],
                 ["start_world:=false", "start_D:=false", "start_A:=false"]],
     "spheros": [["robots:=none"]] + [[f"robots:={robot}", *ROBOT_ONLY] for robot in SPHEROS],
+    "youbots": [["robots:=none", "start_world:=false"],
+                ["robots:=youbot_1", "start_executor:=false", "wait_for_controller:=true"],
+                ["robots:=youbot_2", "start_executor:=false", "start_world:=false"]],
 }
 
 
@@ -40,3 +43,7 @@ def test_the_per_host_commands_start_every_node_once(scenario):
             outputs = [n for n in host if n != f"/spheros/{robot}/sim_robot"]
             assert len(outputs) == 11 and all(n.startswith(f"/spheros/{robot}_") for n in outputs), host
         assert not any(n.startswith("/spheros/sphero_") for n in per_host[0]), per_host[0]
+    if scenario == "youbots":  # each youBot's host runs its own nodes (youbot_1: its camera and person detector)
+        assert per_host[0] == ["/youbots/controller_executor"], per_host[0]
+        assert sorted(per_host[2]) == ["/youbots/youbot_2/sim_robot", "/youbots/youbot_2_move",
+                                       "/youbots/youbot_2_stop"], per_host[2]
