@@ -59,7 +59,8 @@ outputs:
     node_subscribe_topic: /r/outputs/stop
     type: set_velocity
 """
-#: The robot's world: publishes the distance read from a file at 10 Hz, prints every cmd_vel.
+#: The robot's world: publishes the distance read from a file at 10 Hz, prints every cmd_vel (and how
+#: many cmd_vel publishers it hears, when that changes).
 WORLD = '''
 import sys
 import ltl_stack.ros  # noqa: F401 - our rospy fixes, as every node of ours
@@ -68,10 +69,14 @@ from geometry_msgs.msg import Twist
 from std_msgs.msg import Float32
 
 rospy.init_node("world", disable_signals=True)
-rospy.Subscriber("/r/cmd_vel", Twist, lambda m: print("cmd", m.linear.x, flush=True), queue_size=100)
+cmd_vel = rospy.Subscriber("/r/cmd_vel", Twist, lambda m: print("cmd", m.linear.x, flush=True), queue_size=100)
 pub = rospy.Publisher("/r/distance", Float32, queue_size=10)
 rate = rospy.Rate(10)
+connected = 0
 while not rospy.is_shutdown():
+    if cmd_vel.get_num_connections() != connected:  # the cmd_vel publishers it hears
+        connected = cmd_vel.get_num_connections()
+        print("connected", connected, flush=True)
     try:
         pub.publish(Float32(float(open(sys.argv[1]).read())))
     except ValueError:
@@ -165,6 +170,9 @@ def test_with_the_master_cut_off_an_input_change_still_reaches_the_outputs(hosts
     world = next(p for p in hosts.processes if "world" in p.log_path.name)
     wait_for(lambda: 0.3 in commands(world), 90, "the robot moving (cmd_vel 0.3)")
     executor.wait_output("initial state", timeout=60)
+    # the stop node connects to the world through the master: before the cut (on a busy machine it may
+    # register after the move node has already moved the robot)
+    wait_for(lambda: "connected 2" in world.output(), 90, "the world hearing the move and stop nodes")
 
     hosts.cut(1)
     wait_for(lambda: not reachable(hosts, 1, hosts.address(0), PORT), 60, "host 1 cut off from the master")
