@@ -3,7 +3,7 @@
 
     python tools/write_options_table.py
 
-The table is generated from ``Options`` in src/ltl_stack/runtime/executor_options.py;
+The table is generated from ``Options`` in src/ltl_stack/runtime/executor/options.py;
 test/unit/runtime/test_executor_options.py fails while the docs differ from it.
 """
 from __future__ import annotations
@@ -14,7 +14,7 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "src"))
 
-from ltl_stack.runtime.executor_options import with_options_table  # noqa: E402
+from ltl_stack.runtime.executor.options import with_options_table  # noqa: E402
 
 DOC = REPO / "docs" / "executor.md"
 

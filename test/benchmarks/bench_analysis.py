@@ -30,7 +30,7 @@ from ltl_stack.analysis.checks import analyze, e2_groups
 from ltl_stack.analysis.graph import ComputationGraph
 from ltl_stack.analysis.snapshot import Snapshot
 from ltl_stack.analysis.suggest import mutual_exclusions
-from ltl_stack.runtime.mapping import parse_mapping
+from ltl_stack.runtime.config.mapping import parse_mapping
 
 ROOT = Path(__file__).resolve().parents[2]
 DOC = ROOT / "docs" / "benchmarks" / "analysis.md"

@@ -143,7 +143,7 @@ def measure(master, workdir: Path, ns: str, changes: int, warmup: int, max_gap: 
 
 def step_compute_ms(spec_path: Path, n: int = 2000) -> float:
     """Median time of one Controller step in-process (no ROS), for scale."""
-    from ltl_stack.runtime.controller import Controller
+    from ltl_stack.runtime.executor.controller import Controller
     from ltl_stack.spec import load_spec
     from ltl_stack.synthesis import synthesize
 

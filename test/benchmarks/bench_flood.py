@@ -85,8 +85,8 @@ def traced(census_start: dict, census_end: dict, snap_start, snap_end) -> str:
 
 
 def flood(seconds: float, rate: float, config: str, n_inputs: int = 9, trace: bool = False) -> dict:
-    from ltl_stack.runtime import characterize, resilient_executor
-    from ltl_stack.runtime.executor_setup import build_strategy, make_controller, merge_options
+    from ltl_stack.runtime.executor.setup import build_strategy, make_controller, merge_options
+    from ltl_stack.runtime.resilience import characterize, resilient_executor
     from ltl_stack.spec import parse_structured
 
     if config != CONFIGS[0]:  # as at c79dacd: the threshold adjusts itself, fresh literals every time

@@ -12,33 +12,18 @@ Figures go to docs/BENCHMARKS.md ("One long formula line").
 """
 from __future__ import annotations
 
-import argparse
-import json
 import random
-import subprocess
-import sys
-import tarfile
 import tempfile
-from io import BytesIO
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[2]
+from old_code import arguments, cells, child_code, measure, old_src, table_head
+
 BASE = "d195746"  # main before the readers' memory work
 NAMES = [f"p{k}" for k in range(60)]
 
-CHILD = r"""
-import json, sys, time, tracemalloc
-if sys.argv[2] != "-":
-    sys.path.insert(0, sys.argv[2])
-from ltl_stack.spec import load_spec
-if sys.argv[3] == "trace":
-    tracemalloc.start()
-t0 = time.process_time()
-spec = load_spec(sys.argv[1])
-seconds = time.process_time() - t0
-peak = tracemalloc.get_traced_memory()[1] if tracemalloc.is_tracing() else 0
-print(json.dumps({"seconds": seconds, "peak": peak, "clauses": len(spec.sys_safety)}))
-"""
+CHILD = child_code("from ltl_stack.spec import load_spec", "spec = load_spec(sys.argv[1])",
+                   '{"clauses": len(spec.sys_safety)}')
+
 
 def write_line(path: Path, shape: str, size: int) -> int:
     rng = random.Random(1)
@@ -65,38 +50,17 @@ def write_line(path: Path, shape: str, size: int) -> int:
     return path.stat().st_size
 
 
-def measure(path: Path, code: str) -> dict:
-    """CPU seconds of a plain run and the peak of a traced one (tracemalloc slows the reading)."""
-    runs = []
-    for mode in ("time", "trace"):
-        done = subprocess.run([sys.executable, "-c", CHILD, str(path), code, mode], capture_output=True, text=True,
-                              cwd=ROOT, timeout=1800)
-        if done.returncode:
-            raise RuntimeError(done.stderr[-2000:])
-        runs.append(json.loads(done.stdout))
-    return {"seconds": runs[0]["seconds"], "peak": runs[1]["peak"]}
-
-
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--sizes", default="1,2,4,8", help="line sizes in MiB, comma-separated")
-    parser.add_argument("--base", default=BASE, help="the commit whose readers are the peer")
-    args = parser.parse_args()
+    args = arguments(__doc__, BASE, "--sizes", "1,2,4,8", "line sizes in MiB, comma-separated")
+    old = old_src(args.base, "bench_long_line_")
     folder = Path(tempfile.mkdtemp(prefix="bench_long_line_"))
-    archive = subprocess.run(["git", "archive", args.base, "src"], capture_output=True, cwd=ROOT, check=True).stdout
-    with tarfile.open(fileobj=BytesIO(archive)) as tar:
-        tar.extractall(folder / "old")
-    old = str(folder / "old" / "src")
-    print("| shape | file | before: CPU s | before: peak | after: CPU s | after: peak |")
-    print("| --- | --- | --- | --- | --- | --- |")
+    table_head("shape", "file")
     for shape in ("chain", "random"):
         for mib in (float(s) for s in args.sizes.split(",")):
             path = folder / f"{shape}.slugsin"
             size = write_line(path, shape, int(mib * 2**20))
-            before, after = measure(path, old), measure(path, "-")
-            cells = [f"{r['seconds']:.1f} | {r['peak'] / 2**20:.0f} MB ({r['peak'] / size:.1f}x)"
-                     for r in (before, after)]
-            print(f"| {shape} | {size / 2**20:.1f} MB | {cells[0]} | {cells[1]} |", flush=True)
+            before, after = measure(CHILD, str(path), old), measure(CHILD, str(path), "-")
+            print(f"| {shape} | {size / 2**20:.1f} MB | {cells(before, after, size, 1)} |", flush=True)
 
 
 if __name__ == "__main__":

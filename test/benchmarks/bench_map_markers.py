@@ -25,7 +25,7 @@ from pathlib import Path
 import genpy
 
 from ltl_stack.ros.markers import MarkerBuilder, StateView
-from ltl_stack.runtime.regions import RegionMap
+from ltl_stack.runtime.propositions.regions import RegionMap
 
 CONFIG = {"draw_regions": True, "frame_id": "map", "region_suffix": "_rc", "label": "", "text_row": 0}
 

@@ -19,7 +19,7 @@ negotiation latency.
    negotiated" and the initiator's "resynthesized with negotiation"), and the same from the moment
    the initiator's monitor started characterizing (conflict detected after the 1 s threshold). Goal: median < 1 s.
 
-5. ``--signing``: signed vs unsigned messages (a fleet secret, ``runtime.negotiation.auth``), in the same
+5. ``--signing``: signed vs unsigned messages (a fleet secret, ``runtime.resilience.negotiation.auth``), in the same
    run, interleaved: Alg. 4 in process with every message signed and checked on both sides, and through
    a real master with both nodes' mappings naming the secret. Medians and their ratio; figures go to
    docs/benchmarks/negotiation_signing.md (the rest of the file is not rerun).
@@ -48,8 +48,8 @@ KITCHEN = ROOT / "config" / "kitchen"
 from helpers import RosMaster, wait_for  # noqa: E402
 from kitchen_world import KitchenWorld  # noqa: E402
 
-from ltl_stack.runtime.mapping import load_mapping  # noqa: E402
-from ltl_stack.runtime.negotiation import Negotiation, answer, classes_from_mapping, drive  # noqa: E402
+from ltl_stack.runtime.config.mapping import load_mapping  # noqa: E402
+from ltl_stack.runtime.resilience.negotiation import Negotiation, answer, classes_from_mapping, drive  # noqa: E402
 from ltl_stack.spec import load_spec  # noqa: E402
 
 REGIONS = ["company", "road", "storage", "prepArea", "cookingArea"]
@@ -103,7 +103,7 @@ def in_process(repeat: int) -> float:
 def in_process_pair(signed: bool) -> float:
     """One whole Alg. 4 negotiation in process (see ``in_process``), every message signed by its sender
     and checked by its receiver when ``signed``: seconds."""
-    from ltl_stack.runtime.negotiation.auth import Authenticator
+    from ltl_stack.runtime.resilience.negotiation.auth import Authenticator
 
     d_spec = load_spec(KITCHEN / "delivery_agent.structuredslugs")
     a_spec = load_spec(KITCHEN / "kitchen_assistant.structuredslugs")

@@ -52,7 +52,7 @@ sys.path.insert(0, str(ROOT / "test"))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_explicit import HEADER, measure, row  # noqa: E402
 
-from ltl_stack.runtime.characterize import Characterizer, Observation  # noqa: E402
+from ltl_stack.runtime.resilience.characterize import Characterizer, Observation  # noqa: E402
 from ltl_stack.spec import load_spec  # noqa: E402
 from ltl_stack.synthesis import synthesize  # noqa: E402
 
@@ -200,8 +200,8 @@ def _spec_of(source) -> tuple[object, str]:
 def plan_case(source, prepare: list, preferred: list) -> dict:
     """In process: the initial inputs, the preparation, and the first input change (preferred ones
     first) that breaks env safety and is characterized into a realizable spec; its in-process time."""
-    from ltl_stack.runtime.controller import Controller
-    from ltl_stack.runtime.resilient_executor import BackgroundResilience
+    from ltl_stack.runtime.executor.controller import Controller
+    from ltl_stack.runtime.resilience.resilient_executor import BackgroundResilience
 
     spec, _ = _spec_of(source)
     for name in [*preferred, *spec.inputs]:

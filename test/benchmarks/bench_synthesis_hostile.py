@@ -30,13 +30,13 @@ SYNTHESIZE = ROOT / "scripts" / "synthesize"
 PROBE = """
 import resource, sys, time, warnings
 warnings.filterwarnings("ignore")
-from ltl_stack.spec import load_spec, clause_to_english, formula_to_infix
+from ltl_stack.spec import load_spec, clause_in_words, formula_to_infix
 base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
 start = time.perf_counter()
 kind, path = sys.argv[1], sys.argv[2]
 spec = load_spec(path)
 if kind == "english":
-    out = clause_to_english(spec.sys_safety[0], "sys_safety")
+    out = clause_in_words(spec.sys_safety[0], "sys_safety")
 elif kind == "infix":
     out = formula_to_infix(spec.sys_safety[0].formula)
 else:

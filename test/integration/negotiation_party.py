@@ -17,10 +17,10 @@ import time
 import rospy
 
 from ltl_stack.ros.negotiation import NegotiationEndpoint
-from ltl_stack.runtime.characterize import ResilientStrategy
-from ltl_stack.runtime.controller import Controller
-from ltl_stack.runtime.mapping import load_mapping
-from ltl_stack.runtime.negotiation import Negotiator, classes_authenticator, classes_from_mapping
+from ltl_stack.runtime.config.mapping import load_mapping
+from ltl_stack.runtime.executor.controller import Controller
+from ltl_stack.runtime.resilience.characterize import ResilientStrategy
+from ltl_stack.runtime.resilience.negotiation import Negotiator, classes_authenticator, classes_from_mapping
 from ltl_stack.spec import load_spec
 from ltl_stack.srv import Negotiate
 

@@ -10,7 +10,7 @@ import sys
 import rospy
 
 from ltl_stack.ros.negotiation import from_ros, to_ros
-from ltl_stack.runtime.negotiation import Message
+from ltl_stack.runtime.resilience.negotiation import Message
 from ltl_stack.srv import Negotiate
 
 

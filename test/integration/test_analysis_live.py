@@ -28,7 +28,7 @@ from ltl_stack.analysis.graph import ComputationGraph
 from ltl_stack.analysis.snapshot import SnapshotError
 from ltl_stack.errors import Exit
 from ltl_stack.ros.graph_snapshot import take_snapshot
-from ltl_stack.runtime.mapping import load_mapping
+from ltl_stack.runtime.config.mapping import load_mapping
 
 pytestmark = pytest.mark.ros
 

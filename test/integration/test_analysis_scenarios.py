@@ -24,7 +24,7 @@ import yaml
 from helpers import RosMaster, run_script, wait_for
 
 from ltl_stack.analysis.suggest import ENVIRONMENT, MutualExclusion, add_to_spec
-from ltl_stack.runtime.mapping import load_mapping, resolve_node_name
+from ltl_stack.runtime.config.mapping import load_mapping, resolve_node_name
 from ltl_stack.spec import load_spec
 from ltl_stack.synthesis import is_realizable
 

@@ -8,7 +8,7 @@ import pytest
 from helpers import require_shared, run_script, wait_for
 from test_executor_node import LOCK_SPEC, Probe
 
-from ltl_stack.runtime.mapping import load_mapping, resolve_node_name
+from ltl_stack.runtime.config.mapping import load_mapping, resolve_node_name
 
 pytestmark = pytest.mark.ros
 

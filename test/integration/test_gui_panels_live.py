@@ -18,7 +18,7 @@ from ltl_stack.gui.analysis_panel import AnalysisPanel  # noqa: E402
 from ltl_stack.gui.controller_view import ControllerView  # noqa: E402
 from ltl_stack.gui.mapping_model import INPUT, OUTPUT  # noqa: E402
 from ltl_stack.gui.mapping_panel import MappingPanel  # noqa: E402
-from ltl_stack.runtime.mapping import load_mapping  # noqa: E402
+from ltl_stack.runtime.config.mapping import load_mapping  # noqa: E402
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
 
@@ -199,7 +199,7 @@ def test_controller_view_follows_the_executor_and_pauses_it(scenario, qtbot, mon
     # With recovery on (the executor's default), a reading that breaks an environment assumption for a
     # moment (two region messages on their way) may move the executor to a safe position outside the
     # exported automaton, published with its symbolic id; its next step returns to the automaton
-    # (runtime.recovery). The view must place every other state.
+    # (runtime.executor.recovery). The view must place every other state.
     a = view.model.automaton
     n = len(a.inputs) + len(a.outputs)
     for update in lost:

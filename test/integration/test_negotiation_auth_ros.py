@@ -16,8 +16,8 @@ from test_executor_node import Probe
 from test_negotiation_ros import P_MAP, Q_MAP, reports, start
 
 from ltl_stack.ros.negotiation import from_ros, to_ros
-from ltl_stack.runtime.negotiation import Message
-from ltl_stack.runtime.negotiation.auth import Authenticator
+from ltl_stack.runtime.resilience.negotiation import Message
+from ltl_stack.runtime.resilience.negotiation.auth import Authenticator
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "unit" / "runtime"))
 from test_negotiation import p_spec, q_spec  # noqa: E402

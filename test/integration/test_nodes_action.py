@@ -76,7 +76,7 @@ def test_aborted_goal_is_retried_while_activated_and_the_server_may_come_later(r
 def test_navigation_goal_from_params_reaches_the_region(ros):
     from std_msgs.msg import Bool, String
 
-    from ltl_stack.runtime.regions import RegionMap
+    from ltl_stack.runtime.propositions.regions import RegionMap
 
     path = require_shared("specs", "move_group_and_move_base", "lab_loop.regions")
     start = RegionMap.load(path, scale=0.005).find("left_ground").interior_point()

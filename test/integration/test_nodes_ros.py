@@ -166,7 +166,7 @@ def test_region_sensor_with_a_real_regions_file(ros):
     from geometry_msgs.msg import PoseStamped
     from std_msgs.msg import Bool
 
-    from ltl_stack.runtime.regions import RegionMap
+    from ltl_stack.runtime.propositions.regions import RegionMap
 
     path = require_shared("specs", "move_group_and_move_base", "lab_loop.regions")
     regions = RegionMap.load(path, scale=0.005)

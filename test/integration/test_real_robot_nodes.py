@@ -8,7 +8,7 @@ import pytest
 from helpers import wait_for
 from test_nodes_probe import make_session
 
-from ltl_stack.runtime.regions import RegionMap, shared_border
+from ltl_stack.runtime.propositions.regions import RegionMap, shared_border
 
 pytestmark = [pytest.mark.ros, pytest.mark.timeout(300)]  # a hang guard, far above the waits
 
@@ -204,7 +204,7 @@ def test_map_markers_colour_the_robots_region_and_show_the_propositions(ros):
 
     from ltl_stack.msg import ControllerState
     from ltl_stack.ros.valuation import valuation_to_msg
-    from ltl_stack.runtime.map_view import CURRENT, HEADING
+    from ltl_stack.runtime.runs.map_view import CURRENT, HEADING
 
     markers = ros.record(ros.topic("markers"), MarkerArray)
     regions = ros.record(ros.topic("region_markers"), MarkerArray)
@@ -259,7 +259,7 @@ def test_map_markers_of_a_second_robot_show_only_its_labelled_text_on_its_own_ro
 
     from ltl_stack.msg import ControllerState
     from ltl_stack.ros.valuation import valuation_to_msg
-    from ltl_stack.runtime.map_view import CURRENT
+    from ltl_stack.runtime.runs.map_view import CURRENT
 
     first = ros.record(ros.topic("D/markers"), MarkerArray)
     second = ros.record(ros.topic("A/markers"), MarkerArray)

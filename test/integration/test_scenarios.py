@@ -298,7 +298,7 @@ def test_every_stretch_of_the_demo_bag_checks_clean(clean_and_patrol_run, demo_b
     from hypothesis import strategies as st
 
     from ltl_stack.ros.check_run import open_states, trace_steps
-    from ltl_stack.runtime.conformance import check_run, distinct_steps
+    from ltl_stack.runtime.runs.conformance import check_run, distinct_steps
     from ltl_stack.spec import load_spec
 
     spec = load_spec(SPEC)
@@ -322,7 +322,7 @@ def test_check_run_names_the_step_and_clause_of_an_injected_violation(clean_and_
     import rosbag
 
     from ltl_stack.ros.check_run import trace_steps
-    from ltl_stack.runtime.conformance import distinct_steps
+    from ltl_stack.runtime.runs.conformance import distinct_steps
 
     broken = tmp_path / "broken.bag"
     kept = []

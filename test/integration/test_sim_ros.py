@@ -75,7 +75,7 @@ def test_navigation_server_reaches_a_region_of_a_real_regions_file(ros):
     from std_msgs.msg import String
 
     from ltl_stack.msg import NavigateAction, NavigateGoal
-    from ltl_stack.runtime.regions import RegionMap
+    from ltl_stack.runtime.propositions.regions import RegionMap
 
     path = require_shared("specs", "move_group_and_move_base", "lab_loop.regions")
     start = RegionMap.load(path, scale=0.005).find("top_lane").interior_point()

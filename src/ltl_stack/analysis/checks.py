@@ -23,7 +23,7 @@ from ltl_stack.analysis.graph_checks.e2_shared_channel import e2_groups
 from ltl_stack.analysis.graph_checks.robot_topics import split_robot_topic, suffix_ignored
 from ltl_stack.analysis.reach import PUBLISH, SUBSCRIBE, reach
 from ltl_stack.analysis.result import Analysis, MissingNode, Witness
-from ltl_stack.runtime.mapping import INPUT, OUTPUT, Mapping, resolve_node_name, resolve_topics
+from ltl_stack.runtime.config.mapping import INPUT, OUTPUT, Mapping, resolve_node_name, resolve_topics
 
 
 def analyze(graph: ComputationGraph, mapping: Mapping, inputs: Sequence[str], outputs: Sequence[str], *,
@@ -33,7 +33,7 @@ def analyze(graph: ComputationGraph, mapping: Mapping, inputs: Sequence[str], ou
     checks only with ``robots``); ``Analysis.findings`` has an entry for every check.
 
     ``inputs``/``outputs`` are the spec's propositions in spec order (findings follow that order);
-    mapping entries for other names are left out (``runtime.mapping.check_mapping`` reports them).
+    mapping entries for other names are left out (``runtime.config.mapping.check_mapping`` reports them).
     E2/E3 follow competitions through relays, except nodes matching ``mergers`` (``graph.relay_nodes``).
     """
     namespace = mapping.scenario_namespace() or ""

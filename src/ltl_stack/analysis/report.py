@@ -23,12 +23,12 @@ def suggestion_forms(s: MutualExclusion) -> dict:
     The LTL form ``G(...)`` holds in every state, the first included; in GR(1) that is the
     unprimed formula in the init section plus the primed one in the safety section.
     """
-    from ltl_stack.spec.formula_text import clause_to_english, formula_to_infix, formula_to_slugsin
+    from ltl_stack.spec.formula_text import clause_in_words, formula_to_infix, formula_to_slugsin
 
     safety, init = s.sections
     return {
         "english": s.sentence(),
-        "english_expanded": clause_to_english(s.formula(False), safety),
+        "english_expanded": clause_in_words(s.formula(False), safety),
         "ltl": f"G({formula_to_infix(s.formula(False))})",
         "slugsin": {
             SLUGSIN_SECTIONS[safety]: formula_to_slugsin(s.formula(True)),

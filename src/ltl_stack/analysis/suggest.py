@@ -22,7 +22,7 @@ from dataclasses import dataclass, replace
 
 from ltl_stack.analysis.conflicts import maximal_cliques
 from ltl_stack.spec.formula import And, Formula, Not, Or, Var, variables
-from ltl_stack.spec.formula_text import formula_to_english
+from ltl_stack.spec.formula_text import formula_in_words
 from ltl_stack.spec.model import Clause, Spec
 from ltl_stack.synthesis.game import Game
 
@@ -53,7 +53,7 @@ class MutualExclusion:
 
     def sentence(self) -> str:
         """``a, b and c are mutually exclusive`` (Structured English, short form)."""
-        names = [formula_to_english(Var(p)) for p in self.propositions]  # quotes names like 'not'
+        names = [formula_in_words(Var(p)) for p in self.propositions]  # quotes names like 'not'
         listed = names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
         return f"{listed} are mutually exclusive"
 

@@ -27,7 +27,7 @@ from ltl_stack.analysis.suggest import (
 )
 from ltl_stack.errors import UserError
 from ltl_stack.inputs import read_text
-from ltl_stack.runtime.mapping import (
+from ltl_stack.runtime.config.mapping import (
     INPUT,
     OUTPUT,
     Mapping,

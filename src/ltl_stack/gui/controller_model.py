@@ -21,8 +21,8 @@ from dataclasses import dataclass, field
 
 from ltl_stack.errors import Exit, UserError
 from ltl_stack.gui.dotgraph import DotGraph
-from ltl_stack.runtime.node_mode import Mode
-from ltl_stack.runtime.running_spec import RunningSpec, read_spec
+from ltl_stack.runtime.executor.node_mode import Mode
+from ltl_stack.runtime.executor.running_spec import RunningSpec, read_spec
 from ltl_stack.spec import load_spec
 from ltl_stack.synthesis import Automaton, synthesize
 from ltl_stack.synthesis.automaton import AutomatonState, goal_text
@@ -299,7 +299,7 @@ def liveness(now: float, heard: float, state_heard: float | None, connected: boo
     return True, text
 
 
-MODES = {  # the executor's ~state mode (runtime.characterize.Mode) -> (what it means, colour)
+MODES = {  # the executor's ~state mode (runtime.resilience.characterize.Mode) -> (what it means, colour)
     Mode.NORMAL.value: ("normal: following the strategy", "#2e9e44"),
     Mode.RECOVERING.value: ("recovering: recovery moves after an environment-assumption violation (thesis §4.4)",
                             "#e08a00"),

@@ -73,8 +73,8 @@ from ltl_stack.gui.widgets import (
     status_row,
 )
 from ltl_stack.gui.worker_process import WorkerProcess, controller_model
-from ltl_stack.runtime.executor_options import EFFECTIVE_OPTIONS
-from ltl_stack.runtime.running_spec import RunningSpec
+from ltl_stack.runtime.executor.options import EFFECTIVE_OPTIONS
+from ltl_stack.runtime.executor.running_spec import RunningSpec
 from ltl_stack.synthesis.automaton import goal_text
 
 STATE_TYPE = "ltl_stack/ControllerState"

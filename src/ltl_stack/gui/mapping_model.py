@@ -2,10 +2,10 @@
 
 A ``MappingDocument`` holds the spec's propositions and, per proposition, the node rows being edited
 (an input has one row, an output one row per node). Saving a loaded file changes only the edited rows
-in its text (``runtime.mapping_edit``, a round-trip YAML writer): comments, ``expected_feedback:``,
+in its text (``runtime.config.mapping_edit``, a round-trip YAML writer): comments, ``expected_feedback:``,
 ``negotiation:`` and every entry's other keys come back as they were; a file changed on disk since it
 was read is noticed (``changed_on_disk``) so the panel asks before overwriting it.
-``validate`` joins ``runtime.mapping.check_mapping`` with what only the live graph can tell: a node
+``validate`` joins ``runtime.config.mapping.check_mapping`` with what only the live graph can tell: a node
 that is not on the master, an input topic with more than one publisher, a topic that is not a
 ``std_msgs/Bool``. ``LiveGraph`` is the master's graph as the drop-downs need it (from a snapshot).
 """
@@ -19,8 +19,8 @@ from ltl_stack.analysis.snapshot import Snapshot
 from ltl_stack.cli import check_outputs, write_output
 from ltl_stack.errors import InputError
 from ltl_stack.inputs import read_text
-from ltl_stack.runtime.launch import generate_launch
-from ltl_stack.runtime.mapping import (
+from ltl_stack.runtime.config.launch import generate_launch
+from ltl_stack.runtime.config.mapping import (
     INPUT,
     OUTPUT,
     Mapping,
@@ -33,7 +33,7 @@ from ltl_stack.runtime.mapping import (
     resolve_name,
     resolve_node_name,
 )
-from ltl_stack.runtime.mapping_edit import EditedRow, rows_text, text_digest
+from ltl_stack.runtime.config.mapping_edit import EditedRow, rows_text, text_digest
 from ltl_stack.spec import load_spec
 
 PROPOSITION_TYPE = "std_msgs/Bool"
@@ -202,8 +202,8 @@ class MappingDocument:
 
     def text(self) -> str:
         """The YAML ``save`` writes: the loaded file with the edited rows changed and everything else as
-        it was (``runtime.mapping_edit.rows_text``); a new mapping, or a file the round-trip writer cannot
-        take, as ``runtime.mapping.format_mapping`` writes it (comments are then lost)."""
+        it was (``runtime.config.mapping_edit.rows_text``); a new mapping, or a file the round-trip writer cannot
+        take, as ``runtime.config.mapping.format_mapping`` writes it (comments are then lost)."""
         if self.source_text:
             rows = {key: [EditedRow(r.node, r.topic, r.origin) for r in rows if r.node or r.base]
                     for key, rows in self.rows.items()}
@@ -236,7 +236,7 @@ class MappingDocument:
 
     def resolved_node(self, kind: str, node: str, graph: LiveGraph | None = None) -> str:
         """The global node name: relative node names live in the scenario namespace ``/<ns>``, where
-        generated launch files start them (``runtime.mapping.resolve_node_name``), so a completion input
+        generated launch files start them (``runtime.config.mapping.resolve_node_name``), so a completion input
         (thesis §4.3) and its output name the same node (``pickup_ac`` and ``pickup``: ``/<ns>/pickup``)."""
         return resolve_node_name(node, self.scenario_namespace())
 

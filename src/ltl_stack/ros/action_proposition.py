@@ -36,8 +36,8 @@ from ltl_stack.ros.proposition_node import (
     message_class,
     run_node,
 )
-from ltl_stack.runtime.node_params import shown
-from ltl_stack.runtime.sensing import check_field_path, extract_field, parse_field_path
+from ltl_stack.runtime.config.node_params import shown
+from ltl_stack.runtime.propositions.sensing import check_field_path, extract_field, parse_field_path
 
 #: Result field that says "completed" for the action types ltl_stack knows.
 DEFAULT_RESULT_FIELDS = {"ltl_stack/Proposition": "completed", "ltl_stack/Navigate": "reached"}

@@ -1,6 +1,6 @@
 """``check_run SPEC MAPPING BAG``: check a recorded run (a rosbag of the executor's ``~state``) against
 the spec: per step whether the environment assumptions held (which clause broke, when), whether every
-system guarantee held, how often each goal was reached (``ltl_stack.runtime.conformance``). No master
+system guarantee held, how often each goal was reached (``ltl_stack.runtime.runs.conformance``). No master
 is needed: the bag is read from the file.
 
 ``open_states`` and ``trace_steps`` are also what ``controller_trace --bag`` replays.
@@ -18,7 +18,7 @@ from pathlib import Path
 
 from ltl_stack import cli
 from ltl_stack.errors import Exit, InputError, UserError
-from ltl_stack.runtime.trace import TraceStep
+from ltl_stack.runtime.runs.trace import TraceStep
 
 STATE_TYPE = "ltl_stack/ControllerState"
 
@@ -171,8 +171,8 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _check(args) -> int:
-    from ltl_stack.runtime.conformance import check_run
-    from ltl_stack.runtime.mapping import load_mapping
+    from ltl_stack.runtime.config.mapping import load_mapping
+    from ltl_stack.runtime.runs.conformance import check_run
     from ltl_stack.spec import load_spec
 
     spec = load_spec(args.spec)

@@ -23,9 +23,9 @@ from ltl_stack.errors import Exit, UserError
 from ltl_stack.msg import ControllerState
 from ltl_stack.ros.master import init_node, master_uri, ros_name, wait_for_master
 from ltl_stack.ros.valuation import MalformedValuation, step_of
-from ltl_stack.runtime.negotiation import report_lines
-from ltl_stack.runtime.node_mode import Mode
-from ltl_stack.runtime.trace import GoalCycles, TraceStep, describe
+from ltl_stack.runtime.executor.node_mode import Mode
+from ltl_stack.runtime.resilience.negotiation import report_lines
+from ltl_stack.runtime.runs.trace import GoalCycles, TraceStep, describe
 from ltl_stack.spec import load_spec
 
 #: seconds to wait for the master before giving up with Exit.NO_ROS

@@ -2,7 +2,7 @@
 
 For detections: "tag 7 closer than 1.5 m" on an AprilTag-style array is
 ``_type:=ltl_stack/TagDetectionArray _array:=detections _conditions:="['id == 7', 'pose.position within 1.5']"``.
-The conditions and their evaluation are ROS-free (``ltl_stack.runtime.predicate``); here the fields are
+The conditions and their evaluation are ROS-free (``ltl_stack.runtime.propositions.predicate``); here the fields are
 checked against the message definition at start-up (or once the master reports the topic's type):\na field the type lacks, ``within`` on a Pose or ``contains`` on a number is one [FATAL] line naming the\nfield and its type, exit 2.
 """
 from __future__ import annotations
@@ -21,9 +21,9 @@ from ltl_stack.ros.proposition_node import (
     TopicMessageSensor,
     run_node,
 )
-from ltl_stack.runtime import predicate
-from ltl_stack.runtime.predicate import OPS, MessagePredicate
-from ltl_stack.runtime.sensing import field_path_text as _path
+from ltl_stack.runtime.propositions import predicate
+from ltl_stack.runtime.propositions.predicate import OPS, MessagePredicate
+from ltl_stack.runtime.propositions.sensing import field_path_text as _path
 
 TOPIC_PREDICATE_SENSOR = NodeSpec(
     name="topic_predicate_sensor",

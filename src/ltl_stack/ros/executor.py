@@ -4,9 +4,9 @@ It synthesizes the spec (or loads a saved strategy JSON), subscribes to every in
 ``std_msgs/Bool`` topic and publishes every output proposition's topic (latched), plus ``~valuation``
 (``ltl_stack/PropositionValuation``, inputs then outputs) and ``~state`` (``ltl_stack/ControllerState``).
 
-The ROS-free parts are ``ltl_stack.runtime.controller.Controller`` (stepping, pause, violation
-policy), ``ltl_stack.runtime.executor_setup`` (options, spec, mapping, topics, strategy) and
-``ltl_stack.runtime.modes.NodeReports`` (what each update publishes, the counters, the mode, health
+The ROS-free parts are ``ltl_stack.runtime.executor.controller.Controller`` (stepping, pause, violation
+policy), ``ltl_stack.runtime.executor.setup`` (options, spec, mapping, topics, strategy) and
+``ltl_stack.runtime.executor.node_reports.NodeReports`` (what each update publishes, the counters, the mode, health
 and violation reports of ``~state`` and /diagnostics); this module only wires them:
 
 * stepping happens in the subscriber callback that changed the input valuation (under the
@@ -18,7 +18,7 @@ and violation reports of ``~state`` and /diagnostics); this module only wires th
 * a node owning several inputs (region localization) publishes their valuation at once on
   ``<node>/valuation``; once it has, that message is their reading (one step for one region change)
   and their Bool topics only count for freshness;
-* freshness (``runtime.freshness``): a timer marks inputs whose last message is older than their
+* freshness (``runtime.executor.freshness``): a timer marks inputs whose last message is older than their
   bound unknown (``Controller.set_unknown``), a message makes them known again;
 * run/pause: service ``~set_running`` (``std_srvs/SetBool``) and topic ``~running`` (``std_msgs/Bool``);
 * violations are confirmed after ``--violation-grace`` by one worker thread, whatever the input rate;
@@ -58,10 +58,26 @@ from ltl_stack.ros.master import init_node, master_call, private_params
 from ltl_stack.ros.master_watch import MasterWatch
 from ltl_stack.ros.negotiation import NegotiationEndpoint, prepare_negotiation
 from ltl_stack.ros.valuation import msg_to_valuation, valuation_to_msg
-from ltl_stack.runtime.characterize import Counters, Event, Mode, Negotiate
-from ltl_stack.runtime.controller import Controller, Update
-from ltl_stack.runtime.executor_options import EFFECTIVE_OPTIONS, add_option_arguments, effective_params
-from ltl_stack.runtime.executor_setup import (
+from ltl_stack.runtime.config.mapping import resolve_topics, valuation_topics
+from ltl_stack.runtime.config.node_params import split_param_args
+from ltl_stack.runtime.executor.controller import Controller, Update
+from ltl_stack.runtime.executor.freshness import Freshness, freshness_bounds, unknown_text
+from ltl_stack.runtime.executor.node_mode import Mode
+from ltl_stack.runtime.executor.node_reports import (
+    INITIAL_STATUSES,
+    USER_ABORT,
+    NodeReports,
+    Status,
+    aborted_report,
+    counters_event,
+    readings_key,
+    step_report,
+    strategy_source,
+    waiting_text,
+)
+from ltl_stack.runtime.executor.options import EFFECTIVE_OPTIONS, add_option_arguments, effective_params
+from ltl_stack.runtime.executor.running_spec import RunningSpec, running_spec
+from ltl_stack.runtime.executor.setup import (
     NODE_NAME,
     ExecutorError,
     Options,
@@ -77,24 +93,9 @@ from ltl_stack.runtime.executor_setup import (
     prepare,
     scenario_namespace,
 )
-from ltl_stack.runtime.freshness import Freshness, freshness_bounds, unknown_text
-from ltl_stack.runtime.mapping import resolve_topics, valuation_topics
-from ltl_stack.runtime.modes import (
-    INITIAL_STATUSES,
-    USER_ABORT,
-    NodeReports,
-    Status,
-    aborted_report,
-    counters_event,
-    readings_key,
-    step_report,
-    strategy_source,
-    waiting_text,
-)
-from ltl_stack.runtime.negotiation import classes_authenticator, negotiation_classes
-from ltl_stack.runtime.node_params import split_param_args
-from ltl_stack.runtime.resilient_executor import BackgroundResilience, thread_runner
-from ltl_stack.runtime.running_spec import RunningSpec, running_spec
+from ltl_stack.runtime.resilience.characterize import Counters, Event, Negotiate
+from ltl_stack.runtime.resilience.negotiation import classes_authenticator, negotiation_classes
+from ltl_stack.runtime.resilience.resilient_executor import BackgroundResilience, thread_runner
 from ltl_stack.srv import AddEnvLiveness, AddEnvLivenessResponse
 from ltl_stack.synthesis.recovery import StepResult
 
@@ -109,7 +110,7 @@ POLL_PERIOD = 0.1
 
 
 def build_parser() -> cli.ToolParser:
-    """The command line: SPEC, MAPPING, one flag per option of ``runtime.executor_options`` and
+    """The command line: SPEC, MAPPING, one flag per option of ``runtime.executor.options`` and
     ``--check``/``--json``."""
     parser = cli.ToolParser(
         prog=PROG,

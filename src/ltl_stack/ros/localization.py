@@ -3,7 +3,7 @@
 ``region_localization`` (input) reads the robot's pose from tf (``~map_frame`` -> ``~base_frame``, as
 amcl and a base driver provide) or from a pose topic (``PoseStamped``, ``PoseWithCovarianceStamped`` as
 amcl publishes, ``Odometry``) and publishes one region proposition per region of a ``.regions`` map:
-exactly one true, with hysteresis at the borders (``ltl_stack.runtime.localization.RegionTracker``).
+exactly one true, with hysteresis at the borders (``ltl_stack.runtime.propositions.localization.RegionTracker``).
 
 ``move_base_region`` (output) is ``action_proposition`` on ``move_base_msgs/MoveBase``: the goal is the
 region's pose (``~pose`` from the mapping, else a point well inside the region's polygon) in
@@ -30,10 +30,10 @@ from ltl_stack.ros.proposition_node import (
     wait_for_topic_class,
 )
 from ltl_stack.ros.valuation import valuation_to_msg
-from ltl_stack.runtime.localization import RegionTracker, region_goal
-from ltl_stack.runtime.node_params import Bound
-from ltl_stack.runtime.regions import RegionMap, RegionsError
-from ltl_stack.runtime.sensing import pose_xy
+from ltl_stack.runtime.config.node_params import Bound
+from ltl_stack.runtime.propositions.localization import RegionTracker, region_goal
+from ltl_stack.runtime.propositions.regions import RegionMap, RegionsError
+from ltl_stack.runtime.propositions.sensing import pose_xy
 
 MAP_PARAMS = [
     Param("regions_file", "", "LTLMoP .regions file of the workspace (default: the parameter regions_file "

@@ -13,7 +13,7 @@ Two ``visualization_msgs/MarkerArray`` topics, both latched:
 
 A ControllerState that cannot be read (keys and values of different lengths, from any publisher) is
 logged once per publisher and ignored: the view keeps the last state it could read. The shapes are
-computed ROS-free in ``ltl_stack.runtime.map_view``; the map is validated as every reader validates it
+computed ROS-free in ``ltl_stack.runtime.runs.map_view``; the map is validated as every reader validates it
 (``ltl_stack.spec.region_map.check_regions``).
 """
 from __future__ import annotations
@@ -31,7 +31,9 @@ from ltl_stack.ros.localization import MAP_PARAMS, load_map
 from ltl_stack.ros.master import read_param
 from ltl_stack.ros.proposition_node import NodeSpec, Param, run_node
 from ltl_stack.ros.valuation import state_valuations
-from ltl_stack.runtime.map_view import (
+from ltl_stack.runtime.config.node_params import Bound
+from ltl_stack.runtime.propositions.regions import RegionMap
+from ltl_stack.runtime.runs.map_view import (
     CURRENT,
     HEADING,
     heading_regions,
@@ -39,8 +41,6 @@ from ltl_stack.runtime.map_view import (
     region_shapes,
     valuation_text,
 )
-from ltl_stack.runtime.node_params import Bound
-from ltl_stack.runtime.regions import RegionMap
 
 MAP_MARKERS = NodeSpec(
     name="map_markers",

@@ -3,7 +3,7 @@
 Each executor that negotiates offers the service ``~negotiate`` (``ltl_stack/Negotiate``): the
 request is one message of the initiator, the response the responder's own message of the same
 exchange (offer, status 1, status 2, or an abort). The protocol logic is ROS-free
-(``ltl_stack.runtime.negotiation``); this module is the transport and the reporting:
+(``ltl_stack.runtime.resilience.negotiation``); this module is the transport and the reporting:
 
 * ``NegotiationEndpoint(negotiator, strategy, controller)``: serves ``~negotiate`` (under the
   controller's lock, ``Negotiator.serve``), gives the negotiator its transport (a service call per
@@ -15,7 +15,7 @@ exchange (offer, status 1, status 2, or an abort). The protocol logic is ROS-fre
 * a peer's service is the ``service:`` of its mapping entry, else
   ``<parent namespace>/<peer>/controller_executor/negotiate`` (the executors of a scenario side by side,
   e.g. ``/kitchen/D/…`` and ``/kitchen/A/…``);
-* with an ``Authenticator`` (the mapping's ``secret_file``, ``runtime.negotiation.auth``) every message
+* with an ``Authenticator`` (the mapping's ``secret_file``, ``runtime.resilience.negotiation.auth``) every message
   sent is signed and every message received is checked first: an unsigned, wrongly signed or replayed
   request is refused in one WARN line before anything else reads it, a reply that fails the check is
   a fault of the negotiation. Without one, one WARN line at start-up says negotiation is
@@ -41,8 +41,8 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from std_msgs.msg import String
 
 from ltl_stack.ros.master import timed_proxy
-from ltl_stack.runtime.characterize import ResilientStrategy
-from ltl_stack.runtime.negotiation import (
+from ltl_stack.runtime.resilience.characterize import ResilientStrategy
+from ltl_stack.runtime.resilience.negotiation import (
     Classes,
     Message,
     Negotiation,
@@ -51,7 +51,7 @@ from ltl_stack.runtime.negotiation import (
     Peer,
     caller_refusal,
 )
-from ltl_stack.runtime.negotiation.auth import Authenticator
+from ltl_stack.runtime.resilience.negotiation.auth import Authenticator
 from ltl_stack.srv import Negotiate, NegotiateRequest, NegotiateResponse
 
 FIELDS = ("kind", "sender", "session", "round", "text", "english", "realizable", "reason", "nonce", "mac")

@@ -17,7 +17,7 @@ The proposition topic comes from the ``~proposition_topic`` parameter, or else f
 name ``proposition`` (remap it: ``proposition:=/ns/outputs/move``).
 
 The ROS-free parts live in the runtime layer: parameters and their checks in
-``ltl_stack.runtime.node_params``, edges and staleness in ``ltl_stack.runtime.edges``.
+``ltl_stack.runtime.config.node_params``, edges and staleness in ``ltl_stack.runtime.propositions.edges``.
 """
 from __future__ import annotations
 
@@ -41,8 +41,7 @@ from ltl_stack import cli
 from ltl_stack.errors import Exit, UserError
 from ltl_stack.ros.master import init_node, private_params
 from ltl_stack.ros.master_watch import MasterWatch
-from ltl_stack.runtime.edges import FALLING, RISING, EdgeDetector, StaleWatch
-from ltl_stack.runtime.node_params import (
+from ltl_stack.runtime.config.node_params import (
     Bound,
     NodeConfigError,
     Param,
@@ -52,6 +51,7 @@ from ltl_stack.runtime.node_params import (
     shown,
     split_param_args,
 )
+from ltl_stack.runtime.propositions.edges import FALLING, RISING, EdgeDetector, StaleWatch
 
 #: Exit code of a node whose parameters are wrong (missing file, bad value, unknown type).
 EXIT_BAD_CONFIG = Exit.BAD_INPUT

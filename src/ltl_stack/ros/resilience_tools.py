@@ -22,7 +22,7 @@ from ltl_stack import cli
 from ltl_stack.errors import Exit, UserError
 from ltl_stack.ros.master import init_node, master_uri, ros_name, wait_for_master
 from ltl_stack.ros.proposition_tools import add_master_options
-from ltl_stack.runtime.node_mode import Mode
+from ltl_stack.runtime.executor.node_mode import Mode
 from ltl_stack.srv import AddEnvLiveness
 
 PROG = "add_env_liveness"

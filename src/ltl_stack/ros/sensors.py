@@ -5,7 +5,7 @@ hysteresis); with ``_field:=data _comparison:='==' _threshold:=1`` on a ``std_ms
 forwards a Boolean, like the thesis' ``forward_info_sensor``. ``region_sensor`` is true while the
 robot's position lies inside a named polygon of an LTLMoP ``.regions`` file (the ``_rc`` inputs).
 
-The field access, comparison and pose extraction are ROS-free (``ltl_stack.runtime.sensing``).
+The field access, comparison and pose extraction are ROS-free (``ltl_stack.runtime.propositions.sensing``).
 """
 from __future__ import annotations
 
@@ -26,9 +26,9 @@ from ltl_stack.ros.proposition_node import (
     run_node,
     wait_for_topic_class,
 )
-from ltl_stack.runtime.node_params import Bound
-from ltl_stack.runtime.regions import RegionMap, RegionsError, normalize_name
-from ltl_stack.runtime.sensing import (
+from ltl_stack.runtime.config.node_params import Bound
+from ltl_stack.runtime.propositions.regions import RegionMap, RegionsError, normalize_name
+from ltl_stack.runtime.propositions.sensing import (
     COMPARISONS,
     ThresholdComparator,
     check_field_path,

@@ -22,7 +22,7 @@ from ltl_stack.msg import PropositionAction, PropositionFeedback, PropositionGoa
 from ltl_stack.ros.action_client import SimpleActionClient
 from ltl_stack.ros.master import init_node, master_uri, ros_name, wait_for_master
 from ltl_stack.ros.proposition_node import NodeSpec, Param, run_node
-from ltl_stack.runtime.node_params import Bound
+from ltl_stack.runtime.config.node_params import Bound
 
 TIMED_PROPOSITION_SERVER = NodeSpec(
     name="timed_proposition_server",

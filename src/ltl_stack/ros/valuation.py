@@ -7,7 +7,7 @@ from collections.abc import Mapping
 import rospy
 
 from ltl_stack.msg import PropositionValuation
-from ltl_stack.runtime.trace import TraceStep
+from ltl_stack.runtime.runs.trace import TraceStep
 
 
 def valuation_to_msg(valuation: Mapping[str, bool], stamp: rospy.Time | None = None,

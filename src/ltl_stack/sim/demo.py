@@ -36,8 +36,8 @@ from pathlib import Path
 
 from ltl_stack import cli
 from ltl_stack.errors import Exit, UserError
-from ltl_stack.runtime.negotiation import report_lines
-from ltl_stack.runtime.story import load_story, region_of
+from ltl_stack.runtime.resilience.negotiation import report_lines
+from ltl_stack.runtime.resilience.story import load_story, region_of
 from ltl_stack.sim.narration import CleanAndPatrolStory
 from ltl_stack.sim.session import RosSession
 from ltl_stack.spec import load_spec

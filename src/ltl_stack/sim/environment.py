@@ -20,7 +20,7 @@ from ltl_stack.ros.proposition_node import (
     message_class,
     run_node,
 )
-from ltl_stack.runtime.node_params import Bound
+from ltl_stack.runtime.config.node_params import Bound
 from ltl_stack.sim.schedule import ScheduleError, Scheduler, load_schedule
 
 SCRIPTED_ENVIRONMENT = NodeSpec(

@@ -27,7 +27,7 @@ import rospy
 from std_msgs.msg import Bool, String
 
 from ltl_stack.ros.proposition_node import NodeSpec, Param, run_node
-from ltl_stack.runtime.node_params import Bound
+from ltl_stack.runtime.config.node_params import Bound
 from ltl_stack.sim.environment import starts_clock
 
 REGIONS = ("company", "road", "storage", "prepArea", "cookingArea")

@@ -18,7 +18,7 @@ from std_msgs.msg import Bool
 
 from ltl_stack.msg import PropositionAction, PropositionFeedback, PropositionResult
 from ltl_stack.ros.proposition_node import NodeConfigError, NodeSpec, Param, run_node
-from ltl_stack.runtime.node_params import Bound
+from ltl_stack.runtime.config.node_params import Bound
 
 MANIPULATION_SERVER = NodeSpec(
     name="sim_manipulation_server",

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from ltl_stack.runtime.trace import TraceStep
+from ltl_stack.runtime.runs.trace import TraceStep
 
 LANES = ("topLane", "rightLane", "bottomLane", "leftLane")
 REGIONS = (*LANES, "leftGround", "rightGround")

@@ -25,8 +25,8 @@ from nav_msgs.msg import Odometry
 
 from ltl_stack.msg import NavigateAction, NavigateFeedback, NavigateResult
 from ltl_stack.ros.proposition_node import NodeSpec, Param, run_node
-from ltl_stack.runtime.node_params import Bound
-from ltl_stack.runtime.regions import RegionsError
+from ltl_stack.runtime.config.node_params import Bound
+from ltl_stack.runtime.propositions.regions import RegionsError
 from ltl_stack.sim.kinematics import MODES, Pose2D, go_to_point
 from ltl_stack.sim.robot import REGION_PARAMS, load_regions
 

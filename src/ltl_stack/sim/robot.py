@@ -24,8 +24,8 @@ from nav_msgs.msg import Odometry
 from std_msgs.msg import String
 
 from ltl_stack.ros.proposition_node import NodeConfigError, NodeSpec, Param, run_node
-from ltl_stack.runtime.node_params import Bound
-from ltl_stack.runtime.regions import RegionMap, RegionsError
+from ltl_stack.runtime.config.node_params import Bound
+from ltl_stack.runtime.propositions.regions import RegionMap, RegionsError
 from ltl_stack.sim.kinematics import MODES, Pose2D, integrate, limit_command, moving_time
 
 REGION_PARAMS = [

@@ -1,4 +1,4 @@
-"""``story_environment``: play a story (``ltl_stack.runtime.story``) against a running controller.
+"""``story_environment``: play a story (``ltl_stack.runtime.resilience.story``) against a running controller.
 
 The environment of a thesis example that reacts to the robot: each of the executor's ``~state``
 messages is one transition (the executor steps at a fixed ``--rate``); where the robot is comes
@@ -23,9 +23,9 @@ from std_msgs.msg import Bool, String
 from ltl_stack.msg import ControllerState
 from ltl_stack.ros.proposition_node import NodeConfigError, NodeSpec, Param, run_node
 from ltl_stack.ros.valuation import MalformedValuation, state_valuations
-from ltl_stack.runtime.node_mode import Mode
-from ltl_stack.runtime.node_params import Bound
-from ltl_stack.runtime.story import StoryError, StoryPlayer, load_story, region_of
+from ltl_stack.runtime.config.node_params import Bound
+from ltl_stack.runtime.executor.node_mode import Mode
+from ltl_stack.runtime.resilience.story import StoryError, StoryPlayer, load_story, region_of
 from ltl_stack.spec import SpecError, load_spec
 from ltl_stack.srv import AddEnvLiveness
 
@@ -35,7 +35,7 @@ STORY_ENVIRONMENT = NodeSpec(
     description="Play a story (config/<example>/story.yaml) against a running controller executor: "
                 "inputs that react to the robot, and the user's env liveness through ~add_env_liveness.",
     params=[
-        Param("story", "", "story YAML file (format: ltl_stack/runtime/story.py)", kind=str, required=True),
+        Param("story", "", "story YAML file (format: ltl_stack/runtime/resilience/story.py)", kind=str, required=True),
         Param("spec", "", "the controller's spec: check the story's names against it (optional)", kind=str),
         Param("executor", "controller_executor", "the controller executor node (its ~state, "
               "~add_env_liveness)", kind=str, ros_name=True),

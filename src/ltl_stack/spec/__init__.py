@@ -14,10 +14,10 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and readers only
     from ltl_stack.spec.errors import SpecError
     from ltl_stack.spec.formula import FALSE, TRUE, And, Const, Formula, Iff, Implies, Not, Or, Var, Xor
     from ltl_stack.spec.formula_text import (
-        clause_to_english,
-        formula_to_english,
+        clause_in_words,
+        formula_in_words,
         formula_to_infix,
-        spec_to_english,
+        spec_in_words,
     )
     from ltl_stack.spec.load import load_spec
     from ltl_stack.spec.model import SECTIONS, Clause, IntegerVariable, Spec
@@ -25,7 +25,7 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and readers only
     from ltl_stack.spec.structured import parse_structured
 
 _EXPORTS = {
-    "formula_text": ("clause_to_english", "formula_to_english", "formula_to_infix", "spec_to_english"),
+    "formula_text": ("clause_in_words", "formula_in_words", "formula_to_infix", "spec_in_words"),
     "errors": ("SpecError",),
     "formula": ("FALSE", "TRUE", "And", "Const", "Formula", "Iff", "Implies", "Not", "Or", "Var", "Xor"),
     "load": ("load_spec",),
@@ -39,7 +39,7 @@ __all__ = [
     "FALSE", "TRUE", "And", "Const", "Formula", "Iff", "Implies", "Not", "Or", "Var", "Xor",
     "SECTIONS", "Clause", "IntegerVariable", "Spec",
     "SpecError", "load_spec", "parse_slugsin", "write_slugsin", "formula_to_slugsin", "parse_structured",
-    "clause_to_english", "formula_to_english", "formula_to_infix", "spec_to_english",
+    "clause_in_words", "formula_in_words", "formula_to_infix", "spec_in_words",
 ]
 
 

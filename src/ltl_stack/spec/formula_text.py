@@ -34,7 +34,7 @@ from ltl_stack.spec.model import SECTIONS, Clause, IntegerVariable, Spec
 from ltl_stack.spec.ops import fold
 from ltl_stack.spec.slugsin import formula_to_slugsin
 
-__all__ = ["clause_to_english", "formula_to_english", "formula_to_infix", "formula_to_slugsin", "spec_to_english"]
+__all__ = ["clause_in_words", "formula_in_words", "formula_to_infix", "formula_to_slugsin", "spec_in_words"]
 
 #: a shared subformula whose text is longer than this is named (English) or written with $ buffers
 SHARE_LIMIT = 40
@@ -199,7 +199,7 @@ def _integer_values(args: tuple[Formula, ...], integers: Sequence[IntegerVariabl
     return phrases, used
 
 
-def formula_to_english(f: Formula, integers: Sequence[IntegerVariable] = ()) -> str:
+def formula_in_words(f: Formula, integers: Sequence[IntegerVariable] = ()) -> str:
     """``f`` in words (no section word in front).
 
     With the spec's ``integers``, a conjunction that fixes every bit of an integer reads
@@ -207,10 +207,10 @@ def formula_to_english(f: Formula, integers: Sequence[IntegerVariable] = ()) -> 
     ``or false`` are left out. Long shared subformulas are named (``…, where $1 = …``).
     """
     names = _Names(f)
-    return str(_english(f, integers, names)[0]) + names.where()
+    return str(_words(f, integers, names)[0]) + names.where()
 
 
-def _english(f: Formula, integers: Sequence[IntegerVariable], names: _Names) -> tuple:
+def _words(f: Formula, integers: Sequence[IntegerVariable], names: _Names) -> tuple:
     """The phrase of ``f`` and how it binds (``atom``, ``not``, ``and``, ``or``, ``if``, …)."""
     def wrap(piece: tuple, allowed: tuple[str, ...] = ("atom", "not")) -> str | _Rope:
         text, kind = piece[0], piece[1]
@@ -267,7 +267,7 @@ def _english(f: Formula, integers: Sequence[IntegerVariable], names: _Names) -> 
     return fold(f, combine)
 
 
-def clause_to_english(clause_or_formula: Clause | Formula, section: str | None = None,
+def clause_in_words(clause_or_formula: Clause | Formula, section: str | None = None,
                       integers: Sequence[IntegerVariable] = ()) -> str:
     """A clause (or formula) of ``section`` (one of ``SECTIONS``) in words, the section word in front.
 
@@ -279,7 +279,7 @@ def clause_to_english(clause_or_formula: Clause | Formula, section: str | None =
     if section is not None and section not in SECTION_WORDS:
         raise ValueError(f"unknown section {section!r}; expected one of {', '.join(SECTION_WORDS)}")
     names = _Names(f)
-    text, kind, _ = _english(f, integers, names)
+    text, kind, _ = _words(f, integers, names)
     body = str(text)
     where = names.where()
     if section is None:
@@ -292,6 +292,6 @@ def clause_to_english(clause_or_formula: Clause | Formula, section: str | None =
     return f"{word} {body}{where}"
 
 
-def spec_to_english(spec: Spec) -> dict[str, list[str]]:
+def spec_in_words(spec: Spec) -> dict[str, list[str]]:
     """Every clause of ``spec`` in words, by section (integers read as values)."""
-    return {name: [clause_to_english(c, name, spec.integers) for c in spec.section(name)] for name in SECTIONS}
+    return {name: [clause_in_words(c, name, spec.integers) for c in spec.section(name)] for name in SECTIONS}

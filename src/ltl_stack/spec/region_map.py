@@ -3,7 +3,7 @@
 ``read_region_file`` is the one reader of the file format: every region's outline and holes in file
 coordinates, the obstacles, in file order. ``parse_region_map`` builds on it what a specification
 needs: which regions there are and which touch (the topology constraints of thesis section 4.3 /
-[75]). ``ltl_stack.runtime.regions`` builds on it the geometry that drives a robot (world
+[75]). ``ltl_stack.runtime.propositions.regions`` builds on it the geometry that drives a robot (world
 coordinates, point location, routes).
 
 A ``.regions`` file is a list of sections, each introduced by a line ``Name: # comment`` at column 0:

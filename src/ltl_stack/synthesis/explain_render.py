@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
-from ltl_stack.spec.formula_text import clause_to_english
+from ltl_stack.spec.formula_text import clause_in_words
 from ltl_stack.spec.model import Clause
 from ltl_stack.synthesis.explain import DEADLOCK, INIT, LIVELOCK, Counterstrategy, Explanation
 
@@ -19,9 +19,9 @@ from ltl_stack.synthesis.explain import DEADLOCK, INIT, LIVELOCK, Counterstrateg
 MAX_TEXT = 160
 
 
-def english(clause: Clause) -> str:
+def in_words(clause: Clause) -> str:
     """The clause's formula in words (no section word)."""
-    return clause_to_english(clause)
+    return clause_in_words(clause)
 
 
 def _shorten(text: str) -> str:
@@ -32,7 +32,7 @@ def clause_line(clause: Clause, section: str | None = None) -> str:
     """``file:line: text`` (plus the formula in words in parentheses when it says more); long
     clauses are shortened."""
     text = _shorten(clause.text or "(no text)")
-    words = _shorten(english(clause))
+    words = _shorten(in_words(clause))
     tag = f"[{section}] " if section else ""
     line = f"{clause.location}: {tag}{text}"
     if words and words.strip() != text.strip():
@@ -42,7 +42,7 @@ def clause_line(clause: Clause, section: str | None = None) -> str:
 
 def clause_dict(clause: Clause, section: str) -> dict:
     return {"section": section, "file": clause.file, "line": clause.line, "text": clause.text,
-            "english": english(clause)}
+            "english": in_words(clause)}
 
 
 def _true_names(valuation: Mapping[str, bool]) -> str:

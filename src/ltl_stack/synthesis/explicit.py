@@ -17,7 +17,7 @@ automaton stays small:
    may, in the spec's output order).
 
 So the automaton is a correct strategy but not always the one ``step`` follows; the executor steps
-the automaton itself (``runtime.explicit``), so its ``~state`` ids are the export's. The goal index
+the automaton itself (``runtime.executor.explicit``), so its ``~state`` ids are the export's. The goal index
 advances when the move reaches the goal, and past the following goals the same move reaches as
 well (slugs' extractor does the same; ``step`` stops after the first), then past goals the new
 position meets whatever comes (``_skip_satisfied``); a move into an existing state may stop earlier

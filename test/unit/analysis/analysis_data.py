@@ -6,7 +6,7 @@ from pathlib import Path
 
 from ltl_stack.analysis.checks import analyze
 from ltl_stack.analysis.graph import DEFAULT_IGNORED_TOPICS, ComputationGraph
-from ltl_stack.runtime.mapping import parse_mapping
+from ltl_stack.runtime.config.mapping import parse_mapping
 
 DATA = Path(__file__).resolve().parents[2] / "data" / "analysis"
 

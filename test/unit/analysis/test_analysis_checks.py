@@ -19,7 +19,7 @@ from ltl_stack.analysis.checks import (
 )
 from ltl_stack.analysis.graph import DEFAULT_IGNORED_TOPICS, DEFAULT_MERGERS, ComputationGraph
 from ltl_stack.analysis.suggest import mutual_exclusions
-from ltl_stack.runtime.mapping import load_mapping, parse_mapping
+from ltl_stack.runtime.config.mapping import load_mapping, parse_mapping
 
 MGMB = "/move_group_and_move_base"
 REGIONS = ["rightLane", "leftLane", "topLane", "leftGround", "bottomLane", "rightGround"]

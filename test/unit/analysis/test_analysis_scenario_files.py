@@ -6,8 +6,8 @@ from pathlib import Path
 
 import pytest
 
-from ltl_stack.runtime.launch import generate_launch
-from ltl_stack.runtime.mapping import check_mapping, load_mapping
+from ltl_stack.runtime.config.launch import generate_launch
+from ltl_stack.runtime.config.mapping import check_mapping, load_mapping
 from ltl_stack.spec import load_spec
 
 ROOT = Path(__file__).resolve().parents[3]

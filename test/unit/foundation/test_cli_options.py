@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 
 from ltl_stack import cli
 from ltl_stack.errors import Exit, OutputError
-from ltl_stack.runtime.node_params import Bound, NodeConfigError, Param, coerce_param
+from ltl_stack.runtime.config.node_params import Bound, NodeConfigError, Param, coerce_param
 
 
 @settings(max_examples=200, deadline=None)
@@ -104,7 +104,7 @@ def test_periods_take_exactly_0_and_a_thousandth_of_a_second_or_more(x):
 
 
 def test_every_repeating_period_of_the_executor_has_the_period_bound():
-    from ltl_stack.runtime.executor_setup import EXECUTOR_PARAMS
+    from ltl_stack.runtime.executor.setup import EXECUTOR_PARAMS
 
     periods = {p.name: p.bound for p in EXECUTOR_PARAMS if p.name.endswith("period") or "every S seconds" in p.doc}
     assert periods == {"publisher_check_period": Bound.PERIOD_OR_ZERO, "ready_timeout": Bound.PERIOD_OR_ZERO}

@@ -111,7 +111,7 @@ def test_the_readme_says_what_the_input_nodes_allow_for_a_zero_rate():
     """README and ``topic_threshold_sensor --help`` once disagreed on ``_rate:=0``: it is allowed
     (only on change), and the README says so."""
     from ltl_stack.ros.proposition_node import INPUT_PARAMS
-    from ltl_stack.runtime.node_params import Bound, coerce_param
+    from ltl_stack.runtime.config.node_params import Bound, coerce_param
 
     rate = next(p for p in INPUT_PARAMS if p.name == "rate")
     assert rate.bound is Bound.RATE_OR_ZERO and "0: only on change" in rate.doc and coerce_param(rate, 0) == 0

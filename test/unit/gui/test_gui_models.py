@@ -36,7 +36,7 @@ from ltl_stack.gui.controller_model import (
 )
 from ltl_stack.gui.dotgraph import DotGraph, layout_dot, layout_plain, parse_plain, sketch_layout
 from ltl_stack.gui.mapping_model import INPUT, OUTPUT, LiveGraph, MappingDocument
-from ltl_stack.runtime.mapping import load_mapping, parse_mapping
+from ltl_stack.runtime.config.mapping import load_mapping, parse_mapping
 from ltl_stack.synthesis import Automaton
 
 needs_dot = pytest.mark.skipif(shutil.which("dot") is None, reason="Graphviz 'dot' is not installed")
@@ -441,8 +441,8 @@ def test_before_the_first_state_the_status_is_the_executors_own():
 
 def test_goals_are_numbered_from_1_in_every_display():
     """One state has one goal number in RViz, rqt and controller_trace (it was "goal 3" in some, "goal 2" in others)."""
-    from ltl_stack.runtime.map_view import valuation_text
-    from ltl_stack.runtime.trace import TraceStep, describe
+    from ltl_stack.runtime.runs.map_view import valuation_text
+    from ltl_stack.runtime.runs.trace import TraceStep, describe
     from ltl_stack.synthesis.automaton import goal_text
 
     assert (goal_text(0), goal_text(2, 4), goal_text(-1)) == ("1", "3/4", "-")
@@ -458,7 +458,7 @@ def test_goals_are_numbered_from_1_in_every_display():
 
 def test_rviz_text_says_paused_aborted_and_stale_modes():
     """RViz shows a paused executor as paused, not "mode normal"."""
-    from ltl_stack.runtime.map_view import valuation_text
+    from ltl_stack.runtime.runs.map_view import valuation_text
 
     assert "mode paused" in valuation_text({}, {}, 1, 0, None, "normal", running=False)
     assert "mode aborted" in valuation_text({}, {}, 1, 0, None, "aborted", running=False)
@@ -550,7 +550,7 @@ def test_a_file_changed_on_disk_since_it_was_loaded_is_noticed(tmp_path):
 
 def _source(path, text, generation=0, started=1.0):
     from ltl_stack.gui.controller_model import ExecutorSource
-    from ltl_stack.runtime.running_spec import RunningSpec, spec_digest
+    from ltl_stack.runtime.executor.running_spec import RunningSpec, spec_digest
 
     return ExecutorSource(RunningSpec(str(path), spec_digest(text), text, "", generation, True, True, 20000), started)
 

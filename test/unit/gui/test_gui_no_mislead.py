@@ -16,7 +16,7 @@ from ltl_stack.analysis import cli as analysis_cli  # noqa: E402
 from ltl_stack.analysis.snapshot import Snapshot  # noqa: E402
 from ltl_stack.gui.analysis_panel import AnalysisPanel  # noqa: E402
 from ltl_stack.gui.mapping_model import INPUT, OUTPUT  # noqa: E402
-from ltl_stack.runtime.mapping import load_mapping  # noqa: E402
+from ltl_stack.runtime.config.mapping import load_mapping  # noqa: E402
 
 WAIT = 60_000  # ms: generous, the machine is busy
 KITCHEN = CONFIG / "kitchen"

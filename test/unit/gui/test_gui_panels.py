@@ -9,7 +9,7 @@ import pytest
 from gui_data import CLEAN_MAPPING, CLEAN_SPEC, ROOT, SIMPLE_MAPPING, SIMPLE_SPEC, simple_snapshot
 from test_gui_models import clean_graph
 
-from ltl_stack.runtime.mapping import load_mapping
+from ltl_stack.runtime.config.mapping import load_mapping
 
 pytest.importorskip("pytestqt")
 from python_qt_binding.QtWidgets import QComboBox, QPushButton  # noqa: E402

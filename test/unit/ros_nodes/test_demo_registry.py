@@ -6,7 +6,7 @@ import re
 
 import pytest
 
-from ltl_stack.runtime.story import load_story
+from ltl_stack.runtime.resilience.story import load_story
 from ltl_stack.sim.demo import SCENARIOS, build_parser, package_dir
 from ltl_stack.spec import load_spec
 
@@ -45,7 +45,7 @@ def test_story_scenarios_pass_only_executor_options_that_exist(name):
     runs rely on exist too."""
     import argparse
 
-    from ltl_stack.runtime.executor_options import add_option_arguments
+    from ltl_stack.runtime.executor.options import add_option_arguments
 
     parser = argparse.ArgumentParser()
     add_option_arguments(parser)

@@ -1,7 +1,7 @@
 """The clean-and-patrol story (thesis Fig. 3.10) told from a controller trace (ROS-free)."""
 from __future__ import annotations
 
-from ltl_stack.runtime.trace import TraceStep
+from ltl_stack.runtime.runs.trace import TraceStep
 from ltl_stack.sim.narration import KEYS, REGIONS, CleanAndPatrolStory
 
 INPUTS = ["object", "pickup_ac", "drop_ac", *(f"{r}_rc" for r in REGIONS)]

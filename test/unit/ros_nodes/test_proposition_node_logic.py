@@ -6,8 +6,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from ltl_stack.errors import Exit
-from ltl_stack.runtime.edges import FALLING, RISING, EdgeDetector, StaleWatch
-from ltl_stack.runtime.node_params import Bound, NodeConfigError, Param, coerce_param, describe_params
+from ltl_stack.runtime.config.node_params import Bound, NodeConfigError, Param, coerce_param, describe_params
+from ltl_stack.runtime.propositions.edges import FALLING, RISING, EdgeDetector, StaleWatch
 
 
 def test_edges_of_a_hand_written_sequence():
@@ -157,8 +157,8 @@ def test_the_pure_layers_of_the_nodes_import_without_ros():
 
     code = ("import sys\n"
             "for m in ('rospy', 'actionlib', 'genpy', 'roslib', 'rostopic', 'rosgraph'): sys.modules[m] = None\n"
-            "import ltl_stack.runtime.node_params, ltl_stack.runtime.edges, ltl_stack.runtime.sensing\n"
-            "import ltl_stack.runtime.executor_setup, ltl_stack.runtime.ros_names, ltl_stack.sim.kinematics\n"
+            "import ltl_stack.runtime.config.node_params, ltl_stack.runtime.propositions.edges, ltl_stack.runtime.propositions.sensing\n"
+            "import ltl_stack.runtime.executor.setup, ltl_stack.runtime.config.ros_names, ltl_stack.sim.kinematics\n"
             "import ltl_stack.sim.schedule\n")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr

@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from ltl_stack.runtime.regions import Region, RegionMap, RegionsError, point_in_polygon
+from ltl_stack.runtime.propositions.regions import Region, RegionMap, RegionsError, point_in_polygon
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 from helpers import require_shared  # noqa: E402
@@ -132,13 +132,13 @@ def test_interior_point_of_a_concave_region_is_inside():
 def _clean_and_patrol_map():
     from pathlib import Path
 
-    from ltl_stack.runtime.regions import RegionMap
+    from ltl_stack.runtime.propositions.regions import RegionMap
 
     return RegionMap.load(Path(__file__).resolve().parents[3] / "config/clean_and_patrol/clean_and_patrol.regions")
 
 
 def test_shared_border_of_touching_and_separate_regions():
-    from ltl_stack.runtime.regions import shared_border
+    from ltl_stack.runtime.propositions.regions import shared_border
 
     regions = _clean_and_patrol_map().regions
     got = shared_border(regions["topLane"], regions["rightLane"])
@@ -155,7 +155,7 @@ def test_shared_border_of_touching_and_separate_regions():
 def test_route_to_an_adjacent_region_never_passes_through_a_third(start_region, goal_region, fx, fy):
     import math
 
-    from ltl_stack.runtime.regions import shared_border
+    from ltl_stack.runtime.propositions.regions import shared_border
 
     regions = _clean_and_patrol_map()
     xs = [p[0] for p in regions.regions[start_region].polygon]

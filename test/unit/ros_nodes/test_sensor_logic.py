@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from ltl_stack.runtime.sensing import (
+from ltl_stack.runtime.propositions.sensing import (
     ThresholdComparator,
     check_field_path,
     extract_field,

@@ -11,10 +11,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ltl_stack.runtime.characterize import Mode, ResilientStrategy, Threshold
-from ltl_stack.runtime.controller import Controller
-from ltl_stack.runtime.mapping import load_mapping
-from ltl_stack.runtime.negotiation import Negotiator, classes_from_mapping
+from ltl_stack.runtime.config.mapping import load_mapping
+from ltl_stack.runtime.executor.controller import Controller
+from ltl_stack.runtime.resilience.characterize import Mode, ResilientStrategy, Threshold
+from ltl_stack.runtime.resilience.negotiation import Negotiator, classes_from_mapping
 from ltl_stack.spec import load_spec
 from ltl_stack.synthesis.errors import AssumptionViolation
 

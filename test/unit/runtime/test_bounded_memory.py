@@ -11,7 +11,7 @@ import os
 import subprocess
 import sys
 
-from ltl_stack.runtime.characterize import Characterizer, Observation
+from ltl_stack.runtime.resilience.characterize import Characterizer, Observation
 from ltl_stack.spec import parse_structured
 from ltl_stack.spec.formula import And, Not, Or
 
@@ -62,7 +62,7 @@ if not hasattr(libc, "mallinfo2"):
 libc.mallinfo2.restype = Info
 libc.malloc.restype = ctypes.c_void_p
 libc.free.argtypes = [ctypes.c_void_p]
-from ltl_stack.runtime.resilient_executor import BackgroundResilience
+from ltl_stack.runtime.resilience.resilient_executor import BackgroundResilience
 from ltl_stack.spec import parse_structured
 BackgroundResilience(parse_structured(sys.argv[1], "flood.structuredslugs"), lock=None)
 libc.free(libc.malloc(8 << 20))  # a replaced manager's tables are freed

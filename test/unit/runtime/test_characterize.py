@@ -8,7 +8,8 @@ from pathlib import Path
 
 import pytest
 
-from ltl_stack.runtime.characterize import (
+from ltl_stack.runtime.executor.controller import Controller
+from ltl_stack.runtime.resilience.characterize import (
     EC1,
     EC2,
     Characterizer,
@@ -19,7 +20,6 @@ from ltl_stack.runtime.characterize import (
     ResilientStrategy,
     Threshold,
 )
-from ltl_stack.runtime.controller import Controller
 from ltl_stack.spec import SpecError, load_spec, parse_structured
 from ltl_stack.spec.formula import evaluate
 from ltl_stack.synthesis import synthesize

@@ -1,4 +1,4 @@
-"""Conformance of a recorded run to its spec (``runtime.conformance``, what check_run reports): a run read
+"""Conformance of a recorded run to its spec (``runtime.runs.conformance``, what check_run reports): a run read
 as a play of the GR(1) game (ROS-free)."""
 from __future__ import annotations
 
@@ -6,8 +6,8 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from ltl_stack.runtime.conformance import check_run, distinct_steps
-from ltl_stack.runtime.trace import TraceStep
+from ltl_stack.runtime.runs.conformance import check_run, distinct_steps
+from ltl_stack.runtime.runs.trace import TraceStep
 from ltl_stack.spec import load_spec
 
 SPEC_TEXT = """[INPUT]

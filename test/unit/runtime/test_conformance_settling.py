@@ -8,9 +8,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from ltl_stack.runtime.conformance import check_run
-from ltl_stack.runtime.controller import Controller
-from ltl_stack.runtime.trace import TraceStep
+from ltl_stack.runtime.executor.controller import Controller
+from ltl_stack.runtime.runs.conformance import check_run
+from ltl_stack.runtime.runs.trace import TraceStep
 from ltl_stack.spec import load_spec
 from ltl_stack.synthesis import synthesize
 

@@ -9,10 +9,10 @@ from __future__ import annotations
 import pytest
 from helpers import work
 
-from ltl_stack.runtime.characterize import _variables
-from ltl_stack.runtime.explicit import violated_env_safety
-from ltl_stack.runtime.negotiation import violated_clauses
-from ltl_stack.runtime.resilience_table import violates
+from ltl_stack.runtime.executor.explicit import violated_env_safety
+from ltl_stack.runtime.resilience.characterize import _variables
+from ltl_stack.runtime.resilience.negotiation import violated_clauses
+from ltl_stack.runtime.resilience.resilience_table import violates
 from ltl_stack.spec import parse_slugsin
 from ltl_stack.spec.formula import And, Formula, Iff, Or, Var, Xor, evaluate, variables, walk
 from ltl_stack.spec.model import Clause, Spec

@@ -1,4 +1,4 @@
-"""The executor's options, declared once (``runtime.executor_options``): the flags, ``--help``, the
+"""The executor's options, declared once (``runtime.executor.options``): the flags, ``--help``, the
 ``~param`` schema, the published effective options and the docs table all come from ``Options``."""
 from __future__ import annotations
 
@@ -8,8 +8,8 @@ from pathlib import Path
 import pytest
 
 from ltl_stack import cli
-from ltl_stack.runtime.controller import ViolationPolicy
-from ltl_stack.runtime.executor_options import (
+from ltl_stack.runtime.executor.controller import ViolationPolicy
+from ltl_stack.runtime.executor.options import (
     EXECUTOR_PARAMS,
     Options,
     add_option_arguments,
@@ -18,7 +18,7 @@ from ltl_stack.runtime.executor_options import (
     options_table,
     with_options_table,
 )
-from ltl_stack.runtime.executor_setup import ExecutorError, merge_options, params_lookup
+from ltl_stack.runtime.executor.setup import ExecutorError, merge_options, params_lookup
 
 DOC = Path(__file__).resolve().parents[3] / "docs" / "executor.md"
 #: the fields of ``Options`` that are no option

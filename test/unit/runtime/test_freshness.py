@@ -4,10 +4,16 @@ from __future__ import annotations
 
 import pytest
 
-from ltl_stack.runtime.executor_setup import build_strategy, make_controller, merge_options
-from ltl_stack.runtime.freshness import MIN_BOUND, Freshness, bound_for_rate, freshness_bounds, unknown_text
-from ltl_stack.runtime.mapping import MappingError, parse_mapping
-from ltl_stack.runtime.modes import ERROR, OK, WARN, NodeReports
+from ltl_stack.runtime.config.mapping import MappingError, parse_mapping
+from ltl_stack.runtime.executor.freshness import (
+    MIN_BOUND,
+    Freshness,
+    bound_for_rate,
+    freshness_bounds,
+    unknown_text,
+)
+from ltl_stack.runtime.executor.node_reports import ERROR, OK, WARN, NodeReports
+from ltl_stack.runtime.executor.setup import build_strategy, make_controller, merge_options
 from ltl_stack.spec import parse_structured
 
 MAPPING = """\
@@ -142,7 +148,7 @@ def test_unknown_inputs_keep_the_outputs_nearest_to_those_published_that_are_saf
 
 
 def test_a_node_owning_several_inputs_has_a_valuation_topic():
-    from ltl_stack.runtime.mapping import valuation_topics
+    from ltl_stack.runtime.config.mapping import valuation_topics
 
     mapping = parse_mapping("""\
 inputs:

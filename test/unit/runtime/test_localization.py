@@ -8,8 +8,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 from shapely import Point
 
-from ltl_stack.runtime.localization import RegionPose, RegionTracker, region_goal, yaw_of
-from ltl_stack.runtime.regions import RegionMap, RegionsError
+from ltl_stack.runtime.propositions.localization import RegionPose, RegionTracker, region_goal, yaw_of
+from ltl_stack.runtime.propositions.regions import RegionMap, RegionsError
 
 MAP = RegionMap.load(Path(__file__).resolve().parents[3] / "config" / "clean_and_patrol" / "clean_and_patrol.regions")
 
@@ -87,7 +87,7 @@ def test_bad_hysteresis_and_unknown_region_are_refused():
 
 
 def _border(a: str, b: str):
-    from ltl_stack.runtime.regions import shared_border
+    from ltl_stack.runtime.propositions.regions import shared_border
 
     border = shared_border(MAP.find(a), MAP.find(b))
     assert border is not None

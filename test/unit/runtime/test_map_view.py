@@ -6,7 +6,8 @@ from pathlib import Path
 import pytest
 from shapely.geometry import Polygon
 
-from ltl_stack.runtime.map_view import (
+from ltl_stack.runtime.propositions.regions import RegionMap
+from ltl_stack.runtime.runs.map_view import (
     CURRENT,
     HEADING,
     IDLE,
@@ -15,7 +16,6 @@ from ltl_stack.runtime.map_view import (
     region_shapes,
     valuation_text,
 )
-from ltl_stack.runtime.regions import RegionMap
 
 ROOT = Path(__file__).resolve().parents[3]
 MAPS = sorted(ROOT.glob("config/*/*.regions"))

@@ -1,13 +1,13 @@
-"""The mapping file with edited rows written back and everything else kept (``runtime.mapping_edit``), and
-what the executor says it runs (``runtime.running_spec``): ROS- and Qt-free, run under every Python."""
+"""The mapping file with edited rows written back and everything else kept (``runtime.config.mapping_edit``), and
+what the executor says it runs (``runtime.executor.running_spec``): ROS- and Qt-free, run under every Python."""
 from __future__ import annotations
 
 from pathlib import Path
 from types import SimpleNamespace
 
-from ltl_stack.runtime.mapping import INPUT, OUTPUT, parse_mapping
-from ltl_stack.runtime.mapping_edit import EditedRow, rows_text, text_digest
-from ltl_stack.runtime.running_spec import read_spec, running_spec, spec_digest
+from ltl_stack.runtime.config.mapping import INPUT, OUTPUT, parse_mapping
+from ltl_stack.runtime.config.mapping_edit import EditedRow, rows_text, text_digest
+from ltl_stack.runtime.executor.running_spec import read_spec, running_spec, spec_digest
 
 TEXT = """\
 # a comment at the top

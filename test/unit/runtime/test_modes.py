@@ -1,4 +1,4 @@
-"""What the executor publishes in each mode and phase (``runtime.modes``), no ROS."""
+"""What the executor publishes in each mode and phase (``runtime.executor.node_reports``), no ROS."""
 from __future__ import annotations
 
 import os
@@ -6,10 +6,10 @@ import re
 
 import pytest
 
-from ltl_stack.runtime.characterize import Mode
-from ltl_stack.runtime.executor_setup import ExecutorError, check_characterized_spec, merge_options
-from ltl_stack.runtime.modes import liveness_refusal, strategy_source
-from ltl_stack.runtime.resilient_executor import BackgroundResilience, NotReady
+from ltl_stack.runtime.executor.node_reports import liveness_refusal, strategy_source
+from ltl_stack.runtime.executor.setup import ExecutorError, check_characterized_spec, merge_options
+from ltl_stack.runtime.resilience.characterize import Mode
+from ltl_stack.runtime.resilience.resilient_executor import BackgroundResilience, NotReady
 from ltl_stack.spec import SpecError, parse_structured
 
 PROBE = "[INPUT]\nperson\ndoor\n\n[OUTPUT]\nstop\n\n[ENV_INIT]\ndoor\n\n[ENV_TRANS]\ndoor'\n\n" \
@@ -73,8 +73,8 @@ def test_history_and_events_stay_bounded_over_many_resyntheses():
     """Each attempt holds a strategy and its BDD manager; only the last is kept."""
     import itertools
 
-    from ltl_stack.runtime.characterize import EVENTS_KEPT, HISTORY_KEPT
-    from ltl_stack.runtime.controller import Controller
+    from ltl_stack.runtime.executor.controller import Controller
+    from ltl_stack.runtime.resilience.characterize import EVENTS_KEPT, HISTORY_KEPT
 
     text = "[INPUT]\na\nb\nc\nd\n\n[OUTPUT]\nx\n\n[ENV_INIT]\n!a\n\n[ENV_TRANS]\n!a'\n\n[SYS_TRANS]\nb' -> x'\n"
     rs = BackgroundResilience(parse_structured(text, "flood.structuredslugs"), lock=None, runner=lambda job: job())
@@ -92,7 +92,7 @@ def test_history_and_events_stay_bounded_over_many_resyntheses():
 def test_violation_report_names_the_broken_and_the_unkeepable_clauses():
     """Item 9: the violation report is ROS-free; without a safe valuation it says so and names the
     guarantees (file:line)."""
-    from ltl_stack.runtime.modes import violation_report
+    from ltl_stack.runtime.executor.node_reports import violation_report
     from ltl_stack.synthesis.errors import AssumptionViolation
 
     spec = parse_structured("[INPUT]\np\n\n[OUTPUT]\nx\n\n[ENV_TRANS]\n!p'\n\n[SYS_TRANS]\np' -> x'\np' -> !x'\n", "s")

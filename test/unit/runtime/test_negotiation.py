@@ -9,8 +9,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from ltl_stack.runtime.mapping import MappingError, parse_mapping
-from ltl_stack.runtime.negotiation import (
+from ltl_stack.runtime.config.mapping import MappingError, parse_mapping
+from ltl_stack.runtime.resilience.negotiation import (
     OFFER,
     STATUS,
     Classes,
@@ -319,7 +319,7 @@ def test_a_refused_offer_is_one_line_and_does_not_use_up_the_pair(text, needle):
 
 
 def test_only_the_node_serving_a_declared_peer_may_speak_for_it():
-    from ltl_stack.runtime.negotiation import caller_refusal
+    from ltl_stack.runtime.resilience.negotiation import caller_refusal
 
     nodes = {"P": "/t/P/controller_executor"}
     assert caller_refusal("/t/P/controller_executor", "P", nodes) is None
@@ -398,7 +398,7 @@ class Held:
 def test_hook_by_cause_s1_unless_the_robots_negotiated_and_disagree():
     """Alg. 3 by cause: no peer involved, a silent peer, an already negotiated pair:
     None (S.1: explanation and the user); 4.8.3: NegotiationAbort."""
-    from ltl_stack.runtime.characterize import NegotiationAbort, Observation
+    from ltl_stack.runtime.resilience.characterize import NegotiationAbort, Observation
 
     p = parse_structured(p_spec(refuses=True), "P")
     seen = Observation(1, 0.0, {"x_Q": True}, {"p": False, "q": False}, {"x_Q": False})
@@ -458,8 +458,8 @@ def test_serve_handles_a_message_off_the_controllers_lock_and_refuses_once_abort
     abort and adopts nothing."""
     import threading
 
-    from ltl_stack.runtime.characterize import ResilientStrategy
-    from ltl_stack.runtime.controller import Controller
+    from ltl_stack.runtime.executor.controller import Controller
+    from ltl_stack.runtime.resilience.characterize import ResilientStrategy
 
     q = parse_structured(q_spec(), "Q")
     strategy = ResilientStrategy(q, recovery=False)

@@ -9,8 +9,8 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from ltl_stack.runtime.negotiation import Message, classes_authenticator, classes_from_data
-from ltl_stack.runtime.negotiation.auth import Authenticator, SecretError, read_secret
+from ltl_stack.runtime.resilience.negotiation import Message, classes_authenticator, classes_from_data
+from ltl_stack.runtime.resilience.negotiation.auth import Authenticator, SecretError, read_secret
 
 SECRET = b"0123456789abcdef0123456789abcdef"
 

@@ -11,8 +11,16 @@ from types import SimpleNamespace
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from ltl_stack.runtime.characterize import Characterizer, Observation
-from ltl_stack.runtime.negotiation import Classes, Negotiation, Negotiator, Outcome, Peer, answer, drive
+from ltl_stack.runtime.resilience.characterize import Characterizer, Observation
+from ltl_stack.runtime.resilience.negotiation import (
+    Classes,
+    Negotiation,
+    Negotiator,
+    Outcome,
+    Peer,
+    answer,
+    drive,
+)
 from ltl_stack.spec import parse_structured
 
 CONFIRMED = (Outcome.BOTH_ADOPT, Outcome.ADOPTED_PEERS, Outcome.KEPT_OWN)
@@ -182,7 +190,7 @@ def test_a_lost_confirmation_is_reported_as_unconfirmed_until_the_link_heals():
     drive(a, call)
     assert a.adopted is not None and a.outcome is Outcome.UNCONFIRMED and a.unresolved
     assert b.adopted is not None and b.outcome is Outcome.BOTH_ADOPT  # it had the decision
-    from ltl_stack.runtime.negotiation.party import confirm
+    from ltl_stack.runtime.resilience.negotiation.party import confirm
 
     assert confirm(a, lambda message: answer(b, message)) and a.outcome is Outcome.BOTH_ADOPT
 

@@ -6,9 +6,9 @@ from __future__ import annotations
 
 from kitchen_world import KITCHEN, ROBOTS, KitchenWorld
 
-from ltl_stack.runtime.characterize import Mode
-from ltl_stack.runtime.mapping import load_mapping
-from ltl_stack.runtime.negotiation import Outcome, assumptions_about, classes_from_mapping
+from ltl_stack.runtime.config.mapping import load_mapping
+from ltl_stack.runtime.resilience.characterize import Mode
+from ltl_stack.runtime.resilience.negotiation import Outcome, assumptions_about, classes_from_mapping
 from ltl_stack.spec import load_spec
 from ltl_stack.spec.formula import variables
 from ltl_stack.synthesis import synthesize
@@ -105,7 +105,7 @@ def test_received_clauses_keep_ownership():
     completion sensors goes onto the activations when our assumptions make the rewrite imply it
     (a completion appears only where we were or headed); one over a sensor we do not complete (a
     global sensor) stays as sent: a guarantee, which phi^nego's synthesis then decides."""
-    from ltl_stack.runtime.negotiation.ownership import split_by_ownership
+    from ltl_stack.runtime.resilience.negotiation.ownership import split_by_ownership
     from ltl_stack.spec import parse_structured
 
     spec = parse_structured("[INPUT]\nroad_c\nkitchen_c\narrived\n\n[OUTPUT]\nroad\nkitchen\nopenDoor\n\n"

@@ -6,9 +6,9 @@ from __future__ import annotations
 
 import threading
 
-from ltl_stack.runtime.characterize import Observation, ResilientStrategy
-from ltl_stack.runtime.controller import Controller
-from ltl_stack.runtime.negotiation import BUSY, Classes, Negotiator, Outcome, Peer
+from ltl_stack.runtime.executor.controller import Controller
+from ltl_stack.runtime.resilience.characterize import Observation, ResilientStrategy
+from ltl_stack.runtime.resilience.negotiation import BUSY, Classes, Negotiator, Outcome, Peer
 from ltl_stack.spec import load_spec, parse_structured
 
 

@@ -4,8 +4,8 @@ otherwise, and for sensors it does not control, the clause stays as sent, and a 
 cannot keep is a 4.8.2 for it, never an adoption reported as 4.8.1."""
 from __future__ import annotations
 
-from ltl_stack.runtime.negotiation import Classes, Negotiation, Outcome, Peer, answer, drive
-from ltl_stack.runtime.negotiation.ownership import implied_by_rewrite, split_by_ownership
+from ltl_stack.runtime.resilience.negotiation import Classes, Negotiation, Outcome, Peer, answer, drive
+from ltl_stack.runtime.resilience.negotiation.ownership import implied_by_rewrite, split_by_ownership
 from ltl_stack.spec import parse_structured
 from ltl_stack.spec.formula import variables
 from ltl_stack.synthesis import synthesize

@@ -1,4 +1,4 @@
-"""The executor's modes are one enum (``runtime.node_mode.Mode``): every place that shows or grades a
+"""The executor's modes are one enum (``runtime.executor.node_mode.Mode``): every place that shows or grades a
 mode knows each of them, and the docs name each."""
 from __future__ import annotations
 
@@ -8,9 +8,9 @@ from pathlib import Path
 import pytest
 
 from ltl_stack.gui.controller_model import MODES
-from ltl_stack.runtime.map_view import mode_label
-from ltl_stack.runtime.modes import ERROR, MODE_LEVELS, OK, current_mode, mode_text
-from ltl_stack.runtime.node_mode import Mode
+from ltl_stack.runtime.executor.node_mode import Mode
+from ltl_stack.runtime.executor.node_reports import ERROR, MODE_LEVELS, OK, current_mode, mode_text
+from ltl_stack.runtime.runs.map_view import mode_label
 
 REPO = Path(__file__).resolve().parents[3]
 

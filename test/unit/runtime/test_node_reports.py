@@ -1,4 +1,4 @@
-"""The executor node's decisions in the pure layer (``runtime.modes.NodeReports``, testable without ROS):
+"""The executor node's decisions in the pure layer (``runtime.executor.node_reports.NodeReports``, testable without ROS):
 what one controller update publishes, the counters, the mode, health and violation reports, the
 publisher warnings. In process, as the node builds its controller (``build_strategy`` +
 ``make_controller``), no ROS. The texts are the node's (docs/executor.md, docs/resilience.md)."""
@@ -7,9 +7,9 @@ from __future__ import annotations
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from ltl_stack.runtime.executor_setup import build_strategy, make_controller, merge_options
-from ltl_stack.runtime.modes import ERROR, MODE_LEVELS, OK, WARN, NodeReports, step_report
-from ltl_stack.runtime.resilient_executor import BackgroundResilience
+from ltl_stack.runtime.executor.node_reports import ERROR, MODE_LEVELS, OK, WARN, NodeReports, step_report
+from ltl_stack.runtime.executor.setup import build_strategy, make_controller, merge_options
+from ltl_stack.runtime.resilience.resilient_executor import BackgroundResilience
 from ltl_stack.spec import parse_structured
 
 # the person/door probe of test_executor_recovery

@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from ltl_stack.runtime.predicate import Condition, MessagePredicate
+from ltl_stack.runtime.propositions.predicate import Condition, MessagePredicate
 
 
 def tag(tag_id: int, x: float, y: float = 0.0, z: float = 0.0) -> Msg:

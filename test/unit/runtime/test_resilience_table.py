@@ -1,4 +1,4 @@
-"""The §4.10.4 comparison (``runtime.resilience_table``): the stories of Examples 10-12 played in
+"""The §4.10.4 comparison (``runtime.resilience.resilience_table``): the stories of Examples 10-12 played in
 process under base, recovery, EC and recovery + EC, and the comparison with the thesis' figures."""
 from __future__ import annotations
 
@@ -7,8 +7,16 @@ import json
 import pytest
 
 from ltl_stack.errors import Exit
-from ltl_stack.runtime.resilience_table import EXAMPLES, Run, main, play, run_example, table, verdict
-from ltl_stack.runtime.story import parse_story
+from ltl_stack.runtime.resilience.resilience_table import (
+    EXAMPLES,
+    Run,
+    main,
+    play,
+    run_example,
+    table,
+    verdict,
+)
+from ltl_stack.runtime.resilience.story import parse_story
 from ltl_stack.spec import parse_structured
 
 

@@ -1,6 +1,6 @@
-"""Environment characterization as the executor runs it (``runtime.resilient_executor``), no ROS:
+"""Environment characterization as the executor runs it (``runtime.resilience.resilient_executor``), no ROS:
 the resynthesis job off the stepping thread, the swap, abort and the user's liveness; the executor's
-resilience options (``runtime.executor_setup``) and the Controller's ``abort``/``restart_from``."""
+resilience options (``runtime.executor.setup``) and the Controller's ``abort``/``restart_from``."""
 from __future__ import annotations
 
 import threading
@@ -10,9 +10,8 @@ from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 from queued_jobs import Jobs
 
-from ltl_stack.runtime.characterize import ExecutionAborted, Mode, NegotiationAbort, Observation, Threshold
-from ltl_stack.runtime.controller import Controller
-from ltl_stack.runtime.executor_setup import (
+from ltl_stack.runtime.executor.controller import Controller
+from ltl_stack.runtime.executor.setup import (
     ExecutorError,
     build_strategy,
     characterization_on,
@@ -21,7 +20,14 @@ from ltl_stack.runtime.executor_setup import (
     merge_options,
     threshold_of,
 )
-from ltl_stack.runtime.resilient_executor import BackgroundResilience, Busy, adopt, is_winning
+from ltl_stack.runtime.resilience.characterize import (
+    ExecutionAborted,
+    Mode,
+    NegotiationAbort,
+    Observation,
+    Threshold,
+)
+from ltl_stack.runtime.resilience.resilient_executor import BackgroundResilience, Busy, adopt, is_winning
 from ltl_stack.spec import SpecError, load_spec, parse_structured
 from ltl_stack.synthesis import synthesize
 
@@ -406,8 +412,8 @@ def test_outputs_keep_the_guarantees_while_resynthesizing(moves, recovery):
 
 
 def test_is_english_and_english_text_refuses_a_structured_running_spec(tmp_path):
-    from ltl_stack.runtime.characterize import Characterizer
-    from ltl_stack.runtime.characterized_english import english_text, is_english
+    from ltl_stack.runtime.resilience.characterize import Characterizer
+    from ltl_stack.runtime.resilience.characterized_english import english_text, is_english
 
     assert is_english("a/b.spec") and is_english("x.ENGLISH") and not is_english("x.structuredslugs")
     ch = Characterizer(parse_structured(PROBE, str(tmp_path / "probe.structuredslugs")), path=tmp_path / "o.spec")

@@ -12,8 +12,8 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from ltl_stack.runtime.controller import ALL_FALSE, HOLD, Controller
-from ltl_stack.runtime.explicit import AutomatonStrategy, violated_env_safety
+from ltl_stack.runtime.executor.controller import ALL_FALSE, HOLD, Controller
+from ltl_stack.runtime.executor.explicit import AutomatonStrategy, violated_env_safety
 from ltl_stack.spec.formula import Implies, Var
 from ltl_stack.spec.model import Clause, Spec
 from ltl_stack.synthesis.errors import AssumptionViolation, NoInitialState

@@ -11,8 +11,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from lxml import etree as ET
 
-from ltl_stack.runtime.launch import LaunchError, generate_launch, main, package_relative
-from ltl_stack.runtime.mapping import load_mapping, parse_mapping
+from ltl_stack.runtime.config.launch import LaunchError, generate_launch, main, package_relative
+from ltl_stack.runtime.config.mapping import load_mapping, parse_mapping
 
 MAPPING = textwrap.dedent("""\
     inputs:

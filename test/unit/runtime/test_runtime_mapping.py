@@ -9,7 +9,7 @@ from helpers import require_shared, shared_dir
 from hypothesis import given
 from hypothesis import strategies as st
 
-from ltl_stack.runtime.mapping import (
+from ltl_stack.runtime.config.mapping import (
     MappingError,
     check_mapping,
     default_topic,

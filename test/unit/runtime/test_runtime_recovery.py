@@ -10,9 +10,9 @@ from __future__ import annotations
 
 import pytest
 
-from ltl_stack.runtime.controller import Controller
-from ltl_stack.runtime.explicit import AutomatonStrategy, ExplicitState
-from ltl_stack.runtime.recovery import RecoveringStrategy
+from ltl_stack.runtime.executor.controller import Controller
+from ltl_stack.runtime.executor.explicit import AutomatonStrategy, ExplicitState
+from ltl_stack.runtime.executor.recovery import RecoveringStrategy
 from ltl_stack.spec.structured import parse_structured
 from ltl_stack.synthesis import synthesize
 from ltl_stack.synthesis.recovery import StepKind

@@ -6,7 +6,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from ltl_stack.errors import Exit
-from ltl_stack.runtime.ros_names import (
+from ltl_stack.runtime.config.ros_names import (
     PropositionNameError,
     check_proposition_names,
     is_legal_base_name,

@@ -12,8 +12,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from ltl_stack.errors import Exit
-from ltl_stack.runtime.controller import Controller, ViolationPolicy
-from ltl_stack.runtime.executor_setup import (
+from ltl_stack.runtime.executor.controller import Controller, ViolationPolicy
+from ltl_stack.runtime.executor.explicit import AutomatonStrategy
+from ltl_stack.runtime.executor.setup import (
     ExecutorError,
     Options,
     build_strategy,
@@ -23,7 +24,6 @@ from ltl_stack.runtime.executor_setup import (
     parse_init_props,
     prepare,
 )
-from ltl_stack.runtime.explicit import AutomatonStrategy
 from ltl_stack.spec import parse_slugsin
 from ltl_stack.synthesis import synthesize
 
@@ -89,7 +89,7 @@ def test_synthesis_timeout_is_exit_5(monkeypatch):
         assert kwargs["timeout"] == 0.5, kwargs
         raise TimeLimitReached("synthesis stopped after 0.5 s (--timeout)")
 
-    monkeypatch.setattr("ltl_stack.runtime.executor_setup.synthesize", never)
+    monkeypatch.setattr("ltl_stack.runtime.executor.setup.synthesize", never)
     spec = parse_slugsin(LOCK, "lock.slugsin")
     with pytest.raises(TimeLimitReached) as info:
         build_strategy(spec, merge_options({"timeout": 0.5}), log=quiet)

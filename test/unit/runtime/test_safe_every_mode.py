@@ -17,10 +17,10 @@ from hypothesis import HealthCheck, assume, example, given, settings
 from hypothesis import strategies as st
 from queued_jobs import Jobs
 
-from ltl_stack.runtime.characterize import Observation
-from ltl_stack.runtime.executor_setup import build_strategy, make_controller, merge_options
-from ltl_stack.runtime.modes import nearest_safe_outputs
-from ltl_stack.runtime.resilient_executor import BackgroundResilience
+from ltl_stack.runtime.executor.output_guard import nearest_safe_outputs
+from ltl_stack.runtime.executor.setup import build_strategy, make_controller, merge_options
+from ltl_stack.runtime.resilience.characterize import Observation
+from ltl_stack.runtime.resilience.resilient_executor import BackgroundResilience
 from ltl_stack.spec import parse_structured
 from ltl_stack.synthesis import synthesize
 from ltl_stack.synthesis.game import Game

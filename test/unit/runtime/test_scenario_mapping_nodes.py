@@ -11,7 +11,7 @@ import posixpath
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
-from ltl_stack.runtime.mapping import INPUT, load_mapping, resolve_name, resolve_node_name
+from ltl_stack.runtime.config.mapping import INPUT, load_mapping, resolve_name, resolve_node_name
 
 REPO = Path(__file__).resolve().parents[3]
 LAUNCH = REPO / "launch"

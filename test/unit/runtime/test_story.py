@@ -1,4 +1,4 @@
-"""Stories (scripted environments that react to the robot, ``runtime.story``): the format, its
+"""Stories (scripted environments that react to the robot, ``runtime.resilience.story``): the format, its
 errors, and the player both the in-process comparison and the ROS node use."""
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from ltl_stack.errors import Exit
-from ltl_stack.runtime.story import StoryError, StoryPlayer, load_story, parse_story
+from ltl_stack.runtime.resilience.story import StoryError, StoryPlayer, load_story, parse_story
 from ltl_stack.spec import load_spec, parse_structured
 
 CONFIG = Path(__file__).resolve().parents[3] / "config"

@@ -10,7 +10,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from test_safe_every_mode import INPUTS, OUTPUTS, keeps, specs
 
-from ltl_stack.runtime.modes import safe_initial_outputs
+from ltl_stack.runtime.executor.output_guard import safe_initial_outputs
 from ltl_stack.spec import parse_structured
 from ltl_stack.synthesis.game import Game
 

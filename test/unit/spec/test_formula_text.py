@@ -8,11 +8,11 @@ from spec_testing import NAMES, SPECS, formulas
 from ltl_stack.spec import load_spec, parse_slugsin, parse_structured
 from ltl_stack.spec.formula import FALSE, TRUE, And, Iff, Implies, Not, Or, Var, Xor
 from ltl_stack.spec.formula_text import (
-    clause_to_english,
-    formula_to_english,
+    clause_in_words,
+    formula_in_words,
     formula_to_infix,
     formula_to_slugsin,
-    spec_to_english,
+    spec_in_words,
 )
 from ltl_stack.spec.model import Clause
 from ltl_stack.spec.ops import evaluate_many, flatten
@@ -41,19 +41,19 @@ def v(name: str, primed: bool = False) -> Var:
     (Or((FALSE, TRUE)), None, "true"),
 ])
 def test_structured_english_sentences(f, section, expected):
-    got = clause_to_english(Clause(f), section)
+    got = clause_in_words(Clause(f), section)
     assert got == expected, got
 
 
 def test_names_are_kept_intact():
     f = And((Not(v("not_ready")), v("next_to_door", True), v("and"), Or((v("or_gate"), v("If")))))
-    got = formula_to_english(f)
+    got = formula_in_words(f)
     assert got == "not not_ready and next next_to_door and 'and' and (or_gate or 'If')", got
 
 
 def test_unknown_section_is_refused():
     with pytest.raises(ValueError, match="unknown section 'sys_goals'"):
-        clause_to_english(v("a"), "sys_goals")
+        clause_in_words(v("a"), "sys_goals")
 
 
 def test_thesis_example_reads_as_sentences():
@@ -61,7 +61,7 @@ def test_thesis_example_reads_as_sentences():
     if not path.is_file():
         pytest.skip(f"shared spec {path} is absent")
     spec = load_spec(path)
-    got = [clause_to_english(c, "sys_safety") for c in spec.sys_safety]
+    got = [clause_in_words(c, "sys_safety") for c in spec.sys_safety]
     assert got == ["always, if next person then next stop_camera",
                    "always, if not next sense_object then next move",
                    "always, if next sense_object then next stop"], got
@@ -71,7 +71,7 @@ def test_renderers_handle_very_deep_formulas():
     f = v("a")
     for i in range(5000):
         f = Not(f) if i % 2 else Xor(f, v("b"))
-    assert formula_to_english(f).count("exactly one of") == 2500
+    assert formula_in_words(f).count("exactly one of") == 2500
     assert formula_to_infix(f).count("^") == 2500
     assert formula_to_slugsin(f).count("^") == 2500
 
@@ -98,13 +98,13 @@ def test_infix_parses_back_to_the_same_formula(f):
 def test_integers_read_as_values():
     spec = parse_structured("[INPUT]\nx:0...5\n[OUTPUT]\ndone\n[SYS_INIT]\nx = 4\n[SYS_TRANS]\n"
                             "x' != 3 | done'\n[SYS_LIVENESS]\nx' = 0 & done\n", "i.ltl")
-    got = spec_to_english(spec)
+    got = spec_in_words(spec)
     assert got["sys_init"] == ["initially x is 4"], got
     assert got["sys_safety"] == ["always (next x is not 3 or next done)"], got
     assert got["sys_liveness"] == ["infinitely often next x is 0 and done"], got
     assert got["env_init"] == ["initially not (x@2 and x@1)"], got  # the range constraint 0<=x<=5
     # without the integers the bits show
-    assert clause_to_english(spec.sys_init[0], "sys_init") == "initially (not x@0.0.5 and not x@1 and x@2)"
+    assert clause_in_words(spec.sys_init[0], "sys_init") == "initially (not x@0.0.5 and not x@1 and x@2)"
 
 
 def doubling_clause(levels: int) -> str:
@@ -118,7 +118,7 @@ def test_shared_subformulas_are_named_and_the_text_stays_linear():
     line = doubling_clause(60)
     spec = parse_slugsin(f"[INPUT]\na\nb\n[OUTPUT]\n[SYS_TRANS]\n{line}\n", "shared.slugsin")
     clause = spec.sys_safety[0]
-    english = clause_to_english(clause, "sys_safety")
+    english = clause_in_words(clause, "sys_safety")
     infix = formula_to_infix(clause.formula)
     assert len(english) <= 20 * len(line) and len(infix) <= 20 * len(line), (len(english), len(infix))
     assert ", where $1 = " in english, english[:200]
@@ -141,5 +141,5 @@ def test_infix_of_a_shared_formula_reads_back_to_the_same_meaning():
 def test_short_shared_subformulas_are_written_out():
     shared = Or((Var("a"), Var("b")))
     f = And((shared, Not(shared)))
-    assert formula_to_english(f) == "(a or b) and not (a or b)"
+    assert formula_in_words(f) == "(a or b) and not (a or b)"
     assert formula_to_infix(f) == "(a | b) & !(a | b)"

@@ -10,8 +10,8 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from ltl_stack.runtime.localization import RegionTracker
-from ltl_stack.runtime.regions import RegionMap, RegionsError
+from ltl_stack.runtime.propositions.localization import RegionTracker
+from ltl_stack.runtime.propositions.regions import RegionMap, RegionsError
 from ltl_stack.spec.errors import SpecError
 from ltl_stack.spec.region_map import parse_region_map
 

@@ -9,7 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from ltl_stack.errors import Exit
-from ltl_stack.runtime.explicit import AutomatonStrategy
+from ltl_stack.runtime.executor.explicit import AutomatonStrategy
 from ltl_stack.spec import parse_slugsin
 from ltl_stack.synthesis import Automaton, StrategyFileError, synthesize
 from ltl_stack.synthesis.automaton_check import check_automaton, load_checked

@@ -11,7 +11,7 @@ import pytest
 import recovery_reference
 
 from ltl_stack.errors import Exit
-from ltl_stack.runtime.explicit import AutomatonStrategy
+from ltl_stack.runtime.executor.explicit import AutomatonStrategy
 from ltl_stack.spec import load_spec
 from ltl_stack.synthesis.automaton import Automaton
 from ltl_stack.synthesis.cli import main

@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from ltl_stack.analysis.result import Analysis, Witness
-from ltl_stack.runtime.mapping import Mapping
+from ltl_stack.runtime.config.mapping import Mapping
 
 #: How a finding is graded: an ERROR is a wiring mistake to fix first, a WARNING a place to look at.
 ERROR, WARNING = "error", "warning"

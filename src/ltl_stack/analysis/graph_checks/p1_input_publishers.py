@@ -7,7 +7,7 @@ from dataclasses import dataclass
 from ltl_stack.analysis.conflicts import channel_lanes
 from ltl_stack.analysis.graph_checks.base import ERROR, Context, GraphCheck
 from ltl_stack.analysis.result import Analysis
-from ltl_stack.runtime.mapping import resolve_node_name
+from ltl_stack.runtime.config.mapping import resolve_node_name
 
 
 @dataclass(frozen=True)
