@@ -28,6 +28,7 @@ MAPPING = CONFIG / "clean_and_patrol" / "clean_and_patrol.yaml"
 STATE = "/clean_and_patrol/controller_executor/state"
 REGIONS = ["topLane", "rightLane", "bottomLane", "leftLane", "leftGround", "rightGround"]
 WAIT = 90_000  # ms
+LOAD_WAIT = 300_000  # ms: a scenario's start and the view's own synthesis of its spec, on a busy machine
 
 
 @pytest.fixture(scope="module")
@@ -223,6 +224,7 @@ def test_controller_view_follows_the_executor_and_pauses_it(scenario, qtbot, mon
     view.shutdown()
 
 
+@pytest.mark.timeout(1200)  # a whole scenario beside the view's own synthesis, on a busy machine
 def test_controller_view_follows_alices_resynthesis(qtbot, tmp_path, monkeypatch):
     """Live: thesis Example 11's alice characterizes the broken door; the view shows
     the resilience mode and counters and loads the characterized spec the executor reports on ~state."""
@@ -233,7 +235,7 @@ def test_controller_view_follows_alices_resynthesis(qtbot, tmp_path, monkeypatch
     monkeypatch.setenv("ROS_MASTER_URI", master.uri)
     characterized = tmp_path / "alice_characterized.structuredslugs"
     demo = subprocess.Popen([sys.executable, "-m", "ltl_stack.sim.demo", "--scenario", "alice_ec", "--json",
-                             "--timeout", "150", "--master-uri", master.uri,
+                             "--timeout", "400", "--master-uri", master.uri,
                              "--launch-arg", f"executor_args:=--characterized-spec {characterized}"],
                             cwd=REPO_ROOT, env=master.env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
@@ -244,14 +246,15 @@ def test_controller_view_follows_alices_resynthesis(qtbot, tmp_path, monkeypatch
         view.spec_line_edit.setText(str(CONFIG / "alice" / "alice.structuredslugs"))
         view.topic_combo_box.setEditText(state)
         assert view.attach()
-        qtbot.waitUntil(lambda: view.model is not None and view.shown is not None, timeout=WAIT)
+        # the view synthesizes the executor's spec itself before it shows a state: minutes on a busy machine
+        qtbot.waitUntil(lambda: view.model is not None and view.shown is not None, timeout=LOAD_WAIT)
 
         def characterized_strategy_loaded_and_a_state_shown() -> bool:
             # after loading the new strategy the view shows the next state it is given, a tick later
             model, shown = view.model, view.shown
             return (model is not None and model.generation >= 1 and model.spec_path == str(characterized)
                     and shown is not None and shown.resyntheses >= 1)
-        qtbot.waitUntil(characterized_strategy_loaded_and_a_state_shown, timeout=180_000)
+        qtbot.waitUntil(characterized_strategy_loaded_and_a_state_shown, timeout=LOAD_WAIT)
         assert "new strategies" in view.resilience_label.text()
         assert view.shown.mode and "strategy" in view.strategy_label.text()
         view.shutdown()
@@ -260,6 +263,7 @@ def test_controller_view_follows_alices_resynthesis(qtbot, tmp_path, monkeypatch
         demo.wait(90)
 
 
+@pytest.mark.timeout(1200)  # a whole scenario beside the view's own synthesis, on a busy machine
 def test_controller_view_follows_ds_adoption_on_kitchen(qtbot, tmp_path, monkeypatch):
     """Live: thesis Example 13 (launch/kitchen.launch). D is blocked at the door,
     negotiates with A and puts the adopted spec in place; the view attached to D loads that spec (the
@@ -279,7 +283,7 @@ def test_controller_view_follows_ds_adoption_on_kitchen(qtbot, tmp_path, monkeyp
         view.spec_line_edit.setText(str(CONFIG / "kitchen" / "delivery_agent.structuredslugs"))
         view.topic_combo_box.setEditText(state)
         assert view.attach()
-        qtbot.waitUntil(lambda: view.model is not None and view.shown is not None, timeout=120_000)
+        qtbot.waitUntil(lambda: view.model is not None and view.shown is not None, timeout=LOAD_WAIT)
 
         def adopted_strategy_loaded_and_a_state_of_it_shown() -> bool:
             # the view loads the new strategy, then shows the next state it is given (a tick later); until
@@ -287,7 +291,7 @@ def test_controller_view_follows_ds_adoption_on_kitchen(qtbot, tmp_path, monkeyp
             model, shown = view.model, view.shown
             return (model is not None and model.generation >= 1 and model.spec_path == str(adopted)
                     and shown is not None and shown.generation >= 1 and shown.spec_file == str(adopted))
-        qtbot.waitUntil(adopted_strategy_loaded_and_a_state_of_it_shown, timeout=120_000)
+        qtbot.waitUntil(adopted_strategy_loaded_and_a_state_of_it_shown, timeout=LOAD_WAIT)
         assert view.shown.negotiations >= 1 and view.shown.negotiated >= 1  # D negotiated with A and adopted
         assert f"negotiations {view.shown.negotiations}" in view.resilience_label.text()
         assert view.strategy_label.text().startswith(f"strategy {view.model.generation}: {adopted} (")
@@ -301,7 +305,7 @@ def test_controller_view_follows_ds_adoption_on_kitchen(qtbot, tmp_path, monkeyp
             update, current = view.shown, view.model.current
             return (view.model.spec_path == str(adopted) and current is not None
                     and bool(update.inputs.get("company_c")) and delivered in launch.output())
-        qtbot.waitUntil(back_in_company_placed_in_the_adopted_strategy, timeout=120_000)
+        qtbot.waitUntil(back_in_company_placed_in_the_adopted_strategy, timeout=LOAD_WAIT)
         assert view.model.automaton.states[view.model.current].goal == view.shown.goal
         qtbot.waitUntil(lambda: view.current_node_id() is not None, timeout=120_000)  # drawn and highlighted
         state_now = view.model.automaton.states[view.model.current]

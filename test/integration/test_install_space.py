@@ -15,7 +15,8 @@ from pathlib import Path
 import pytest
 from helpers import REPO_ROOT, bootstrap_paths, closed_port
 
-pytestmark = pytest.mark.slow
+# the first test also waits for the module's catkin_make install: ~3 min at load 20, over 10 at load 30
+pytestmark = [pytest.mark.slow, pytest.mark.timeout(1800)]
 
 SCRIPTS = sorted(p.name for p in (REPO_ROOT / "scripts").iterdir() if p.is_file())
 
@@ -46,7 +47,7 @@ def install(tmp_path_factory) -> Path:
                                f"-DCMAKE_INSTALL_PREFIX={paths['ws'] / 'install'}",
                                f"-DPYTHON_EXECUTABLE={paths['venv'] / 'bin' / 'python'}",
                                "-DCATKIN_ENABLE_TESTING=OFF"],
-                              cwd=paths["ws"], env=env, stdout=out, stderr=subprocess.STDOUT, timeout=900)
+                              cwd=paths["ws"], env=env, stdout=out, stderr=subprocess.STDOUT, timeout=1500)
     assert proc.returncode == 0, log.read_text()[-4000:]
     return paths["ws"] / "install"
 

@@ -3,7 +3,7 @@
 Importing this package applies ``rospy_fixes`` (genpy's numpy import skipped at start-up, rospy's
 XML-RPC thread ended at shutdown, no publisher lost when it registers with a subscriber at once, a
 shutdown begun in another thread finished before the process exits, log lines that never ask the
-master) and turns on ``faulthandler``:
+master, no traceback from a publish while the node shuts down) and turns on ``faulthandler``:
 a node that crashes inside the interpreter or a C extension prints every thread's Python stack to
 stderr (its log under roslaunch) instead of dying with a bare signal.
 Every node of ours imports it before anything else of ROS.
@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import atexit
 import faulthandler
+import sys
 
 from ltl_stack import stdstreams  # noqa: F401 - a closed stdout or stderr is /dev/null from here on
 from ltl_stack.ros import rospy_fixes
@@ -25,5 +26,7 @@ rospy_fixes.skip_numpy_in_genpy()
 atexit.register(rospy_fixes.finish_shutdown_at_exit)
 rospy_fixes.when_imported("rosgraph.xmlrpc", lambda module: rospy_fixes.stop_serving_on_shutdown(module.XmlRpcNode))
 rospy_fixes.when_imported("rospy", rospy_fixes.log_without_master)
+rospy_fixes.when_imported("rospy.topics", lambda module: rospy_fixes.drop_publish_while_shutting_down(
+    module._PublisherImpl, sys.modules["rospy.core"]))
 rospy_fixes.when_imported("rospy.impl.registration",
                           lambda module: rospy_fixes.merge_publisher_updates(module.RegManager))

@@ -39,6 +39,12 @@ Applied by ``import ltl_stack.ros``, which every node of ours does before anythi
   under the executor's controller lock, in a sensor's callback. The flag is now asked once, in a
   daemon thread of its own, and its answer kept; until it comes (and if it never does) log lines
   list their topics, rospy's default. A master restart changes nothing: nothing is asked again.
+- **A publish while shutting down raises**: rospy closes every topic in a *pre*-shutdown hook (its
+  registration cleanup), before it raises the shutdown flag, and a publish to a closed topic raises
+  ``ROSException`` unless that flag is up. A timer or a thread of ours that publishes in that window
+  (a proposition republished, a heartbeat) died with a traceback in the node's output. Such a
+  publish is now dropped silently, as rospy drops it a moment later: only a topic closed while no
+  shutdown is under way still raises.
 """
 from __future__ import annotations
 
@@ -103,6 +109,24 @@ def stop_serving_on_shutdown(node_class: type) -> None:
         return shutdown
 
     _replace(node_class, "shutdown", make)
+
+
+def drop_publish_while_shutting_down(impl_class: type, core: object) -> None:
+    """Make rospy's ``_PublisherImpl.publish`` drop a message to a topic closed by the shutdown under way
+    (``core`` is ``rospy.core``: its ``is_shutdown_requested`` is up from the first shutdown hook on)."""
+
+    def make(publish: Callable) -> Callable:
+        def drop_if_shutting_down(self, message, connection_override=None):
+            try:
+                return publish(self, message, connection_override)
+            except Exception as error:  # rospy's ROSException; rospy.exceptions is not imported here
+                if self.closed and (core.is_shutdown_requested() or core.is_shutdown()) and \
+                        type(error).__name__ == "ROSException":
+                    return False
+                raise
+        return drop_if_shutting_down
+
+    _replace(impl_class, "publish", make)
 
 
 def merge_publisher_updates(manager_class: type) -> None:

@@ -380,6 +380,9 @@ def _not_reached(why: str, log_path: Path) -> None:
     cli.error("demo", f"{why} (the last lines of the launch log are above)")
 
 
+#: how long (s) the end of a story run waits for the last beat's message and the last ~state to be told (they
+#: travel on other connections than story/complete; at once on an idle machine, seconds on a starved one)
+CATCH_UP = 60.0
 COUNTERS = ("violations", "recovery_steps", "resyntheses", "resyntheses_ec1", "resyntheses_ec2", "resyntheses_user",
             "unrealizable")
 
@@ -524,11 +527,11 @@ class StoryFollower(Follower):
 
     def finish(self) -> None:
         # the last beat's message travels on story/fired, the completion on story/complete: tell it too
-        deadline = time.monotonic() + 10.0
+        deadline = time.monotonic() + CATCH_UP
         while self.complete.is_set() and self.beats_told < len(self.story.beats) and time.monotonic() < deadline:
             time.sleep(0.05)
         if self.complete.is_set():
-            self.catch_up(10.0)
+            self.catch_up(CATCH_UP)
 
     def reached(self) -> bool:
         return self.complete.is_set()

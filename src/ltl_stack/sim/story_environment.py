@@ -1,7 +1,10 @@
 """``story_environment``: play a story (``ltl_stack.runtime.resilience.story``) against a running controller.
 
 The environment of a thesis example that reacts to the robot: each of the executor's ``~state``
-messages is one transition (the executor steps at a fixed ``--rate``); where the robot is comes
+messages is one transition (the executor steps at a fixed ``--rate``), except while it characterizes
+or waits for the user: the story's clock then stands still, as when the story is played in process
+(``resilience_table``), where those steps take no transition, so a beat due "after N transitions"
+never overtakes a characterization however long its synthesis takes; where the robot is comes
 from its region inputs (``r_c``) in that message, what it does from the outputs. When the next
 beat is due, the node publishes the inputs it sets (``std_msgs/Bool``, latched, on the
 controller's input topics ``inputs/<name>``); a pulse goes back to false once a ``~state`` shows
@@ -100,20 +103,26 @@ class StoryEnvironment:
             return
         mode = getattr(msg, "mode", "")
         with self.lock:
-            pulses = self.player.pending_pulses()
-            if pulses and all(inputs.get(p) for p in pulses) and mode not in BUSY:
-                self.player.read()  # the controller has stepped with them (not just observed them for EC)
-            beat = self.player.tick(region_of(inputs, self.story.regions, "_c"), outputs)
-            if beat is not None:
-                self._say(f"story: {beat.name}")
-            self._publish_values()
-            if self.player.complete and not self.announced:
-                self.announced = True
-                self._say("story: complete")
-                self.complete_pub.publish(Bool(True))
+            if mode not in BUSY:  # the story's clock stands still while the executor characterizes or asks
+                self._step(inputs, outputs)
             if mode == Mode.WAITING_FOR_USER.value and self.story.user and not self.asked:
                 self.asked = True
                 threading.Thread(target=self._user, daemon=True).start()
+
+    def _step(self, inputs: dict[str, bool], outputs: dict[str, bool]) -> None:
+        """One controller transition: read pulses the controller stepped with, fire the next beat if due."""
+        pulses = self.player.pending_pulses()
+        if pulses and all(inputs.get(p) for p in pulses):
+            self.player.read()  # the controller has stepped with them (not just observed them for EC)
+        self.player.not_seen_yet(inputs)
+        beat = self.player.tick(region_of(inputs, self.story.regions, "_c"), outputs)
+        if beat is not None:
+            self._say(f"story: {beat.name}")
+        self._publish_values()
+        if self.player.complete and not self.announced:
+            self.announced = True
+            self._say("story: complete")
+            self.complete_pub.publish(Bool(True))
 
     def _user(self) -> None:
         """Alg. 3 line 6 as the user does it: the executor's ~add_env_liveness service."""

@@ -4,6 +4,8 @@ from __future__ import annotations
 import subprocess
 import sys
 
+import pytest
+
 CODE = """
 import sys
 sys.path.insert(0, sys.argv[1])
@@ -66,3 +68,29 @@ def test_the_rosout_flag_is_asked_once_in_a_thread_of_its_own_and_never_blocks_a
     assert asked.count(rospy_fixes.ROSOUT_FLAG) == 1  # asked once, then kept
     rospy_fixes.log_without_master(fake)  # applied twice: still one wrapper
     assert fake.get_param_cached(rospy_fixes.ROSOUT_FLAG) is True and asked.count(rospy_fixes.ROSOUT_FLAG) == 1
+
+
+PUBLISH_AT_SHUTDOWN = """
+import ltl_stack.ros
+import rospy.core
+import rospy.topics
+from std_msgs.msg import Bool
+
+impl = rospy.topics._PublisherImpl("/p", Bool)
+impl.close()
+try:
+    impl.publish(Bool(data=True))
+except rospy.exceptions.ROSException as error:
+    print("raised:", error)
+rospy.core._in_shutdown = True  # rospy's pre-shutdown hooks run (they close every topic) before the flag
+print("dropped:", impl.publish(Bool(data=True)))
+"""
+
+
+def test_a_publish_to_a_topic_the_shutdown_closed_is_dropped_and_any_other_closed_topic_still_raises():
+    """rospy closes its topics in a pre-shutdown hook, before ``is_shutdown()``: a timer that republishes
+    in that window died with 'publish() to a closed topic' in the node's output."""
+    pytest.importorskip("rospy")
+    proc = subprocess.run([sys.executable, "-c", PUBLISH_AT_SHUTDOWN], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.splitlines() == ["raised: publish() to a closed topic", "dropped: False"], proc.stdout

@@ -47,6 +47,27 @@ def test_beats_fire_in_order_once_their_condition_holds():
     assert [f.tick for f in player.fired] == [1, 3, 6]
 
 
+def test_a_wait_counts_only_transitions_the_controller_made_with_the_last_beats_values():
+    """On ROS a beat's values travel to the executor: the transitions it makes before they arrive do
+    not count towards the next beat's ``after`` (so a busy machine cannot shorten the story's waits)."""
+    player = StoryPlayer(parse_story(STORY, "s.yaml"))
+    assert player.tick("a", {}).name == "first"  # door: false is on its way
+    for _ in range(5):
+        player.not_seen_yet({"door": True, "tap": False})  # the executor still steps with door true
+        assert player.tick("b", {}) is None
+    player.not_seen_yet({"door": False, "tap": False})
+    assert player.tick("b", {}) is None  # the first transition with the new value
+    player.not_seen_yet({"door": False, "tap": False})
+    assert player.tick("b", {}).name == "in b"  # 2 transitions with door false
+    player.not_seen_yet({"door": False, "tap": False})  # the pulse not read yet: not counted
+    assert player.pending_pulses() == ["tap"] and player.since == player.ticks + 1
+    player.read()  # the controller stepped with the pulse
+    since = player.since
+    player.not_seen_yet({"door": False, "tap": False})  # a read pulse is false again: that is no news
+    assert player.since == since
+    assert player.tick("a", {"a": True, "o": True}).name == "heading a with o"
+
+
 @pytest.mark.parametrize("text, message", [
     ("beats: 3", "expected a mapping with a 'beats:' list"),
     ("beats: []\nplot: 1", "unknown key(s) plot"),

@@ -195,7 +195,10 @@ def test_the_script_prints_all_its_output_and_keeps_the_exit_code(tmp_path: Path
                           env=_buffered_env(), timeout=300, check=False)
     assert text.returncode == code, text.stderr
     assert text.stdout.startswith("REALIZABLE (" if realizable else "UNREALIZABLE ("), text.stdout
-    assert text.stdout.endswith(")\n") and text.stderr == ""
+    assert text.stdout.endswith(")\n")
+    # stderr holds at most progress lines (printed once the solve has run a second, as on a busy machine)
+    assert [line for line in text.stderr.splitlines()
+            if not line.startswith("synthesize: ") or "warning" in line or "error" in line.lower()] == [], text.stderr
     out = tmp_path / "s.json"
     summary = subprocess.run([sys.executable, str(SCRIPT), str(spec), "--json", "--strategy-json", str(out)],
                              capture_output=True, text=True, env=_buffered_env(), timeout=300, check=False)

@@ -91,7 +91,8 @@ def test_a_spec_without_guarantees_is_named(tmp_path, capsys):
 def test_a_meaningful_spec_has_no_vacuity_warning(capsys):
     code, summary, err = _run(LTLMOP / "hall.spec", capsys)
     assert code == Exit.OK and summary["vacuity"] == [] and summary["warnings"] == []
-    assert err == ""
+    # stderr may carry progress lines (printed once the solve has run a second, as on a busy machine)
+    assert [line for line in err.splitlines() if "warning" in line.lower() or "vacuous" in line.lower()] == []
 
 
 def test_an_empty_spec_file_is_an_error(tmp_path, capsys):

@@ -264,6 +264,17 @@ class StoryPlayer:
         self.fired.append(Fired(self.ticks, beat))
         return beat
 
+    def not_seen_yet(self, inputs: Mapping[str, bool]) -> None:
+        """The controller stepped with ``inputs``: while they do not show the last beat's values yet (a
+        message still on its way), that transition does not count towards the next beat's ``after``.
+        In process the controller always steps with the current values, so this changes nothing there."""
+        if not self.fired:
+            return
+        last = self.fired[-1].beat.set
+        if any(name in inputs and bool(inputs[name]) != value for name, value in last.items()
+               if name not in self.story.pulse or name in self._pulsed):
+            self.since = self.ticks + 1
+
     def pending_pulses(self) -> list[str]:
         return list(self._pulsed)
 
