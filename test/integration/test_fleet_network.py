@@ -9,9 +9,13 @@ partition and a lost master do to the guarantee the stack exists for.
 * A master cut: the executor and its sensor and actuator on host 1, the master on host 0. With host 1
   cut off from the master, an input change still reaches the outputs (nothing of ours waits for the
   master on the way: the log line of the step used to ask it).
+* The spheros one per host (Example 9): a sphero's host cut off, its own output nodes stop it.
+* A master cut during a node's start-up parameter read: back within the bound, the node starts;
+  away, one error line and a non-zero exit.
 """
 from __future__ import annotations
 
+import subprocess
 import sys
 
 import pytest
@@ -55,7 +59,8 @@ outputs:
     node_subscribe_topic: /r/outputs/stop
     type: set_velocity
 """
-#: The robot's world: publishes the distance read from a file at 10 Hz, prints every cmd_vel.
+#: The robot's world: publishes the distance read from a file at 10 Hz, prints every cmd_vel (and how
+#: many cmd_vel publishers it hears, when that changes).
 WORLD = '''
 import sys
 import ltl_stack.ros  # noqa: F401 - our rospy fixes, as every node of ours
@@ -64,10 +69,14 @@ from geometry_msgs.msg import Twist
 from std_msgs.msg import Float32
 
 rospy.init_node("world", disable_signals=True)
-rospy.Subscriber("/r/cmd_vel", Twist, lambda m: print("cmd", m.linear.x, flush=True), queue_size=100)
+cmd_vel = rospy.Subscriber("/r/cmd_vel", Twist, lambda m: print("cmd", m.linear.x, flush=True), queue_size=100)
 pub = rospy.Publisher("/r/distance", Float32, queue_size=10)
 rate = rospy.Rate(10)
+connected = 0
 while not rospy.is_shutdown():
+    if cmd_vel.get_num_connections() != connected:  # the cmd_vel publishers it hears
+        connected = cmd_vel.get_num_connections()
+        print("connected", connected, flush=True)
     try:
         pub.publish(Float32(float(open(sys.argv[1]).read())))
     except ValueError:
@@ -161,6 +170,9 @@ def test_with_the_master_cut_off_an_input_change_still_reaches_the_outputs(hosts
     world = next(p for p in hosts.processes if "world" in p.log_path.name)
     wait_for(lambda: 0.3 in commands(world), 90, "the robot moving (cmd_vel 0.3)")
     executor.wait_output("initial state", timeout=60)
+    # the stop node connects to the world through the master: before the cut (on a busy machine it may
+    # register after the move node has already moved the robot)
+    wait_for(lambda: "connected 2" in world.output(), 90, "the world hearing the move and stop nodes")
 
     hosts.cut(1)
     wait_for(lambda: not reachable(hosts, 1, hosts.address(0), PORT), 60, "host 1 cut off from the master")
@@ -362,3 +374,152 @@ def test_example_8_split_over_two_hosts_tells_the_thesis_story(hosts_factory, tm
             and '"chapter"' in line]
     regions = {e["chapter"]: e["region"] for e in told}
     assert regions["pickup"] == "bottomLane" and regions["drop"] == "rightGround", told
+
+
+#: What sphero_wpw's host hears: every cmd_vel (vx vy), every deadman status, and a tick of its own
+#: every 0.5 s (the test waits for ticks, never for a duration).
+SPHERO_WATCH = '''
+import ltl_stack.ros  # noqa: F401
+import rospy
+from diagnostic_msgs.msg import DiagnosticArray
+from geometry_msgs.msg import Twist
+
+rospy.init_node("watch", disable_signals=True)
+rospy.Subscriber("/spheros/sphero_wpw/cmd_vel", Twist,
+                 lambda m: print("cmd", m.linear.x, m.linear.y, flush=True), queue_size=100)
+rospy.Subscriber("/diagnostics", DiagnosticArray, lambda m: [print("diag", s.level, s.name, flush=True)
+                 for s in m.status if s.name.endswith(": deadman")], queue_size=100)
+while not rospy.is_shutdown():
+    print("tick", flush=True)
+    rospy.sleep(0.5)
+'''
+#: The tag detector shows the left arrow for ever: the spheros move left (move_left, vy 0.3).
+LEFT_FOR_EVER = """events:
+  - {at: 0.0, topic: tags/right_arrow, value: false}
+  - {at: 0.0, topic: tags/up_arrow, value: false}
+  - {at: 0.0, topic: tags/down_arrow, value: false}
+  - {at: 0.0, topic: tags/stop_sign, value: false}
+  - {at: 0.0, topic: tags/left_arrow, value: true}
+"""
+
+
+def sphero_lines(watch) -> list[str]:
+    return [line for line in watch.output().splitlines() if line.startswith(("cmd ", "tick", "diag "))]
+
+
+def moving(line: str) -> bool:
+    return line.startswith("cmd ") and any(float(v) != 0.0 for v in line.split()[1:])
+
+
+def stopped_for_ticks(lines: list[str], ticks: int) -> bool:
+    """The last moving command is followed by a zero one and then ``ticks`` ticks (no move since)."""
+    last_move = max((i for i, line in enumerate(lines) if moving(line)), default=-1)
+    rest = lines[last_move + 1:]
+    zero = next((i for i, line in enumerate(rest) if line.startswith("cmd ")), None)
+    return zero is not None and sum(line == "tick" for line in rest[zero:]) >= ticks
+
+
+def test_spheros_one_per_host_a_cut_spheros_own_output_nodes_stop_it_on_their_deadman(hosts_factory, tmp_path):
+    """Example 9 split as docs/several_machines.md says: the controller, the tag inputs and the tag
+    detector on host 0, sphero_wpw's simulated robot and its output nodes on host 1. Host 1 is cut off:
+    its own move_left node's deadman sends the zero Twist and says so; after the partition it follows
+    the controller again. (With the output nodes on the controller's host, as before, the robot's last
+    command went on standing: nothing on the robot's host stopped it.)"""
+    hosts = hosts_factory(2)
+    start_master(hosts, 0, PORT)
+    schedule, watch_script = tmp_path / "left.yaml", tmp_path / "watch.py"
+    schedule.write_text(LEFT_FOR_EVER)
+    watch_script.write_text(SPHERO_WATCH)
+    robot_env = hosts.env(1, 0, PORT)
+    watch = hosts.run(1, [sys.executable, str(watch_script)], robot_env, "watch")
+    wait_for(lambda: "tick" in watch.output(), 120, "the watcher on sphero_wpw's host")
+    hosts.run(1, ["roslaunch", "ltl_stack", "spheros.launch", "robots:=sphero_wpw", "start_executor:=false",
+                  "start_shared:=false", "start_world:=false"], robot_env, "sphero_wpw")
+    hosts.run(0, ["roslaunch", "ltl_stack", "spheros.launch", "robots:=none", f"environment:={schedule}"],
+              hosts.env(0, 0, PORT), "controller")
+    wait_for(lambda: any(moving(line) for line in sphero_lines(watch)), 180, "sphero_wpw moving left")
+
+    hosts.cut(1)
+    wait_for(lambda: stopped_for_ticks(sphero_lines(watch), 4), 90, "sphero_wpw stopped by its own output nodes")
+    lines = sphero_lines(watch)
+    assert any(line.startswith("diag 1 ") and "sphero_wpw_move_left: deadman" in line for line in lines), lines[-40:]
+
+    hosts.heal(1)
+    seen = len(sphero_lines(watch))
+    wait_for(lambda: any(moving(line) for line in sphero_lines(watch)[seen:]), 120,
+             "sphero_wpw following the controller again after the partition")
+
+
+#: topic_threshold_sensor, held between its registration and its start-up parameter read until the
+#: file argv[1] exists (so that the test cuts the master off exactly there).
+HELD_SENSOR = '''
+import os, sys, time
+import ltl_stack.ros  # noqa: F401
+from ltl_stack.ros import proposition_node
+from ltl_stack.ros.sensors import threshold_sensor_main
+
+registered = proposition_node.init_node
+
+def init_then_wait(*args, **kwargs):
+    registered(*args, **kwargs)
+    print("registered", flush=True)
+    while not os.path.exists(go):
+        time.sleep(0.05)
+    print("reading its parameters", flush=True)
+
+go = sys.argv.pop(1)
+proposition_node.init_node = init_then_wait
+threshold_sensor_main()
+'''
+
+
+def held_sensor(hosts, tmp_path, name: str):
+    script, go = tmp_path / "held_sensor.py", tmp_path / f"go-{name}"
+    script.write_text(HELD_SENSOR)
+    node = hosts.run(1, [sys.executable, str(script), str(go), f"__name:={name}", "_topic:=/r/distance",
+                         "_type:=std_msgs/Float32", "_comparison:=<", "_threshold:=2.0",
+                         f"_proposition_topic:=/r/inputs/{name}"], hosts.env(1, 0, PORT), name)
+    node.wait_output("registered", timeout=120)
+    return node, go
+
+
+def test_a_master_cut_during_the_start_up_parameter_read(hosts_factory, tmp_path):
+    """A node reads its parameters from the master at start-up (``ros.master.read_param``, bounded):
+    cut off from the master right then, it starts normally when the master is back within the
+    bound, and otherwise stops with one line naming the master, a non-zero exit, no traceback."""
+    import shutil
+
+    if shutil.which("ss") is None:
+        pytest.skip("the test sees the node's read waiting for the master with ss (iproute2)")
+    hosts = hosts_factory(2)
+    start_master(hosts, 0, PORT)
+    back, go_back = held_sensor(hosts, tmp_path, "back")
+    away, go_away = held_sensor(hosts, tmp_path, "away")
+
+    hosts.cut(1)
+    wait_for(lambda: not reachable(hosts, 1, hosts.address(0), PORT), 60, "host 1 cut off from the master")
+    go_away.touch()  # its master stays away beyond the bound
+    away.wait_output("reading its parameters", timeout=60)
+    try:
+        wait_for(lambda: not away.running(), 120, "the node whose master stays away to stop")
+    except AssertionError as err:
+        raise AssertionError(f"{err}\n--- its output ---\n{away.output()[-4000:]}") from None
+    assert away.popen.returncode != 0, away.output()
+    errors = [line for line in away.output().splitlines() if "cannot read" in line]
+    assert len(errors) == 1 and hosts.address(0) in errors[0], away.output()
+    assert "Traceback" not in away.output(), away.output()
+
+    go_back.touch()  # its master comes back while it waits for the answer
+    back.wait_output("reading its parameters", timeout=60)
+    wait_for(lambda: connecting(hosts, 1, hosts.address(0), PORT), 60, "the node's read waiting for the master")
+    hosts.heal(1)
+    echo = hosts.run(0, ["rostopic", "echo", "-n", "1", "/r/inputs/back"], hosts.env(0, 0, PORT), "echo")
+    echo.wait_output("data: False", timeout=120)  # it started normally: its proposition is published
+    assert back.running() and "cannot read" not in back.output(), back.output()
+
+
+def connecting(hosts, host: int, address: str, port: int) -> bool:
+    """A TCP connection from ``host`` to ``address:port`` is being opened (SYN sent, no answer yet)."""
+    out = subprocess.run(["ip", "netns", "exec", hosts.ns(host), "ss", "-tnH", "state", "syn-sent",
+                          "dst", f"{address}:{port}"], capture_output=True, text=True, timeout=30).stdout
+    return bool(out.strip())

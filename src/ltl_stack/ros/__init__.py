@@ -3,7 +3,8 @@
 Importing this package applies ``rospy_fixes`` (genpy's numpy import skipped at start-up, rospy's
 XML-RPC thread ended at shutdown, no publisher lost when it registers with a subscriber at once, a
 shutdown begun in another thread finished before the process exits, log lines that never ask the
-master, no traceback from a publish while the node shuts down) and turns on ``faulthandler``:
+master, an unregistration at shutdown that gives up on an unreachable master, no traceback from a publish
+while the node shuts down) and turns on ``faulthandler``:
 a node that crashes inside the interpreter or a C extension prints every thread's Python stack to
 stderr (its log under roslaunch) instead of dying with a bare signal.
 Every node of ours imports it before anything else of ROS.
@@ -29,4 +30,5 @@ rospy_fixes.when_imported("rospy", rospy_fixes.log_without_master)
 rospy_fixes.when_imported("rospy.topics", lambda module: rospy_fixes.drop_publish_while_shutting_down(
     module._PublisherImpl, sys.modules["rospy.core"]))
 rospy_fixes.when_imported("rospy.impl.registration",
-                          lambda module: rospy_fixes.merge_publisher_updates(module.RegManager))
+                          lambda module: (rospy_fixes.merge_publisher_updates(module.RegManager),
+                                          rospy_fixes.bound_unregistration(module.RegManager)))

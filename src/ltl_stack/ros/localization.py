@@ -16,7 +16,6 @@ from typing import Any
 import rospy
 from std_msgs.msg import String
 
-from ltl_stack.msg import PropositionValuation
 from ltl_stack.ros.action_proposition import ACTION_PROPOSITION, ActionProposition
 from ltl_stack.ros.master import read_param
 from ltl_stack.ros.proposition_node import (
@@ -24,12 +23,11 @@ from ltl_stack.ros.proposition_node import (
     NodeConfigError,
     NodeSpec,
     Param,
-    PropositionPublisher,
+    PropositionGroup,
     message_class,
     run_node,
     wait_for_topic_class,
 )
-from ltl_stack.ros.valuation import valuation_to_msg
 from ltl_stack.runtime.config.node_params import Bound
 from ltl_stack.runtime.propositions.localization import RegionTracker, region_goal
 from ltl_stack.runtime.propositions.regions import RegionMap, RegionsError
@@ -92,17 +90,13 @@ class RegionLocalization:
         regions = self.tracker.shapes
         for warning in self.tracker.warnings:
             rospy.logwarn("%s: %s", rospy.get_name(), warning)
-        # one timer republishes every region's proposition (not a timer thread per region)
-        self.outputs = {name: PropositionPublisher(rospy.resolve_name(config["prefix"] + name + config["suffix"]),
-                                                   rate=0.0, initial=config["init_value"])
+        # one group: one timer republishes every region's proposition, and a region change is one
+        # ~valuation message (the executor's one update), not two Bools a slow link delivers apart
+        self.group = PropositionGroup(rate=config["rate"])
+        self.outputs = {name: self.group.add(config["prefix"] + name + config["suffix"], config["init_value"])
                         for name in regions}
-        self._timer = rospy.Timer(rospy.Duration(1.0 / config["rate"]), self._republish) if config["rate"] > 0 \
-            else None
         self.region_pub = rospy.Publisher(config["region_topic"], String, queue_size=1, latch=True) \
             if config["region_topic"] else None
-        # every region proposition at once (keys: their topics): the executor takes a region change
-        # as one update, not two messages on two topics that a slow link delivers apart
-        self.valuation_pub = rospy.Publisher("~valuation", PropositionValuation, queue_size=10, latch=True)
         self.cls = message_class(config["pose_type"]) if config["pose_type"] else None
         self.reported: str | None = None
         self._warned = False
@@ -113,17 +107,9 @@ class RegionLocalization:
             return
         rospy.loginfo("%s: in region %s", rospy.get_name(), region)
         self.reported = region
-        valuation = self.tracker.valuation()
-        self.valuation_pub.publish(valuation_to_msg({self.outputs[n].topic: v for n, v in valuation.items()}))
-        # false first, then true: a listener of the Bool topics never sees two regions at once
-        for name, value in sorted(valuation.items(), key=lambda item: item[1]):
-            self.outputs[name].set(value)
+        self.group.set_many({self.outputs[n].topic: v for n, v in self.tracker.valuation().items()})
         if self.region_pub is not None:
             self.region_pub.publish(String(data=region))
-
-    def _republish(self, _event: Any) -> None:
-        for output in self.outputs.values():
-            output.republish()
 
     def spin(self) -> None:
         if self.config["source"] == "tf":
@@ -134,8 +120,7 @@ class RegionLocalization:
                 return
             rospy.Subscriber(self.config["pose_topic"], cls, self._on_pose, queue_size=10)
             rospy.spin()
-        if self._timer is not None:
-            self._timer.shutdown()
+        self.group.close()
 
     def _on_pose(self, msg: Any) -> None:
         try:

@@ -26,7 +26,7 @@ import struct
 import sys
 import threading
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -39,8 +39,10 @@ from std_msgs.msg import Bool
 
 from ltl_stack import cli
 from ltl_stack.errors import Exit, UserError
+from ltl_stack.msg import PropositionValuation
 from ltl_stack.ros.master import init_node, private_params
 from ltl_stack.ros.master_watch import MasterWatch
+from ltl_stack.ros.valuation import valuation_to_msg
 from ltl_stack.runtime.config.node_params import (
     Bound,
     NodeConfigError,
@@ -207,6 +209,58 @@ class PropositionPublisher:
         with self._lock:
             if self._value is not None:
                 self._pub.publish(self._bool(data=self._value))
+
+    def close(self) -> None:
+        if self._timer is not None:
+            self._timer.shutdown()
+
+
+class PropositionGroup:
+    """Several propositions of one node that change together (a robot's regions, exactly one true; a
+    world's sensors): each on its own ``std_msgs/Bool`` topic, republished by one timer, and their
+    whole valuation on ``~valuation`` (``ltl_stack/PropositionValuation``, latched; keys: the resolved
+    topics) once per change, before the Bool topics. The executor reads ``<node>/valuation`` of a node
+    the mapping gives several inputs, so one change of several propositions is one update, however
+    far apart a slow link delivers the Bool messages (docs/several_machines.md)."""
+
+    def __init__(self, rate: float = 10.0, topic: str = "~valuation") -> None:
+        self._lock = threading.Lock()
+        self.publishers: dict[str, PropositionPublisher] = {}
+        self._valuation = rospy.Publisher(topic, PropositionValuation, queue_size=10, latch=True)
+        self._timer = rospy.Timer(rospy.Duration(1.0 / rate), self._republish) if rate > 0 else None
+
+    def add(self, topic: str, initial: bool | None = False) -> PropositionPublisher:
+        """The Bool publisher of one more proposition (published as ``initial`` unless None)."""
+        resolved = rospy.resolve_name(topic)
+        with self._lock:
+            if resolved not in self.publishers:
+                self.publishers[resolved] = PropositionPublisher(resolved, rate=0.0, initial=initial)
+            return self.publishers[resolved]
+
+    def values(self) -> dict[str, bool]:
+        """The propositions' current values by topic (those published at least once)."""
+        return {t: bool(p.value) for t, p in self.publishers.items() if p.value is not None}
+
+    def set_many(self, values: Mapping[str, bool]) -> bool:
+        """Set several propositions at once (topics as ``add`` takes them; new ones are added): when any
+        changed, one ``~valuation`` with every proposition, then the Bools, false ones first (a listener of
+        the Bool topics never sees two regions at once). Return whether any changed."""
+        wanted = {rospy.resolve_name(t): bool(v) for t, v in values.items()}
+        for topic in wanted:
+            if topic not in self.publishers:
+                self.add(topic, initial=None)
+        with self._lock:
+            if all(self.publishers[t].value is v for t, v in wanted.items()):
+                return False
+            whole = {**self.values(), **wanted}
+            self._valuation.publish(valuation_to_msg(whole))
+            for topic, value in sorted(wanted.items(), key=lambda item: item[1]):
+                self.publishers[topic].set(value)
+        return True
+
+    def _republish(self, _event: Any) -> None:
+        for output in list(self.publishers.values()):
+            output.republish()
 
     def close(self) -> None:
         if self._timer is not None:
@@ -449,8 +503,9 @@ def run_node(spec: NodeSpec, build: Callable[[dict[str, Any]], Any],
     """Entry point shared by the node scripts: CLI, ``init_node``, params, build, spin.
 
     A ``NodeConfigError`` (at start-up, or in ``spin`` once e.g. a topic's type is known) ends the node
-    with one ``[FATAL]`` line naming the parameter and exit code ``Exit.BAD_INPUT``. A ``MasterWatch``
-    registers the node again when the master restarts.
+    with one ``[FATAL]`` line naming the parameter and exit code ``Exit.BAD_INPUT``; a master that does
+    not answer the start-up parameter read within ``ros.master.STARTUP_TIMEOUT`` s, with one line naming
+    it and ``Exit.NO_ROS``. A ``MasterWatch`` registers the node again when the master restarts.
     """
     args = rospy.myargv(argv=list(sys.argv if argv is None else argv))
     parse_node_cli(spec.name, spec.kind, spec.description, spec.params, args[1:])
@@ -471,3 +526,7 @@ def run_node(spec: NodeSpec, build: Callable[[dict[str, Any]], Any],
         rospy.logfatal(str(error))
         rospy.signal_shutdown("bad parameters")
         sys.exit(int(EXIT_BAD_CONFIG))
+    except UserError as error:  # the master did not answer a start-up read (ros.master.read_param)
+        cli.error(spec.name, str(error))
+        rospy.signal_shutdown("no master")
+        sys.exit(int(error.code))

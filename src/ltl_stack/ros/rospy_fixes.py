@@ -39,6 +39,11 @@ Applied by ``import ltl_stack.ros``, which every node of ours does before anythi
   under the executor's controller lock, in a sensor's callback. The flag is now asked once, in a
   daemon thread of its own, and its answer kept; until it comes (and if it never does) log lines
   list their topics, rospy's default. A master restart changes nothing: nothing is asked again.
+- **Stopping without a master**: on shutdown rospy unregisters the node's topics and services from the
+  master in one XML-RPC call without a timeout (``RegManager.cleanup``); with the master cut off it
+  held the process for as long as TCP tries (minutes): a node that gave up reading its parameters
+  (one error line) did not exit. The call now runs in a daemon thread of its own, waited for at most
+  ``UNREGISTER_TIMEOUT`` s; a master that does not answer by then has lost the node anyway.
 - **A publish while shutting down raises**: rospy closes every topic in a *pre*-shutdown hook (its
   registration cleanup), before it raises the shutdown flag, and a publish to a closed topic raises
   ``ROSException`` unless that flag is up. A timer or a thread of ours that publishes in that window
@@ -109,6 +114,23 @@ def stop_serving_on_shutdown(node_class: type) -> None:
         return shutdown
 
     _replace(node_class, "shutdown", make)
+
+
+#: Seconds a stopping node waits for the master to take its unregistration.
+UNREGISTER_TIMEOUT = 3.0
+
+
+def bound_unregistration(manager_class: type, timeout: float = UNREGISTER_TIMEOUT) -> None:
+    """Make rospy's ``RegManager.cleanup`` return after ``timeout`` s even if the master never answers."""
+
+    def make(cleanup: Callable) -> Callable:
+        def bounded_cleanup(self, reason):
+            worker = threading.Thread(target=cleanup, args=(self, reason), name="unregister", daemon=True)
+            worker.start()
+            worker.join(timeout)
+        return bounded_cleanup
+
+    _replace(manager_class, "cleanup", make)
 
 
 def drop_publish_while_shutting_down(impl_class: type, core: object) -> None:

@@ -26,7 +26,7 @@ from typing import Any
 import rospy
 from std_msgs.msg import Bool, String
 
-from ltl_stack.ros.proposition_node import NodeSpec, Param, run_node
+from ltl_stack.ros.proposition_node import NodeSpec, Param, PropositionGroup, run_node
 from ltl_stack.runtime.config.node_params import Bound
 from ltl_stack.sim.environment import starts_clock
 
@@ -55,7 +55,9 @@ KITCHEN_WORLD = NodeSpec(
 class KitchenWorld:
     def __init__(self, config: dict[str, Any]) -> None:
         self.config = config
-        self.pubs: dict[str, rospy.Publisher] = {}
+        # every sensor of the world in one group: the sensors one tick changes (D leaves a region and
+        # enters the next) are one ~valuation message, which each robot's executor reads as one update
+        self.sensors = PropositionGroup(rate=0.0)
         self.values: dict[str, bool] = {}
         self.outputs: dict[str, bool] = {}
         self.where = "company"
@@ -81,11 +83,8 @@ class KitchenWorld:
             self.started = time.monotonic()
 
     def set(self, topic: str, value: bool) -> None:
-        if topic not in self.pubs:
-            self.pubs[topic] = rospy.Publisher(topic, Bool, queue_size=10, latch=True)
-        if self.values.get(topic) is not value:
-            self.values[topic] = value
-            self.pubs[topic].publish(Bool(value))
+        """Stage a sensor's value; ``publish_all`` publishes the tick's changes together."""
+        self.values[topic] = value
 
     def say(self, text: str) -> None:
         rospy.loginfo("%s: %s", rospy.get_name(), text)
@@ -102,6 +101,7 @@ class KitchenWorld:
         self.set("C/inputs/cookingArea_c", True)
         self.set("D/inputs/order", self.order_given and not self._picked_up)
         self.set("ingredientArrived", self.arrived)
+        self.sensors.set_many(self.values)
 
     def advance(self, now: float) -> None:
         heading = [r for r in REGIONS if self.out(f"D/outputs/{r}")]

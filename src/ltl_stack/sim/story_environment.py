@@ -24,7 +24,7 @@ import rospy
 from std_msgs.msg import Bool, String
 
 from ltl_stack.msg import ControllerState
-from ltl_stack.ros.proposition_node import NodeConfigError, NodeSpec, Param, run_node
+from ltl_stack.ros.proposition_node import NodeConfigError, NodeSpec, Param, PropositionGroup, run_node
 from ltl_stack.ros.valuation import MalformedValuation, state_valuations
 from ltl_stack.runtime.config.node_params import Bound
 from ltl_stack.runtime.executor.node_mode import Mode
@@ -66,12 +66,14 @@ class StoryEnvironment:
         self.config = config
         self.player = StoryPlayer(self.story)
         ns = config["inputs_ns"].rstrip("/")
-        self.pubs = {n: rospy.Publisher(f"{ns}/{n}", Bool, queue_size=10, latch=True) for n in self.story.inputs}
+        # the story's inputs in one group: a beat that changes several is one ~valuation message, which the
+        # executor reads as one update
+        self.inputs = PropositionGroup(rate=0.0)
+        self.topics = {n: f"{ns}/{n}" for n in self.story.inputs}
         self.fired_pub = rospy.Publisher("~fired", String, queue_size=100, latch=True)
         self.complete_pub = rospy.Publisher("~complete", Bool, queue_size=1, latch=True)
         self.executor = config["executor"].rstrip("/")
         self.lock = threading.Lock()
-        self.published: dict[str, bool] = {}
         self.asked = False
         self.announced = False
 
@@ -90,10 +92,7 @@ class StoryEnvironment:
         self.fired_pub.publish(String(data=text))
 
     def _publish_values(self) -> None:
-        for name, value in self.player.values.items():
-            if self.published.get(name) is not value:
-                self.pubs[name].publish(Bool(value))
-                self.published[name] = value
+        self.inputs.set_many({self.topics[name]: value for name, value in self.player.values.items()})
 
     def _on_state(self, msg: ControllerState) -> None:
         try:

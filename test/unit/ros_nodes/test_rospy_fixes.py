@@ -70,6 +70,34 @@ def test_the_rosout_flag_is_asked_once_in_a_thread_of_its_own_and_never_blocks_a
     assert fake.get_param_cached(rospy_fixes.ROSOUT_FLAG) is True and asked.count(rospy_fixes.ROSOUT_FLAG) == 1
 
 
+def test_the_unregistration_at_shutdown_gives_up_on_a_master_that_never_answers():
+    """rospy's RegManager.cleanup calls the master without a timeout: a fake whose cleanup blocks
+    until released stands for the unreachable master; the bounded one returns, a quick one has run."""
+    import threading
+
+    from helpers import wait_for
+
+    from ltl_stack.ros import rospy_fixes
+
+    release = threading.Event()
+    ran = []
+
+    class Manager:
+        def cleanup(self, reason):
+            release.wait(120)
+            ran.append(reason)
+
+    rospy_fixes.bound_unregistration(Manager, timeout=0.2)
+    rospy_fixes.bound_unregistration(Manager, timeout=0.2)  # applied twice: still one wrapper
+    done = threading.Event()
+    threading.Thread(target=lambda: (Manager().cleanup("cut off"), done.set()), daemon=True).start()
+    assert done.wait(60), "the bounded cleanup never returned"
+    assert ran == []  # it gave up on the master
+    release.set()
+    Manager().cleanup("master back")
+    wait_for(lambda: "master back" in ran, 60, "the quick cleanup to have run")
+
+
 PUBLISH_AT_SHUTDOWN = """
 import ltl_stack.ros
 import rospy.core

@@ -232,6 +232,38 @@ def test_spheros_output_starts_one_node_per_robot(tmp_path):
     assert node.find("remap").get("to") == "/spheros/outputs/move_left"
 
 
+ROBOTS = textwrap.dedent("""\
+    inputs:
+      person: {node: person, pkg: ltl_stack, type: topic_threshold_sensor}
+      r1_here: {node: r1_here, pkg: ltl_stack, type: topic_threshold_sensor, robot: r1}
+    outputs:
+      move:
+        - {node: r1_move, pkg: ltl_stack, type: set_velocity, robot: r1}
+        - {node: r2_move, pkg: ltl_stack, type: set_velocity, robot: r2}
+        - {node: shared_move, pkg: ltl_stack, type: set_velocity}
+    """)
+
+
+def test_nodes_naming_a_robot_start_with_that_robot_and_the_others_with_start_shared():
+    result, root = launch_tree(ROBOTS)
+    args = {a.get("name"): a.get("default") for a in root.iter("arg")}
+    assert args["robots"] == "r1 r2" and args["start_shared"] == "true", args
+    conditions = {name: group.get("if") for name, (group, _) in nodes_by_name(root).items()
+                  if not name.endswith("/controller_executor")}
+    assert conditions == {
+        "/demo/person": "$(eval start_inputs and start_shared)",
+        "/demo/r1_here": "$(eval start_inputs and 'r1' in str(robots).split())",
+        "/demo/r1_move": "$(eval start_outputs and 'r1' in str(robots).split())",
+        "/demo/r2_move": "$(eval start_outputs and 'r2' in str(robots).split())",
+        "/demo/shared_move": "$(eval start_outputs and start_shared)"}, conditions
+    assert {n["node"]: n["robot"] for n in result.nodes}["/demo/r2_move"] == "r2"
+
+
+def test_a_mapping_without_robots_has_no_robot_arguments():
+    _, root = launch_tree()
+    assert not {"robots", "start_shared"} & {a.get("name") for a in root.iter("arg")}
+
+
 def test_cli_errors_exit_2_and_write_nothing(tmp_path, capsys):
     bad = tmp_path / "bad.yaml"
     bad.write_text("inputs:\n  a:\n    nodes: x\n")

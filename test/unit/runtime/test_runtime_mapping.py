@@ -114,6 +114,8 @@ def test_two_propositions_on_one_topic_is_an_error():
     ("outputs:\n  b:\n    node: 'bad name!'\n", 3, "node 'bad name!' is not a valid ROS name"),
     ("outputs:\n  b:\n    node: x\n    parameters: [1]\n", 4, "parameters must be a mapping"),
     ("robots: []\n", 1, "unknown top-level key 'robots'"),
+    ("outputs:\n  b:\n    node: x\n    robot: 'r 1'\n", 4, "robot 'r 1' is not a legal ROS base name"),
+    ("outputs:\n  b:\n    node: x\n    robot: r__1\n", 4, "robot 'r__1' is not a legal ROS base name"),
     ("- a\n", 1, "must be a YAML mapping"),
     ("inputs:\n  a: {}\n  5: {node: x}\n", 3, "key '5' is not a string"),
     ("outputs:\n  yes:\n    node: x\n", 2, "key 'yes' is not a string"),
@@ -274,3 +276,10 @@ def test_expected_feedback_is_read_checked_and_written_back():
     with pytest.raises(MappingError) as err:
         parse_mapping("expected_feedback:\n  stop: 3\n", "bad.yaml")
     assert "bad.yaml:2" in str(err.value) and "must name an input" in str(err.value)
+
+
+def test_a_node_names_its_robot_and_keeps_it_through_format():
+    m = parse_mapping("outputs:\n  b:\n    - {node: r1_b, robot: r1}\n    - {node: shared_b}\n", "m.yaml")
+    assert [e.robot for e in m.outputs["b"]] == ["r1", None]
+    again = parse_mapping(format_mapping(m), "again.yaml")
+    assert [e.robot for e in again.outputs["b"]] == ["r1", None]

@@ -11,7 +11,10 @@ exits (unrealizable spec, bad file) roslaunch stops the whole scenario instead o
 driving. A ``filename`` such as ``get_tag.py`` becomes the node ``type`` (``type:`` overrides it).
 
 Launch arguments: ``spec``, ``mapping``, ``start_executor``, ``start_inputs``, ``start_outputs``,
-``executor_args`` (extra executor flags, e.g. ``--on-violation all-false``).
+``executor_args`` (extra executor flags, e.g. ``--on-violation all-false``). When node entries name
+their ``robot:``, also ``robots`` (the robots whose nodes start here, space-separated; default all)
+and ``start_shared`` (the nodes of no robot), so that each robot's host starts that robot's nodes:
+``robots:=r1 start_shared:=false start_executor:=false`` there, ``robots:=none`` on the controller's.
 
 Every value is escaped, so the output is well-formed XML whatever the mapping holds; values XML
 cannot carry at all (control characters) are refused, and a string parameter holding ``$(`` goes
@@ -103,7 +106,7 @@ def generate_launch(mapping: Mapping, *, spec_path: str | None, namespace: str,
         if error is not None:
             raise LaunchError(str(error))
         result.warnings += [str(i) for i in issues if i.severity != "error"]
-    groups: dict[tuple[str, str], list[tuple[NodeEntry, str, str]]] = {}
+    groups: dict[tuple[str, str | None, str], list[tuple[NodeEntry, str, str]]] = {}
     seen: dict[str, NodeEntry] = {}
     unstarted: list[tuple[str, str]] = []
     for entry in mapping.entries():
@@ -129,11 +132,12 @@ def generate_launch(mapping: Mapping, *, spec_path: str | None, namespace: str,
             result.warnings.append(f"{where}: {entry.kind} {entry.proposition!r}: node {name} cannot name its "
                                    f"topic {topic} relatively (ROS resolves relative names only downwards); "
                                    f"written as {to}, which does not move with an enclosing namespace")
-        groups.setdefault((entry.group, parent), []).append((entry, base, to))
+        groups.setdefault((entry.group, entry.robot, parent), []).append((entry, base, to))
         full_node = name if name.startswith("/") else f"/{namespace}/{name}"
         full_topic = topic if topic.startswith("/") else f"/{namespace}/{topic}"
         result.nodes.append({"proposition": entry.proposition, "kind": entry.kind, "node": full_node,
-                             "pkg": entry.pkg, "type": entry.executable, "topic": full_topic})
+                             "pkg": entry.pkg, "type": entry.executable, "topic": full_topic,
+                             "robot": entry.robot})
     # An entry without pkg naming a node another entry starts (an action node publishing its completion
     # input) is started by that entry.
     result.skipped += [text for name, text in unstarted if name not in seen]
@@ -147,11 +151,15 @@ def generate_launch(mapping: Mapping, *, spec_path: str | None, namespace: str,
              f'  <arg name="start_executor" default="{"true" if executor and spec_path else "false"}"/>',
              '  <arg name="start_inputs" default="true"/>',
              '  <arg name="start_outputs" default="true"/>',
-             '  <arg name="executor_args" default=""/>',
-             "",
-             f"  <group ns={_attr(namespace)}>"]
-    for (group, parent), members in groups.items():
-        cond = f'if="$(arg start_{group})"'
+             '  <arg name="executor_args" default=""/>']
+    robots = list(dict.fromkeys(robot for _, robot, _ in groups if robot))
+    if robots:
+        lines += [f'  <arg name="robots" default={_attr(" ".join(robots))}',
+                  '       doc="the robots whose nodes start here (space-separated; none: no robot)"/>',
+                  '  <arg name="start_shared" default="true" doc="start the nodes of no robot"/>']
+    lines += ["", f"  <group ns={_attr(namespace)}>"]
+    for (group, robot, parent), members in groups.items():
+        cond = _condition(group, robot, bool(robots))
         lines.append(f"    <group ns={_attr(parent)} {cond}>" if parent else f"    <group {cond}>")
         for entry, base, topic in members:
             lines += _node_xml(entry, base, topic, indent="      ")
@@ -168,6 +176,16 @@ def generate_launch(mapping: Mapping, *, spec_path: str | None, namespace: str,
               "</launch>", ""]
     result.xml = "\n".join(lines)
     return result
+
+
+def _condition(group: str, robot: str | None, by_robot: bool) -> str:
+    """The ``if`` of a group of nodes: its kind started and, in a mapping naming robots, its robot
+    among ``robots`` (a robot name is a ROS base name: nothing to quote) or, for no robot, ``start_shared``."""
+    if not by_robot:
+        return f'if="$(arg start_{group})"'
+    if robot is None:
+        return f'if="$(eval start_{group} and start_shared)"'
+    return f'if="$(eval start_{group} and {robot!r} in str(robots).split())"'
 
 
 def _check_entry(entry: NodeEntry, where: str) -> None:

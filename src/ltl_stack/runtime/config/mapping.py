@@ -22,7 +22,9 @@ subscribe to its output topic::
 Compatible extensions: an optional top-level ``namespace:``; ``negotiation:`` (the proposition
 classes for integrative negotiation, read by ``runtime.resilience.negotiation``, docs/negotiation.md); per node ``type:`` (the executable,
 otherwise taken from ``filename``) and ``args:`` (command-line arguments for the launch file); per input
-``freshness:`` (seconds a reading stays valid; 0: forever; ``runtime.executor.freshness``).
+``freshness:`` (seconds a reading stays valid; 0: forever; ``runtime.executor.freshness``); per node ``robot:``
+(the robot whose machine runs the node: ``generate_launch`` starts it with that robot, so that a
+robot's output nodes, and their deadman, run on the robot's own host).
 
 ``load_mapping`` reads a file as it is (structure errors raise ``MappingError`` naming file and line);
 ``check_mapping`` compares it with a spec's propositions and returns errors and warnings.
@@ -46,9 +48,11 @@ INPUT = "input"
 OUTPUT = "output"
 _TOPIC_KEY = {INPUT: "node_publish_topic", OUTPUT: "node_subscribe_topic"}
 _ENTRY_KEYS = {"node", "node_publish_topic", "node_subscribe_topic", "pkg", "filename", "parameters",
-               "type", "args", "freshness"}
+               "type", "args", "freshness", "robot"}
 _TOP_KEYS = {"inputs", "outputs", "namespace", "negotiation", "expected_feedback"}
 _NAME = re.compile(r"^/?[A-Za-z_~][A-Za-z0-9_/]*$")
+#: A robot name (``robot:``): a ROS base name, as the robot's namespace usually is.
+_ROBOT = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
 
 
 class MappingError(UserError):
@@ -90,6 +94,8 @@ class NodeEntry:
     line: int = 0
     #: seconds a reading of this input stays valid (None: derived, ``runtime.executor.freshness``; 0: forever)
     freshness: float | None = None
+    #: the robot whose host runs this node (``robot:``; None: the scenario's, e.g. the controller's host)
+    robot: str | None = None
 
     @property
     def executable(self) -> str | None:
@@ -259,6 +265,10 @@ def _entry(file: str, kind: str, prop: str, value: Any, node: yaml.Node) -> Node
     parameters = value.get("parameters") or {}
     if not isinstance(parameters, dict):
         raise MappingError(file, keys["parameters"][0], f"{kind} {prop!r}: parameters must be a mapping")
+    robot = text("robot")
+    if robot is not None and (not _ROBOT.match(robot) or "__" in robot):
+        raise MappingError(file, keys["robot"][0], f"{kind} {prop!r}: robot {robot!r} is not a legal ROS base name "
+                           "(letters, digits and single _, starting with a letter)")
     freshness = value.get("freshness")
     if "freshness" in value:
         if kind != INPUT:
@@ -269,7 +279,7 @@ def _entry(file: str, kind: str, prop: str, value: Any, node: yaml.Node) -> Node
     return NodeEntry(proposition=prop, kind=kind, node=node_name, topic=topic, pkg=text("pkg"),
                      filename=text("filename"), parameters={str(k): v for k, v in parameters.items()},
                      type=text("type"), args=text("args") or "", line=line,
-                     freshness=float(freshness) if freshness is not None else None)
+                     freshness=float(freshness) if freshness is not None else None, robot=robot)
 
 
 def _check_negotiation(mapping: Mapping) -> None:
@@ -448,7 +458,8 @@ def format_mapping(mapping: Mapping) -> str:
 def _entry_dict(entry: NodeEntry) -> dict[str, Any]:
     fields = [("node", entry.node), (_TOPIC_KEY[entry.kind], entry.topic), ("pkg", entry.pkg),
               ("filename", entry.filename), ("type", entry.type), ("args", entry.args or None),
-              ("parameters", dict(entry.parameters) or None), ("freshness", entry.freshness)]
+              ("parameters", dict(entry.parameters) or None), ("freshness", entry.freshness),
+              ("robot", entry.robot)]
     return {key: value for key, value in fields if value is not None}
 
 
