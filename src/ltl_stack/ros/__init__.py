@@ -28,7 +28,7 @@ atexit.register(rospy_fixes.finish_shutdown_at_exit)
 rospy_fixes.when_imported("rosgraph.xmlrpc", lambda module: rospy_fixes.stop_serving_on_shutdown(module.XmlRpcNode))
 rospy_fixes.when_imported("rospy", rospy_fixes.log_without_master)
 rospy_fixes.when_imported("rospy.topics", lambda module: rospy_fixes.drop_publish_while_shutting_down(
-    module._PublisherImpl, sys.modules["rospy.core"]))
+    module._PublisherImpl, sys.modules["rospy.core"], sys.modules["rospy.exceptions"].ROSException))
 rospy_fixes.when_imported("rospy.impl.registration",
                           lambda module: (rospy_fixes.merge_publisher_updates(module.RegManager),
                                           rospy_fixes.bound_unregistration(module.RegManager)))

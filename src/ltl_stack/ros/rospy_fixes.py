@@ -133,17 +133,17 @@ def bound_unregistration(manager_class: type, timeout: float = UNREGISTER_TIMEOU
     _replace(manager_class, "cleanup", make)
 
 
-def drop_publish_while_shutting_down(impl_class: type, core: object) -> None:
+def drop_publish_while_shutting_down(impl_class: type, core: object, closed_error: type) -> None:
     """Make rospy's ``_PublisherImpl.publish`` drop a message to a topic closed by the shutdown under way
-    (``core`` is ``rospy.core``: its ``is_shutdown_requested`` is up from the first shutdown hook on)."""
+    (``core`` is ``rospy.core``: its ``is_shutdown_requested`` is up from the first shutdown hook on;
+    ``closed_error`` is ``rospy.exceptions.ROSException``, what a publish to a closed topic raises)."""
 
     def make(publish: Callable) -> Callable:
         def drop_if_shutting_down(self, message, connection_override=None):
             try:
                 return publish(self, message, connection_override)
-            except Exception as error:  # rospy's ROSException; rospy.exceptions is not imported here
-                if self.closed and (core.is_shutdown_requested() or core.is_shutdown()) and \
-                        type(error).__name__ == "ROSException":
+            except closed_error:
+                if self.closed and (core.is_shutdown_requested() or core.is_shutdown()):
                     return False
                 raise
         return drop_if_shutting_down
