@@ -101,6 +101,22 @@ def require_shared(*parts: str) -> Path:
     return path
 
 
+#: The start of a test's node script that prints from rospy callbacks: ``say`` prints one whole line
+#: (rospy calls back from a thread per connection, and ``print`` writes a line in pieces that another
+#: thread's can split).
+SAY = '''
+import sys
+import threading
+
+_lock = threading.Lock()
+
+
+def say(*parts):
+    with _lock:
+        sys.stdout.write(" ".join(str(p) for p in parts) + "\\n")
+        sys.stdout.flush()
+'''
+
 # How long a test waits for something that must happen. Generous: on a busy 2-core machine a node
 # can take many seconds to start. A test never asserts how fast something happens (benchmarks do).
 WAIT = 60.0

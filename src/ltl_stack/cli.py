@@ -99,25 +99,61 @@ class StdoutFailed(OSError):
 
 
 class _CheckedStdout:
-    """``sys.stdout`` while a tool runs (``run``): a failed write or flush raises ``StdoutFailed``,
-    and so does any write when the tool was started with its stdout closed (``tool >&-``)."""
+    """``sys.stdout`` while a tool runs (``run``): whole lines, and a failed write or flush raises
+    ``StdoutFailed``, as does any write when the tool was started with its stdout closed (``tool >&-``).
+
+    ``print`` writes the text and the newline in two calls, so lines printed by two threads (ROS
+    callbacks, timers and the main loop) could interleave, and a ``--json`` reader get two documents on
+    one line. Text is kept per thread until its newline (or a flush: a prompt), and complete lines are
+    written under a lock."""
 
     def __init__(self, stream: TextIO) -> None:
         self.stream = stream
+        self._lock = threading.Lock()
+        self._local = threading.local()
 
     def write(self, text: str) -> int:
         if text and stdstreams.STDOUT_CLOSED:
             raise StdoutFailed(OSError(errno.EBADF, "standard output is closed"))
-        try:
-            return self.stream.write(text)
-        except OSError as err:
-            raise StdoutFailed(err) from None
+        pending = self._pending()
+        cut = text.rfind("\n") + 1
+        if cut:
+            lines = "".join(pending) + text[:cut]
+            pending.clear()
+            self._send(lines, flush=False)
+        if cut < len(text):
+            pending.append(text[cut:])
+        return len(text)
 
     def flush(self) -> None:
+        self._send(self._take(), flush=True)
+
+    def _pending(self) -> list[str]:
+        """The calling thread's text since its last newline, in pieces (joined once: linear)."""
+        return self._local.__dict__.setdefault("pending", [])
+
+    def _take(self) -> str:
+        pending = self._pending()
+        text = "".join(pending)
+        pending.clear()
+        return text
+
+    def _send(self, text: str, flush: bool) -> None:
+        with self._lock:
+            try:
+                if text:
+                    self.stream.write(text)
+                if flush:
+                    self.stream.flush()
+            except OSError as err:
+                raise StdoutFailed(err) from None
+
+    def leave(self) -> None:
+        """The calling thread's unfinished line to the stream as it is (a tool ending on an error)."""
         try:
-            self.stream.flush()
-        except OSError as err:
-            raise StdoutFailed(err) from None
+            self.stream.write(self._take())
+        except (OSError, ValueError):
+            pass
 
     def __getattr__(self, name: str) -> Any:
         return getattr(self.stream, name)
@@ -173,7 +209,7 @@ def run(prog: str, body: Callable[[], int | None]) -> int:
     """
     stdout = sys.stdout
     _print_any_path(stdout)
-    sys.stdout = _CheckedStdout(stdout)
+    sys.stdout = checked = _CheckedStdout(stdout)
     try:
         code = body()
         sys.stdout.flush()
@@ -189,6 +225,7 @@ def run(prog: str, body: Callable[[], int | None]) -> int:
         return _output_failed(prog, e, stdout)
     finally:
         sys.stdout = stdout
+        checked.leave()
 
 
 def imports_done() -> None:

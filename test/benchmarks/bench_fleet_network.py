@@ -30,7 +30,7 @@ ROOT = Path(__file__).resolve().parent.parent.parent
 sys.path.insert(0, str(ROOT / "test"))
 sys.path.insert(0, str(ROOT / "test" / "integration"))
 
-from helpers import wait_for  # noqa: E402
+from helpers import SAY, wait_for  # noqa: E402
 from netns_hosts import Hosts, netns_refusal, start_master  # noqa: E402
 
 PORT = 11400
@@ -68,14 +68,13 @@ for k in range(int(sys.argv[1])):
 print("done", flush=True)
 time.sleep(3600)
 '''
-WORLD = '''
+WORLD = SAY + '''
 import time
 import ltl_stack.ros  # noqa: F401
 import rospy
 from geometry_msgs.msg import Twist
 rospy.init_node("world", disable_signals=True)
-rospy.Subscriber("/bench/cmd_vel", Twist, lambda m: print("cmd", m.linear.x, time.monotonic(), flush=True),
-                 queue_size=100)
+rospy.Subscriber("/bench/cmd_vel", Twist, lambda m: say("cmd", m.linear.x, time.monotonic()), queue_size=100)
 rospy.spin()
 '''
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import threading
 import time
 
 import rospy
@@ -51,11 +52,14 @@ def main() -> int:
     controller.report_many({**dict.fromkeys(spec.inputs, False), **json.loads(args.start)} if args.start else inputs)
     negotiator = Negotiator(classes, path=args.adopted)
 
+    lock = threading.Lock()  # two negotiations can end at once, in two threads: lines stay whole
+
     def report(n) -> None:
         if n.done:
-            print(json.dumps({"report": n.report()}), flush=True)
-            if n.adopted is not None:
-                print(json.dumps({"adopted": classes.robot, "running": controller.current_outputs()}), flush=True)
+            with lock:
+                print(json.dumps({"report": n.report()}), flush=True)
+                if n.adopted is not None:
+                    print(json.dumps({"adopted": classes.robot, "running": controller.current_outputs()}), flush=True)
 
     NegotiationEndpoint(negotiator, strategy, controller, timeout=args.timeout, on_report=report,
                         auth=classes_authenticator(classes))

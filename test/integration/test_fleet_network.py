@@ -19,7 +19,7 @@ import subprocess
 import sys
 
 import pytest
-from helpers import wait_for
+from helpers import SAY, wait_for
 from netns_hosts import Hosts, netns_refusal, reachable, start_master
 from two_regions import MAPPING as REGION_MAPPING
 from two_regions import SPEC as REGION_SPEC
@@ -61,22 +61,21 @@ outputs:
 """
 #: The robot's world: publishes the distance read from a file at 10 Hz, prints every cmd_vel (and how
 #: many cmd_vel publishers it hears, when that changes).
-WORLD = '''
-import sys
+WORLD = SAY + '''
 import ltl_stack.ros  # noqa: F401 - our rospy fixes, as every node of ours
 import rospy
 from geometry_msgs.msg import Twist
 from std_msgs.msg import Float32
 
 rospy.init_node("world", disable_signals=True)
-cmd_vel = rospy.Subscriber("/r/cmd_vel", Twist, lambda m: print("cmd", m.linear.x, flush=True), queue_size=100)
+cmd_vel = rospy.Subscriber("/r/cmd_vel", Twist, lambda m: say("cmd", m.linear.x), queue_size=100)
 pub = rospy.Publisher("/r/distance", Float32, queue_size=10)
 rate = rospy.Rate(10)
 connected = 0
 while not rospy.is_shutdown():
     if cmd_vel.get_num_connections() != connected:  # the cmd_vel publishers it hears
         connected = cmd_vel.get_num_connections()
-        print("connected", connected, flush=True)
+        say("connected", connected)
     try:
         pub.publish(Float32(float(open(sys.argv[1]).read())))
     except ValueError:
@@ -293,8 +292,7 @@ outputs:
     type: set_velocity
 """
 #: The peer's world: its distance to the hall, read from a file, at 10 Hz.
-PEER_WORLD = '''
-import sys
+PEER_WORLD = SAY + '''
 import ltl_stack.ros  # noqa: F401
 import rospy
 from std_msgs.msg import Float32
@@ -380,19 +378,18 @@ def test_example_8_split_over_two_hosts_tells_the_thesis_story(hosts_factory, tm
 
 #: What sphero_wpw's host hears: every cmd_vel (vx vy), every deadman status, and a tick of its own
 #: every 0.5 s (the test waits for ticks, never for a duration).
-SPHERO_WATCH = '''
+SPHERO_WATCH = SAY + '''
 import ltl_stack.ros  # noqa: F401
 import rospy
 from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import Twist
 
 rospy.init_node("watch", disable_signals=True)
-rospy.Subscriber("/spheros/sphero_wpw/cmd_vel", Twist,
-                 lambda m: print("cmd", m.linear.x, m.linear.y, flush=True), queue_size=100)
-rospy.Subscriber("/diagnostics", DiagnosticArray, lambda m: [print("diag", s.level, s.name, flush=True)
+rospy.Subscriber("/spheros/sphero_wpw/cmd_vel", Twist, lambda m: say("cmd", m.linear.x, m.linear.y), queue_size=100)
+rospy.Subscriber("/diagnostics", DiagnosticArray, lambda m: [say("diag", s.level, s.name)
                  for s in m.status if s.name.endswith(": deadman")], queue_size=100)
 while not rospy.is_shutdown():
-    print("tick", flush=True)
+    say("tick")
     rospy.sleep(0.5)
 '''
 #: The tag detector shows the left arrow for ever: the spheros move left (move_left, vy 0.3).

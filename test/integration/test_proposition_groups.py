@@ -7,11 +7,11 @@ from __future__ import annotations
 
 import sys
 
-from helpers import wait_for
+from helpers import SAY, wait_for
 
 #: Hears the kitchen world's ~valuation (D's region in each message) and D's road Bool; once it has the
 #: first (latched) valuation and the world hears its output topic, it sends D towards road.
-RECORDER = '''
+RECORDER = SAY + '''
 import ltl_stack.ros  # noqa: F401
 import rospy
 from std_msgs.msg import Bool
@@ -23,16 +23,16 @@ heard = []
 
 def on_valuation(msg):
     values = dict(zip(msg.keys, msg.values))
-    print("regions", " ".join(r for r in REGIONS if values.get("/kitchen/D/inputs/%s_c" % r)), flush=True)
+    say("regions", " ".join(r for r in REGIONS if values.get("/kitchen/D/inputs/%s_c" % r)))
     heard.append(msg)
 
 rospy.Subscriber("/kitchen/kitchen_world/valuation", PropositionValuation, on_valuation, queue_size=100)
-rospy.Subscriber("/kitchen/D/inputs/road_c", Bool, lambda m: print("road_c", m.data, flush=True), queue_size=100)
+rospy.Subscriber("/kitchen/D/inputs/road_c", Bool, lambda m: say("road_c", m.data), queue_size=100)
 go = rospy.Publisher("/kitchen/D/outputs/road", Bool, queue_size=1, latch=True)
 while not (heard and go.get_num_connections()) and not rospy.is_shutdown():
     rospy.sleep(0.05)
 go.publish(Bool(True))
-print("sent", flush=True)
+say("sent")
 rospy.spin()
 '''
 
@@ -48,10 +48,10 @@ def test_a_region_change_of_the_kitchen_world_is_one_valuation_message(ros_maste
                            name="world")
     recorder = ros_master.run([sys.executable, str(script)], name="recorder")
     # generous: rospy retries a connection that failed under load after 1, 2, 4 ... 32 s
-    recorder.wait_output("sent", timeout=240)
+    recorder.wait_output("sent", timeout=120)
     try:
-        wait_for(lambda: ["road"] in region_lines(recorder), 240, "D in road on the world's ~valuation")
-        wait_for(lambda: "road_c True" in recorder.output(), 240, "D in road on its Bool topic")
+        wait_for(lambda: ["road"] in region_lines(recorder), 120, "D in road on the world's ~valuation")
+        wait_for(lambda: "road_c True" in recorder.output(), 120, "D in road on its Bool topic")
     except AssertionError as err:
         raise AssertionError(f"{err}\nworld:\n{world.output()[-3000:]}\nrecorder:\n{recorder.output()[-3000:]}") from None
     regions = region_lines(recorder)

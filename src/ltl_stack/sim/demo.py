@@ -191,37 +191,8 @@ def _launch_arg(text: str) -> str:
     return text
 
 
-class LineAtomicOutput:
-    """A text stream whose threads write whole lines at once.
-
-    ``print`` writes the text and the newline in two calls, so lines printed by two threads (ROS
-    callbacks and the main loop) can interleave, and a ``--json`` consumer reads two documents on
-    one line. Text is kept per thread until its newline; complete lines are written under a lock."""
-
-    def __init__(self, stream) -> None:
-        self._stream = stream
-        self._lock = threading.Lock()
-        self._local = threading.local()
-
-    def write(self, text: str) -> int:
-        *lines, rest = (getattr(self._local, "pending", "") + text).split("\n")
-        self._local.pending = rest
-        if lines:
-            with self._lock:
-                self._stream.write("\n".join(lines) + "\n")
-        return len(text)
-
-    def flush(self) -> None:
-        with self._lock:
-            self._stream.flush()
-
-    def __getattr__(self, name: str):
-        return getattr(self._stream, name)
-
-
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
-    sys.stdout = LineAtomicOutput(sys.stdout)
     return cli.run("demo", lambda: run(args))
 
 

@@ -143,6 +143,42 @@ def test_run_turns_user_errors_into_one_line_and_code(capsys):
     assert cli.run("tool", limit) == 5
 
 
+def test_lines_printed_by_many_threads_never_share_a_line(capsys):
+    """A tool's threads (ROS callbacks, timers, the main loop) print whole lines: a --json reader
+    reads one document per line."""
+    import threading
+
+    def talk(n: int) -> None:
+        for i in range(300):
+            print(json.dumps({"thread": n, "i": i, "pad": "x" * (i % 50)}), flush=i % 2 == 0)
+
+    def body() -> None:
+        threads = [threading.Thread(target=talk, args=(n,)) for n in range(6)]
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join()
+
+    assert cli.run("tool", body) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert len(lines) == 6 * 300
+    seen = [json.loads(line) for line in lines]  # every line is one whole document
+    for n in range(6):
+        assert [d["i"] for d in seen if d["thread"] == n] == list(range(300))
+
+
+def test_a_prompt_without_newline_is_shown_on_flush_and_an_unfinished_line_is_kept(capsys):
+    def prompt() -> None:
+        sys.stdout.write("answer? ")
+        sys.stdout.flush()
+        assert capsys.readouterr().out == "answer? "  # shown before the tool reads the answer
+        print("partial", end="")
+        raise UserError("no answer", Exit.BAD_INPUT)
+
+    assert cli.run("tool", prompt) == Exit.BAD_INPUT
+    assert capsys.readouterr().out == "partial"
+
+
 def test_tool_parser_epilog_lists_exit_codes_and_help_exits_zero(capsys):
     parser = cli.ToolParser("tool", "does things", exit_codes=(Exit.OK, Exit.BAD_INPUT, Exit.UNREALIZABLE))
     parser.add_json()

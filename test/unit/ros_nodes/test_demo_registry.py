@@ -65,32 +65,6 @@ def test_story_scenarios_pass_only_executor_options_that_exist(name):
         assert flag in flags, flag
 
 
-def test_lines_printed_by_many_threads_never_share_a_line():
-    import io
-    import json
-    import threading
-
-    from ltl_stack.sim.demo import LineAtomicOutput
-
-    sink = io.StringIO()
-    out = LineAtomicOutput(sink)
-
-    def talk(n: int) -> None:
-        for i in range(300):
-            print(json.dumps({"thread": n, "i": i, "pad": "x" * (i % 50)}), file=out, flush=True)
-
-    threads = [threading.Thread(target=talk, args=(n,)) for n in range(6)]
-    for t in threads:
-        t.start()
-    for t in threads:
-        t.join()
-    lines = sink.getvalue().splitlines()
-    assert len(lines) == 6 * 300
-    seen = [json.loads(line) for line in lines]  # every line is one whole document
-    for n in range(6):
-        assert [d["i"] for d in seen if d["thread"] == n] == list(range(300))
-
-
 def test_the_launch_log_names_the_first_node_that_died(tmp_path):
     """The demo stops as soon as roslaunch reports a scenario node's end, instead of
     waiting out --timeout; a line written in two pieces is read whole."""
