@@ -45,8 +45,12 @@ from ltl_stack.runtime.config.mapping import (
     load_mapping,
     misfit,
 )
-from ltl_stack.runtime.config.ros_names import check_proposition_names, is_legal_base_name, is_legal_name
-from ltl_stack.spec import SpecError, load_spec
+from ltl_stack.runtime.config.ros_names import (
+    check_proposition_names,
+    is_legal_base_name,
+    is_legal_name,
+    load_spec_for_ros,
+)
 
 PROG = "generate_launch"
 #: Characters XML 1.0 cannot hold, escaped or not.
@@ -293,13 +297,7 @@ def _generate(args: Any) -> int:
         raise LaunchError(str(err)) from None
     propositions = None
     if spec_path:
-        try:
-            spec = load_spec(spec_path)
-        except SpecError as err:
-            raise LaunchError(str(err)) from None
-        except OSError as err:
-            raise LaunchError(f"{spec_path}: cannot read spec: {err.strerror or err}") from None
-        check_proposition_names([*spec.inputs, *spec.outputs], spec_path)
+        spec = load_spec_for_ros(spec_path, LaunchError)
         propositions = (spec.inputs, spec.outputs)
         spec_path = str(Path(spec_path).resolve())
     elif not args.no_executor:

@@ -11,6 +11,8 @@ import re
 from collections.abc import Iterable
 
 from ltl_stack.errors import Exit, UserError
+from ltl_stack.spec import SpecError, load_spec
+from ltl_stack.spec.model import Spec
 
 _LEGAL = re.compile(r"[~/A-Za-z][\w/]*", re.ASCII)
 _BASE = re.compile(r"[A-Za-z]\w*", re.ASCII)
@@ -46,4 +48,19 @@ def check_proposition_names(names: Iterable[str], source: str) -> None:
             "starting with a letter); rename them for the ROS tools (synthesize accepts them)")
 
 
-__all__ = ["PropositionNameError", "check_proposition_names", "is_legal_base_name", "is_legal_name"]
+def load_spec_for_ros(path: str, error: type[UserError]) -> Spec:
+    """The spec at ``path`` for a ROS tool: its propositions must be ROS base names
+    (``check_proposition_names``). A spec that cannot be read or parsed is one ``error`` (the
+    caller's class: the executor and the launch generator each have their own)."""
+    try:
+        spec = load_spec(path)
+    except SpecError as err:
+        raise error(str(err)) from None
+    except OSError as err:
+        raise error(f"{path}: cannot read spec: {err.strerror or err}") from None
+    check_proposition_names([*spec.inputs, *spec.outputs], path)
+    return spec
+
+
+__all__ = ["PropositionNameError", "check_proposition_names", "is_legal_base_name", "is_legal_name",
+           "load_spec_for_ros"]

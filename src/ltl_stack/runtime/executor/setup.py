@@ -47,7 +47,7 @@ from ltl_stack.runtime.config.mapping import (
     valuation_topics,
 )
 from ltl_stack.runtime.config.node_params import NodeConfigError, coerce_param
-from ltl_stack.runtime.config.ros_names import check_proposition_names, is_legal_name
+from ltl_stack.runtime.config.ros_names import check_proposition_names, is_legal_name, load_spec_for_ros
 from ltl_stack.runtime.executor.controller import Controller, ViolationPolicy
 from ltl_stack.runtime.executor.explicit import AutomatonStrategy
 from ltl_stack.runtime.executor.options import (
@@ -62,7 +62,6 @@ from ltl_stack.runtime.executor.output_guard import OutputGuard
 from ltl_stack.runtime.executor.recovery import RecoveringStrategy
 from ltl_stack.runtime.resilience.characterize import Threshold
 from ltl_stack.runtime.resilience.resilient_executor import BackgroundResilience
-from ltl_stack.spec import SpecError, load_spec
 from ltl_stack.spec.valuation import parse_valuation
 from ltl_stack.synthesis import Automaton, synthesize
 from ltl_stack.synthesis.errors import LimitReached, SynthesisError
@@ -198,13 +197,7 @@ class Prepared:
 
 def load_inputs(spec_path: str, mapping_path: str | None) -> tuple[Any, PropositionMapping | None, list[str]]:
     """Load the spec and mapping and check them against each other and against ROS naming rules."""
-    try:
-        spec = load_spec(spec_path)
-    except SpecError as err:
-        raise ExecutorError(str(err)) from None
-    except OSError as err:
-        raise ExecutorError(f"{spec_path}: cannot read spec: {err.strerror or err}") from None
-    check_proposition_names([*spec.inputs, *spec.outputs], spec_path)
+    spec = load_spec_for_ros(spec_path, ExecutorError)
     mapping = None
     warnings: list[str] = []
     if mapping_path:
