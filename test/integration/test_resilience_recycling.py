@@ -22,11 +22,10 @@ def test_patrol_recycling_recovery_and_characterization(ros_master):
     tap = index(events, lambda e: "taps its head" in e.get("message", ""))
     assert metal < spill < asked < cleaned < tap
     # the story's message and the executor's ~state travel on two topics, and the recovery's ~state can
-    # reach the demo before the metal beat's message: look from the beat before it (the robot then
-    # still has to reach paper_deposit)
-    paper = index(events, lambda e: e.get("message", "").startswith("story: while patrolling, the robot is given"))
-    modes = [e for e in events[paper:spill] if e["event"] == "mode"]
-    assert any(e["mode"] == "recovering" for e in modes), ("the metal item is recovered", events[paper:spill])
+    # reach the demo before the metal beat's message: look from the start (no assumption breaks before
+    # the metal item; the first beat's message may be told before the demo listens, so it is no bound)
+    modes = [e for e in events[:spill] if e["event"] == "mode"]
+    assert any(e["mode"] == "recovering" for e in modes), ("the metal item is recovered", events[:spill])
     assert not [e for e in events[:spill] if e["event"] == "resynthesis"], "no resynthesis before the spill"
     # the tap fires on the ~state that shows notify (only in the office), and the demo may get that
     # state's "at office" after the story's message (two topics): look after the spill, not before the tap

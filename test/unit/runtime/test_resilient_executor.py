@@ -370,6 +370,32 @@ def test_negotiation_hook_runs_in_the_job_and_its_spec_is_installed_or_the_run_a
         assert rs.counters.unrealizable == 1 and [e for e in rs.events if "S.1" in e.message]
 
 
+def test_after_a_negotiation_it_initiated_a_robot_characterizes_again_only_once_an_input_changes():
+    """The handover: the agreed spec assumes the peer's door' from the next step on, and the steps that
+    still read the door the peer published before it adopted are recovered, not characterized (that
+    would drop the promise just agreed). Once an input changes, a violation is characterized again."""
+    agreed = parse_structured(DOOR, "agreed")  # the peer promised door' (always next door)
+    calls: list = []
+
+    def negotiate(strategy, observation):
+        calls.append(observation.incoming)
+        return agreed if len(calls) == 1 else None
+
+    rs, controller, jobs, installed = resilient(DOOR, negotiate=negotiate)
+    closed_door_until(rs, controller, jobs, lambda: installed)
+    assert installed and rs.counters.negotiated == 1 and len(calls) == 1
+    for _ in range(3):  # the door is still closed: the peer's output from before its adoption
+        controller.tick()
+        jobs.run_all()
+    assert rs.job is None and not jobs.queue and len(calls) == 1 and rs.mode is Mode.RECOVERING
+    assert [e for e in rs.events if "handover" in e.message]
+    controller.report_many({"door": True})  # the promised output arrives
+    assert rs.mode is Mode.NORMAL
+    controller.report_many({"door": False})  # and is broken later: characterized as usual (then S.1)
+    jobs.run_all()
+    assert len(calls) == 2 and rs.mode is Mode.WAITING_FOR_USER
+
+
 def test_adopt_drops_a_running_job():
     rs, controller, jobs, installed = resilient(PROBE)
     controller.report_many({"person": False, "door": True})

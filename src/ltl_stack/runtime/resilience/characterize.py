@@ -392,6 +392,7 @@ class _Pending:
 class ResilientStrategy:
     """A strategy with recovery, environment characterization and the user in the loop."""
 
+
     def __init__(self, spec: Spec, *, recovery: bool = True, characterize: bool = True,
                  threshold: Threshold | None = None, path: str | Path | None = None,
                  synthesis_options: Mapping[str, Any] | None = None, negotiate: Negotiate | None = None,
@@ -414,6 +415,11 @@ class ResilientStrategy:
         self.inputs = list(spec.inputs)
         self.outputs = list(spec.outputs)
         self.mode = Mode.NORMAL
+        #: After this robot, as the initiator, adopts a negotiated spec (Alg. 4): the inputs it read then.
+        #: Until an input changes, a violation is recovered but not characterized: the steps still read
+        #: the peer's outputs from before the peer adopted (its first step with the agreed spec, and the
+        #: message, are on their way), and characterizing that handover would drop the promise just agreed.
+        self._handover: dict[str, bool] | None = None
         self.counters = Counters()
         self.events: deque[Event] = deque(maxlen=EVENTS_KEPT)  # the latest (``on_event`` sees every one)
         self.last: StepResult | None = None
@@ -443,7 +449,11 @@ class ResilientStrategy:
         if violated:
             self.counters.violations += 1
         observation = Observation(self.steps, self.wall_clock(), dict(state.inputs), dict(state.outputs), incoming)
-        if violated and self.mode is not Mode.WAITING_FOR_USER and self.characterize_enabled:
+        if self._handover is not None and incoming != self._handover:
+            self._handover = None  # news from the environment: the handover is over
+        if violated and self._handover is not None:
+            self._event("a violation during the handover after a negotiated adoption: recovered, not characterized")
+        elif violated and self.mode is not Mode.WAITING_FOR_USER and self.characterize_enabled:
             due = self.threshold.observe(True)
             if due:
                 new_state = self._characterize(observation, violated)
@@ -578,6 +588,7 @@ class ResilientStrategy:
                 attempt = Attempt(True, "negotiation", spec, text, result.strategy, 0.0)
                 self.counters.new_strategy("negotiation")
                 self._event("negotiation gave a realizable specification")
+                self._handover = dict(observation.incoming)
                 return self._install(attempt, observation)
             if spec is not None:
                 self.abort("the negotiated specification is unrealizable")

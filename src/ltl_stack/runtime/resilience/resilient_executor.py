@@ -272,6 +272,8 @@ class BackgroundResilience(ResilientStrategy):
             self._keep(attempt, observation, list(liveness))
         self.counters.new_strategy("user" if liveness else attempt.variant)
         self.threshold.reset()
+        if attempt.variant == "negotiation":  # this robot initiated it (a responder adopts with ``adopt``)
+            self._handover = {n: bool(self.readings.get(n, False)) for n in self.inputs}
         strategy = self._switch_to(attempt)
         current = self._state
         position = ({**(current.inputs if current else {}), **self.readings}, current.outputs if current else {})
