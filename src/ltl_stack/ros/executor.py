@@ -233,7 +233,7 @@ class ExecutorNode:
         self.liveness_service = rospy.Service("~add_env_liveness", AddEnvLiveness, self._on_add_env_liveness)
         self.abort_service = rospy.Service("~abort", Trigger, self._on_abort)
         self.running_sub = rospy.Subscriber("~running", Bool, self._on_running_topic, queue_size=10)
-        if self.resilient is not None and self.resilient.threshold.seconds is not None:
+        if self.resilient is not None:  # --characterize-after-seconds, and the handover after a negotiation
             self.poll_timer = rospy.Timer(rospy.Duration(POLL_PERIOD), self._on_poll)
         if options.rate > 0:
             self.tick_timer = rospy.Timer(rospy.Duration(1.0 / options.rate), self._on_tick)
@@ -425,7 +425,8 @@ class ExecutorNode:
             print(json.dumps(event), flush=True)
 
     def _on_poll(self, _event: Any) -> None:
-        """--characterize-after-seconds: a violation may outlast it without any step."""
+        """--characterize-after-seconds, or the handover after a negotiation: a violation may outlast
+        it without any step."""
         if self.resilient.poll():
             with self.controller.lock:
                 self._on_resilience_changed()

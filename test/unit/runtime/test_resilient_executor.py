@@ -396,6 +396,28 @@ def test_after_a_negotiation_it_initiated_a_robot_characterizes_again_only_once_
     assert len(calls) == 2 and rs.mode is Mode.WAITING_FOR_USER
 
 
+def test_a_peer_whose_promised_output_never_comes_is_characterized_once_the_handover_ends():
+    """The handover is bounded (HANDOVER_SECONDS): with the door still closed and no step at all, the
+    node's poll starts the characterization the handover held back."""
+    now = [0.0]
+    agreed = parse_structured(DOOR, "agreed")
+    calls: list = []
+
+    def negotiate(strategy, observation):
+        calls.append(observation.incoming)
+        return agreed if len(calls) == 1 else None
+
+    rs, controller, jobs, installed = resilient(DOOR, negotiate=negotiate, threshold=Threshold(clock=lambda: now[0]))
+    closed_door_until(rs, controller, jobs, lambda: installed)
+    controller.tick()
+    jobs.run_all()
+    assert not rs.poll() and len(calls) == 1 and rs.mode is Mode.RECOVERING  # within the handover
+    now[0] += BackgroundResilience.HANDOVER_SECONDS
+    assert rs.poll()  # the promised door never came
+    jobs.run_all()
+    assert len(calls) == 2 and rs.mode is Mode.WAITING_FOR_USER
+
+
 def test_adopt_drops_a_running_job():
     rs, controller, jobs, installed = resilient(PROBE)
     controller.report_many({"person": False, "door": True})

@@ -392,6 +392,10 @@ class _Pending:
 class ResilientStrategy:
     """A strategy with recovery, environment characterization and the user in the loop."""
 
+    #: The longest handover after a negotiation this robot initiated (see ``_handover``), in seconds:
+    #: a peer whose promised output has not arrived by then is taken to break its promise.
+    HANDOVER_SECONDS = 5.0
+
 
     def __init__(self, spec: Spec, *, recovery: bool = True, characterize: bool = True,
                  threshold: Threshold | None = None, path: str | Path | None = None,
@@ -416,10 +420,12 @@ class ResilientStrategy:
         self.outputs = list(spec.outputs)
         self.mode = Mode.NORMAL
         #: After this robot, as the initiator, adopts a negotiated spec (Alg. 4): the inputs it read then.
-        #: Until an input changes, a violation is recovered but not characterized: the steps still read
-        #: the peer's outputs from before the peer adopted (its first step with the agreed spec, and the
-        #: message, are on their way), and characterizing that handover would drop the promise just agreed.
+        #: Until an input changes (or HANDOVER_SECONDS pass), a violation is recovered but not
+        #: characterized: the steps still read the peer's outputs from before the peer adopted (its first
+        #: step with the agreed spec, and the message, are on their way), and characterizing that
+        #: handover would drop the promise just agreed.
         self._handover: dict[str, bool] | None = None
+        self._handover_until = 0.0
         self.counters = Counters()
         self.events: deque[Event] = deque(maxlen=EVENTS_KEPT)  # the latest (``on_event`` sees every one)
         self.last: StepResult | None = None
@@ -449,8 +455,8 @@ class ResilientStrategy:
         if violated:
             self.counters.violations += 1
         observation = Observation(self.steps, self.wall_clock(), dict(state.inputs), dict(state.outputs), incoming)
-        if self._handover is not None and incoming != self._handover:
-            self._handover = None  # news from the environment: the handover is over
+        if self._handover is not None and (incoming != self._handover or self._handover_over()):
+            self._handover = None  # news from the environment, or the peer is late: the handover is over
         if violated and self._handover is not None:
             self._event("a violation during the handover after a negotiated adoption: recovered, not characterized")
         elif violated and self.mode is not Mode.WAITING_FOR_USER and self.characterize_enabled:
@@ -564,6 +570,13 @@ class ResilientStrategy:
         return dict.fromkeys(self.outputs, False)
 
     # --- internals --------------------------------------------------------------------------------
+    def _begin_handover(self, readings: Mapping[str, bool]) -> None:
+        self._handover = {n: bool(readings.get(n, False)) for n in self.inputs}
+        self._handover_until = self.threshold.clock() + self.HANDOVER_SECONDS
+
+    def _handover_over(self) -> bool:
+        return self.threshold.clock() >= self._handover_until
+
     def _characterize(self, observation: Observation, violated: list[Clause]) -> State | None:
         self.mode = Mode.CHARACTERIZING
         where = "; ".join(f"{c.location}" for c in violated)
@@ -588,7 +601,7 @@ class ResilientStrategy:
                 attempt = Attempt(True, "negotiation", spec, text, result.strategy, 0.0)
                 self.counters.new_strategy("negotiation")
                 self._event("negotiation gave a realizable specification")
-                self._handover = dict(observation.incoming)
+                self._begin_handover(observation.incoming)
                 return self._install(attempt, observation)
             if spec is not None:
                 self.abort("the negotiated specification is unrealizable")

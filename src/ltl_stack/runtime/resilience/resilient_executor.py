@@ -175,15 +175,20 @@ class BackgroundResilience(ResilientStrategy):
         return None
 
     def poll(self) -> bool:
-        """Start characterization when a violation has lasted past the threshold's seconds without a
-        step (the node calls this from a timer: event driven, nothing else steps while the inputs
-        stay the same). True when a job was started."""
+        """Start characterization when a violation has lasted past the threshold's seconds, or past
+        the handover after a negotiation, without a step (the node calls this from a timer: event
+        driven, nothing else steps while the inputs stay the same). True when a job was started."""
         with self.lock:
             threshold = self.threshold
-            if (self.job is not None or not self.characterize_enabled or threshold.since is None
-                    or self.mode in (Mode.WAITING_FOR_USER, Mode.ABORTED) or threshold.seconds is None
-                    or threshold.clock() - threshold.since <= threshold.seconds or self._state is None):
+            if (self.job is not None or not self.characterize_enabled or self._state is None
+                    or self.mode in (Mode.WAITING_FOR_USER, Mode.ABORTED)):
                 return False
+            late = self._handover is not None and self.violated_now and self._handover_over()
+            due = (threshold.since is not None and threshold.seconds is not None
+                   and threshold.clock() - threshold.since > threshold.seconds)
+            if not (late or due):
+                return False
+            self._handover = None
             state = self._state
             observation = Observation(self.steps, self.wall_clock(), dict(state.inputs), dict(state.outputs),
                                       dict(self.readings))
@@ -273,7 +278,7 @@ class BackgroundResilience(ResilientStrategy):
         self.counters.new_strategy("user" if liveness else attempt.variant)
         self.threshold.reset()
         if attempt.variant == "negotiation":  # this robot initiated it (a responder adopts with ``adopt``)
-            self._handover = {n: bool(self.readings.get(n, False)) for n in self.inputs}
+            self._begin_handover(self.readings)
         strategy = self._switch_to(attempt)
         current = self._state
         position = ({**(current.inputs if current else {}), **self.readings}, current.outputs if current else {})
