@@ -396,7 +396,6 @@ class ResilientStrategy:
     #: a peer whose promised output has not arrived by then is taken to break its promise.
     HANDOVER_SECONDS = 5.0
 
-
     def __init__(self, spec: Spec, *, recovery: bool = True, characterize: bool = True,
                  threshold: Threshold | None = None, path: str | Path | None = None,
                  synthesis_options: Mapping[str, Any] | None = None, negotiate: Negotiate | None = None,

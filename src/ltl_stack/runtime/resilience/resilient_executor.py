@@ -183,7 +183,7 @@ class BackgroundResilience(ResilientStrategy):
             if (self.job is not None or not self.characterize_enabled or self._state is None
                     or self.mode in (Mode.WAITING_FOR_USER, Mode.ABORTED)):
                 return False
-            late = self._handover is not None and self.violated_now and self._handover_over()
+            late = self._handover is not None and bool(self.violated_now) and self._handover_over()
             due = (threshold.since is not None and threshold.seconds is not None
                    and threshold.clock() - threshold.since > threshold.seconds)
             if not (late or due):
