@@ -94,7 +94,8 @@ def test_diagram_size_stays_within_its_bound(n, total, op):
     bits = 3 * n
     # the module's bound is bits * (2n + 1) diagram nodes; a node is at most four formula objects
     # (Or, two Ands, the Not of its bit), and the bits and two constants come on top
-    assert size(compare(op, left, right)) <= 4 * bits * (2 * n + 1) + bits + 2, (n, total, op)
+    nodes = size(compare(op, left, right))  # (a failing assert does not print the whole formula)
+    assert nodes <= 4 * bits * (2 * n + 1) + bits + 2, (n, total, op)
 
 
 def test_wide_integers_compared_with_each_other_stay_small():
