@@ -414,6 +414,9 @@ def test_a_peer_whose_promised_output_never_comes_is_characterized_once_the_hand
     assert not rs.poll() and len(calls) == 1 and rs.mode is Mode.RECOVERING  # within the handover
     now[0] += BackgroundResilience.HANDOVER_SECONDS
     assert rs.poll()  # the promised door never came
+    said = [e.message for e in rs.events]
+    assert any(m.startswith("the handover after the negotiated adoption is over") for m in said), said
+    assert said[-1].startswith("characterizing (") and "after 0" not in said[-1], said
     jobs.run_all()
     assert len(calls) == 2 and rs.mode is Mode.WAITING_FOR_USER
 

@@ -304,6 +304,14 @@ def _variables(formula: Formula) -> list[Var]:
     return list(variables(formula))  # each shared subformula once: work linear in the DAG, not the tree
 
 
+def characterizing_message(count: int, violated: list[Clause]) -> str:
+    """The event that starts a characterization: the violated clauses, and how long the violation
+    lasted when the threshold counted it (a violation left standing after a handover was not counted)."""
+    where = "; ".join(f"{c.location}" for c in violated)
+    after = f" after {count} violating transition(s)" if count else ""
+    return f"characterizing{after} ({where})"
+
+
 class Threshold:
     """§4.10.2: with recovery on, characterize only once a violation has lasted more than
     ``transitions`` consecutive violating transitions or ``seconds`` (either; None = not used;
@@ -578,8 +586,7 @@ class ResilientStrategy:
 
     def _characterize(self, observation: Observation, violated: list[Clause]) -> State | None:
         self.mode = Mode.CHARACTERIZING
-        where = "; ".join(f"{c.location}" for c in violated)
-        self._event(f"characterizing after {self.threshold.count} violating transition(s) ({where})")
+        self._event(characterizing_message(self.threshold.count, violated))
         attempt = self.characterizer.characterize(observation)
         if attempt.realizable:
             self.characterizer.accept(attempt, observation)

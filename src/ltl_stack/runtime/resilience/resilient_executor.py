@@ -49,6 +49,7 @@ from ltl_stack.runtime.resilience.characterize import (
     Observation,
     ResilientStrategy,
     _Pending,
+    characterizing_message,
 )
 from ltl_stack.runtime.resilience.characterized_english import english_text, is_english
 from ltl_stack.spec import SpecError
@@ -165,8 +166,7 @@ class BackgroundResilience(ResilientStrategy):
             self.characterizer.record(observation)  # learned now, part of the next resynthesis
             return None
         self.mode = Mode.CHARACTERIZING
-        where = "; ".join(f"{c.location}" for c in violated)
-        self._event(f"characterizing after {self.threshold.count} violating transition(s) ({where})")
+        self._event(characterizing_message(self.threshold.count, violated))
         self.characterizer.record(observation)
         self.job = observation
         self._generation += 1
@@ -188,6 +188,9 @@ class BackgroundResilience(ResilientStrategy):
                    and threshold.clock() - threshold.since > threshold.seconds)
             if not (late or due):
                 return False
+            if late:
+                self._event(f"the handover after the negotiated adoption is over ({self.HANDOVER_SECONDS:g} s) and "
+                            "the violation still stands: the peer has not kept its promise")
             self._handover = None
             state = self._state
             observation = Observation(self.steps, self.wall_clock(), dict(state.inputs), dict(state.outputs),
