@@ -17,7 +17,8 @@ and violation reports of ``~state`` and /diagnostics); this module only wires th
   from then on those with a freshness bound are unknown (a peer's host down at the start);
 * a node owning several inputs (region localization) publishes their valuation at once on
   ``<node>/valuation``; once it has, that message is their reading (one step for one region change)
-  and their Bool topics only count for freshness;
+  and their Bool topics only count for freshness; while that topic is connected but has not spoken
+  (its latched message is on its way), their Bools wait for it (at most ``VALUATION_WAIT``);
 * freshness (``runtime.executor.freshness``): a timer marks inputs whose last message is older than their
   bound unknown (``Controller.set_unknown``), a message makes them known again;
 * run/pause: service ``~set_running`` (``std_srvs/SetBool``) and topic ``~running`` (``std_msgs/Bool``);
@@ -107,6 +108,8 @@ DIAGNOSTICS_PERIOD = 1.0
 EDGE_GAP = 0.005
 #: How often a violation that outlasts ``--characterize-after-seconds`` without a step is looked for.
 POLL_PERIOD = 0.1
+#: The longest a grouped input's Bool waits for its node's connected ~valuation to speak (seconds).
+VALUATION_WAIT = 2.0
 
 
 def build_parser() -> cli.ToolParser:
@@ -226,9 +229,14 @@ class ExecutorNode:
         self.subscribers = [rospy.Subscriber(topic, Bool, self._on_input, callback_args=prop, queue_size=10,
                                              tcp_nodelay=True)
                             for prop, topic in prepared.input_topics.items()]
-        self.subscribers += [rospy.Subscriber(topic, PropositionValuation, self._on_valuation, callback_args=props,
-                                              queue_size=10, tcp_nodelay=True)
-                             for topic, props in prepared.valuation_topics.items()]
+        #: each grouped input's ~valuation subscriber, and when its Bool was first held back for it
+        self._group_of: dict[str, Any] = {}
+        self._held_since: dict[str, float] = {}
+        for topic, props in prepared.valuation_topics.items():
+            subscriber = rospy.Subscriber(topic, PropositionValuation, self._on_valuation, callback_args=props,
+                                          queue_size=10, tcp_nodelay=True)
+            self.subscribers.append(subscriber)
+            self._group_of.update(dict.fromkeys(props, subscriber))
         self.service = rospy.Service("~set_running", SetBool, self._on_set_running)
         self.liveness_service = rospy.Service("~add_env_liveness", AddEnvLiveness, self._on_add_env_liveness)
         self.abort_service = rospy.Service("~abort", Trigger, self._on_abort)
@@ -266,10 +274,30 @@ class ExecutorNode:
 
     # callbacks (each runs in a rospy thread; the controller's lock orders steps and publications)
     def _on_input(self, msg: Bool, prop: str) -> None:
-        self.freshness.seen(prop, time.monotonic())
+        now = time.monotonic()
+        self.freshness.seen(prop, now)
         if prop in self._grouped:
             return  # its node's ~valuation carries it (one message for a change of several)
+        if self._valuation_on_its_way(prop, now):
+            return
         self._report_inputs({prop: msg.data})
+
+    def _valuation_on_its_way(self, prop: str, now: float) -> bool:
+        """Whether ``prop``'s node has a ~valuation publisher connected that has not spoken yet: its
+        latched message (which carries ``prop``) follows the connection, so this Bool waits for it
+        rather than be read apart from the others of its change. Bounded by VALUATION_WAIT seconds,
+        for a node that advertises ~valuation but has not published one."""
+        subscriber = self._group_of.get(prop)
+        if subscriber is None or subscriber.get_num_connections() == 0:
+            return False
+        since = self._held_since.setdefault(prop, now)
+        if now - since <= VALUATION_WAIT:
+            return True
+        if since >= 0:
+            rospy.logwarn("%s: %s's ~valuation is connected but silent after %.0f s; reading its Bool topic",
+                          self.name, prop, VALUATION_WAIT)
+            self._held_since[prop] = -1.0  # warned once; from now on the Bool is read
+        return False
 
     def _on_valuation(self, msg: PropositionValuation, props: list[str]) -> None:
         """A node owning several inputs sent their valuation at once: one update for all of them,

@@ -219,9 +219,10 @@ class PropositionGroup:
     """Several propositions of one node that change together (a robot's regions, exactly one true; a
     world's sensors): each on its own ``std_msgs/Bool`` topic, republished by one timer, and their
     whole valuation on ``~valuation`` (``ltl_stack/PropositionValuation``, latched; keys: the resolved
-    topics) once per change, before the Bool topics. The executor reads ``<node>/valuation`` of a node
-    the mapping gives several inputs, so one change of several propositions is one update, however
-    far apart a slow link delivers the Bool messages (docs/several_machines.md)."""
+    topics) whenever a proposition is first published or changes, before the Bool topics. The executor
+    reads ``<node>/valuation`` of a node the mapping gives several inputs, so one change of several
+    propositions is one update, however far apart a slow link delivers the Bool messages
+    (docs/several_machines.md)."""
 
     def __init__(self, rate: float = 10.0, topic: str = "~valuation") -> None:
         self._lock = threading.Lock()
@@ -234,6 +235,8 @@ class PropositionGroup:
         resolved = rospy.resolve_name(topic)
         with self._lock:
             if resolved not in self.publishers:
+                if initial is not None:  # a listener that connects now gets the valuation (latched) first
+                    self._valuation.publish(valuation_to_msg({**self.values(), resolved: bool(initial)}))
                 self.publishers[resolved] = PropositionPublisher(resolved, rate=0.0, initial=initial)
             return self.publishers[resolved]
 

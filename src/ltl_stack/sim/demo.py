@@ -307,6 +307,7 @@ def _follow(args, follower: Follower, launch, log_path: Path, problems: list[str
             break
     follower.finish()
     elapsed = time.monotonic() - started
+    dead = dead or watch.died()  # a node that died as the loop ended (roslaunch exited) is the reason to name
     rospy.signal_shutdown("demo finished")
     reached = follower.reached()
     summary = {"event": "summary", "scenario": args.scenario, **follower.summary(reached, elapsed, problems)}
