@@ -269,12 +269,11 @@ def _run(args: argparse.Namespace) -> int:
         from ltl_stack.ros.controller_trace import ControllerTrace
 
         rospy.init_node("demo_trace", anonymous=True, disable_signals=True)
-        problems: list[str] = []
+        problems = Problems()
 
         def on_diagnostics(msg: DiagnosticArray) -> None:
             for status in msg.status:
-                if status.level >= DiagnosticStatus.ERROR:
-                    problems.append(status.message)
+                if problems.new(status.name, status.level >= DiagnosticStatus.ERROR, status.message):
                     if args.json:
                         print(json.dumps({"event": "diagnostic", "message": status.message}), flush=True)
                     else:
@@ -289,6 +288,26 @@ def _run(args: argparse.Namespace) -> int:
             follower = TraceFollower(ControllerTrace(f"/{scenario.namespace}/controller_executor/state", goals,
                                                      args.json), scenario, args, has_goals, goals)
         return _follow(args, follower, launch, log_path, problems, say)
+
+
+class Problems(list):
+    """The errors the controller reported on /diagnostics, each once: the node republishes its
+    statuses every second, and an error that stands is one problem, not one a second."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self._standing: dict[str, str] = {}  # status name -> its error now standing
+
+    def new(self, name: str, error: bool, message: str) -> bool:
+        """Record one status; True when it is an error not reported yet (then it is appended)."""
+        if not error:
+            self._standing.pop(name, None)
+            return False
+        if self._standing.get(name) == message:
+            return False
+        self._standing[name] = message
+        self.append(message)
+        return True
 
 
 def _follow(args, follower: Follower, launch, log_path: Path, problems: list[str], say) -> int:

@@ -7,7 +7,7 @@ import re
 import pytest
 
 from ltl_stack.runtime.resilience.story import load_story
-from ltl_stack.sim.demo import SCENARIOS, build_parser, package_dir
+from ltl_stack.sim.demo import SCENARIOS, Problems, build_parser, package_dir
 from ltl_stack.spec import load_spec
 
 ROOT = package_dir()
@@ -113,3 +113,14 @@ def test_the_demo_driver_holds_no_scenario_data():
     driver = source[source.index("def _run("):]
     for word in ("kitchen", "clean_and_patrol", "DeliveryAgent", "cooked", '"D"'):
         assert word not in driver, word
+
+
+def test_a_standing_error_is_one_problem_however_often_diagnostics_repeat_it():
+    problems = Problems()
+    said = [problems.new("executor: health", True, "violated") for _ in range(5)]
+    assert said == [True, False, False, False, False] and problems == ["violated"]
+    assert problems.new("executor: health", True, "aborted")  # another error of the same status
+    assert not problems.new("executor: health", False, "ok")  # cleared ...
+    assert problems.new("executor: health", True, "aborted")  # ... and back: a new problem
+    assert not problems.new("executor: mode", False, "normal")
+    assert problems == ["violated", "aborted", "aborted"]
