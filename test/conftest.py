@@ -89,8 +89,9 @@ def pytest_collection_modifyitems(session: pytest.Session, config: pytest.Config
     items.sort(key=lambda item: -weight[item.nodeid.split("::")[0]])
     if helpers.BDD_BACKEND != "cudd":
         heavy = pytest.mark.skip(reason=helpers.HEAVY_GAME_REASON)
+        listed = helpers.pure_python_dd_heavy()
         for item in items:
-            if item.get_closest_marker("heavy_game"):
+            if item.get_closest_marker("heavy_game") or item.nodeid in listed or item.nodeid.split("[")[0] in listed:
                 item.add_marker(heavy)
     if settings.default is settings.get_profile(PURE_PYTHON_DD_PROFILE):
         _cap_examples(items, settings.default.max_examples)

@@ -13,7 +13,7 @@ import subprocess
 from pathlib import Path
 
 import pytest
-from helpers import REPO_ROOT, _port_range
+from helpers import REPO_ROOT, _port_range, pure_python_dd_heavy
 
 TEST_ROOT = REPO_ROOT / "test"
 
@@ -178,3 +178,13 @@ def test_benchmarks_find_the_shared_folder_beside_the_repository(bench):
     text = ast.get_source_segment(source, shared.value)
     assert text.split(" / ")[0] in ("ROOT.parent", "REPO.parent") and '"shared"' in text, text
     assert "if" not in text.split(), text  # no fallback
+
+
+def test_every_test_listed_as_heavy_on_pure_python_dd_exists():
+    """test/pure_python_dd_heavy.txt names tests by id: a renamed or removed test must leave it too,
+    or the 3.8 leg would run a heavy test again without anyone noticing."""
+    for test_id in sorted(pure_python_dd_heavy()):
+        path, _, function = test_id.split("[")[0].partition("::")
+        source = REPO_ROOT / path
+        assert source.is_file(), test_id
+        assert re.search(rf"^def {re.escape(function)}\(", source.read_text(), re.MULTILINE), test_id

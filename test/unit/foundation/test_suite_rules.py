@@ -30,7 +30,7 @@ def outcome(tmp_path_factory):
     """Each case as a test file of its own under unit/ of a copy of the suite's conftest and helpers,
     all run by one pytest process; gives a case's line of the report and the whole output."""
     root = tmp_path_factory.mktemp("suite")
-    for name in ("conftest.py", "helpers.py"):
+    for name in ("conftest.py", "helpers.py", "pure_python_dd_heavy.txt"):
         shutil.copy(TEST_ROOT / name, root / name)
     (root / "unit").mkdir()
     for name, body in CASES.items():

@@ -128,6 +128,7 @@ def sum_spec(n: int, total: int) -> str:
         " + ".join(f"x{k}" for k in range(n)) + f" = {total} -> y'\n"
 
 
+@needs_cudd  # the manager's peak node count
 def test_the_bdd_of_a_long_sum_is_built_without_big_intermediate_bdds():
     # the ripple-carry adder's partial sums had BDDs of size O(i^2): millions of peak nodes here
     game = Game(parse_structured(sum_spec(120, 5), "sum.structuredslugs"))
