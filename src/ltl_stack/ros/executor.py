@@ -226,17 +226,18 @@ class ExecutorNode:
         self.tick_timer = self.ready_timer = self.publisher_timer = self.poll_timer = None
         #: inputs whose node's ~valuation has spoken: their Bool topics count for freshness only
         self._grouped: set[str] = set()
-        self.subscribers = [rospy.Subscriber(topic, Bool, self._on_input, callback_args=prop, queue_size=10,
-                                             tcp_nodelay=True)
-                            for prop, topic in prepared.input_topics.items()]
         #: each grouped input's ~valuation subscriber, and when its Bool was first held back for it
         self._group_of: dict[str, Any] = {}
         self._held_since: dict[str, float] = {}
-        for topic, props in prepared.valuation_topics.items():
+        self.subscribers = []
+        for topic, props in prepared.valuation_topics.items():  # before the Bools, which look them up
             subscriber = rospy.Subscriber(topic, PropositionValuation, self._on_valuation, callback_args=props,
                                           queue_size=10, tcp_nodelay=True)
             self.subscribers.append(subscriber)
             self._group_of.update(dict.fromkeys(props, subscriber))
+        self.subscribers += [rospy.Subscriber(topic, Bool, self._on_input, callback_args=prop, queue_size=10,
+                                              tcp_nodelay=True)
+                             for prop, topic in prepared.input_topics.items()]
         self.service = rospy.Service("~set_running", SetBool, self._on_set_running)
         self.liveness_service = rospy.Service("~add_env_liveness", AddEnvLiveness, self._on_add_env_liveness)
         self.abort_service = rospy.Service("~abort", Trigger, self._on_abort)
