@@ -277,3 +277,16 @@ def test_map_markers_of_a_second_robot_show_only_its_labelled_text_on_its_own_ro
     colour = {m.text: (m.color.r, m.color.g, m.color.b, m.color.a) for m in d.markers
               if m.ns == "highlight" and m.action == m.ADD}
     assert colour["bottomLane"] == pytest.approx(CURRENT)  # the region from its <region>_c input
+
+
+def test_region_localization_publishes_its_valuation_before_it_knows_a_position(ros):
+    """A listener of ~valuation that connects before the first position hears every region's initial
+    value in one latched message: the executor holds the Bools of a connected ~valuation for it."""
+    from ltl_stack.msg import PropositionValuation
+
+    whole = ros.record(f"{ros.ns}/{ros.ns.strip('/')}_region_localization/valuation", PropositionValuation)
+    ros.run("region_localization", f"_regions_file:={REGIONS}", "_source:=topic",
+            "_pose_type:=geometry_msgs/PoseWithCovarianceStamped", f"__ns:={ros.ns}")  # no pose is ever sent
+    whole.wait(lambda ms: ms and len(ms[-1].keys) == len(MAP.names()), what="every region in one valuation")
+    last = dict(zip(whole.last().keys, whole.last().values))  # noqa: B905
+    assert last[ros.topic("inputs/topLane_rc")] is False and not any(last.values()), last
